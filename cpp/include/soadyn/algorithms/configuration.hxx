@@ -1,0 +1,56 @@
+#pragma once
+#include <cmath>
+#include <random>
+#include "soadyn/algorithms/configuration.hpp"
+
+namespace soadyn {
+
+template <class S>
+void neutral_configuration(const ModelTpl<S>& m, Eigen::Ref<VecX<S>> q) {
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) joint_neutral(m.joints[i], q.data() + m.q_index[i]);
+}
+
+template <class S>
+void random_configuration(const ModelTpl<S>& m, std::uint64_t seed, Eigen::Ref<VecX<S>> q) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI), offset(-1.0, 1.0);
+  std::normal_distribution<double> gauss;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
+    S* qi = q.data() + m.q_index[i];
+    const auto& j = m.joints[i];
+    const int qo = joint_quaternion_offset(j);
+    const bool translational = std::holds_alternative<PrismaticJoint<S>>(j);
+    for (int k = 0; k < m.nq_body[i]; ++k) qi[k] = S(translational ? offset(rng) : angle(rng));
+    if (std::holds_alternative<CylindricalJoint<S>>(j)) qi[1] = S(offset(rng));
+    if (std::holds_alternative<PlanarJoint<S>>(j)) qi[0] = S(offset(rng)), qi[1] = S(offset(rng));
+    if (qo >= 0) {
+      for (int k = 0; k < qo; ++k) qi[k] = S(offset(rng));
+      double g[4], n2 = 0;
+      for (double& x : g) x = gauss(rng), n2 += x * x;
+      for (int k = 0; k < 4; ++k) qi[qo + k] = S(g[k] / std::sqrt(n2));
+    }
+  }
+}
+
+template <class S>
+void integrate(const ModelTpl<S>& m, const ConstVecRef<S>& q, const ConstVecRef<S>& v, S dt, Eigen::Ref<VecX<S>> q_out) {
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i)
+    joint_integrate(m.joints[i], q.data() + m.q_index[i], v.data() + m.v_index[i], dt, q_out.data() + m.q_index[i]);
+}
+
+template <class S>
+int first_non_unit_quaternion(const ModelTpl<S>& m, const ConstVecRef<S>& q, S tolerance, S* norm) {
+  using std::abs;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
+    const int qo = joint_quaternion_offset(m.joints[i]);
+    if (qo < 0) continue;
+    const S n = q.segment(m.q_index[i] + qo, 4).norm();
+    if (!(abs(n - S(1)) <= tolerance)) {
+      if (norm) *norm = n;
+      return static_cast<int>(i);
+    }
+  }
+  return -1;
+}
+
+}  // namespace soadyn

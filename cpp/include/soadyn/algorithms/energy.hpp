@@ -1,0 +1,23 @@
+// Kinetic and potential energy, spatial momentum and centre of mass.
+#pragma once
+#include "soadyn/algorithms/kinematics.hpp"
+
+namespace soadyn {
+
+// 1/2 sum V' M V.
+template <class S>
+S kinetic_energy(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v);
+
+// -sum m g . c (zero at the world origin).
+template <class S>
+S potential_energy(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q);
+
+// Spatial momentum [angular about the world origin; linear], world frame.
+template <class S>
+Vec6<S> momentum(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v);
+
+// Total mass and centre of mass in the world frame.
+template <class S>
+Vec3<S> center_of_mass(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, S* total_mass = nullptr);
+
+}  // namespace soadyn

@@ -1,0 +1,30 @@
+// Hybrid dynamics of a tree whose DOFs are each regular (torque given,
+// acceleration unknown) or prescribed (acceleration given, torque unknown):
+// the O(N) algorithm of seed 000 (Eqs. 14, 28, 29, Lemma 8), on trees, with
+// multi-DOF hinges whose DOFs may mix modes (seed conclusion 5).
+//
+// Bodies on whose root path every hinge is prescribed need no articulated
+// inertia: their accelerations are known in the first sweep and their hinge
+// forces come from the Newton-Euler inward sweep, as in inverse dynamics.
+// With every flag prescribed the algorithm is RNEA; with every flag regular
+// it is the articulated-body algorithm.
+#pragma once
+#include "soadyn/algorithms/steps.hpp"
+
+namespace soadyn {
+
+struct HybridOutputs {
+  // Also fill data.hinge_force for bodies below a regular hinge (bodies in
+  // all-prescribed regions always get theirs; it is a by-product there).
+  bool hinge_forces = false;
+};
+
+// `u` holds, per DOF, the torque of a regular DOF or the acceleration of a
+// prescribed one (model.prescribed). On return data.qdd and data.tau hold
+// every DOF's acceleration and generalized force (given entries copied
+// through). Allocation free; never throws.
+template <class S>
+Status hybrid_dynamics(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                       const ConstVecRef<S>& u, const S* f_ext = nullptr, HybridOutputs outputs = {});
+
+}  // namespace soadyn

@@ -1,0 +1,23 @@
+#pragma once
+#include "soadyn/algorithms/kinematics.hpp"
+
+namespace soadyn {
+
+template <class S>
+void update_world_poses(const ModelTpl<S>& m, DataTpl<S>& d) {
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
+    const int p = m.parent[i];
+    d.pose_in_world[i] = p >= 0 ? d.pose_in_world[static_cast<std::size_t>(p)] * d.pose_in_parent[i] : d.pose_in_parent[i];
+  }
+}
+
+template <class S>
+void forward_kinematics(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v) {
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
+    joint_step(m, d, i, q, v);
+    if (v) velocity_step(m, d, i, v);
+  }
+  update_world_poses(m, d);
+}
+
+}  // namespace soadyn

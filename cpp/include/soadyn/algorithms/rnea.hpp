@@ -1,0 +1,17 @@
+// Inverse dynamics by the recursive Newton-Euler algorithm (seed Eqs. 1-4).
+#pragma once
+#include "soadyn/algorithms/steps.hpp"
+
+namespace soadyn {
+
+// data.tau = M(q) qdd + h(q, v) - J' f_ext; data.hinge_force holds every
+// joint reaction wrench. `f_ext`: nbodies x 6 body-frame wrenches, or null.
+template <class S>
+void inverse_dynamics(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                      const ConstVecRef<S>& qdd, const S* f_ext = nullptr);
+
+// data.tau = h(q, v): Coriolis, centrifugal and gravity forces.
+template <class S>
+void bias_forces(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v);
+
+}  // namespace soadyn

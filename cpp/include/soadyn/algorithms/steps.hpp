@@ -1,0 +1,126 @@
+// Per-body steps shared by the sweeps of every algorithm (seed Eqs. 1-4, 14,
+// 28, 29). Body i's quantities are in its own frame; `pose_in_parent[i]`
+// carries them to the parent frame (seed phi(k+1, k)).
+#pragma once
+#include <Eigen/Cholesky>
+#include <limits>
+#include <cmath>
+#include "soadyn/data.hpp"
+#include "soadyn/status.hpp"
+
+namespace soadyn {
+
+template <class S> using ConstVecRef = Eigen::Ref<const VecX<S>>;
+
+// Spatial acceleration of the world: gravity enters as a base acceleration
+// [0; -g], so every hinge force includes it.
+template <class S>
+Vec6<S> world_acceleration(const ModelTpl<S>& m) {
+  Vec6<S> a;
+  a << Vec3<S>::Zero(), -m.gravity;
+  return a;
+}
+
+// Joint transform, motion subspace and joint bias of body i.
+template <class S>
+inline void joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
+  Transform<S> joint_pose;
+  const int iq = m.q_index[i], iv = m.v_index[i];
+  joint_calc(m.joints[i], q + iq, v ? v + iv : nullptr, joint_pose, d.subspace[i], d.joint_bias[i]);
+  d.pose_in_parent[i] = m.placement[i] * joint_pose;
+}
+
+// Body velocity V(i) = phi* V(parent) + S v_i and Coriolis term
+// a(i) = dS/dt v_i + V(i) x (S v_i) (seed Eq. 1).
+template <class S>
+inline void velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v) {
+  const int p = m.parent[i];
+  const Vec6<S> joint_velocity = d.subspace[i] * Eigen::Map<const VecN<S>>(v + m.v_index[i], m.nv_body[i]);
+  if (p >= 0)
+    d.velocity[i] = d.pose_in_parent[i].motion_to_child(d.velocity[static_cast<std::size_t>(p)]) + joint_velocity;
+  else
+    d.velocity[i] = joint_velocity;
+  d.coriolis[i] = d.joint_bias[i] + motion_cross(d.velocity[i], joint_velocity);
+}
+
+// Gyroscopic force minus the external wrench: b(i) = V x* (M V) - f_ext(i)
+// (seed Eq. 1). `f_ext` holds nbodies rows of 6 (body frame, about the body
+// origin, [torque; force]) or is null.
+template <class S>
+inline void bias_force_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* f_ext) {
+  d.bias_force[i] = force_cross(d.velocity[i], Vec6<S>(m.inertia[i] * d.velocity[i]));
+  if (f_ext) d.bias_force[i] -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
+}
+
+// Parent acceleration seen in body i's frame: seed alpha+(i) = phi* alpha(parent).
+template <class S>
+inline Vec6<S> parent_acceleration(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i,
+                                   const Vec6<S>& world_acc) {
+  const int p = m.parent[i];
+  return d.pose_in_parent[i].motion_to_child(p >= 0 ? d.acceleration[static_cast<std::size_t>(p)] : world_acc);
+}
+
+// Adds body i's hinge force f (body frame) to its parent's accumulator.
+template <class S>
+inline void push_force_to_parent(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const Vec6<S>& f) {
+  const int p = m.parent[i];
+  if (p >= 0) d.hinge_force[static_cast<std::size_t>(p)] += d.pose_in_parent[i].force_to_parent(f);
+}
+
+// Smallest pivot of D = S' P S accepted as nonsingular, relative to |P|:
+// below it D is zero to within the rounding of its own computation.
+template <class S>
+inline S singular_pivot_threshold(const Mat6<S>& P) {
+  return S(16) * std::numeric_limits<S>::epsilon() * P.diagonal().cwiseAbs().maxCoeff();
+}
+
+// The regular part of a hinge in the tip-to-base sweep (seed Eqs. 14, 28):
+//   D = S' P S,  G = P S D^-1,  eps = T - S' z,  nu = D^-1 eps,
+//   P+ = (I - G S') P,  z+ = z + G eps.
+// `z` already holds b + children + P (S_p qdd_p + a). On entry `eps` holds
+// the regular hinge torques T. Returns the local column of a singular D, or -1.
+template <class S>
+inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z, VecN<S>& eps,
+                                  Mat6N<S>& G, VecN<S>& nu, Mat6<S>& P_plus, Vec6<S>& z_plus) {
+  const Mat6N<S> U = P * Sr;  // 6 x nr
+  const S threshold = singular_pivot_threshold(P);
+  eps.noalias() -= Sr.transpose() * z;
+  if (Sr.cols() == 1) {  // the common case: a scalar D
+    const S D = Sr.col(0).dot(U.col(0));
+    if (!(D > threshold)) return 0;
+    G = U / D;
+    nu = eps / D;
+  } else {
+    const MatN<S> D = Sr.transpose() * U;
+    const Eigen::LLT<MatN<S>> llt(D);
+    if (llt.info() != Eigen::Success) return 0;
+    const VecN<S> pivots = llt.matrixLLT().diagonal();
+    for (Eigen::Index k = 0; k < pivots.size(); ++k)
+      if (!(pivots[k] * pivots[k] > threshold)) return static_cast<int>(k);
+    nu = llt.solve(eps);
+    G = llt.solve(U.transpose()).transpose();
+  }
+  P_plus = P;
+  P_plus.noalias() -= G * U.transpose();
+  z_plus = z;
+  z_plus.noalias() += G * eps;
+  return -1;
+}
+
+// Adds P+ and z+ of body i to its parent (seed Eq. 14: P(k) = phi P+ phi* + M).
+template <class S>
+inline void push_articulated_to_parent(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const Mat6<S>& P_plus,
+                                       const Vec6<S>& z_plus) {
+  const std::size_t p = static_cast<std::size_t>(m.parent[i]);
+  d.articulated_inertia[p] += d.pose_in_parent[i].inertia_to_parent(P_plus);
+  d.articulated_bias[p] += d.pose_in_parent[i].force_to_parent(z_plus);
+}
+
+template <class S>
+inline Status check_finite(const VecX<S>& x) {
+  for (Eigen::Index k = 0; k < x.size(); ++k)
+    if (!std::isfinite(static_cast<double>(x[k]))) return Status{StatusCode::non_finite_result, static_cast<int>(k)};
+  return Status{};
+}
+
+}  // namespace soadyn

@@ -1,0 +1,111 @@
+// Model: immutable topology and parameters of a rigid multibody tree, plus
+// the one run-time switch the seed's algorithm needs, the prescribed/regular
+// flag of every DOF. All per-call scratch lives in Data (data.hpp), so one
+// Model can serve many Data objects on many threads as long as nobody flips
+// flags concurrently.
+//
+// Layout: bodies are stored in topological order (parent < child). Body i
+// owns the coordinate block [q_index[i], q_index[i] + nq_body[i]) and the
+// velocity block [v_index[i], v_index[i] + nv_body[i]); blocks follow body
+// order. A body's block is its joint's DOFs; flexible bodies will append
+// their modal DOFs to the same block, so no other layout changes.
+//
+// A body added with a fixed joint is not a body of the tree: its mass,
+// centre of mass and inertia are merged exactly into the body it is welded
+// to, and its name stays usable as a parent (a "frame").
+#pragma once
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+#include "soadyn/joints/joint.hpp"
+#include "soadyn/spatial/inertia.hpp"
+
+namespace soadyn {
+
+// A named frame rigidly attached to a body (body == -1: the world).
+template <class S>
+struct Frame {
+  std::string name;
+  int body = -1;
+  Transform<S> placement;  // frame in the body frame
+};
+
+// Per-body view of the DOF flags, derived from the per-DOF flags.
+struct HingeModes {
+  std::uint8_t n_regular = 0;
+  std::uint8_t n_prescribed = 0;
+  std::uint8_t regular[6] = {};     // local indices of regular DOFs
+  std::uint8_t prescribed[6] = {};  // local indices of prescribed DOFs
+  // True when some hinge on the path from the root to this body (inclusive)
+  // is regular: only then does the body need an articulated inertia P.
+  // Bodies without one are handled as in inverse dynamics (RNEA).
+  bool needs_articulated_inertia = true;
+};
+
+template <class S>
+class ModelTpl {
+ public:
+  ModelTpl();
+
+  // Adds a body attached to `parent` (a body or frame name; "" or "world"
+  // for the world) through `joint` placed at `placement` in the parent's
+  // frame. `inertia_com` is about the centre of mass, in the body frame.
+  // `joint_name` defaults to the body name. Returns the body index, or -1 for
+  // a fixed joint (the body becomes a frame). Throws std::invalid_argument
+  // naming the body or joint at fault.
+  int add_body(const std::string& name, const std::string& parent, const JointModel<S>& joint,
+               const Transform<S>& placement, S mass, const Vec3<S>& com, const Mat3<S>& inertia_com,
+               const std::string& joint_name = "");
+  // Same with the parent given by body index (-1: the world).
+  int add_body(const std::string& name, int parent, const JointModel<S>& joint,
+               const Transform<S>& placement, S mass, const Vec3<S>& com, const Mat3<S>& inertia_com,
+               const std::string& joint_name = "");
+
+  int nbodies() const { return static_cast<int>(parent.size()); }
+
+  // Prescribed (true) or regular (false) flag of velocity index `dof`.
+  // Allocation free and O(n): only the per-body views are refreshed.
+  void set_prescribed(int dof, bool flag);
+  void set_all_prescribed(bool flag);
+  bool is_prescribed(int dof) const { return prescribed[static_cast<std::size_t>(dof)] != 0; }
+
+  // Name lookups; -1 when absent.
+  int body_index(const std::string& name) const;
+  int dof_index(const std::string& name) const;
+  int frame_index(const std::string& name) const;
+
+  // Per body, in topological order.
+  std::vector<std::string> body_names;
+  std::vector<std::string> joint_names;
+  std::vector<int> parent;
+  std::vector<JointModel<S>> joints;
+  aligned_vector<Transform<S>> placement;  // joint frame in the parent body frame
+  aligned_vector<Mat6<S>> inertia;         // spatial inertia about the body origin (seed M(k))
+  std::vector<S> mass;
+  aligned_vector<Vec3<S>> com;
+  std::vector<int> q_index, v_index, nq_body, nv_body;
+  std::vector<HingeModes> modes;
+
+  // Per DOF / coordinate.
+  int nq = 0, nv = 0;
+  std::vector<std::string> dof_names, coordinate_names;
+  std::vector<int> dof_body;
+  std::vector<std::uint8_t> prescribed;
+
+  std::vector<Frame<S>> frames;
+  Vec3<S> gravity;
+  // Incremented by every structural change (Data must then be rebuilt).
+  std::uint64_t version = 0;
+
+ private:
+  void refresh_modes();
+  void refresh_body_modes(int body);
+  std::unordered_map<std::string, int> body_lookup_, dof_lookup_, frame_lookup_;
+};
+
+using Model = ModelTpl<double>;
+using ModelF = ModelTpl<float>;
+extern template class ModelTpl<double>;
+extern template class ModelTpl<float>;
+
+}  // namespace soadyn

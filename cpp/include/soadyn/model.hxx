@@ -1,0 +1,231 @@
+// Model construction and validation (templated implementation of model.hpp).
+#pragma once
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include "soadyn/model.hpp"
+
+namespace soadyn {
+
+namespace detail {
+
+template <class S>
+S model_tolerance() {
+  using std::sqrt;
+  return sqrt(std::numeric_limits<S>::epsilon());
+}
+
+[[noreturn]] inline void fail(const std::string& what) { throw std::invalid_argument(what); }
+
+template <class S>
+std::string str(const S& x) {
+  std::ostringstream o;
+  o << x;
+  return o.str();
+}
+
+template <class S>
+Vec3<S> checked_axis(const Vec3<S>& axis, const std::string& joint, const char* which) {
+  if (!axis.allFinite()) fail("joint '" + joint + "': " + which + " is not finite");
+  const S n = axis.norm();
+  if (!(n > model_tolerance<S>())) fail("joint '" + joint + "': " + which + " is zero");
+  return axis / n;
+}
+
+// Normalises the joint's axes in place; throws naming the joint when it
+// cannot be built.
+template <class S>
+void check_joint(JointModel<S>& joint, const std::string& name) {
+  std::visit(
+      [&](auto& j) {
+        using J = std::decay_t<decltype(j)>;
+        if constexpr (std::is_same_v<J, UniversalJoint<S>>) {
+          j.axis1 = checked_axis(j.axis1, name, "axis1");
+          j.axis2 = checked_axis(j.axis2, name, "axis2");
+          if (j.axis1.cross(j.axis2).norm() < model_tolerance<S>())
+            fail("joint '" + name + "': universal joint axes are parallel");
+        } else if constexpr (std::is_same_v<J, HelicalJoint<S>>) {
+          j.axis = checked_axis(j.axis, name, "axis");
+          if (!std::isfinite(static_cast<double>(j.pitch))) fail("joint '" + name + "': pitch is not finite");
+        } else if constexpr (std::is_same_v<J, RevoluteJoint<S>> || std::is_same_v<J, PrismaticJoint<S>> ||
+                             std::is_same_v<J, CylindricalJoint<S>>) {
+          j.axis = checked_axis(j.axis, name, "axis");
+        }
+      },
+      joint);
+}
+
+template <class S>
+void check_placement(const Transform<S>& X, const std::string& body) {
+  if (!X.rotation.allFinite() || !X.translation.allFinite())
+    fail("body '" + body + "': placement is not finite");
+  const S err = (X.rotation.transpose() * X.rotation - Mat3<S>::Identity()).cwiseAbs().maxCoeff();
+  if (err > model_tolerance<S>() || X.rotation.determinant() < S(0))
+    fail("body '" + body + "': placement rotation is not a proper rotation matrix (|R'R - I| = " + str(err) +
+         ")");
+}
+
+// Physical rigid-body parameters: mass >= 0, inertia symmetric, positive
+// semidefinite and obeying the triangle inequality of principal moments.
+// Semidefinite inertias (point masses, thin rods) are physical and accepted.
+template <class S>
+void check_mass_properties(S mass, const Vec3<S>& com, const Mat3<S>& I, const std::string& body) {
+  if (!std::isfinite(static_cast<double>(mass))) fail("body '" + body + "': mass is not finite");
+  if (mass < S(0)) fail("body '" + body + "': mass " + str(mass) + " is negative");
+  if (!com.allFinite()) fail("body '" + body + "': centre of mass is not finite");
+  if (!I.allFinite()) fail("body '" + body + "': inertia is not finite");
+  const S scale = std::max(I.cwiseAbs().maxCoeff(), S(std::numeric_limits<S>::min()));
+  const S tol = model_tolerance<S>() * scale;
+  if ((I - I.transpose()).cwiseAbs().maxCoeff() > tol) fail("body '" + body + "': inertia is not symmetric");
+  const Vec3<S> m = Eigen::SelfAdjointEigenSolver<Mat3<S>>(I, Eigen::EigenvaluesOnly).eigenvalues();
+  if (m.minCoeff() < -tol)
+    fail("body '" + body + "': inertia is not positive semidefinite (principal moment " + str(m.minCoeff()) + ")");
+  for (int k = 0; k < 3; ++k)
+    if (m[k] > m[(k + 1) % 3] + m[(k + 2) % 3] + tol)
+      fail("body '" + body + "': principal moments " + str(m[0]) + ", " + str(m[1]) + ", " + str(m[2]) +
+           " violate the triangle inequality");
+  if (mass == S(0) && m.maxCoeff() > tol) fail("body '" + body + "': massless body with nonzero inertia");
+}
+
+}  // namespace detail
+
+template <class S>
+ModelTpl<S>::ModelTpl() : gravity(S(0), S(0), S(-9.81)) {}
+
+template <class S>
+int ModelTpl<S>::body_index(const std::string& name) const {
+  const auto it = body_lookup_.find(name);
+  return it == body_lookup_.end() ? -1 : it->second;
+}
+template <class S>
+int ModelTpl<S>::dof_index(const std::string& name) const {
+  const auto it = dof_lookup_.find(name);
+  return it == dof_lookup_.end() ? -1 : it->second;
+}
+template <class S>
+int ModelTpl<S>::frame_index(const std::string& name) const {
+  const auto it = frame_lookup_.find(name);
+  return it == frame_lookup_.end() ? -1 : it->second;
+}
+
+template <class S>
+int ModelTpl<S>::add_body(const std::string& name, const std::string& parent_name, const JointModel<S>& joint,
+                          const Transform<S>& X, S m, const Vec3<S>& c, const Mat3<S>& I,
+                          const std::string& joint_name) {
+  if (parent_name.empty() || parent_name == "world") return add_body(name, -1, joint, X, m, c, I, joint_name);
+  const int b = body_index(parent_name);
+  if (b >= 0) return add_body(name, b, joint, X, m, c, I, joint_name);
+  const int f = frame_index(parent_name);
+  if (f < 0) detail::fail("body '" + name + "': parent '" + parent_name + "' does not exist");
+  const Frame<S> frame = frames[static_cast<std::size_t>(f)];
+  return add_body(name, frame.body, joint, frame.placement * X, m, c, I, joint_name);
+}
+
+template <class S>
+int ModelTpl<S>::add_body(const std::string& name, int parent_body, const JointModel<S>& joint_in,
+                          const Transform<S>& X, S m, const Vec3<S>& c, const Mat3<S>& I,
+                          const std::string& joint_name_in) {
+  if (name.empty()) detail::fail("body name is empty");
+  if (name == "world") detail::fail("body name 'world' is reserved for the ground");
+  if (body_index(name) >= 0 || frame_index(name) >= 0) detail::fail("duplicate body name '" + name + "'");
+  if (parent_body < -1 || parent_body >= nbodies())
+    detail::fail("body '" + name + "': parent index " + std::to_string(parent_body) + " does not exist");
+  const std::string jname = joint_name_in.empty() ? name : joint_name_in;
+  if (!joint_name_in.empty())
+    for (const auto& other : joint_names)
+      if (other == jname) detail::fail("duplicate joint name '" + jname + "'");
+  JointModel<S> joint = joint_in;
+  detail::check_joint(joint, jname);
+  detail::check_placement(X, name);
+  detail::check_mass_properties(m, c, I, name);
+  const Mat6<S> body_inertia = spatial_inertia(m, c, I);
+
+  if (joint_is_fixed(joint)) {  // weld: merge into the parent, keep the name as a frame
+    if (parent_body >= 0) {
+      const std::size_t p = static_cast<std::size_t>(parent_body);
+      inertia[p] += X.inertia_to_parent(body_inertia);
+      Mat3<S> merged_inertia_com;
+      decompose_spatial_inertia(inertia[p], mass[p], com[p], merged_inertia_com);
+    }
+    frame_lookup_[name] = static_cast<int>(frames.size());
+    frames.push_back(Frame<S>{name, parent_body, X});
+    ++version;
+    return -1;
+  }
+
+  const int index = nbodies();
+  body_names.push_back(name);
+  joint_names.push_back(jname);
+  parent.push_back(parent_body);
+  joints.push_back(joint);
+  placement.push_back(X);
+  inertia.push_back(body_inertia);
+  mass.push_back(m);
+  com.push_back(c);
+  const int jq = joint_nq(joint), jv = joint_nv(joint);
+  q_index.push_back(nq);
+  v_index.push_back(nv);
+  nq_body.push_back(jq);
+  nv_body.push_back(jv);
+  const char* const* qs = joint_coordinate_suffixes(joint);
+  const char* const* vs = joint_velocity_suffixes(joint);
+  for (int k = 0; k < jq; ++k) coordinate_names.push_back(jq == 1 ? jname : jname + ":" + qs[k]);
+  for (int k = 0; k < jv; ++k) {
+    const std::string dof = jv == 1 ? jname : jname + ":" + vs[k];
+    if (dof_index(dof) >= 0) detail::fail("duplicate DOF name '" + dof + "'");
+    dof_lookup_[dof] = nv + k;
+    dof_names.push_back(dof);
+    dof_body.push_back(index);
+    prescribed.push_back(0);
+  }
+  nq += jq;
+  nv += jv;
+  body_lookup_[name] = index;
+  modes.emplace_back();
+  refresh_body_modes(index);
+  refresh_modes();
+  ++version;
+  return index;
+}
+
+template <class S>
+void ModelTpl<S>::refresh_body_modes(int body) {
+  HingeModes& h = modes[static_cast<std::size_t>(body)];
+  h.n_regular = h.n_prescribed = 0;
+  const int v0 = v_index[static_cast<std::size_t>(body)];
+  for (int k = 0; k < nv_body[static_cast<std::size_t>(body)]; ++k) {
+    if (prescribed[static_cast<std::size_t>(v0 + k)])
+      h.prescribed[h.n_prescribed++] = static_cast<std::uint8_t>(k);
+    else
+      h.regular[h.n_regular++] = static_cast<std::uint8_t>(k);
+  }
+}
+
+template <class S>
+void ModelTpl<S>::refresh_modes() {
+  for (int i = 0; i < nbodies(); ++i) {
+    const int p = parent[static_cast<std::size_t>(i)];
+    HingeModes& h = modes[static_cast<std::size_t>(i)];
+    h.needs_articulated_inertia = h.n_regular > 0 || (p >= 0 && modes[static_cast<std::size_t>(p)].needs_articulated_inertia);
+  }
+}
+
+template <class S>
+void ModelTpl<S>::set_prescribed(int dof, bool flag) {
+  const std::size_t d = static_cast<std::size_t>(dof);
+  if (prescribed[d] == static_cast<std::uint8_t>(flag)) return;
+  prescribed[d] = static_cast<std::uint8_t>(flag);
+  refresh_body_modes(dof_body[d]);
+  refresh_modes();
+}
+
+template <class S>
+void ModelTpl<S>::set_all_prescribed(bool flag) {
+  for (auto& p : prescribed) p = static_cast<std::uint8_t>(flag);
+  for (int i = 0; i < nbodies(); ++i) refresh_body_modes(i);
+  refresh_modes();
+}
+
+}  // namespace soadyn

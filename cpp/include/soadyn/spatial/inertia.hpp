@@ -1,0 +1,35 @@
+// Rigid-body spatial inertia about the body frame origin (seed M(k)).
+#pragma once
+#include "soadyn/spatial/types.hpp"
+
+namespace soadyn {
+
+// Spatial inertia about the body origin for a body of `mass` whose centre of
+// mass is `com` (body frame) and whose rotational inertia about the centre of
+// mass is `inertia_com` (body frame):
+//   [ Ic - m [c]x[c]x   m [c]x ]
+//   [ -m [c]x           m 1    ]
+template <class S>
+Mat6<S> spatial_inertia(const S& mass, const Vec3<S>& com, const Mat3<S>& inertia_com) {
+  const Mat3<S> cx = skew(com);
+  Mat6<S> I;
+  I.template topLeftCorner<3, 3>() = inertia_com - mass * cx * cx;
+  I.template topRightCorner<3, 3>() = mass * cx;
+  I.template bottomLeftCorner<3, 3>() = -mass * cx;
+  I.template bottomRightCorner<3, 3>() = mass * Mat3<S>::Identity();
+  return I;
+}
+
+// Mass, centre of mass and rotational inertia about it, read back from a
+// spatial inertia about the origin (used when fixed bodies are merged).
+template <class S>
+void decompose_spatial_inertia(const Mat6<S>& I, S& mass, Vec3<S>& com, Mat3<S>& inertia_com) {
+  mass = I(5, 5);
+  const Mat3<S> mcx = I.template topRightCorner<3, 3>();
+  const Vec3<S> mc(mcx(2, 1), mcx(0, 2), mcx(1, 0));
+  com = mass > S(0) ? Vec3<S>(mc / mass) : Vec3<S>::Zero();
+  const Mat3<S> cx = skew(com);
+  inertia_com = I.template topLeftCorner<3, 3>() + mass * cx * cx;
+}
+
+}  // namespace soadyn

@@ -1,0 +1,73 @@
+// Exponential maps used to integrate joints on their manifolds: SO(3) as
+// unit quaternions (x, y, z, w), SE(3) and SE(2) with body-frame twists.
+#pragma once
+#include <cmath>
+#include "soadyn/spatial/transform.hpp"
+
+namespace soadyn {
+
+// Unit quaternion (x, y, z, w) of the rotation vector phi.
+template <class S>
+Eigen::Matrix<S, 4, 1> quaternion_exp(const Vec3<S>& phi) {
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const S theta2 = phi.squaredNorm();
+  const S theta = sqrt(theta2);
+  // sin(theta/2)/theta with its Taylor series near zero.
+  const S k = theta2 < S(1e-8) ? S(0.5) - theta2 / S(48) : sin(theta / S(2)) / theta;
+  Eigen::Matrix<S, 4, 1> q;
+  q << k * phi, cos(theta / S(2));
+  return q;
+}
+
+// Hamilton product a * b of quaternions stored (x, y, z, w).
+template <class S>
+Eigen::Matrix<S, 4, 1> quaternion_multiply(const S* a, const S* b) {
+  Eigen::Matrix<S, 4, 1> r;
+  r[3] = a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2];
+  r[0] = a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1];
+  r[1] = a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0];
+  r[2] = a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3];
+  return r;
+}
+
+// Left Jacobian V of SO(3) at phi: the translation of exp((phi, u)) in SE(3)
+// is V u, V = I + (1 - cos t)/t^2 [phi]x + (t - sin t)/t^3 [phi]x^2.
+template <class S>
+Mat3<S> so3_left_jacobian(const Vec3<S>& phi) {
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const S t2 = phi.squaredNorm();
+  S a, b;
+  if (t2 < S(1e-8)) {
+    a = S(0.5) - t2 / S(24);
+    b = S(1) / S(6) - t2 / S(120);
+  } else {
+    const S t = sqrt(t2);
+    a = (S(1) - cos(t)) / t2;
+    b = (t - sin(t)) / (t2 * t);
+  }
+  const Mat3<S> k = skew(phi);
+  return Mat3<S>::Identity() + a * k + b * (k * k);
+}
+
+// SE(2): planar displacement of the body-frame twist (vx, vy, w) * dt,
+// returned as (dx, dy) in the starting body frame.
+template <class S>
+Eigen::Matrix<S, 2, 1> se2_exp_translation(const S& vx, const S& vy, const S& phi) {
+  using std::cos;
+  using std::sin;
+  S s, c;  // sin(phi)/phi and (1 - cos(phi))/phi
+  if (phi * phi < S(1e-8)) {
+    s = S(1) - phi * phi / S(6);
+    c = phi / S(2) - phi * phi * phi / S(24);
+  } else {
+    s = sin(phi) / phi;
+    c = (S(1) - cos(phi)) / phi;
+  }
+  return Eigen::Matrix<S, 2, 1>(s * vx - c * vy, c * vx + s * vy);
+}
+
+}  // namespace soadyn

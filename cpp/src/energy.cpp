@@ -1,0 +1,11 @@
+#include "soadyn/algorithms/energy.hxx"
+
+namespace soadyn {
+#define SOADYN_INSTANTIATE(S)                                                                                     \
+  template S kinetic_energy<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, const ConstVecRef<S>&);     \
+  template S potential_energy<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&);                          \
+  template Vec6<S> momentum<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, const ConstVecRef<S>&);     \
+  template Vec3<S> center_of_mass<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, S*);
+SOADYN_INSTANTIATE(double)
+SOADYN_INSTANTIATE(float)
+}  // namespace soadyn
