@@ -2,6 +2,7 @@
 // Spatial vectors are [angular; linear] (seed 000 and Featherstone).
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <vector>
 
 namespace soadyn {

@@ -1,0 +1,277 @@
+// The dynamics calls: check arguments, release the GIL, run the C++
+// algorithm on the model's preallocated Data, copy the outputs into fresh
+// numpy arrays.
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include "arrays.hpp"
+#include "model_handle.hpp"
+#include "soadyn/soadyn.hpp"
+
+namespace soadyn_py {
+
+// Raised when the dynamics cannot be solved at the given state.
+struct DynamicsError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+namespace {
+
+using Map = Eigen::Map<const Eigen::VectorXd>;
+constexpr double kQuaternionTolerance = 1e-6;
+
+Array q_arg(const ModelHandle& h, py::handle q) {
+  Array a = checked_vector(q, "q", h.model.coordinate_names);
+  double norm = 0;
+  const int body = soadyn::first_non_unit_quaternion<double>(h.model, Map(a.data(), a.size()), kQuaternionTolerance, &norm);
+  if (body >= 0)
+    throw py::value_error("q: the quaternion of joint '" + h.model.joint_names[static_cast<std::size_t>(body)] +
+                          "' has norm " + std::to_string(norm) + "; it must be 1 within 1e-6");
+  return a;
+}
+Array v_arg(const ModelHandle& h, py::handle v, const char* name) { return checked_vector(v, name, h.model.dof_names); }
+
+// f_ext: None or (nbodies, 6) body-frame wrenches [torque; force] about the body origin.
+const double* f_ext_arg(const ModelHandle& h, py::handle f, Array& keep) {
+  if (f.is_none()) return nullptr;
+  keep = checked_matrix(f, "f_ext", 6, h.model.body_names);
+  return keep.data();
+}
+
+void raise_on(const soadyn::Status& s, const soadyn::Model& m) {
+  if (s.ok()) return;
+  const std::string dof = s.index >= 0 ? m.dof_names[static_cast<std::size_t>(s.index)] : "?";
+  if (s.code == soadyn::StatusCode::singular_articulated_inertia)
+    throw DynamicsError("the articulated inertia D of regular DOF '" + dof +
+                        "' is singular: nothing with mass or inertia moves with this DOF");
+  throw DynamicsError("the result for DOF '" + dof + "' is not finite");
+}
+
+py::array_t<double> vector_out(py::ssize_t n) { return py::array_t<double>(n); }
+
+// Runs `fn(model, data)` with the GIL released and the model's Data locked.
+template <class Fn>
+void run_locked(ModelHandle& h, Fn&& fn) {
+  py::gil_scoped_release release;
+  std::lock_guard<std::mutex> lock(h.mutex);
+  fn(h.model, h.scratch());
+}
+
+void copy_wrenches(const soadyn::Data& d, double* out) {
+  for (std::size_t i = 0; i < d.hinge_force.size(); ++i) Eigen::Map<soadyn::Vec6<double>>(out + 6 * i) = d.hinge_force[i];
+}
+
+py::array_t<double> wrench_out(const ModelHandle& h) { return py::array_t<double>({h.model.nbodies(), 6}); }
+
+}  // namespace
+
+void bind_algorithms(py::module_& mod) {
+  py::register_exception<DynamicsError>(mod, "DynamicsError", PyExc_ArithmeticError);
+  mod.attr("QUATERNION_TOLERANCE") = kQuaternionTolerance;
+
+  mod.def("forward_dynamics",
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle tau, py::handle f_ext) {
+        const Array qa = q_arg(h, q), va = v_arg(h, v, "v"), ta = v_arg(h, tau, "tau");
+        Array fa;
+        const double* f = f_ext_arg(h, f_ext, fa);
+        auto out = vector_out(h.model.nv);
+        double* o = out.mutable_data();
+        soadyn::Status s;
+        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+          s = soadyn::forward_dynamics<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv), Map(ta.data(), m.nv), f);
+          Eigen::Map<Eigen::VectorXd>(o, m.nv) = d.qdd;
+        });
+        raise_on(s, h.model);
+        return out;
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("tau"), py::arg("f_ext") = py::none(),
+      "Accelerations qdd = M^-1 (tau - h + J' f_ext) by the articulated-body algorithm (every DOF regular,\n"
+      "whatever the model's flags). f_ext: (nbodies, 6) body-frame wrenches [torque; force] about each body\n"
+      "origin. Returns a fresh array.");
+
+  mod.def("inverse_dynamics",
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext) {
+        const Array qa = q_arg(h, q), va = v_arg(h, v, "v"), aa = v_arg(h, qdd, "qdd");
+        Array fa;
+        const double* f = f_ext_arg(h, f_ext, fa);
+        auto out = vector_out(h.model.nv);
+        double* o = out.mutable_data();
+        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+          soadyn::inverse_dynamics<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv), Map(aa.data(), m.nv), f);
+          Eigen::Map<Eigen::VectorXd>(o, m.nv) = d.tau;
+        });
+        return out;
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("qdd"), py::arg("f_ext") = py::none(),
+      "Generalized forces tau = M qdd + h - J' f_ext (recursive Newton-Euler). Returns a fresh array.");
+
+  mod.def("joint_wrenches",
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext) {
+        const Array qa = q_arg(h, q), va = v_arg(h, v, "v"), aa = v_arg(h, qdd, "qdd");
+        Array fa;
+        const double* f = f_ext_arg(h, f_ext, fa);
+        auto out = wrench_out(h);
+        double* o = out.mutable_data();
+        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+          soadyn::inverse_dynamics<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv), Map(aa.data(), m.nv), f);
+          copy_wrenches(d, o);
+        });
+        return out;
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("qdd"), py::arg("f_ext") = py::none(),
+      "Joint reaction wrenches (nbodies, 6): the spatial force [torque; force] the parent exerts on each body\n"
+      "through its hinge, in the body frame about the body origin, at the given accelerations.");
+
+  mod.def("hybrid_dynamics",
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext, bool wrenches) -> py::object {
+        const Array qa = q_arg(h, q), va = v_arg(h, v, "v"), ua = v_arg(h, u, "u");
+        Array fa;
+        const double* f = f_ext_arg(h, f_ext, fa);
+        auto qdd = vector_out(h.model.nv), tau = vector_out(h.model.nv);
+        py::array_t<double> w = wrenches ? wrench_out(h) : py::array_t<double>();
+        double *qo = qdd.mutable_data(), *to = tau.mutable_data(), *wo = wrenches ? w.mutable_data() : nullptr;
+        soadyn::Status s;
+        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+          s = soadyn::hybrid_dynamics<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv), Map(ua.data(), m.nv),
+                                              f, soadyn::HybridOutputs{wrenches});
+          Eigen::Map<Eigen::VectorXd>(qo, m.nv) = d.qdd;
+          Eigen::Map<Eigen::VectorXd>(to, m.nv) = d.tau;
+          if (wo) copy_wrenches(d, wo);
+        });
+        raise_on(s, h.model);
+        if (wrenches) return py::make_tuple(qdd, tau, w);
+        return py::make_tuple(qdd, tau);
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none(),
+      py::arg("joint_wrenches") = false,
+      "Hybrid dynamics (seed Eqs. 14, 28, 29): u holds the torque of each regular DOF and the acceleration of\n"
+      "each prescribed DOF (model.prescribed). Returns fresh arrays (qdd, tau) with every DOF's acceleration\n"
+      "and generalized force, plus the (nbodies, 6) joint wrenches when joint_wrenches=True.");
+
+  mod.def("mass_matrix",
+      [](ModelHandle& h, py::handle q) {
+        const Array qa = q_arg(h, q);
+        py::array_t<double> out({h.model.nv, h.model.nv});
+        double* o = out.mutable_data();
+        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+          soadyn::mass_matrix<double>(m, d, Map(qa.data(), m.nq));
+          Eigen::Map<Eigen::MatrixXd>(o, m.nv, m.nv) = d.mass_matrix;  // symmetric: layout does not matter
+        });
+        return out;
+      },
+      py::arg("model"), py::arg("q"), "Joint-space mass matrix M(q), (nv, nv) (composite-rigid-body algorithm).");
+
+  mod.def("bias_forces",
+      [](ModelHandle& h, py::handle q, py::handle v) {
+        const Array qa = q_arg(h, q), va = v_arg(h, v, "v");
+        auto out = vector_out(h.model.nv);
+        double* o = out.mutable_data();
+        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+          soadyn::bias_forces<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv));
+          Eigen::Map<Eigen::VectorXd>(o, m.nv) = d.tau;
+        });
+        return out;
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"), "h(q, v): Coriolis, centrifugal and gravity generalized forces.");
+
+  mod.def("kinetic_energy",
+      [](ModelHandle& h, py::handle q, py::handle v) {
+        const Array qa = q_arg(h, q), va = v_arg(h, v, "v");
+        double e = 0;
+        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+          e = soadyn::kinetic_energy<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv));
+        });
+        return e;
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"), "Kinetic energy 1/2 v' M v.");
+
+  mod.def("potential_energy",
+      [](ModelHandle& h, py::handle q) {
+        const Array qa = q_arg(h, q);
+        double e = 0;
+        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+          e = soadyn::potential_energy<double>(m, d, Map(qa.data(), m.nq));
+        });
+        return e;
+      },
+      py::arg("model"), py::arg("q"), "Gravitational potential energy -sum m g.c (zero at the world origin).");
+
+  mod.def("momentum",
+      [](ModelHandle& h, py::handle q, py::handle v) {
+        const Array qa = q_arg(h, q), va = v_arg(h, v, "v");
+        Eigen::Matrix<double, 6, 1> p;
+        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+          p = soadyn::momentum<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv));
+        });
+        return Eigen::VectorXd(p);
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"),
+      "Spatial momentum [angular about the world origin; linear] in the world frame.");
+
+  mod.def("center_of_mass",
+      [](ModelHandle& h, py::handle q) {
+        const Array qa = q_arg(h, q);
+        Eigen::Vector3d c;
+        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+          c = soadyn::center_of_mass<double>(m, d, Map(qa.data(), m.nq));
+        });
+        return c;
+      },
+      py::arg("model"), py::arg("q"), "Centre of mass of the whole tree in the world frame.");
+
+  mod.def("forward_kinematics",
+      [](ModelHandle& h, py::handle q, py::handle v) -> py::object {
+        const Array qa = q_arg(h, q);
+        const bool with_v = !v.is_none();
+        const Array va = with_v ? v_arg(h, v, "v") : Array();
+        const py::ssize_t n = h.model.nbodies();
+        py::array_t<double> poses({n, py::ssize_t(4), py::ssize_t(4)});
+        py::array_t<double> vel = with_v ? py::array_t<double>({n, py::ssize_t(6)}) : py::array_t<double>();
+        double *po = poses.mutable_data(), *vo = with_v ? vel.mutable_data() : nullptr;
+        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+          soadyn::forward_kinematics<double>(m, d, qa.data(), with_v ? va.data() : nullptr);
+          for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
+            Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> T(po + 16 * i);
+            T.setIdentity();
+            T.topLeftCorner<3, 3>() = d.pose_in_world[i].rotation;
+            T.topRightCorner<3, 1>() = d.pose_in_world[i].translation;
+            if (vo) Eigen::Map<soadyn::Vec6<double>>(vo + 6 * i) = d.velocity[i];
+          }
+        });
+        if (with_v) return py::make_tuple(poses, vel);
+        return py::make_tuple(poses, py::none());
+      },
+      py::arg("model"), py::arg("q"), py::arg("v") = py::none(),
+      "(poses, velocities): (nbodies, 4, 4) homogeneous body poses in the world and, with v, (nbodies, 6)\n"
+      "body-frame spatial velocities [angular; linear].");
+
+  mod.def("integrate",
+      [](ModelHandle& h, py::handle q, py::handle v, double dt) {
+        const Array qa = q_arg(h, q), va = v_arg(h, v, "v");
+        if (!std::isfinite(dt)) throw py::value_error("dt is not finite");
+        Eigen::VectorXd out(h.model.nq);
+        soadyn::integrate<double>(h.model, Map(qa.data(), h.model.nq), Map(va.data(), h.model.nv), dt, out);
+        return out;
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("dt"),
+      "q (+) v dt, each joint on its manifold (quaternions by the exponential map; free joints on SE(3)).");
+
+  mod.def("neutral_configuration",
+      [](const ModelHandle& h) {
+        Eigen::VectorXd q(h.model.nq);
+        soadyn::neutral_configuration<double>(h.model, q);
+        return q;
+      },
+      py::arg("model"), "Zero coordinates with identity quaternions.");
+
+  mod.def("random_configuration",
+      [](const ModelHandle& h, std::uint64_t seed) {
+        Eigen::VectorXd q(h.model.nq);
+        soadyn::random_configuration<double>(h.model, seed, q);
+        return q;
+      },
+      py::arg("model"), py::arg("seed") = 0,
+      "Random configuration: angles in [-pi, pi], offsets in [-1, 1], uniform unit quaternions.");
+}
+
+}  // namespace soadyn_py

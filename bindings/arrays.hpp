@@ -1,0 +1,20 @@
+// Checked conversion of Python arguments to contiguous float64 arrays.
+// Errors name the argument and the item at fault (DOF, coordinate, body).
+#pragma once
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <string>
+#include <vector>
+
+namespace soadyn_py {
+
+namespace py = pybind11;
+using Array = py::array_t<double, py::array::c_style>;
+
+// 1-D real array of length n, every entry finite; `names` name the entries.
+Array checked_vector(py::handle obj, const char* arg, const std::vector<std::string>& names);
+
+// 2-D real array of shape (rows, cols), finite; `row_names` name the rows.
+Array checked_matrix(py::handle obj, const char* arg, py::ssize_t cols, const std::vector<std::string>& row_names);
+
+}  // namespace soadyn_py

@@ -1,0 +1,135 @@
+// Joint and Model classes. Argument sugar (placements, names, masks) lives in
+// python/soadyn/model.py; this file only exposes the C++ objects.
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include "arrays.hpp"
+#include "model_handle.hpp"
+
+namespace soadyn_py {
+
+using soadyn::Vec3;
+using JointModel = soadyn::JointModel<double>;
+
+// A joint type with an optional name (default: the body's name).
+struct JointSpec {
+  JointModel joint;
+  std::string name;
+};
+
+namespace {
+
+Eigen::Vector3d axis_arg(const Eigen::Vector3d& a) { return a; }
+
+template <class J, class... Args>
+JointSpec make(const std::string& name, Args... args) {
+  return JointSpec{JointModel(J{args...}), name};
+}
+
+py::array_t<bool> prescribed_mask(const soadyn::Model& m) {
+  py::array_t<bool> mask(m.nv);
+  for (int k = 0; k < m.nv; ++k) mask.mutable_at(k) = m.prescribed[static_cast<std::size_t>(k)] != 0;
+  return mask;
+}
+
+}  // namespace
+
+void bind_model(py::module_& mod) {
+  py::class_<JointSpec>(mod, "Joint", "A joint type; build one with the static constructors.")
+      .def_static("revolute", [](const Eigen::Vector3d& axis, const std::string& name) {
+            return make<soadyn::RevoluteJoint<double>>(name, axis_arg(axis)); },
+          py::arg("axis"), py::arg("name") = "", "Rotation about `axis` (joint frame). One DOF.")
+      .def_static("prismatic", [](const Eigen::Vector3d& axis, const std::string& name) {
+            return make<soadyn::PrismaticJoint<double>>(name, axis_arg(axis)); },
+          py::arg("axis"), py::arg("name") = "", "Translation along `axis`. One DOF.")
+      .def_static("helical", [](const Eigen::Vector3d& axis, double pitch, const std::string& name) {
+            return make<soadyn::HelicalJoint<double>>(name, axis_arg(axis), pitch); },
+          py::arg("axis"), py::arg("pitch"), py::arg("name") = "",
+          "Screw about `axis`: `pitch` metres of travel per radian. One DOF.")
+      .def_static("universal", [](const Eigen::Vector3d& a1, const Eigen::Vector3d& a2, const std::string& name) {
+            return make<soadyn::UniversalJoint<double>>(name, axis_arg(a1), axis_arg(a2)); },
+          py::arg("axis1"), py::arg("axis2"), py::arg("name") = "",
+          "Rotation about axis1, then about axis2 of the rotated frame. DOFs '<name>:1', '<name>:2'.")
+      .def_static("cylindrical", [](const Eigen::Vector3d& axis, const std::string& name) {
+            return make<soadyn::CylindricalJoint<double>>(name, axis_arg(axis)); },
+          py::arg("axis"), py::arg("name") = "", "Rotation about and translation along `axis`: ':angle', ':offset'.")
+      .def_static("planar", [](const std::string& name) { return make<soadyn::PlanarJoint<double>>(name); },
+          py::arg("name") = "", "x-y translation and z rotation: q = (x, y, theta), v = body-frame (vx, vy, wz).")
+      .def_static("spherical", [](const std::string& name) { return make<soadyn::SphericalJoint<double>>(name); },
+          py::arg("name") = "", "Ball joint: q = quaternion (x, y, z, w), v = body-frame angular velocity.")
+      .def_static("free", [](const std::string& name) { return make<soadyn::FreeJoint<double>>(name); },
+          py::arg("name") = "",
+          "Six DOF: q = (position, quaternion x y z w), v = body-frame (angular, linear velocity of the origin).")
+      .def_static("fixed", [](const std::string& name) { return make<soadyn::FixedJoint<double>>(name); },
+          py::arg("name") = "", "Weld: the body is merged into its parent and becomes a named frame.")
+      .def_property_readonly("type", [](const JointSpec& j) { return std::string(soadyn::joint_type_name(j.joint)); })
+      .def_property_readonly("nq", [](const JointSpec& j) { return soadyn::joint_nq(j.joint); })
+      .def_property_readonly("nv", [](const JointSpec& j) { return soadyn::joint_nv(j.joint); })
+      .def_readonly("name", &JointSpec::name)
+      .def("__repr__", [](const JointSpec& j) {
+        return std::string("Joint.") + soadyn::joint_type_name(j.joint) + "(" + (j.name.empty() ? "" : "name='" + j.name + "'") + ")";
+      });
+
+  py::class_<ModelHandle>(mod, "_Model")
+      .def(py::init<>())
+      .def("_add_body",
+           [](ModelHandle& h, const std::string& name, const std::string& parent, const JointSpec& joint,
+              const Eigen::Matrix3d& R, const Eigen::Vector3d& p, double mass, const Eigen::Vector3d& com,
+              const Eigen::Matrix3d& inertia) {
+             soadyn::Transform<double> X;
+             X.rotation = R;
+             X.translation = p;
+             return h.model.add_body(name, parent, joint.joint, X, mass, com, inertia, joint.name);
+           })
+      .def("_set_prescribed_indices",
+           [](ModelHandle& h, const std::vector<int>& dofs, bool flag) {
+             std::lock_guard<std::mutex> lock(h.mutex);
+             for (int d : dofs) h.model.set_prescribed(d, flag);
+           })
+      .def("_set_prescribed_mask",
+           [](ModelHandle& h, const std::vector<bool>& mask) {
+             std::lock_guard<std::mutex> lock(h.mutex);
+             for (int d = 0; d < h.model.nv; ++d) h.model.set_prescribed(d, mask[static_cast<std::size_t>(d)]);
+           })
+      .def("body_index", [](const ModelHandle& h, const std::string& n) { return h.model.body_index(n); },
+           "Index of the named body, or -1.")
+      .def("dof_index", [](const ModelHandle& h, const std::string& n) { return h.model.dof_index(n); },
+           "Velocity index of the named DOF, or -1.")
+      .def("_copy_from", [](ModelHandle& h, const ModelHandle& other) {
+        h.model = other.model;
+        h.data.reset();
+      })
+      .def_property_readonly("nq", [](const ModelHandle& h) { return h.model.nq; })
+      .def_property_readonly("nv", [](const ModelHandle& h) { return h.model.nv; })
+      .def_property_readonly("nbodies", [](const ModelHandle& h) { return h.model.nbodies(); })
+      .def_property_readonly("body_names", [](const ModelHandle& h) { return h.model.body_names; })
+      .def_property_readonly("joint_names", [](const ModelHandle& h) { return h.model.joint_names; })
+      .def_property_readonly("joint_types", [](const ModelHandle& h) {
+        std::vector<std::string> t;
+        for (const auto& j : h.model.joints) t.emplace_back(soadyn::joint_type_name(j));
+        return t;
+      })
+      .def_property_readonly("dof_names", [](const ModelHandle& h) { return h.model.dof_names; })
+      .def_property_readonly("coordinate_names", [](const ModelHandle& h) { return h.model.coordinate_names; })
+      .def_property_readonly("frame_names", [](const ModelHandle& h) {
+        std::vector<std::string> names;
+        for (const auto& f : h.model.frames) names.push_back(f.name);
+        return names;
+      })
+      .def_property_readonly("parents", [](const ModelHandle& h) { return h.model.parent; })
+      .def_property_readonly("q_index", [](const ModelHandle& h) { return h.model.q_index; })
+      .def_property_readonly("v_index", [](const ModelHandle& h) { return h.model.v_index; })
+      .def_property_readonly("masses", [](const ModelHandle& h) { return h.model.mass; })
+      .def_property_readonly("prescribed", [](const ModelHandle& h) { return prescribed_mask(h.model); },
+                             "Bool array (nv): True where the DOF is prescribed.")
+      .def_property(
+          "gravity", [](const ModelHandle& h) { return Eigen::Vector3d(h.model.gravity); },
+          [](ModelHandle& h, py::handle g) {
+            const Array a = checked_vector(g, "gravity", {"x", "y", "z"});
+            std::lock_guard<std::mutex> lock(h.mutex);
+            h.model.gravity = Eigen::Map<const Eigen::Vector3d>(a.data());
+          },
+          "Gravity in the world frame (default (0, 0, -9.81)).");
+}
+
+}  // namespace soadyn_py

@@ -1,0 +1,12 @@
+#include <pybind11/pybind11.h>
+
+namespace soadyn_py {
+void bind_model(pybind11::module_& mod);
+void bind_algorithms(pybind11::module_& mod);
+}  // namespace soadyn_py
+
+PYBIND11_MODULE(_soadyn, mod) {
+  mod.doc() = "soadyn C++ core";
+  soadyn_py::bind_model(mod);
+  soadyn_py::bind_algorithms(mod);
+}

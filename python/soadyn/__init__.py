@@ -1,0 +1,36 @@
+"""soadyn: O(N) hybrid (prescribed/regular) multibody dynamics.
+
+Conventions: spatial vectors are [angular; linear]; quaternions are stored
+(x, y, z, w); a free joint's v is the body-frame angular velocity followed by
+the body-frame linear velocity of the body origin. Every function returns
+fresh numpy arrays; the model's preallocated scratch is reused between calls.
+"""
+from ._soadyn import (
+    QUATERNION_TOLERANCE,
+    DynamicsError,
+    Joint,
+    bias_forces,
+    center_of_mass,
+    forward_dynamics,
+    forward_kinematics,
+    hybrid_dynamics,
+    integrate,
+    inverse_dynamics,
+    joint_wrenches,
+    kinetic_energy,
+    mass_matrix,
+    momentum,
+    neutral_configuration,
+    potential_energy,
+    random_configuration,
+)
+from .model import Model
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Model", "Joint", "DynamicsError", "QUATERNION_TOLERANCE",
+    "forward_dynamics", "inverse_dynamics", "hybrid_dynamics", "mass_matrix", "bias_forces",
+    "joint_wrenches", "kinetic_energy", "potential_energy", "momentum", "center_of_mass",
+    "forward_kinematics", "integrate", "neutral_configuration", "random_configuration",
+]

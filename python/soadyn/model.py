@@ -1,0 +1,144 @@
+"""Model: the multibody tree, with Python argument handling on top of the C++ core."""
+from __future__ import annotations
+
+from typing import Iterable, Union
+
+import numpy as np
+
+from ._soadyn import Joint, _Model
+
+__all__ = ["Model", "Joint"]
+
+Placement = Union[None, tuple, np.ndarray]
+
+
+def _placement(placement: Placement, body: str):
+    """(R, p), a 4x4 homogeneous matrix, a translation p, or None (identity)."""
+    if placement is None:
+        return np.eye(3), np.zeros(3)
+    if isinstance(placement, tuple) and len(placement) == 2:
+        R, p = placement
+        R = np.eye(3) if R is None else np.asarray(R, dtype=float)
+        p = np.zeros(3) if p is None else np.asarray(p, dtype=float)
+    else:
+        T = np.asarray(placement, dtype=float)
+        if T.shape == (4, 4):
+            R, p = T[:3, :3], T[:3, 3]
+        elif T.shape == (3,):
+            R, p = np.eye(3), T
+        else:
+            raise ValueError(f"body '{body}': placement must be (R, p), a 4x4 matrix or a translation, "
+                             f"got shape {T.shape}")
+    if R.shape != (3, 3) or p.shape != (3,):
+        raise ValueError(f"body '{body}': placement rotation must be 3x3 and translation length 3")
+    return R, p
+
+
+def _inertia(inertia, body: str) -> np.ndarray:
+    """A 3x3 matrix or the 3 principal moments (diagonal)."""
+    I = np.asarray(inertia, dtype=float)
+    if I.shape == (3,):
+        return np.diag(I)
+    if I.shape != (3, 3):
+        raise ValueError(f"body '{body}': inertia must be 3x3 or 3 principal moments, got shape {I.shape}")
+    return I
+
+
+def _vector3(x, what: str, body: str) -> np.ndarray:
+    a = np.asarray(x, dtype=float)
+    if a.shape != (3,):
+        raise ValueError(f"body '{body}': {what} must have 3 components, got shape {a.shape}")
+    return a
+
+
+class Model(_Model):
+    """A rigid multibody tree.
+
+    Bodies are stored in the order they are added (parent before child). The
+    model owns preallocated scratch (Data) reused by every dynamics call;
+    calls on one model from several threads are serialised, so give each
+    thread its own ``model.copy()`` to run in parallel.
+    """
+
+    def add_body(self, name: str, parent, joint: Joint, placement: Placement = None, mass: float = 0.0,
+                 com=(0.0, 0.0, 0.0), inertia=np.zeros(3)) -> int:
+        """Add a body and return its index (-1 for a fixed joint, whose body is merged into the parent).
+
+        parent: None or -1 for the world, or a body (or frame) name or index.
+        placement: the joint frame in the parent's frame, as (R, p), a 4x4 matrix or a translation.
+        mass, com (body frame), inertia about the centre of mass in the body frame (3x3 or principal moments).
+        """
+        if not isinstance(joint, Joint):
+            raise TypeError(f"body '{name}': joint must be a soadyn.Joint, got {type(joint).__name__}")
+        if parent is None:
+            parent_name = ""
+        elif isinstance(parent, (int, np.integer)):
+            if parent == -1:
+                parent_name = ""
+            elif 0 <= parent < self.nbodies:
+                parent_name = self.body_names[parent]
+            else:
+                raise ValueError(f"body '{name}': parent index {parent} does not exist "
+                                 f"(the model has {self.nbodies} bodies)")
+        elif isinstance(parent, str):
+            if parent == "":
+                raise ValueError(f"body '{name}': parent name is empty (use None for the world)")
+            parent_name = parent
+        else:
+            raise TypeError(f"body '{name}': parent must be None, a name or an index")
+        R, p = _placement(placement, name)
+        return self._add_body(str(name), parent_name, joint, R, p, float(mass), _vector3(com, "com", name),
+                              _inertia(inertia, name))
+
+    def _dof_indices(self, selection) -> list[int]:
+        """DOF indices of a name, index, or iterable of them. A joint name selects all its DOFs."""
+        items = [selection] if isinstance(selection, (str, int, np.integer)) else list(selection)
+        names = self.dof_names
+        out: list[int] = []
+        for item in items:
+            if isinstance(item, (int, np.integer)) and not isinstance(item, bool):
+                if not 0 <= item < self.nv:
+                    raise ValueError(f"DOF index {item} is out of range (nv = {self.nv})")
+                out.append(int(item))
+                continue
+            if not isinstance(item, str):
+                raise TypeError(f"DOF selector {item!r} is neither a name nor an index")
+            k = self.dof_index(item)
+            if k >= 0:
+                out.append(k)
+                continue
+            prefix = item + ":"
+            joint_dofs = [i for i, n in enumerate(names) if n.startswith(prefix)]
+            if not joint_dofs:
+                raise ValueError(f"unknown DOF or joint '{item}'")
+            out.extend(joint_dofs)
+        return out
+
+    def set_prescribed(self, mask_or_names, flag: bool = True) -> None:
+        """Mark DOFs prescribed (flag=True) or regular (flag=False).
+
+        A boolean array of length nv sets every DOF at once: prescribed where
+        it equals ``flag``. Names (a DOF, or a joint for all its DOFs),
+        indices, or lists of them change only those DOFs. Changing flags
+        allocates nothing and needs no re-initialisation.
+        """
+        arr = np.asarray(mask_or_names) if not isinstance(mask_or_names, str) else None
+        if arr is not None and arr.dtype == bool:
+            if arr.shape != (self.nv,):
+                raise ValueError(f"prescribed mask has shape {arr.shape}, expected ({self.nv},)")
+            self._set_prescribed_mask([bool(x) == bool(flag) for x in arr])
+        else:
+            self._set_prescribed_indices(self._dof_indices(mask_or_names), bool(flag))
+
+    def set_regular(self, names) -> None:
+        """Mark the named DOFs regular (torque given)."""
+        self.set_prescribed(names, False)
+
+    def copy(self) -> "Model":
+        """An independent copy (same parameters and flags, its own scratch)."""
+        other = Model()
+        other._copy_from(self)
+        return other
+
+    def __repr__(self) -> str:
+        return f"<soadyn.Model nbodies={self.nbodies} nq={self.nq} nv={self.nv}>"
