@@ -155,6 +155,15 @@ int ModelTpl<S>::add_body(const std::string& name, int parent_body, const JointM
     return -1;
   }
 
+  const int jq = joint_nq(joint), jv = joint_nv(joint);
+  const char* const* qs = joint_coordinate_suffixes(joint);
+  const char* const* vs = joint_velocity_suffixes(joint);
+  std::vector<std::string> new_dofs;
+  for (int k = 0; k < jv; ++k) {
+    new_dofs.push_back(jv == 1 ? jname : jname + ":" + vs[k]);
+    if (dof_index(new_dofs.back()) >= 0) detail::fail("duplicate DOF name '" + new_dofs.back() + "'");
+  }
+  // Checked: from here on nothing throws, so a refused body leaves no trace.
   const int index = nbodies();
   body_names.push_back(name);
   joint_names.push_back(jname);
@@ -164,19 +173,14 @@ int ModelTpl<S>::add_body(const std::string& name, int parent_body, const JointM
   inertia.push_back(body_inertia);
   mass.push_back(m);
   com.push_back(c);
-  const int jq = joint_nq(joint), jv = joint_nv(joint);
   q_index.push_back(nq);
   v_index.push_back(nv);
   nq_body.push_back(jq);
   nv_body.push_back(jv);
-  const char* const* qs = joint_coordinate_suffixes(joint);
-  const char* const* vs = joint_velocity_suffixes(joint);
   for (int k = 0; k < jq; ++k) coordinate_names.push_back(jq == 1 ? jname : jname + ":" + qs[k]);
   for (int k = 0; k < jv; ++k) {
-    const std::string dof = jv == 1 ? jname : jname + ":" + vs[k];
-    if (dof_index(dof) >= 0) detail::fail("duplicate DOF name '" + dof + "'");
-    dof_lookup_[dof] = nv + k;
-    dof_names.push_back(dof);
+    dof_lookup_[new_dofs[static_cast<std::size_t>(k)]] = nv + k;
+    dof_names.push_back(new_dofs[static_cast<std::size_t>(k)]);
     dof_body.push_back(index);
     prescribed.push_back(0);
   }
