@@ -63,6 +63,20 @@ void copy_wrenches(const soadyn::Data& d, double* out) {
 
 py::array_t<double> wrench_out(const ModelHandle& h) { return py::array_t<double>({h.model.nbodies(), 6}); }
 
+// The checked (q, v, x, f_ext) of a dynamics call; x is tau, qdd or u.
+struct StateArgs {
+  Array q, v, x, f;
+  const double* f_ext = nullptr;
+  StateArgs(const ModelHandle& h, py::handle q_in, py::handle v_in, py::handle x_in, const char* x_name,
+            py::handle f_in)
+      : q(q_arg(h, q_in)), v(v_arg(h, v_in, "v")), x(v_arg(h, x_in, x_name)) {
+    f_ext = f_ext_arg(h, f_in, f);
+  }
+  Map q_map() const { return Map(q.data(), q.size()); }
+  Map v_map() const { return Map(v.data(), v.size()); }
+  Map x_map() const { return Map(x.data(), x.size()); }
+};
+
 }  // namespace
 
 void bind_algorithms(py::module_& mod) {
@@ -71,14 +85,12 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("forward_dynamics",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle tau, py::handle f_ext) {
-        const Array qa = q_arg(h, q), va = v_arg(h, v, "v"), ta = v_arg(h, tau, "tau");
-        Array fa;
-        const double* f = f_ext_arg(h, f_ext, fa);
+        const StateArgs a(h, q, v, tau, "tau", f_ext);
         auto out = vector_out(h.model.nv);
         double* o = out.mutable_data();
         soadyn::Status s;
         run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-          s = soadyn::forward_dynamics<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv), Map(ta.data(), m.nv), f);
+          s = soadyn::forward_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext);
           Eigen::Map<Eigen::VectorXd>(o, m.nv) = d.qdd;
         });
         raise_on(s, h.model);
@@ -91,13 +103,11 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("inverse_dynamics",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext) {
-        const Array qa = q_arg(h, q), va = v_arg(h, v, "v"), aa = v_arg(h, qdd, "qdd");
-        Array fa;
-        const double* f = f_ext_arg(h, f_ext, fa);
+        const StateArgs a(h, q, v, qdd, "qdd", f_ext);
         auto out = vector_out(h.model.nv);
         double* o = out.mutable_data();
         run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-          soadyn::inverse_dynamics<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv), Map(aa.data(), m.nv), f);
+          soadyn::inverse_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext);
           Eigen::Map<Eigen::VectorXd>(o, m.nv) = d.tau;
         });
         return out;
@@ -107,13 +117,11 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("joint_wrenches",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext) {
-        const Array qa = q_arg(h, q), va = v_arg(h, v, "v"), aa = v_arg(h, qdd, "qdd");
-        Array fa;
-        const double* f = f_ext_arg(h, f_ext, fa);
+        const StateArgs a(h, q, v, qdd, "qdd", f_ext);
         auto out = wrench_out(h);
         double* o = out.mutable_data();
         run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-          soadyn::inverse_dynamics<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv), Map(aa.data(), m.nv), f);
+          soadyn::inverse_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext);
           copy_wrenches(d, o);
         });
         return out;
@@ -124,16 +132,14 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("hybrid_dynamics",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext, bool wrenches) -> py::object {
-        const Array qa = q_arg(h, q), va = v_arg(h, v, "v"), ua = v_arg(h, u, "u");
-        Array fa;
-        const double* f = f_ext_arg(h, f_ext, fa);
+        const StateArgs a(h, q, v, u, "u", f_ext);
         auto qdd = vector_out(h.model.nv), tau = vector_out(h.model.nv);
         py::array_t<double> w = wrenches ? wrench_out(h) : py::array_t<double>();
         double *qo = qdd.mutable_data(), *to = tau.mutable_data(), *wo = wrenches ? w.mutable_data() : nullptr;
         soadyn::Status s;
         run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-          s = soadyn::hybrid_dynamics<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv), Map(ua.data(), m.nv),
-                                              f, soadyn::HybridOutputs{wrenches});
+          s = soadyn::hybrid_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext,
+                                              soadyn::HybridOutputs{wrenches});
           Eigen::Map<Eigen::VectorXd>(qo, m.nv) = d.qdd;
           Eigen::Map<Eigen::VectorXd>(to, m.nv) = d.tau;
           if (wo) copy_wrenches(d, wo);

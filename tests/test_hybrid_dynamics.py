@@ -36,6 +36,16 @@ def partitioned_solve(M, h, mask, u):
     return qdd, tau
 
 
+def check_mask(m, q, v, M, h, mask, u):
+    """Hybrid dynamics under `mask` equals the dense partitioned solve."""
+    m.set_prescribed(mask)
+    np.testing.assert_array_equal(m.prescribed, mask)
+    qdd, tau = soadyn.hybrid_dynamics(m, q, v, u)
+    qdd_ref, tau_ref = partitioned_solve(M, h, mask, u)
+    assert_close(qdd, qdd_ref)
+    assert_close(tau, tau_ref)
+
+
 @pytest.mark.parametrize("floating", [True, False])
 @pytest.mark.parametrize("seed", SEEDS)
 def test_all_regular_is_mass_matrix_solve(seed, floating):
@@ -65,13 +75,7 @@ def test_random_masks_match_partitioned_solve(seed):
     m, q, v, rng, M, h = dense_state(seed)
     for _ in range(6):
         mask = rng.uniform(size=m.nv) < rng.uniform(0.2, 0.8)
-        m.set_prescribed(mask)
-        np.testing.assert_array_equal(m.prescribed, mask)
-        u = rng.normal(size=m.nv)
-        qdd, tau = soadyn.hybrid_dynamics(m, q, v, u)
-        qdd_ref, tau_ref = partitioned_solve(M, h, mask, u)
-        assert_close(qdd, qdd_ref)
-        assert_close(tau, tau_ref)
+        check_mask(m, q, v, M, h, mask, rng.normal(size=m.nv))
 
 
 @pytest.mark.parametrize("seed", SEEDS)
@@ -96,12 +100,7 @@ def test_multi_dof_hinges_mix_modes():
     for joint in sorted({n.split(":")[0] for n in multi}):
         dofs = [i for i, n in enumerate(m.dof_names) if n.startswith(joint + ":")]
         mask[dofs[:: 2]] = True  # every other DOF of the hinge
-    m.set_prescribed(mask)
-    u = rng.normal(size=m.nv)
-    qdd, tau = soadyn.hybrid_dynamics(m, q, v, u)
-    qdd_ref, tau_ref = partitioned_solve(M, h, mask, u)
-    assert_close(qdd, qdd_ref)
-    assert_close(tau, tau_ref)
+    check_mask(m, q, v, M, h, mask, rng.normal(size=m.nv))
 
 
 def test_prescribed_hinge_below_regular_and_regular_below_prescribed():
@@ -109,12 +108,7 @@ def test_prescribed_hinge_below_regular_and_regular_below_prescribed():
     m, q, v, rng, M, h = dense_state(5, floating=False, nbodies=16)
     n = m.nv
     for mask in (np.arange(n) < n // 2, np.arange(n) >= n // 2, np.arange(n) % 3 == 0):
-        m.set_prescribed(mask)
-        u = rng.normal(size=n)
-        qdd, tau = soadyn.hybrid_dynamics(m, q, v, u)
-        qdd_ref, tau_ref = partitioned_solve(M, h, mask, u)
-        assert_close(qdd, qdd_ref)
-        assert_close(tau, tau_ref)
+        check_mask(m, q, v, M, h, mask, rng.normal(size=n))
 
 
 @pytest.mark.parametrize("kind", JOINT_KINDS)
@@ -126,12 +120,7 @@ def test_every_joint_kind_alone(kind):
     h = soadyn.bias_forces(m, q, v)
     for bits in range(2 ** min(m.nv, 6)):
         mask = np.array([(bits >> (k % 6)) & 1 for k in range(m.nv)], dtype=bool)
-        m.set_prescribed(mask)
-        u = rng.normal(size=m.nv)
-        qdd, tau = soadyn.hybrid_dynamics(m, q, v, u)
-        qdd_ref, tau_ref = partitioned_solve(M, h, mask, u)
-        assert_close(qdd, qdd_ref)
-        assert_close(tau, tau_ref)
+        check_mask(m, q, v, M, h, mask, rng.normal(size=m.nv))
 
 
 def test_gravity_and_external_wrench_enter_as_forces():
