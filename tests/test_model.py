@@ -136,3 +136,16 @@ def test_copy_is_independent():
     c.gravity = m.gravity
     c.set_regular("b1")
     np.testing.assert_array_equal(soadyn.forward_dynamics(c, q, v, tau), soadyn.forward_dynamics(m, q, v, tau))
+
+
+def test_welded_parts_need_only_leave_the_body_physical():
+    """A CAD piece welded to a body may violate the triangle inequality alone; the merged body may not."""
+    m = soadyn.Model()
+    m.add_body("link", None, soadyn.Joint.revolute([0, 0, 1]), mass=2.0, inertia=[0.1, 0.1, 0.1])
+    m.add_body("sliver", "link", soadyn.Joint.fixed(), mass=0.01, inertia=[1e-5, 6e-4, 1.3e-3])
+    with pytest.raises(ValueError, match="principal moments .* triangle inequality"):
+        m.add_body("moving_sliver", "link", soadyn.Joint.revolute([1, 0, 0]), mass=0.01, inertia=[1e-5, 6e-4, 1.3e-3])
+    with pytest.raises(ValueError, match="body 'link' with 'slab' welded to it: principal moments"):
+        m.add_body("slab", "link", soadyn.Joint.fixed(), mass=0.01, inertia=[0.0, 0.0, 1.0])
+    assert m.frame_names == ["sliver"]  # the refused weld left the body unchanged
+    assert m.masses == [pytest.approx(2.01)]

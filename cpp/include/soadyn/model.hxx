@@ -67,26 +67,34 @@ void check_placement(const Transform<S>& X, const std::string& body) {
          ")");
 }
 
-// Physical rigid-body parameters: mass >= 0, inertia symmetric, positive
-// semidefinite and obeying the triangle inequality of principal moments.
-// Semidefinite inertias (point masses, thin rods) are physical and accepted.
+// Finite parameters, mass >= 0, symmetric inertia: required of every part.
 template <class S>
-void check_mass_properties(S mass, const Vec3<S>& com, const Mat3<S>& I, const std::string& body) {
+void check_mass_parameters(S mass, const Vec3<S>& com, const Mat3<S>& I, const std::string& body) {
   if (!std::isfinite(static_cast<double>(mass))) fail("body '" + body + "': mass is not finite");
   if (mass < S(0)) fail("body '" + body + "': mass " + str(mass) + " is negative");
   if (!com.allFinite()) fail("body '" + body + "': centre of mass is not finite");
   if (!I.allFinite()) fail("body '" + body + "': inertia is not finite");
-  const S scale = std::max(I.cwiseAbs().maxCoeff(), S(std::numeric_limits<S>::min()));
-  const S tol = model_tolerance<S>() * scale;
+  const S tol = model_tolerance<S>() * std::max(I.cwiseAbs().maxCoeff(), S(std::numeric_limits<S>::min()));
   if ((I - I.transpose()).cwiseAbs().maxCoeff() > tol) fail("body '" + body + "': inertia is not symmetric");
+}
+
+// A physical rigid body: inertia about the centre of mass positive
+// semidefinite and obeying the triangle inequality of principal moments, no
+// inertia without mass. Semidefinite inertias (point masses, thin rods) are
+// physical and accepted. Required of every body of the tree; a part welded
+// to a body by a fixed joint only has to leave that body physical (CAD
+// exports split bodies into pieces that are not bodies on their own).
+template <class S>
+void check_physical_inertia(S mass, const Mat3<S>& I, const std::string& who) {
+  const S tol = model_tolerance<S>() * std::max(I.cwiseAbs().maxCoeff(), S(std::numeric_limits<S>::min()));
   const Vec3<S> m = Eigen::SelfAdjointEigenSolver<Mat3<S>>(I, Eigen::EigenvaluesOnly).eigenvalues();
   if (m.minCoeff() < -tol)
-    fail("body '" + body + "': inertia is not positive semidefinite (principal moment " + str(m.minCoeff()) + ")");
+    fail(who + ": inertia is not positive semidefinite (principal moment " + str(m.minCoeff()) + ")");
   for (int k = 0; k < 3; ++k)
     if (m[k] > m[(k + 1) % 3] + m[(k + 2) % 3] + tol)
-      fail("body '" + body + "': principal moments " + str(m[0]) + ", " + str(m[1]) + ", " + str(m[2]) +
+      fail(who + ": principal moments " + str(m[0]) + ", " + str(m[1]) + ", " + str(m[2]) +
            " violate the triangle inequality");
-  if (mass == S(0) && m.maxCoeff() > tol) fail("body '" + body + "': massless body with nonzero inertia");
+  if (mass == S(0) && m.maxCoeff() > tol) fail(who + ": massless body with nonzero inertia");
 }
 
 }  // namespace detail
@@ -133,21 +141,30 @@ int ModelTpl<S>::add_body(const std::string& name, int parent_body, const JointM
   if (parent_body < -1 || parent_body >= nbodies())
     detail::fail("body '" + name + "': parent index " + std::to_string(parent_body) + " does not exist");
   const std::string jname = joint_name_in.empty() ? name : joint_name_in;
+  const bool welded = joint_is_fixed(joint_in);
   if (!joint_name_in.empty())
     for (const auto& other : joint_names)
       if (other == jname) detail::fail("duplicate joint name '" + jname + "'");
   JointModel<S> joint = joint_in;
   detail::check_joint(joint, jname);
   detail::check_placement(X, name);
-  detail::check_mass_properties(m, c, I, name);
+  detail::check_mass_parameters(m, c, I, name);
+  if (!welded) detail::check_physical_inertia(m, I, "body '" + name + "'");
   const Mat6<S> body_inertia = spatial_inertia(m, c, I);
 
   if (joint_is_fixed(joint)) {  // weld: merge into the parent, keep the name as a frame
     if (parent_body >= 0) {
       const std::size_t p = static_cast<std::size_t>(parent_body);
-      inertia[p] += X.inertia_to_parent(body_inertia);
+      const Mat6<S> merged = inertia[p] + X.inertia_to_parent(body_inertia);
+      S merged_mass;
+      Vec3<S> merged_com;
       Mat3<S> merged_inertia_com;
-      decompose_spatial_inertia(inertia[p], mass[p], com[p], merged_inertia_com);
+      decompose_spatial_inertia(merged, merged_mass, merged_com, merged_inertia_com);
+      detail::check_physical_inertia(merged_mass, merged_inertia_com,
+                                     "body '" + body_names[p] + "' with '" + name + "' welded to it");
+      inertia[p] = merged;
+      mass[p] = merged_mass;
+      com[p] = merged_com;
     }
     frame_lookup_[name] = static_cast<int>(frames.size());
     frames.push_back(Frame<S>{name, parent_body, X});
