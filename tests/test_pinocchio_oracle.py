@@ -1,0 +1,341 @@
+"""soadyn against Pinocchio on seeded random trees built identically in both.
+
+soadyn's Python model does not expose axes, placements or inertias, so each
+tree is drawn once as an explicit list of BodySpec parameters and both
+libraries are built from that list. DOFs are matched joint by joint through
+the body name b<i> (soadyn body name == Pinocchio joint name), never by
+assuming the two libraries order coordinates the same way.
+
+Run with `pytest -s` to see the largest relative error per quantity.
+"""
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import soadyn
+from trees import JOINT_KINDS, random_inertia, random_rotation, random_unit
+
+RTOL = 1e-10
+SEEDS = range(6)
+CASES = [(seed, floating) for seed in SEEDS for floating in (True, False)]
+CASE_IDS = [f"seed{seed}-{'floating' if floating else 'fixed'}" for seed, floating in CASES]
+
+
+# ---------------------------------------------------------------------------
+# Random tree parameters
+# ---------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class BodySpec:
+    name: str
+    parent: int          # body index, -1 = world
+    kind: str            # one of JOINT_KINDS
+    axis: np.ndarray     # revolute/prismatic/helical/cylindrical axis; first universal axis
+    axis2: np.ndarray    # second universal axis (orthogonal to axis)
+    pitch: float         # helical: metres of travel per radian
+    rotation: np.ndarray  # joint frame in the parent body frame: (rotation, translation)
+    translation: np.ndarray
+    mass: float
+    com: np.ndarray      # body frame
+    inertia: np.ndarray  # 3x3 about the COM, body frame
+
+
+def random_specs(seed: int, floating: bool) -> list[BodySpec]:
+    """12-20 bodies in depth-first order with every joint kind present.
+
+    Each new body hangs off the previous body or one of its ancestors, which
+    keeps the depth-first order Pinocchio needs (contiguous subtrees).
+    """
+    rng = np.random.default_rng(seed)
+    nbodies = int(rng.integers(12, 21))
+    root = ["free"] if floating else []
+    # One of each kind plus random extras, shuffled below the (optional) free root.
+    rest = list(JOINT_KINDS) + [str(k) for k in
+                                rng.choice(JOINT_KINDS, size=nbodies - len(JOINT_KINDS) - len(root))]
+    rng.shuffle(rest)
+    kinds = root + rest
+
+    specs: list[BodySpec] = []
+    for i, kind in enumerate(kinds):
+        parent = i - 1
+        while parent >= 0 and rng.uniform() < 0.5:
+            parent = specs[parent].parent
+        if floating and i > 0 and parent < 0:
+            parent = 0  # a single floating base carries everything
+        a1 = random_unit(rng)
+        a2 = np.cross(a1, random_unit(rng))
+        specs.append(BodySpec(
+            name=f"b{i}", parent=parent, kind=kind,
+            axis=a1, axis2=a2 / np.linalg.norm(a2), pitch=float(rng.uniform(-0.3, 0.3)),
+            rotation=random_rotation(rng), translation=rng.uniform(-0.5, 0.5, size=3),
+            mass=float(rng.uniform(0.5, 3.0)), com=rng.uniform(-0.3, 0.3, size=3),
+            inertia=random_inertia(rng) * rng.uniform(0.5, 2.0)))
+    return specs
+
+
+# ---------------------------------------------------------------------------
+# Building both models from the same specs
+# ---------------------------------------------------------------------------
+
+def soadyn_joint(s: BodySpec) -> soadyn.Joint:
+    J = soadyn.Joint
+    return {
+        "revolute": lambda: J.revolute(s.axis),
+        "prismatic": lambda: J.prismatic(s.axis),
+        "helical": lambda: J.helical(s.axis, s.pitch),
+        "universal": lambda: J.universal(s.axis, s.axis2),
+        "cylindrical": lambda: J.cylindrical(s.axis),
+        "planar": J.planar,
+        "spherical": J.spherical,
+        "free": J.free,
+    }[s.kind]()
+
+
+def pin_joint(s: BodySpec):
+    """The Pinocchio joint with the same motion as soadyn's (conventions checked numerically:
+    HelicalUnaligned translates pitch*q along the axis, Universal is Rot(a1,q0)*Rot(a2,q1),
+    Planar places the body at (x, y, 0) rotated by Rz(theta))."""
+    if s.kind == "cylindrical":
+        # No cylindrical joint in Pinocchio: a revolute then a prismatic about the same axis
+        # (they commute), giving q = v layout (angle, offset) like soadyn.
+        joint = pin.JointModelComposite(2)
+        joint.addJoint(pin.JointModelRevoluteUnaligned(s.axis))
+        joint.addJoint(pin.JointModelPrismaticUnaligned(s.axis))
+        return joint
+    return {
+        "revolute": lambda: pin.JointModelRevoluteUnaligned(s.axis),
+        "prismatic": lambda: pin.JointModelPrismaticUnaligned(s.axis),
+        "helical": lambda: pin.JointModelHelicalUnaligned(s.axis, s.pitch),
+        "universal": lambda: pin.JointModelUniversal(s.axis, s.axis2),
+        "planar": pin.JointModelPlanar,
+        "spherical": pin.JointModelSpherical,
+        "free": pin.JointModelFreeFlyer,
+    }[s.kind]()
+
+
+def build_soadyn(specs: list[BodySpec]) -> soadyn.Model:
+    m = soadyn.Model()
+    for s in specs:
+        m.add_body(s.name, s.parent, soadyn_joint(s), placement=(s.rotation, s.translation),
+                   mass=s.mass, com=s.com, inertia=s.inertia)
+    return m
+
+
+def build_pinocchio(specs: list[BodySpec], gravity: np.ndarray) -> pin.Model:
+    model = pin.Model()
+    model.gravity.linear = np.asarray(gravity, dtype=float)
+    for s in specs:
+        # Pinocchio joint 0 is the universe, so soadyn body k is joint k + 1 (world -1 -> 0).
+        # soadyn's body frame is the joint frame moved by the joint, i.e. Pinocchio's joint
+        # frame, so the body's inertia is attached with the identity placement.
+        jid = model.addJoint(s.parent + 1, pin_joint(s), pin.SE3(s.rotation, s.translation), s.name)
+        model.appendBodyToJoint(jid, pin.Inertia(s.mass, s.com, s.inertia), pin.SE3.Identity())
+    return model
+
+
+# ---------------------------------------------------------------------------
+# Coordinate and DOF mapping
+# ---------------------------------------------------------------------------
+
+def _segments(starts, total: int) -> list[range]:
+    """Per-body index ranges from the start indices (bodies are stored contiguously)."""
+    ends = list(starts[1:]) + [total]
+    return [range(a, b) for a, b in zip(starts, ends)]
+
+
+class Mapping:
+    """soadyn <-> Pinocchio configuration and DOF correspondence, joint by joint."""
+
+    def __init__(self, m: soadyn.Model, model: pin.Model, specs: list[BodySpec]):
+        self.m, self.model, self.specs = m, model, specs
+        self.q_ranges = _segments(m.q_index, m.nq)
+        self.v_ranges = _segments(m.v_index, m.nv)
+        self.joint_ids = []
+        # perm[k] = soadyn DOF index of Pinocchio DOF k.
+        self.perm = np.full(model.nv, -1)
+        for i, s in enumerate(specs):
+            assert m.body_names[i] == s.name and m.joint_types[i] == s.kind
+            jid = model.getJointId(s.name)
+            joint = model.joints[jid]
+            assert model.parents[jid] == s.parent + 1
+            soa_v = list(self.v_ranges[i])
+            assert len(soa_v) == joint.nv, s.name
+            if s.kind == "free":
+                # soadyn v = (angular, linear), Pinocchio's v = (linear, angular); both body frame.
+                soa_v = soa_v[3:] + soa_v[:3]
+            self.perm[joint.idx_v:joint.idx_v + joint.nv] = soa_v
+            self.joint_ids.append(jid)
+        assert sorted(self.perm) == list(range(m.nv))
+        assert model.nv == m.nv and model.njoints == m.nbodies + 1
+
+    def q(self, q_soa: np.ndarray) -> np.ndarray:
+        q_pin = np.empty(self.model.nq)
+        for s, jid, qr in zip(self.specs, self.joint_ids, self.q_ranges):
+            joint = self.model.joints[jid]
+            qi = q_soa[qr.start:qr.stop]
+            if s.kind == "planar":
+                # soadyn (x, y, theta) -> Pinocchio (x, y, cos theta, sin theta).
+                qi = np.array([qi[0], qi[1], np.cos(qi[2]), np.sin(qi[2])])
+            # Every other kind has the same layout; quaternions are (x, y, z, w) in both.
+            assert len(qi) == joint.nq, s.name
+            q_pin[joint.idx_q:joint.idx_q + joint.nq] = qi
+        return q_pin
+
+    def v(self, v_soa: np.ndarray) -> np.ndarray:
+        """A velocity, acceleration or generalized force in Pinocchio's DOF order."""
+        return np.asarray(v_soa)[self.perm]
+
+    def matrix(self, M_soa: np.ndarray) -> np.ndarray:
+        return M_soa[np.ix_(self.perm, self.perm)]
+
+    def f_ext(self, f_soa: np.ndarray) -> list:
+        """soadyn rows [torque; force] about the body origin in the body frame -> one pin.Force
+        (linear, angular) per joint in the joint frame (= body frame), universe first."""
+        forces = [pin.Force.Zero() for _ in range(self.model.njoints)]
+        for i, jid in enumerate(self.joint_ids):
+            forces[jid] = pin.Force(f_soa[i, 3:], f_soa[i, :3])
+        return pin.StdVec_Force(forces)
+
+
+@dataclass
+class Case:
+    specs: list[BodySpec]
+    m: soadyn.Model
+    model: pin.Model
+    data: pin.Data
+    map: Mapping
+    rng: np.random.Generator
+    q: np.ndarray      # soadyn configuration
+    q_pin: np.ndarray
+
+
+@functools.lru_cache(maxsize=None)
+def _built(seed: int, floating: bool):
+    specs = random_specs(seed, floating)
+    m = build_soadyn(specs)
+    model = build_pinocchio(specs, m.gravity)
+    return specs, m, model, Mapping(m, model, specs)
+
+
+def make_case(seed: int, floating: bool) -> Case:
+    specs, m, model, mapping = _built(seed, floating)
+    q = soadyn.random_configuration(m, seed)
+    return Case(specs, m, model, model.createData(), mapping, np.random.default_rng(seed + 100),
+                q, mapping.q(q))
+
+
+# ---------------------------------------------------------------------------
+# Comparison with error log
+# ---------------------------------------------------------------------------
+
+MAX_ERRORS: dict[str, float] = {}
+
+
+def rel_error(a, b) -> float:
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    assert a.shape == b.shape
+    return float(np.max(np.abs(a - b)) / max(1.0, float(np.max(np.abs(b)))))
+
+
+def check(quantity: str, soadyn_value, pin_value):
+    err = rel_error(soadyn_value, pin_value)
+    MAX_ERRORS[quantity] = max(MAX_ERRORS.get(quantity, 0.0), err)
+    assert err <= RTOL, f"{quantity}: relative error {err:.3e} > {RTOL:g}"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def report_errors():
+    yield
+    print("\nlargest relative error vs Pinocchio:")
+    for quantity, err in sorted(MAX_ERRORS.items()):
+        print(f"  {quantity:28s} {err:.3e}")
+
+
+parametrize_cases = pytest.mark.parametrize("seed,floating", CASES, ids=CASE_IDS)
+
+
+# ---------------------------------------------------------------------------
+# Tests
+# ---------------------------------------------------------------------------
+
+@parametrize_cases
+def test_tree_covers_every_joint_kind(seed, floating):
+    c = make_case(seed, floating)
+    assert set(c.m.joint_types) == set(JOINT_KINDS)
+    assert 12 <= c.m.nbodies <= 20
+    assert (c.m.parents[0] == -1) and (not floating or c.m.parents.count(-1) == 1)
+
+
+@parametrize_cases
+def test_kinematics(seed, floating):
+    """Poses and body velocities: validates the joint and q/v conversions on their own."""
+    c = make_case(seed, floating)
+    v = c.rng.normal(size=c.m.nv)
+    poses, vel = soadyn.forward_kinematics(c.m, c.q, v)
+    pin.forwardKinematics(c.model, c.data, c.q_pin, c.map.v(v))
+    check("body poses", poses, np.array([c.data.oMi[j].homogeneous for j in c.map.joint_ids]))
+    check("body velocities", vel,
+          np.array([np.r_[c.data.v[j].angular, c.data.v[j].linear] for j in c.map.joint_ids]))
+
+
+@parametrize_cases
+def test_mass_matrix(seed, floating):
+    c = make_case(seed, floating)
+    M = pin.crba(c.model, c.data, c.q_pin)
+    M = np.triu(M) + np.triu(M, 1).T  # Pinocchio fills the upper triangle only
+    check("mass_matrix", c.map.matrix(soadyn.mass_matrix(c.m, c.q)), M)
+
+
+@parametrize_cases
+@pytest.mark.parametrize("with_f_ext", [False, True], ids=["no_fext", "fext"])
+def test_inverse_dynamics(seed, floating, with_f_ext):
+    c = make_case(seed, floating)
+    v, qdd = c.rng.normal(size=c.m.nv), c.rng.normal(size=c.m.nv)
+    if with_f_ext:
+        f = c.rng.normal(size=(c.m.nbodies, 6))
+        tau = soadyn.inverse_dynamics(c.m, c.q, v, qdd, f_ext=f)
+        ref = pin.rnea(c.model, c.data, c.q_pin, c.map.v(v), c.map.v(qdd), c.map.f_ext(f))
+    else:
+        tau = soadyn.inverse_dynamics(c.m, c.q, v, qdd)
+        ref = pin.rnea(c.model, c.data, c.q_pin, c.map.v(v), c.map.v(qdd))
+    check("inverse_dynamics" + (" f_ext" if with_f_ext else ""), c.map.v(tau), ref)
+
+
+@parametrize_cases
+@pytest.mark.parametrize("with_f_ext", [False, True], ids=["no_fext", "fext"])
+def test_forward_dynamics(seed, floating, with_f_ext):
+    c = make_case(seed, floating)
+    v, tau = c.rng.normal(size=c.m.nv), c.rng.normal(size=c.m.nv)
+    if with_f_ext:
+        f = c.rng.normal(size=(c.m.nbodies, 6))
+        qdd = soadyn.forward_dynamics(c.m, c.q, v, tau, f_ext=f)
+        ref = pin.aba(c.model, c.data, c.q_pin, c.map.v(v), c.map.v(tau), c.map.f_ext(f))
+    else:
+        qdd = soadyn.forward_dynamics(c.m, c.q, v, tau)
+        ref = pin.aba(c.model, c.data, c.q_pin, c.map.v(v), c.map.v(tau))
+    check("forward_dynamics" + (" f_ext" if with_f_ext else ""), c.map.v(qdd), ref)
+
+
+@parametrize_cases
+def test_bias_forces(seed, floating):
+    c = make_case(seed, floating)
+    v = c.rng.normal(size=c.m.nv)
+    ref = pin.nonLinearEffects(c.model, c.data, c.q_pin, c.map.v(v))
+    check("bias_forces", c.map.v(soadyn.bias_forces(c.m, c.q, v)), ref)
+
+
+@parametrize_cases
+def test_energies(seed, floating):
+    c = make_case(seed, floating)
+    v = c.rng.normal(size=c.m.nv)
+    pin.forwardKinematics(c.model, c.data, c.q_pin, c.map.v(v))
+    check("kinetic_energy", soadyn.kinetic_energy(c.m, c.q, v),
+          pin.computeKineticEnergy(c.model, c.data))
+    # Both use -sum m g.c with zero at the world origin, so absolute values compare.
+    check("potential_energy", soadyn.potential_energy(c.m, c.q),
+          pin.computePotentialEnergy(c.model, c.data))
