@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from xml.etree import ElementTree
 
 import numpy as np
 
@@ -35,6 +36,10 @@ class UrdfError(ValueError):
 
 
 def _parse(path: Path):
+    try:  # yourdfpy's parser recovers from broken XML; a URDF must be well formed
+        ElementTree.parse(path)
+    except ElementTree.ParseError as exc:
+        raise UrdfError(f"malformed URDF '{path}': {exc}") from exc
     try:
         import yourdfpy
     except ImportError as exc:  # pragma: no cover - the dependency is declared
@@ -118,7 +123,7 @@ def _topology(robot):
         children[joint.parent].append(joint)
     roots = [name for name in links if name not in parent_of]
     if len(roots) != 1:
-        raise UrdfError(f"the URDF must have exactly one root link, found {roots or 'none (a kinematic loop)'}")
+        raise UrdfError(f"the URDF must have exactly one root link, found {roots or 'no root (a kinematic loop)'}")
     return links, children, roots[0]
 
 
