@@ -3,10 +3,12 @@
 namespace soadyn_py {
 void bind_model(pybind11::module_& mod);
 void bind_algorithms(pybind11::module_& mod);
+void bind_simulator(pybind11::module_& mod);
 }  // namespace soadyn_py
 
 PYBIND11_MODULE(_soadyn, mod) {
   mod.doc() = "soadyn C++ core";
   soadyn_py::bind_model(mod);
   soadyn_py::bind_algorithms(mod);
+  soadyn_py::bind_simulator(mod);
 }

@@ -25,12 +25,14 @@ from ._soadyn import (
     random_configuration,
 )
 from .model import Model
+from .simulator import MotionSource, Simulator, Trajectory
 from .urdf import UrdfError, load_urdf
 
 __version__ = "0.1.0"
 
 __all__ = [
     "Model", "Joint", "DynamicsError", "QUATERNION_TOLERANCE", "load_urdf", "UrdfError",
+    "Simulator", "Trajectory", "MotionSource",
     "forward_dynamics", "inverse_dynamics", "hybrid_dynamics", "mass_matrix", "bias_forces",
     "joint_wrenches", "kinetic_energy", "potential_energy", "momentum", "center_of_mass",
     "forward_kinematics", "integrate", "neutral_configuration", "random_configuration",

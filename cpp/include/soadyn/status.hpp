@@ -7,7 +7,20 @@ enum class StatusCode {
   ok = 0,
   singular_articulated_inertia,  // D = S' P S of a regular hinge is not positive definite
   non_finite_result,             // an output came out NaN or infinite
+  invalid_dof,                   // a DOF index out of range (index: the DOF)
+  step_size_underflow,           // the adaptive integrator could not meet its tolerance
 };
+
+inline const char* status_message(StatusCode code) {
+  switch (code) {
+    case StatusCode::ok: return "ok";
+    case StatusCode::singular_articulated_inertia: return "singular articulated inertia";
+    case StatusCode::non_finite_result: return "non-finite result";
+    case StatusCode::invalid_dof: return "invalid DOF";
+    case StatusCode::step_size_underflow: return "step size underflow";
+  }
+  return "unknown";
+}
 
 struct Status {
   StatusCode code = StatusCode::ok;

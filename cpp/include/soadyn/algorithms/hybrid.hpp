@@ -27,4 +27,11 @@ template <class S>
 Status hybrid_dynamics(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                        const ConstVecRef<S>& u, const S* f_ext = nullptr, HybridOutputs outputs = {});
 
+// The same algorithm in impulse form, for impacts (locking a moving hinge):
+// velocities and gravity drop out, `u` holds the generalized impulse of each
+// regular DOF and the velocity jump of each prescribed one; on return
+// data.qdd holds every velocity jump and data.tau every generalized impulse.
+template <class S>
+Status hybrid_impulse(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& u);
+
 }  // namespace soadyn

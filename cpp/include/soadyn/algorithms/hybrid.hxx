@@ -86,16 +86,17 @@ inline void articulated_body_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::s
 
 }  // namespace detail
 
+namespace detail {
+
+// The three sweeps; `v` null means zero velocity.
 template <class S>
-Status hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                       const ConstVecRef<S>& u, const S* f_ext, HybridOutputs outputs) {
+Status hybrid_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const ConstVecRef<S>& u,
+                     const S* f_ext, const Vec6<S>& world_acc, HybridOutputs outputs) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
-  const Vec6<S> world_acc = world_acceleration(m);
   const S* up = u.data();
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, b; accelerations of all-prescribed regions
-    joint_step(m, d, i, q.data(), v.data());
-    velocity_step(m, d, i, v.data());
-    bias_force_step(m, d, i, f_ext);
+    joint_step(m, d, i, q, v);
+    motion_step(m, d, i, v, f_ext);
     if (m.modes[i].needs_articulated_inertia) {
       d.articulated_inertia[i] = m.inertia[i];
       d.articulated_bias[i] = d.bias_force[i];
@@ -107,7 +108,7 @@ Status hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>
   }
   for (std::size_t i = n; i-- > 0;) {  // tip to base
     if (m.modes[i].needs_articulated_inertia) {
-      const int bad = detail::articulated_body_inward(m, d, i, up, world_acc);
+      const int bad = articulated_body_inward(m, d, i, up, world_acc);
       if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
     } else {  // Newton-Euler: T = H f, f(parent) += phi f
       const int vi = m.v_index[i], ni = m.nv_body[i];
@@ -118,9 +119,23 @@ Status hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>
   }
   for (std::size_t i = 0; i < n; ++i)  // base to tip
     if (m.modes[i].needs_articulated_inertia)
-      detail::articulated_body_outward(m, d, i, up, world_acc, outputs.hinge_forces);
+      articulated_body_outward(m, d, i, up, world_acc, outputs.hinge_forces);
   const Status s = check_finite(d.qdd);
   return s.ok() ? check_finite(d.tau) : s;
 }
+
+}  // namespace detail
+
+template <class S>
+Status hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                       const ConstVecRef<S>& u, const S* f_ext, HybridOutputs outputs) {
+  return detail::hybrid_sweeps(m, d, q.data(), v.data(), u, f_ext, world_acceleration(m), outputs);
+}
+
+template <class S>
+Status hybrid_impulse(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& u) {
+  return detail::hybrid_sweeps<S>(m, d, q.data(), nullptr, u, nullptr, Vec6<S>::Zero(), HybridOutputs{});
+}
+
 
 }  // namespace soadyn

@@ -52,6 +52,21 @@ inline void bias_force_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, 
   if (f_ext) d.bias_force[i] -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
 }
 
+// Velocity, Coriolis and bias force of body i; `v` null means zero velocity
+// (impulse problems), where all three reduce to the external wrench.
+template <class S>
+inline void motion_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v, const S* f_ext) {
+  if (v) {
+    velocity_step(m, d, i, v);
+    bias_force_step(m, d, i, f_ext);
+    return;
+  }
+  d.velocity[i].setZero();
+  d.coriolis[i].setZero();
+  d.bias_force[i].setZero();
+  if (f_ext) d.bias_force[i] -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
+}
+
 // Parent acceleration seen in body i's frame: seed alpha+(i) = phi* alpha(parent).
 template <class S>
 inline Vec6<S> parent_acceleration(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i,

@@ -1,0 +1,94 @@
+"""Simulator: fixed-step simulation with motion sources and run-time events."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._soadyn import DynamicsError, MotionSource, _Simulator
+
+__all__ = ["Simulator", "Trajectory", "MotionSource"]
+
+
+@dataclass
+class Trajectory:
+    """Recorded states: t (N+1), q (N+1, nq), v (N+1, nv), and tau (N, nv), the
+    generalized forces at the start of each step (drive torques on prescribed DOFs)."""
+
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    tau: np.ndarray
+
+
+class Simulator(_Simulator):
+    """Steps a copy of `model` by `dt` with 'euler' (semi-implicit), 'rk4' or 'dopri5' (adaptive, sub-stepping).
+
+    DOFs the model marks prescribed start locked (zero velocity). DOFs are
+    given by name or index; a joint name selects all of its DOFs for
+    lock/release.
+    """
+
+    def __init__(self, model, dt: float, integrator: str = "rk4", event_capacity: int = 64):
+        super().__init__(model, float(dt), integrator, int(event_capacity))
+        self._model = model
+
+    def _dofs(self, dof) -> list[int]:
+        return self._model._dof_indices(dof)
+
+    def _one_dof(self, dof) -> int:
+        dofs = self._dofs(dof)
+        if len(dofs) != 1:
+            raise ValueError(f"{dof!r} names {len(dofs)} DOFs; give one DOF")
+        return dofs[0]
+
+    def set_state(self, q, v, t: float = 0.0) -> None:
+        self._set_state(q, v, t)
+
+    def set_input(self, dof, torque: float) -> None:
+        """Torque (or force) applied to a regular DOF from now on."""
+        self._set_input(self._one_dof(dof), torque)
+
+    def prescribe(self, dof, source: MotionSource) -> None:
+        """Drive the DOF by `source` from now on (positions continuous; a velocity jump is an impulse)."""
+        self._prescribe(self._one_dof(dof), source)
+
+    def lock(self, dof) -> None:
+        """Stop the DOF(s) now with the impulse that brings them to rest (see energy_lost)."""
+        for k in self._dofs(dof):
+            self._lock(k)
+
+    def release(self, dof) -> None:
+        for k in self._dofs(dof):
+            self._release(k)
+
+    def schedule(self, t: float, kind: str, dof, source: MotionSource | None = None) -> None:
+        """Schedule 'lock', 'release' or 'prescribe' (with `source`) at time t."""
+        if kind == "prescribe":
+            if source is None:
+                raise ValueError("a 'prescribe' event needs a source")
+            self._schedule_prescribe(t, self._one_dof(dof), source)
+            return
+        for k in self._dofs(dof):
+            self._schedule(t, kind, k)
+
+    def run(self, duration: float) -> Trajectory:
+        """Run for `duration` seconds in C++ with the GIL released; returns the trajectory.
+
+        A failure (singular articulated inertia, NaN state) stops the run and
+        raises DynamicsError; the exception's `trajectory` holds the steps done.
+        """
+        steps = int(round(duration / self.dt))
+        if steps < 0 or not np.isfinite(duration):
+            raise ValueError(f"duration must be a non-negative number, got {duration}")
+        nq, nv = len(self.q), len(self.v)
+        t, q, v = np.empty(steps + 1), np.empty((steps + 1, nq)), np.empty((steps + 1, nv))
+        tau = np.empty((steps, nv))
+        t[0], q[0], v[0] = self.time, self.q, self.v
+        done, message = self._run(steps, t, q, v, tau)
+        trajectory = Trajectory(t[:done + 1], q[:done + 1], v[:done + 1], tau[:done])
+        if message:
+            error = DynamicsError(f"simulation stopped: {message}")
+            error.trajectory = trajectory
+            raise error
+        return trajectory
