@@ -2,10 +2,10 @@
 
 namespace soadyn {
 #define SOADYN_INSTANTIATE(S)                                                                                  \
-  template void neutral_configuration<S>(const ModelTpl<S>&, Eigen::Ref<VecX<S>>);                              \
-  template void random_configuration<S>(const ModelTpl<S>&, std::uint64_t, Eigen::Ref<VecX<S>>);                \
+  template void neutral_configuration<S>(const ModelTpl<S>&, VecRef<S>);                              \
+  template void random_configuration<S>(const ModelTpl<S>&, std::uint64_t, VecRef<S>);                \
   template void integrate<S>(const ModelTpl<S>&, const ConstVecRef<S>&, const ConstVecRef<S>&, S,               \
-                             Eigen::Ref<VecX<S>>);                                                              \
+                             VecRef<S>);                                                              \
   template int first_non_unit_quaternion<S>(const ModelTpl<S>&, const ConstVecRef<S>&, S, S*);
 SOADYN_INSTANTIATE(double)
 SOADYN_INSTANTIATE(float)

@@ -8,17 +8,17 @@ namespace soadyn {
 
 // Zero coordinates with identity quaternions.
 template <class S>
-void neutral_configuration(const ModelTpl<S>& model, Eigen::Ref<VecX<S>> q);
+void neutral_configuration(const ModelTpl<S>& model, VecRef<S> q);
 
 // Angles uniform in [-pi, pi], translations uniform in [-1, 1], quaternions
 // uniform on the unit sphere; deterministic for a given seed.
 template <class S>
-void random_configuration(const ModelTpl<S>& model, std::uint64_t seed, Eigen::Ref<VecX<S>> q);
+void random_configuration(const ModelTpl<S>& model, std::uint64_t seed, VecRef<S> q);
 
 // q_out = q (+) v dt, each joint on its manifold (q_out may alias q).
 template <class S>
 void integrate(const ModelTpl<S>& model, const ConstVecRef<S>& q, const ConstVecRef<S>& v, S dt,
-               Eigen::Ref<VecX<S>> q_out);
+               VecRef<S> q_out);
 
 // The body of the first joint whose quaternion norm differs from 1 by more
 // than `tolerance`, or -1.

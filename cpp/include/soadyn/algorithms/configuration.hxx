@@ -6,12 +6,12 @@
 namespace soadyn {
 
 template <class S>
-void neutral_configuration(const ModelTpl<S>& m, Eigen::Ref<VecX<S>> q) {
+void neutral_configuration(const ModelTpl<S>& m, VecRef<S> q) {
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) joint_neutral(m.joints[i], q.data() + m.q_index[i]);
 }
 
 template <class S>
-void random_configuration(const ModelTpl<S>& m, std::uint64_t seed, Eigen::Ref<VecX<S>> q) {
+void random_configuration(const ModelTpl<S>& m, std::uint64_t seed, VecRef<S> q) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> angle(-M_PI, M_PI), offset(-1.0, 1.0);
   std::normal_distribution<double> gauss;
@@ -33,7 +33,7 @@ void random_configuration(const ModelTpl<S>& m, std::uint64_t seed, Eigen::Ref<V
 }
 
 template <class S>
-void integrate(const ModelTpl<S>& m, const ConstVecRef<S>& q, const ConstVecRef<S>& v, S dt, Eigen::Ref<VecX<S>> q_out) {
+void integrate(const ModelTpl<S>& m, const ConstVecRef<S>& q, const ConstVecRef<S>& v, S dt, VecRef<S> q_out) {
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i)
     joint_integrate(m.joints[i], q.data() + m.q_index[i], v.data() + m.v_index[i], dt, q_out.data() + m.q_index[i]);
 }

@@ -10,7 +10,14 @@
 
 namespace soadyn {
 
-template <class S> using ConstVecRef = Eigen::Ref<const VecX<S>>;
+// Vector arguments. The nested ::type makes them non-deduced, so the scalar
+// comes from the Model alone and plain Eigen vectors bind without <double>.
+template <class T>
+struct type_identity {
+  using type = T;
+};
+template <class S> using ConstVecRef = typename type_identity<Eigen::Ref<const VecX<S>>>::type;
+template <class S> using VecRef = typename type_identity<Eigen::Ref<VecX<S>>>::type;
 
 // Spatial acceleration of the world: gravity enters as a base acceleration
 // [0; -g], so every hinge force includes it.

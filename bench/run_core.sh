@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Core benchmark in one command: configure and build (Release, no
+# -march=native) into build/bench, run bench_core, write bench/results/core.md.
+# Needs cmake (and preferably ninja) and the Python with cmeel-eigen on PATH,
+# e.g. the venv after `pip install '.[test]'`.
+# Usage: bash bench/run_core.sh [repetitions]
+set -euo pipefail
+
+repo="$(cd "$(dirname "$0")/.." && pwd)"
+build="$repo/build/bench"
+results="$repo/bench/results/core.md"
+repetitions="${1:-3000}"
+
+command -v cmake >/dev/null || { echo "cmake not found: activate the venv with the test extra" >&2; exit 1; }
+generator=()
+command -v ninja >/dev/null && generator=(-G Ninja)
+python="$(command -v python3 || command -v python)"
+
+cmake -S "$repo" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DSOADYN_NATIVE=OFF \
+  -DSOADYN_BUILD_BENCH=ON -DPython3_EXECUTABLE="$python" >/dev/null
+cmake --build "$build" --target bench_core -j2
+
+cache_value() { sed -n "s/^$1:[A-Z]*=//p" "$build/CMakeCache.txt"; }
+cxx="$(cache_value CMAKE_CXX_COMPILER)"
+cpu="$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1)"
+
+table="$(mktemp)"
+trap 'rm -f "$table"' EXIT
+"$build/bench/bench_core" "$repetitions" | tee "$table"
+
+mkdir -p "$(dirname "$results")"
+{
+  echo "# Core benchmark"
+  echo
+  echo "- Date: $(date -u '+%Y-%m-%d %H:%M UTC')"
+  echo "- Machine: $(uname -m), ${cpu:-unknown CPU}, $(nproc) logical cores"
+  echo "- Source: $(git -C "$repo" describe --always --dirty 2>/dev/null || echo "not a git checkout")"
+  echo "- Compiler: $("$cxx" --version | head -n 1)"
+  echo "- Build: Release ($(cache_value CMAKE_CXX_FLAGS_RELEASE)), no -march=native"
+  echo "- Command: \`bash bench/run_core.sh $repetitions\`"
+  echo
+  cat "$table"
+  echo
+  echo "Times are medians per call over many short timed batches, the algorithms"
+  echo "interleaved batch by batch and the models visited in rounds, on a shared"
+  echo "and possibly noisy machine: compare ratios rather than absolute times."
+  echo "ABA: forward_dynamics. RNEA: inverse_dynamics. CRBA: mass_matrix."
+  echo "hybrid all-regular solves the ABA problem and hybrid all-prescribed the RNEA"
+  echo "problem (the benchmark checks that the results agree); hybrid 50% mixed uses"
+  echo "a random mask with about half the DOFs prescribed."
+} > "$results"
+echo "wrote $results"
