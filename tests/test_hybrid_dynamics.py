@@ -56,6 +56,11 @@ def test_all_regular_is_mass_matrix_solve(seed, floating):
     assert_close(qdd, expected)
     np.testing.assert_array_equal(tau_out, tau)
     assert_close(soadyn.forward_dynamics(m, q, v, tau), expected)
+    # Asking for joint wrenches takes the general three-sweep path.
+    qdd, tau_out, wrenches = soadyn.hybrid_dynamics(m, q, v, tau, joint_wrenches=True)
+    assert_close(qdd, expected)
+    np.testing.assert_array_equal(tau_out, tau)
+    assert_close(wrenches, soadyn.joint_wrenches(m, q, v, qdd))
 
 
 @pytest.mark.parametrize("floating", [True, False])

@@ -91,6 +91,7 @@ class ModelTpl {
   std::vector<std::string> dof_names, coordinate_names;
   std::vector<int> dof_body;
   std::vector<std::uint8_t> prescribed;
+  int n_prescribed = 0;  // how many DOFs are prescribed
 
   std::vector<Frame<S>> frames;
   Vec3<S> gravity;

@@ -226,6 +226,8 @@ void ModelTpl<S>::refresh_body_modes(int body) {
 
 template <class S>
 void ModelTpl<S>::refresh_modes() {
+  n_prescribed = 0;
+  for (const std::uint8_t p : prescribed) n_prescribed += p;
   for (int i = 0; i < nbodies(); ++i) {
     const int p = parent[static_cast<std::size_t>(i)];
     HingeModes& h = modes[static_cast<std::size_t>(i)];

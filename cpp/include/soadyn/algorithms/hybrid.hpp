@@ -7,7 +7,8 @@
 // inertia: their accelerations are known in the first sweep and their hinge
 // forces come from the Newton-Euler inward sweep, as in inverse dynamics.
 // With every flag prescribed the algorithm is RNEA; with every flag regular
-// it is the articulated-body algorithm.
+// it is the articulated-body algorithm: a tree with no prescribed DOF runs the
+// very sweeps of forward_dynamics (aba.hpp), so it never costs more.
 #pragma once
 #include "soadyn/algorithms/steps.hpp"
 

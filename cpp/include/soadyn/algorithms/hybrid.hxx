@@ -1,4 +1,5 @@
 #pragma once
+#include "soadyn/algorithms/aba.hpp"
 #include "soadyn/algorithms/hybrid.hpp"
 
 namespace soadyn {
@@ -40,7 +41,10 @@ inline int articulated_body_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
       for (int k = 0; k < h.n_regular; ++k) gathered.col(k) = d.subspace[i].col(h.regular[k]);
       Sr = &gathered;
     }
-    for (int k = 0; k < h.n_regular; ++k) eps[k] = ui[h.regular[k]];
+    if (h.n_prescribed == 0)
+      eps = Eigen::Map<const VecN<S>>(ui, h.n_regular);
+    else
+      for (int k = 0; k < h.n_regular; ++k) eps[k] = ui[h.regular[k]];
     const int bad = articulated_hinge_step(P, *Sr, z, eps, d.gain[i], d.innovation[i], P_plus, z_plus);
     if (bad >= 0) return m.v_index[i] + h.regular[bad];
     P_out = &P_plus;
@@ -66,7 +70,10 @@ inline void articulated_body_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::s
   const Vec6<S> alpha_plus = parent_acceleration(m, d, i, world_acc);
   auto qdd = d.qdd.segment(vi, ni);
   auto tau = d.tau.segment(vi, ni);
-  if (h.n_regular > 0) {  // qdd_r = nu - G* alpha+
+  if (h.n_prescribed == 0) {  // the articulated-body case: no gather, no scatter
+    qdd.noalias() = d.innovation[i] - d.gain[i].transpose() * alpha_plus;
+    tau = Eigen::Map<const VecN<S>>(u + vi, ni);
+  } else if (h.n_regular > 0) {  // qdd_r = nu - G* alpha+
     const VecN<S> qdd_r = d.innovation[i] - d.gain[i].transpose() * alpha_plus;
     for (int k = 0; k < h.n_regular; ++k) {
       qdd[h.regular[k]] = qdd_r[k];
@@ -129,6 +136,11 @@ Status hybrid_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v
 template <class S>
 Status hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                        const ConstVecRef<S>& u, const S* f_ext, HybridOutputs outputs) {
+  if (m.n_prescribed == 0 && !outputs.hinge_forces) {  // a regular tree: exactly the articulated-body sweeps
+    const Status s = forward_dynamics(m, d, q, v, u, f_ext);
+    d.tau = u;
+    return s;
+  }
   return detail::hybrid_sweeps(m, d, q.data(), v.data(), u, f_ext, world_acceleration(m), outputs);
 }
 
