@@ -5,6 +5,7 @@
 
 #include "arrays.hpp"
 #include "model_handle.hpp"
+#include "soadyn/scenes.hpp"
 
 namespace soadyn_py {
 
@@ -95,6 +96,14 @@ void bind_model(py::module_& mod) {
            "Index of the named body, or -1.")
       .def("dof_index", [](const ModelHandle& h, const std::string& n) { return h.model.dof_index(n); },
            "Velocity index of the named DOF, or -1.")
+      .def("_load_cassini", [](ModelHandle& h) { h.model = soadyn::cassini_model<double>(); })
+      .def("_load_pendulum_chain", [](ModelHandle& h, int links, double length, double mass) {
+        try {
+          h.model = soadyn::pendulum_chain_model<double>(links, length, mass);
+        } catch (const std::invalid_argument& e) {
+          throw py::value_error(e.what());
+        }
+      })
       .def("_copy_from", [](ModelHandle& h, const ModelHandle& other) {
         h.model = other.model;
         h.data.reset();

@@ -97,3 +97,12 @@ def test_float_agrees_with_double(cpp_tests_dir):
                       r"over \d+ states, 0 failures$", output, re.MULTILINE)
     assert match, output
     assert float(match.group(1)) <= 1e-4, output
+
+
+def test_simulator_steps_allocate_nothing(cpp_tests_dir):
+    """10^5 steps of each built-in scene, RK4 and semi-implicit Euler, with events firing."""
+    output = run_test_executable(cpp_tests_dir, "test_sim_no_allocation")
+    rows = re.findall(r"^(\S+) \((rk4|euler)\): 100000 steps, 0 allocations, 0 frees, 0 failed statuses", output,
+                      re.MULTILINE)
+    assert len(rows) == 4, output
+    assert re.search(r"^test_sim_no_allocation: PASS$", output, re.MULTILINE), output

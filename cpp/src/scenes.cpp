@@ -1,0 +1,115 @@
+// Built-in scenes (see scenes.hpp for the sources of the parameters).
+#include "soadyn/scenes.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace soadyn {
+
+namespace {
+
+// Principal inertia of a thin rod of `length` along `axis`, about its centre.
+template <class S>
+Mat3<S> rod(S mass, S length, int axis) {
+  Mat3<S> I = Mat3<S>::Identity() * (mass * length * length / S(12));
+  I(axis, axis) = S(1e-3) * mass;
+  return I;
+}
+
+// Solid cylinder of `radius` and `height` along `axis`, about its centre.
+template <class S>
+Mat3<S> cylinder(S mass, S radius, S height, int axis = 2) {
+  Mat3<S> I = Mat3<S>::Identity() * (mass * (S(3) * radius * radius + height * height) / S(12));
+  I(axis, axis) = mass * radius * radius / S(2);
+  return I;
+}
+
+template <class S>
+Transform<S> at(S x, S y, S z) {
+  Transform<S> X;
+  X.translation << x, y, z;
+  return X;
+}
+
+// A rotation whose z column is the unit `axis`.
+template <class S>
+Mat3<S> frame_with_z(const Vec3<S>& axis) {
+  const Vec3<S> z = axis.normalized();
+  const Vec3<S> helper = std::abs(z.x()) < S(0.9) ? Vec3<S>::UnitX() : Vec3<S>::UnitY();
+  const Vec3<S> x = helper.cross(z).normalized();
+  Mat3<S> R;
+  R << x, z.cross(x), z;
+  return R;
+}
+
+template <class S>
+Vec3<S> vec(S x, S y, S z) {
+  return Vec3<S>(x, y, z);
+}
+
+}  // namespace
+
+template <class S>
+ModelTpl<S> cassini_model() {
+  using R = RevoluteJoint<S>;
+  ModelTpl<S> m;
+  m.gravity.setZero();  // in orbit: free fall
+  const Vec3<S> zero = Vec3<S>::Zero();
+  m.add_body("bus", -1, FreeJoint<S>{}, Transform<S>(), S(2500), vec<S>(0, 0, 1.5), cylinder<S>(2500, 1, 4));
+  m.add_body("high_gain_antenna", "bus", FixedJoint<S>{}, at<S>(0, 0, 4), S(105),
+             zero, Vec3<S>(105, 105, 210).asDiagonal());
+  m.add_body("huygens_probe", "bus", FixedJoint<S>{}, at<S>(1.3, 0, 1), S(320), zero, cylinder<S>(320, 1.35, 0.6, 0));
+  m.add_body("magnetometer_boom", "bus", FixedJoint<S>{}, at<S>(0, 1, 3.5), S(30), vec<S>(0, 5.5, 0), rod<S>(30, 11, 1));
+  m.add_body("turntable", "bus", R{Vec3<S>::UnitZ()}, at<S>(0, -1.2, 0.5), S(80), vec<S>(0, 0, 0.2),
+             cylinder<S>(80, 0.6, 0.3));
+  m.add_body("scan_az", "bus", R{Vec3<S>::UnitZ()}, at<S>(-1.2, 0, 2.5), S(40), vec<S>(0, 0, 0.3),
+             cylinder<S>(40, 0.3, 0.6));
+  m.add_body("scan_el", "scan_az", R{Vec3<S>::UnitX()}, at<S>(0, 0, 0.6), S(60), vec<S>(0, 0.2, 0.1),
+             Vec3<S>(3, 2, 2.5).asDiagonal());
+  m.add_body("probe_relay_antenna", "bus", R{Vec3<S>::UnitY()}, at<S>(0.8, 0.8, 3), S(5), vec<S>(0, 0, 0.25),
+             cylinder<S>(5, 0.25, 0.05));
+  m.add_body("gimbal_pitch", "bus", R{Vec3<S>::UnitX()}, at<S>(0, 0, -0.5), S(4), zero,
+             Mat3<S>(Mat3<S>::Identity() * S(0.05)));
+  m.add_body("engine", "gimbal_pitch", R{Vec3<S>::UnitY()}, Transform<S>(), S(15), vec<S>(0, 0, -0.5),
+             cylinder<S>(15, 0.3, 1), "gimbal_yaw");
+  const Vec3<S> wheel_axes[4] = {Vec3<S>::UnitX(), Vec3<S>::UnitY(), Vec3<S>::UnitZ(), Vec3<S>::Ones()};
+  for (int k = 0; k < 4; ++k) {
+    Transform<S> X = at<S>(S(0.5) * (S(k) - S(1.5)), -0.5, 1);
+    X.rotation = frame_with_z(wheel_axes[k]);
+    m.add_body("wheel_" + std::to_string(k + 1), "bus", R{Vec3<S>::UnitZ()}, X, S(12), zero,
+               cylinder<S>(12, 0.17, 0.08));
+  }
+  const char* slosh[2] = {"oxidizer_slosh", "fuel_slosh"};
+  const S height[2] = {S(2.2), S(0.9)};
+  for (int k = 0; k < 2; ++k)
+    m.add_body(slosh[k], "bus", UniversalJoint<S>{Vec3<S>::UnitX(), Vec3<S>::UnitY()}, at<S>(0, 0, height[k]), S(400),
+               vec<S>(0, 0, -0.35), Mat3<S>::Identity());
+  for (const char* dof : {"turntable", "gimbal_pitch", "gimbal_yaw"}) m.set_prescribed(m.dof_index(dof), true);
+  return m;
+}
+
+template <class S>
+void drive_cassini(SimulatorTpl<S>& sim) {
+  ConstantAcceleration<S> rate;
+  rate.v0 = S(kTurntableRate);
+  sim.prescribe(sim.model().dof_index("turntable"), rate);
+}
+
+template <class S>
+ModelTpl<S> pendulum_chain_model(int links, S length, S mass) {
+  if (links < 1) throw std::invalid_argument("pendulum_chain needs at least one link, got " + std::to_string(links));
+  ModelTpl<S> m;
+  for (int i = 0; i < links; ++i)
+    m.add_body("link_" + std::to_string(i + 1), i - 1, RevoluteJoint<S>{Vec3<S>::UnitX()},
+               at<S>(0, 0, i ? -length : S(0)), mass, vec<S>(0, 0, -length / S(2)), rod<S>(mass, length, 2));
+  return m;
+}
+
+template ModelTpl<double> cassini_model<double>();
+template ModelTpl<float> cassini_model<float>();
+template void drive_cassini<double>(SimulatorTpl<double>&);
+template void drive_cassini<float>(SimulatorTpl<float>&);
+template ModelTpl<double> pendulum_chain_model<double>(int, double, double);
+template ModelTpl<float> pendulum_chain_model<float>(int, float, float);
+
+}  // namespace soadyn
