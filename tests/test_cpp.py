@@ -106,3 +106,25 @@ def test_simulator_steps_allocate_nothing(cpp_tests_dir):
                       re.MULTILINE)
     assert len(rows) == 4, output
     assert re.search(r"^test_sim_no_allocation: PASS$", output, re.MULTILINE), output
+
+
+def cmeel_prefixes() -> list[str]:
+    return [str(Path(p) / "cmeel.prefix") for p in sys.path if (Path(p) / "cmeel.prefix").is_dir()]
+
+
+def test_embedded_example_links_the_installed_package(cpp_tests_dir, tmp_path):
+    """`cmake --install` exports soadyn; examples/cpp finds it with find_package and steps cassini for 10 s."""
+    cmake = find_tool("cmake", "cmake", "CMAKE_BIN_DIR")
+    ninja = find_tool("ninja", "ninja", "BIN_DIR")
+    prefix, build = tmp_path / "prefix", tmp_path / "example"
+    run_checked([cmake, "--install", str(BUILD_DIR), "--prefix", str(prefix)], BUILD_TIMEOUT)
+    assert (prefix / "lib" / "cmake" / "soadyn" / "soadynConfig.cmake").is_file() or \
+        (prefix / "lib64" / "cmake" / "soadyn" / "soadynConfig.cmake").is_file()
+    run_checked([cmake, "-S", str(REPO / "examples" / "cpp"), "-B", str(build), "-G", "Ninja",
+                 f"-DCMAKE_MAKE_PROGRAM={ninja}", f"-DCMAKE_PREFIX_PATH={';'.join([str(prefix)] + cmeel_prefixes())}"],
+                BUILD_TIMEOUT)
+    run_checked([cmake, "--build", str(build), "-j2"], BUILD_TIMEOUT)
+    output = run_test_executable(build, "cassini_realtime")
+    assert re.search(r"^cassini: 10000 steps of 1.0 ms \(RK4\), simulated 10.000 s, energy lost to the lock "
+                     r"\d+\.\d+ J$", output, re.MULTILINE), output
+    assert re.search(r"^step time us: p50 \S+ +p99 \S+ +p99.9 \S+ +max \S+$", output, re.MULTILINE), output
