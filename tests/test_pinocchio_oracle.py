@@ -291,34 +291,22 @@ def test_mass_matrix(seed, floating):
     check("mass_matrix", c.map.matrix(soadyn.mass_matrix(c.m, c.q)), M)
 
 
-@parametrize_cases
-@pytest.mark.parametrize("with_f_ext", [False, True], ids=["no_fext", "fext"])
-def test_inverse_dynamics(seed, floating, with_f_ext):
-    c = make_case(seed, floating)
-    v, qdd = c.rng.normal(size=c.m.nv), c.rng.normal(size=c.m.nv)
-    if with_f_ext:
-        f = c.rng.normal(size=(c.m.nbodies, 6))
-        tau = soadyn.inverse_dynamics(c.m, c.q, v, qdd, f_ext=f)
-        ref = pin.rnea(c.model, c.data, c.q_pin, c.map.v(v), c.map.v(qdd), c.map.f_ext(f))
-    else:
-        tau = soadyn.inverse_dynamics(c.m, c.q, v, qdd)
-        ref = pin.rnea(c.model, c.data, c.q_pin, c.map.v(v), c.map.v(qdd))
-    check("inverse_dynamics" + (" f_ext" if with_f_ext else ""), c.map.v(tau), ref)
+# soadyn call and its Pinocchio counterpart: (model, q, v, x[, f_ext]) -> generalized vector.
+DYNAMICS = {"inverse_dynamics": (soadyn.inverse_dynamics, pin.rnea), "forward_dynamics": (soadyn.forward_dynamics, pin.aba)}
 
 
 @parametrize_cases
+@pytest.mark.parametrize("name", sorted(DYNAMICS))
 @pytest.mark.parametrize("with_f_ext", [False, True], ids=["no_fext", "fext"])
-def test_forward_dynamics(seed, floating, with_f_ext):
+def test_dynamics(seed, floating, name, with_f_ext):
     c = make_case(seed, floating)
-    v, tau = c.rng.normal(size=c.m.nv), c.rng.normal(size=c.m.nv)
-    if with_f_ext:
-        f = c.rng.normal(size=(c.m.nbodies, 6))
-        qdd = soadyn.forward_dynamics(c.m, c.q, v, tau, f_ext=f)
-        ref = pin.aba(c.model, c.data, c.q_pin, c.map.v(v), c.map.v(tau), c.map.f_ext(f))
-    else:
-        qdd = soadyn.forward_dynamics(c.m, c.q, v, tau)
-        ref = pin.aba(c.model, c.data, c.q_pin, c.map.v(v), c.map.v(tau))
-    check("forward_dynamics" + (" f_ext" if with_f_ext else ""), c.map.v(qdd), ref)
+    ours, theirs = DYNAMICS[name]
+    v, x = c.rng.normal(size=c.m.nv), c.rng.normal(size=c.m.nv)
+    f = c.rng.normal(size=(c.m.nbodies, 6)) if with_f_ext else None
+    pin_f_ext = (c.map.f_ext(f),) if with_f_ext else ()
+    result = ours(c.m, c.q, v, x, f_ext=f)
+    ref = theirs(c.model, c.data, c.q_pin, c.map.v(v), c.map.v(x), *pin_f_ext)
+    check(name + (" f_ext" if with_f_ext else ""), c.map.v(result), ref)
 
 
 @parametrize_cases
