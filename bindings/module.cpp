@@ -4,6 +4,7 @@ namespace soadyn_py {
 void bind_model(pybind11::module_& mod);
 void bind_algorithms(pybind11::module_& mod);
 void bind_simulator(pybind11::module_& mod);
+void bind_hil(pybind11::module_& mod);
 }  // namespace soadyn_py
 
 PYBIND11_MODULE(_soadyn, mod) {
@@ -11,4 +12,5 @@ PYBIND11_MODULE(_soadyn, mod) {
   soadyn_py::bind_model(mod);
   soadyn_py::bind_algorithms(mod);
   soadyn_py::bind_simulator(mod);
+  soadyn_py::bind_hil(mod);
 }

@@ -22,15 +22,82 @@ def main(argv: list[str] | None = None) -> int:
     check.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     check.add_argument("--tolerance", type=float, default=1e-9,
                        help="largest accepted relative difference (default 1e-9); above it the exit code is 1")
+    hil_parser = add_hil_parser(sub)
     args = parser.parse_args(argv)
     if args.command == "check":
         return run_check(args)
+    if args.command == "hil":
+        return run_hil_command(args, hil_parser)
     if not (args.duration > 0 and args.dt > 0):
         parser.error("--duration and --dt must be positive")
     model = scenes.SCENES[args.scene]()
     print(describe_scene(args.scene, model))
     print(format_result(run_demo(model, args.duration, args.dt)))
     return 0
+
+
+def add_hil_parser(sub) -> argparse.ArgumentParser:
+    hil = sub.add_parser("hil", help="step a built-in scene in real time, optionally with a UDP controller")
+    hil.add_argument("--scene", default="cassini", choices=sorted(scenes.SCENES),
+                     help="built-in scene (default cassini)")
+    hil.add_argument("--rate", type=float, default=1000.0,
+                     help="steps per wall-clock second; dt = 1/rate (default 1000)")
+    hil.add_argument("--duration", type=float, default=10.0, help="simulated seconds (default 10)")
+    hil.add_argument("--integrator", default="rk4", choices=["euler", "rk4", "dopri5"], help="(default rk4)")
+    hil.add_argument("--event", action="append", default=[], metavar="'lock|release DOF at T'",
+                     help="lock or release a DOF or joint at simulation time T (repeatable)")
+    hil.add_argument("--udp", type=int, metavar="PORT", help="receive actuator commands on 127.0.0.1:PORT")
+    hil.add_argument("--udp-peer", type=int, default=0, metavar="PORT",
+                     help="send sensor packets to 127.0.0.1:PORT (default: to the last command's sender)")
+    hil.add_argument("--report", metavar="OUT.json", help="write the report as JSON")
+    hil.add_argument("--plot", metavar="OUT.png", help="plot timings and state histories (needs matplotlib)")
+    hil.add_argument("--no-progress", action="store_true", help="no progress bar")
+    hil.add_argument("--as-fast-as-possible", action="store_true", help="do not pace the steps (benchmarking)")
+    return hil
+
+
+def run_hil_command(args, parser) -> int:
+    from . import hil
+
+    if not (args.rate > 0 and args.duration >= 0):
+        parser.error("--rate must be positive and --duration non-negative")
+    for option, port in (("--udp", args.udp), ("--udp-peer", args.udp_peer)):
+        if port is not None and not 0 <= port <= 65535:
+            parser.error(f"{option} {port}: a port is in 0..65535")
+    try:
+        events = [hil.parse_event(text) for text in args.event]
+        sim = hil.scene_simulator(args.scene, args.rate, args.integrator, events)
+    except ValueError as error:
+        parser.error(f"argument --event: {error}")
+    if args.plot:
+        hil.require_matplotlib()  # fail before the run, not after it
+    print(describe_scene(args.scene, sim._model))
+    for event in events:
+        print(f"event: {event}")
+    if args.udp is not None:
+        print(f"commands on 127.0.0.1:{args.udp}")
+    try:
+        report = hil.run_hil(sim, args.rate, args.duration, udp_port=args.udp, progress=not args.no_progress,
+                             realtime=not args.as_fast_as_possible, udp_destination_port=args.udp_peer)
+    except RuntimeError as error:  # the UDP port could not be bound
+        parser.exit(1, f"soadyn hil: {error}\n")
+    print(hil.format_table(report))
+    write_hil_outputs(args, events, sim, report)
+    return 0 if report.ok else 1
+
+
+def write_hil_outputs(args, events, sim, report) -> None:
+    import json
+
+    from . import hil
+
+    if args.report:
+        summary = {"scene": args.scene, "integrator": args.integrator, "events": [str(e) for e in events],
+                   **report.to_dict()}
+        with open(args.report, "w") as out:
+            json.dump(summary, out, indent=2)
+    if args.plot:
+        hil.plot_report(report, args.plot, sim._model)
 
 
 def run_check(args) -> int:

@@ -1,0 +1,129 @@
+// The HIL runner: a HilRunner and its optional UdpLink, run with the GIL
+// released. The progress display and the report live in python/soadyn/hil.py.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+
+#include "soadyn/sim/hil_runner.hpp"
+#include "soadyn/sim/simulator.hpp"
+#include "soadyn/sim/udp_link.hpp"
+
+namespace soadyn_py {
+
+namespace py = pybind11;
+
+namespace {
+
+// The runner with the link it owns; `running` refuses a second concurrent run().
+struct HilSession {
+  std::unique_ptr<soadyn::UdpLink> link;
+  std::unique_ptr<soadyn::HilRunner> runner;
+  std::atomic<bool> running{false};
+
+  void check_idle(const char* what) const {
+    if (running.load()) throw std::runtime_error(std::string(what) + ": the HIL runner is running");
+  }
+};
+
+// A fresh numpy copy of the first `rows` entries (1-D) or rows x cols block (row-major).
+template <class T>
+py::array_t<T> to_numpy(const std::vector<T>& x, std::int64_t rows) {
+  py::array_t<T> out(static_cast<py::ssize_t>(rows));
+  std::copy(x.begin(), x.begin() + rows, out.mutable_data());
+  return out;
+}
+
+py::array_t<double> to_numpy(const std::vector<double>& x, std::int64_t rows, int cols) {
+  py::array_t<double> out({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
+  std::copy(x.begin(), x.begin() + rows * cols, out.mutable_data());
+  return out;
+}
+
+std::unique_ptr<HilSession> make_session(soadyn::Simulator& sim, double rate_hz, std::int64_t steps,
+                                         std::optional<int> udp_port, int udp_destination_port,
+                                         bool as_fast_as_possible, std::int64_t record_every) {
+  auto session = std::make_unique<HilSession>();
+  try {
+    const auto& m = sim.model();
+    if (udp_port) session->link = std::make_unique<soadyn::UdpLink>(m.nq, m.nv, *udp_port, udp_destination_port);
+    session->runner = std::make_unique<soadyn::HilRunner>(sim, rate_hz, steps, session->link.get());
+    session->runner->record_state_every(record_every);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+  session->runner->set_as_fast_as_possible(as_fast_as_possible);
+  return session;
+}
+
+void run(HilSession& s) {
+  if (s.running.exchange(true)) throw std::runtime_error("run: the HIL runner is already running");
+  {
+    py::gil_scoped_release release;
+    s.runner->run();  // never throws
+  }
+  s.running.store(false);
+}
+
+}  // namespace
+
+void bind_hil(py::module_& mod) {
+  using Summary = soadyn::HilSummary;
+  py::class_<Summary>(mod, "_HilSummary")
+      .def_readonly("steps", &Summary::steps)
+      .def_readonly("requested_steps", &Summary::requested_steps)
+      .def_readonly("deadline_misses", &Summary::deadline_misses)
+      .def_readonly("compute_p50_us", &Summary::compute_p50_us)
+      .def_readonly("compute_p99_us", &Summary::compute_p99_us)
+      .def_readonly("compute_p999_us", &Summary::compute_p999_us)
+      .def_readonly("compute_max_us", &Summary::compute_max_us)
+      .def_readonly("lateness_p50_us", &Summary::lateness_p50_us)
+      .def_readonly("lateness_p99_us", &Summary::lateness_p99_us)
+      .def_readonly("lateness_max_us", &Summary::lateness_max_us)
+      .def_readonly("wall_seconds", &Summary::wall_seconds)
+      .def_readonly("packets_received", &Summary::packets_received)
+      .def_readonly("packets_dropped", &Summary::packets_dropped)
+      .def_readonly("packets_sent", &Summary::packets_sent)
+      .def_readonly("failed_step", &Summary::failed_step)
+      .def_readonly("stopped", &Summary::stopped)
+      .def_readonly("as_fast_as_possible", &Summary::as_fast_as_possible)
+      .def_property_readonly("status", [](const Summary& s) { return soadyn::status_message(s.status.code); })
+      .def_property_readonly("failed_dof", [](const Summary& s) { return s.status.index; });
+
+  py::class_<HilSession>(mod, "HilRunner",
+                         "Fixed-rate loop over a Simulator with optional UDP I/O (see soadyn.hil.run_hil).")
+      .def(py::init(&make_session), py::arg("sim"), py::arg("rate_hz"), py::arg("steps"),
+           py::arg("udp_port") = py::none(), py::arg("udp_destination_port") = 0,
+           py::arg("as_fast_as_possible") = false, py::arg("record_every") = 0,
+           py::keep_alive<1, 2>())  // the simulator outlives the runner
+      .def("run", &run, "Run the loop (GIL released); the outcome is in summary().")
+      .def("request_stop", [](HilSession& s) { s.runner->request_stop(); }, "Ask a running loop to stop (thread-safe).")
+      .def_property_readonly("steps_done", [](const HilSession& s) { return s.runner->steps_done(); })
+      .def_property_readonly("deadline_misses", [](const HilSession& s) { return s.runner->deadline_misses(); })
+      .def_property_readonly("packets_received", [](const HilSession& s) {
+             return s.link ? s.link->packets_received() : std::uint64_t{0}; })
+      .def_property_readonly("udp_port", [](const HilSession& s) {
+             return s.link ? py::object(py::int_(s.link->port())) : py::object(py::none()); })
+      .def("summary", [](const HilSession& s) {
+             s.check_idle("summary");
+             return s.runner->summary(); })
+      .def_property_readonly("compute_ns", [](const HilSession& s) {
+             s.check_idle("compute_ns");
+             return to_numpy(s.runner->compute_ns(), s.runner->steps_done()); })
+      .def_property_readonly("lateness_ns", [](const HilSession& s) {
+             s.check_idle("lateness_ns");
+             return to_numpy(s.runner->lateness_ns(), s.runner->steps_done()); })
+      .def("trajectory", [](const HilSession& s) {
+             s.check_idle("trajectory");
+             const soadyn::HilRunner& r = *s.runner;
+             const std::int64_t rows = r.recorded_rows();
+             return py::make_tuple(to_numpy(r.recorded_time(), rows),
+                                   to_numpy(r.recorded_q(), rows, r.simulator().model().nq),
+                                   to_numpy(r.recorded_v(), rows, r.simulator().model().nv)); },
+           "Recorded (t, q, v): the start and every record_every steps.");
+}
+
+}  // namespace soadyn_py

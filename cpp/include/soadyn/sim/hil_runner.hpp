@@ -1,0 +1,107 @@
+// Fixed-rate stepping of a Simulator against the wall clock, for
+// hardware-in-the-loop runs, with optional UDP I/O to an external controller.
+//
+// Each step k has the absolute deadline start + k / rate on CLOCK_MONOTONIC.
+// The loop sleeps until the deadline (clock_nanosleep, TIMER_ABSTIME), then
+// reads the pending commands, applies the latest to the regular DOFs, steps
+// the simulator, sends the sensor packet and records the state. A late step
+// does not shift the schedule: the steps after it run at once until the loop
+// has caught up, so simulation time stays locked to the wall clock.
+//
+// Per step it records the compute time (wake-up to the end of the step,
+// I/O included) and the lateness (wake-up minus deadline); a step whose
+// compute ends after the next deadline is a deadline miss. In
+// as-fast-as-possible mode it never sleeps, lateness is 0 and no step is a
+// miss.
+//
+// Memory policy: the constructor and record_state_every() allocate every
+// buffer; run() allocates nothing, takes no lock, never throws and makes no
+// blocking call besides the sleep. A step whose Status is not ok stops the
+// run; the status and the step index are kept. steps_done(),
+// deadline_misses() and request_stop() may be used from another thread while
+// run() is going; everything else only before or after it.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "soadyn/sim/simulator.hpp"
+#include "soadyn/sim/udp_link.hpp"
+#include "soadyn/status.hpp"
+
+namespace soadyn {
+
+struct HilSummary {
+  std::int64_t steps = 0;            // steps completed
+  std::int64_t requested_steps = 0;  // steps asked for
+  std::int64_t deadline_misses = 0;
+  double compute_p50_us = 0, compute_p99_us = 0, compute_p999_us = 0, compute_max_us = 0;
+  double lateness_p50_us = 0, lateness_p99_us = 0, lateness_max_us = 0;
+  double wall_seconds = 0;  // wall-clock time of the loop
+  std::uint64_t packets_received = 0, packets_dropped = 0, packets_sent = 0;
+  Status status;                  // the status of the failed step, or ok
+  std::int64_t failed_step = -1;  // the step index the status came from
+  bool stopped = false;           // request_stop() ended the run early
+  bool as_fast_as_possible = false;
+};
+
+class HilRunner {
+ public:
+  // Runs `steps` steps of `sim` at `rate_hz` (the simulator's dt should be
+  // 1 / rate_hz for real-time simulation; the runner does not enforce it).
+  // `link` (optional, not owned) must have the model's nq and nv.
+  HilRunner(Simulator& sim, double rate_hz, std::int64_t steps, UdpLink* link = nullptr);
+
+  // Setup, before run().
+  void set_as_fast_as_possible(bool on) { as_fast_as_possible_ = on; }
+  // Records time, q and v at the start and after every `every` steps
+  // (0: no recording). Allocates the buffers.
+  void record_state_every(std::int64_t every);
+
+  // The loop. Returns ok, or the status of the step that failed.
+  Status run();
+
+  // Thread-safe progress and control.
+  std::int64_t steps_done() const { return steps_done_.load(std::memory_order_relaxed); }
+  std::int64_t deadline_misses() const { return deadline_misses_.load(std::memory_order_relaxed); }
+  void request_stop() { stop_requested_.store(true, std::memory_order_relaxed); }
+
+  // Results, after run(). The per-step arrays hold steps_done() valid entries.
+  HilSummary summary() const;
+  const std::vector<std::int64_t>& compute_ns() const { return compute_ns_; }
+  const std::vector<std::int64_t>& lateness_ns() const { return lateness_ns_; }
+  std::int64_t recorded_rows() const { return recorded_rows_; }
+  std::int64_t record_every() const { return record_every_; }
+  const std::vector<double>& recorded_time() const { return recorded_time_; }
+  const std::vector<double>& recorded_q() const { return recorded_q_; }  // rows x nq, row-major
+  const std::vector<double>& recorded_v() const { return recorded_v_; }  // rows x nv, row-major
+
+  double rate_hz() const { return rate_hz_; }
+  std::int64_t requested_steps() const { return steps_; }
+  const Simulator& simulator() const { return sim_; }
+
+ private:
+  void reset();
+  std::int64_t deadline_ns(std::int64_t step) const;
+  // One step's work after the wake-up: commands in, step, sensor state out, record.
+  Status advance(std::int64_t step);
+  void apply_command();
+  void record_state();
+
+  Simulator& sim_;
+  UdpLink* link_;
+  double rate_hz_;
+  std::int64_t steps_;
+  bool as_fast_as_possible_ = false;
+  std::int64_t start_ns_ = 0, end_ns_ = 0;
+  std::vector<std::int64_t> compute_ns_, lateness_ns_;
+  std::int64_t record_every_ = 0, recorded_rows_ = 0;
+  std::vector<double> recorded_time_, recorded_q_, recorded_v_;
+  Status status_;
+  std::int64_t failed_step_ = -1;
+  std::atomic<std::int64_t> steps_done_{0}, deadline_misses_{0};
+  std::atomic<bool> stop_requested_{false};
+  bool stopped_ = false;
+};
+
+}  // namespace soadyn

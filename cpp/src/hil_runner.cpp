@@ -1,0 +1,188 @@
+// The fixed-rate HIL loop; the timing model is described in hil_runner.hpp.
+#include "soadyn/sim/hil_runner.hpp"
+
+#include <time.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <stdexcept>
+
+namespace soadyn {
+
+namespace {
+
+constexpr std::int64_t ns_per_s = 1000000000;
+
+std::int64_t now_ns() {
+  timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return static_cast<std::int64_t>(t.tv_sec) * ns_per_s + t.tv_nsec;
+}
+
+// Linux lets a sleeping thread wake up to 50 us late by default ("timer
+// slack"); the loop asks for 1 ns while it runs and restores the old value.
+class TightTimerSlack {
+ public:
+#ifdef __linux__
+  TightTimerSlack() : previous_(prctl(PR_GET_TIMERSLACK, 0, 0, 0, 0)) {
+    if (previous_ > 0) prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0);
+  }
+  ~TightTimerSlack() {
+    if (previous_ > 0) prctl(PR_SET_TIMERSLACK, static_cast<unsigned long>(previous_), 0, 0, 0);
+  }
+
+ private:
+  int previous_;
+#endif
+};
+
+void sleep_until_ns(std::int64_t deadline) {
+  timespec t;
+  t.tv_sec = static_cast<time_t>(deadline / ns_per_s);
+  t.tv_nsec = static_cast<long>(deadline % ns_per_s);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &t, nullptr) == EINTR) {
+  }
+}
+
+// The first n entries of x, sorted (after the run: this allocates).
+std::vector<std::int64_t> sorted_first(const std::vector<std::int64_t>& x, std::int64_t n) {
+  std::vector<std::int64_t> out(x.begin(), x.begin() + n);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Nearest-rank percentile (p in [0, 1]) of sorted nanoseconds, in microseconds.
+double percentile_us(const std::vector<std::int64_t>& sorted, double p) {
+  if (sorted.empty()) return 0.0;
+  const double rank = std::ceil(p * static_cast<double>(sorted.size()));
+  const std::size_t index = static_cast<std::size_t>(std::max(rank, 1.0)) - 1;
+  return static_cast<double>(sorted[std::min(index, sorted.size() - 1)]) * 1e-3;
+}
+
+}  // namespace
+
+HilRunner::HilRunner(Simulator& sim, double rate_hz, std::int64_t steps, UdpLink* link)
+    : sim_(sim), link_(link), rate_hz_(rate_hz), steps_(steps) {
+  if (!(rate_hz > 0) || !std::isfinite(rate_hz)) throw std::invalid_argument("HIL rate must be a positive number");
+  if (steps < 0) throw std::invalid_argument("HIL step count must be >= 0");
+  if (link && (link->nq() != sim.model().nq || link->nv() != sim.model().nv))
+    throw std::invalid_argument("the UDP link's nq and nv differ from the simulator's model");
+  compute_ns_.assign(static_cast<std::size_t>(steps), 0);
+  lateness_ns_.assign(static_cast<std::size_t>(steps), 0);
+}
+
+void HilRunner::record_state_every(std::int64_t every) {
+  if (every < 0) throw std::invalid_argument("recording interval must be >= 0");
+  record_every_ = every;
+  const std::int64_t rows = every > 0 ? 1 + steps_ / every : 0;
+  recorded_time_.assign(static_cast<std::size_t>(rows), 0.0);
+  recorded_q_.assign(static_cast<std::size_t>(rows * sim_.model().nq), 0.0);
+  recorded_v_.assign(static_cast<std::size_t>(rows * sim_.model().nv), 0.0);
+}
+
+void HilRunner::reset() {
+  status_ = Status{};
+  failed_step_ = -1;
+  stopped_ = false;
+  recorded_rows_ = 0;
+  steps_done_.store(0, std::memory_order_relaxed);
+  deadline_misses_.store(0, std::memory_order_relaxed);
+}
+
+std::int64_t HilRunner::deadline_ns(std::int64_t step) const {
+  // Computed from the start each time, so a non-integer period does not drift.
+  return start_ns_ + std::llround(static_cast<double>(step) * 1e9 / rate_hz_);
+}
+
+Status HilRunner::run() {
+  reset();
+  record_state();
+  [[maybe_unused]] TightTimerSlack slack;
+  start_ns_ = now_ns();
+  for (std::int64_t k = 0; k < steps_; ++k) {
+    if (stop_requested_.load(std::memory_order_relaxed)) {
+      stopped_ = true;
+      break;
+    }
+    const std::int64_t deadline = deadline_ns(k);
+    if (!as_fast_as_possible_) sleep_until_ns(deadline);
+    const std::int64_t wake = now_ns();
+    const Status s = advance(k);
+    const std::int64_t end = now_ns();
+    if (!s.ok()) {
+      status_ = s;
+      failed_step_ = k;
+      break;
+    }
+    const std::size_t i = static_cast<std::size_t>(k);
+    compute_ns_[i] = end - wake;
+    lateness_ns_[i] = as_fast_as_possible_ ? 0 : wake - deadline;
+    if (!as_fast_as_possible_ && end > deadline_ns(k + 1)) deadline_misses_.fetch_add(1, std::memory_order_relaxed);
+    steps_done_.store(k + 1, std::memory_order_relaxed);
+  }
+  end_ns_ = now_ns();
+  stop_requested_.store(false, std::memory_order_relaxed);
+  return status_;
+}
+
+Status HilRunner::advance(std::int64_t step) {
+  if (link_) {
+    link_->poll();
+    apply_command();
+  }
+  const Status s = sim_.step();
+  if (!s.ok()) return s;
+  if (link_) link_->send_state(sim_.time(), sim_.q(), sim_.v());
+  if (record_every_ > 0 && (step + 1) % record_every_ == 0) record_state();
+  return s;
+}
+
+void HilRunner::apply_command() {
+  if (!link_->has_command()) return;
+  const Eigen::VectorXd& torque = link_->command();
+  // Applied every step, so a DOF released after the command arrived gets it too.
+  for (int dof = 0; dof < sim_.model().nv; ++dof)
+    if (!sim_.model().is_prescribed(dof)) sim_.set_input(dof, torque[dof]);  // dof is in range: never throws
+}
+
+void HilRunner::record_state() {
+  if (record_every_ == 0 || recorded_rows_ >= static_cast<std::int64_t>(recorded_time_.size())) return;
+  const std::size_t row = static_cast<std::size_t>(recorded_rows_++);
+  const std::size_t nq = static_cast<std::size_t>(sim_.model().nq), nv = static_cast<std::size_t>(sim_.model().nv);
+  recorded_time_[row] = sim_.time();
+  std::copy(sim_.q().data(), sim_.q().data() + nq, recorded_q_.begin() + static_cast<std::ptrdiff_t>(row * nq));
+  std::copy(sim_.v().data(), sim_.v().data() + nv, recorded_v_.begin() + static_cast<std::ptrdiff_t>(row * nv));
+}
+
+HilSummary HilRunner::summary() const {
+  HilSummary s;
+  s.steps = steps_done();
+  s.requested_steps = steps_;
+  s.deadline_misses = deadline_misses();
+  const std::vector<std::int64_t> compute = sorted_first(compute_ns_, s.steps);
+  const std::vector<std::int64_t> lateness = sorted_first(lateness_ns_, s.steps);
+  s.compute_p50_us = percentile_us(compute, 0.5);
+  s.compute_p99_us = percentile_us(compute, 0.99);
+  s.compute_p999_us = percentile_us(compute, 0.999);
+  s.compute_max_us = percentile_us(compute, 1.0);
+  s.lateness_p50_us = percentile_us(lateness, 0.5);
+  s.lateness_p99_us = percentile_us(lateness, 0.99);
+  s.lateness_max_us = percentile_us(lateness, 1.0);
+  s.wall_seconds = static_cast<double>(end_ns_ - start_ns_) * 1e-9;
+  if (link_) {
+    s.packets_received = link_->packets_received();
+    s.packets_dropped = link_->packets_dropped();
+    s.packets_sent = link_->packets_sent();
+  }
+  s.status = status_;
+  s.failed_step = failed_step_;
+  s.stopped = stopped_;
+  s.as_fast_as_possible = as_fast_as_possible_;
+  return s;
+}
+
+}  // namespace soadyn

@@ -1,0 +1,297 @@
+"""Real-time (hardware-in-the-loop) runs of a Simulator.
+
+`run_hil` steps a Simulator at a fixed wall-clock rate in C++ (a worker
+thread, GIL released) while the main thread shows the progress. Optionally a
+controller in another process drives the regular DOFs over UDP on 127.0.0.1
+(packet format: cpp/include/soadyn/sim/udp_link.hpp and the README). The
+returned HilReport holds the timing statistics, the packet counts, the
+energy and momentum of the model at start and end, the per-step timings and a
+decimated state history. HilRunner is the bare loop, for callers that need
+its UDP port before it runs.
+"""
+from __future__ import annotations
+
+import json
+import math
+import re
+import threading
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _soadyn as core
+from ._soadyn import HilRunner
+from .scenes import SCENES, TURNTABLE_RATE
+from .simulator import MotionSource, Simulator
+
+__all__ = ["HilEvent", "HilReport", "HilRunner", "format_table", "parse_event", "plot_report", "require_matplotlib",
+           "run_hil", "scene_simulator"]
+
+RECORDED_SAMPLES = 2000  # rows of state history kept for the plot
+PROGRESS_INTERVAL = 0.1  # seconds between progress-bar refreshes
+
+
+@dataclass
+class HilReport:
+    """The outcome of run_hil. Times are wall-clock; `steps` may be below
+    `requested_steps` when the simulation failed (`status`) or was interrupted."""
+
+    rate_hz: float
+    realtime: bool
+    requested_steps: int
+    steps: int
+    deadline_misses: int
+    compute_us: dict
+    lateness_us: dict
+    packets: dict
+    wall_seconds: float
+    sim_time: float
+    status: str
+    failed_step: int | None
+    failed_dof: str | None
+    interrupted: bool
+    energy: dict
+    momentum: dict
+    dof_names: list = field(repr=False)
+    compute_ns: np.ndarray = field(repr=False)
+    lateness_ns: np.ndarray = field(repr=False)
+    t: np.ndarray = field(repr=False)  # recorded times
+    q: np.ndarray = field(repr=False)  # recorded configurations, one row per time
+    v: np.ndarray = field(repr=False)  # recorded velocities
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+    def to_dict(self) -> dict:
+        """The summary as JSON-ready data (no per-step arrays)."""
+        keys = ["rate_hz", "realtime", "requested_steps", "steps", "deadline_misses", "compute_us", "lateness_us",
+                "packets", "wall_seconds", "sim_time", "status", "failed_step", "failed_dof", "interrupted",
+                "energy", "momentum"]
+        return {k: getattr(self, k) for k in keys}
+
+    def to_json(self, indent: int | None = 2) -> str:
+        return json.dumps(self.to_dict(), indent=indent)
+
+
+@dataclass
+class HilEvent:
+    kind: str  # 'lock' or 'release'
+    target: str  # DOF or joint name
+    time: float
+
+    def __str__(self) -> str:
+        return f"{self.kind} {self.target} at {self.time:g}"
+
+
+_EVENT = re.compile(r"^\s*(lock|release)\s+(\S+)\s+at\s+(\S+)\s*$")
+
+
+def parse_event(text: str) -> HilEvent:
+    """'lock <dof-or-joint> at <seconds>' or 'release <dof-or-joint> at <seconds>'."""
+    match = _EVENT.match(text)
+    if not match:
+        raise ValueError(f"bad event {text!r}: expected 'lock <dof-or-joint> at <seconds>' "
+                         "or 'release <dof-or-joint> at <seconds>'")
+    kind, target, when = match.groups()
+    try:
+        time = float(when)
+    except ValueError:
+        raise ValueError(f"bad event {text!r}: the time {when!r} is not a number") from None
+    if not (math.isfinite(time) and time >= 0):
+        raise ValueError(f"bad event {text!r}: the time must be finite and >= 0")
+    return HilEvent(kind, target, time)
+
+
+def scene_simulator(scene: str, rate: float, integrator: str = "rk4", events=()) -> Simulator:
+    """A Simulator of a built-in scene stepping at 1/rate, with the events
+    scheduled. cassini: the turntable turns at TURNTABLE_RATE (the gimbal stays
+    locked); pendulum-chain: starts at rest with every joint at 0.3 rad.
+    An unknown DOF or joint in an event raises ValueError naming it."""
+    if scene not in SCENES:
+        raise ValueError(f"unknown scene {scene!r} (choose from {sorted(SCENES)})")
+    model = SCENES[scene]()
+    sim = Simulator(model, 1.0 / rate, integrator, event_capacity=64 + 6 * len(events))
+    if scene == "cassini":
+        sim.prescribe("turntable", MotionSource.constant_velocity(TURNTABLE_RATE))
+    elif scene == "pendulum-chain":
+        sim.set_state(np.full(model.nq, 0.3), np.zeros(model.nv))
+    for event in events:
+        try:
+            sim.schedule(event.time, event.kind, event.target)
+        except ValueError as error:
+            raise ValueError(f"event '{event}': {error}") from None
+    return sim
+
+
+def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None = None, progress: bool = True,
+            realtime: bool = True, udp_destination_port: int = 0) -> HilReport:
+    """Run `sim` for `duration` simulated seconds, one step per 1/rate wall seconds.
+
+    The simulation is real time when sim.dt == 1/rate. `udp_port` (None: no
+    UDP; 0: any free port) binds 127.0.0.1 for commands; sensor packets go
+    to `udp_destination_port` if given, else to the last command's sender.
+    `realtime=False` runs as fast as possible (no sleeping; lateness 0, no
+    misses). Ctrl-C stops the loop and returns the report so far
+    (`interrupted`). A failing step (singular articulated inertia, NaN) stops
+    the run; the report's `status`, `failed_step` and `failed_dof` say why.
+    Do not use `sim` from another thread while this runs.
+    """
+    if not (math.isfinite(rate) and rate > 0):
+        raise ValueError(f"rate must be a positive number of steps per second, got {rate}")
+    if not (math.isfinite(duration) and duration >= 0):
+        raise ValueError(f"duration must be a non-negative number of seconds, got {duration}")
+    steps = int(round(duration / sim.dt))
+    energy0, momentum0 = _energy(sim), _momentum(sim)
+    runner = HilRunner(sim, float(rate), steps, udp_port=udp_port, udp_destination_port=udp_destination_port,
+                       as_fast_as_possible=not realtime, record_every=max(1, math.ceil(steps / RECORDED_SAMPLES)))
+    interrupted = _run_with_progress(runner, steps, progress, sim.dt)
+    return _report(sim, runner, rate, realtime, interrupted, energy0, momentum0)
+
+
+def _energy(sim: Simulator) -> float:
+    return float(core.kinetic_energy(sim._model, sim.q, sim.v) + core.potential_energy(sim._model, sim.q))
+
+
+def _momentum(sim: Simulator) -> list[float]:
+    return [float(x) for x in core.momentum(sim._model, sim.q, sim.v)]
+
+
+def _run_with_progress(runner, steps: int, show: bool, dt: float) -> bool:
+    """Runs the loop in a worker thread while the main thread updates a
+    progress bar; returns True when Ctrl-C stopped it."""
+    from tqdm import tqdm
+
+    errors: list[BaseException] = []
+
+    def work():
+        try:
+            runner.run()
+        except BaseException as error:  # reported in the main thread
+            errors.append(error)
+
+    worker = threading.Thread(target=work, name="soadyn-hil", daemon=True)
+    bar = tqdm(total=steps, unit="step", disable=not show, dynamic_ncols=True, desc="HIL")
+    interrupted = False
+    worker.start()
+    try:
+        while worker.is_alive():
+            worker.join(PROGRESS_INTERVAL)
+            _update_progress(bar, runner, dt)
+    except KeyboardInterrupt:
+        interrupted = True
+        runner.request_stop()
+        worker.join()
+    finally:
+        _update_progress(bar, runner, dt)
+        bar.close()
+    if errors:
+        raise errors[0]
+    return interrupted
+
+
+def _update_progress(bar, runner, dt: float) -> None:
+    done = runner.steps_done
+    bar.update(done - bar.n)
+    postfix = {"t": f"{done * dt:.2f}s", "misses": runner.deadline_misses}
+    if runner.udp_port is not None:
+        postfix["rx"] = runner.packets_received
+    bar.set_postfix(postfix, refresh=False)
+
+
+def _percentiles(s, prefix: str, names) -> dict:
+    return {name: getattr(s, f"{prefix}_{name}_us") for name in names}
+
+
+def _report(sim, runner, rate, realtime, interrupted, energy0, momentum0) -> HilReport:
+    s = runner.summary()
+    t, q, v = runner.trajectory()
+    failed = s.status != "ok"
+    dof_names = sim._dof_names
+    return HilReport(
+        rate_hz=float(rate), realtime=realtime, requested_steps=s.requested_steps, steps=s.steps,
+        deadline_misses=s.deadline_misses,
+        compute_us=_percentiles(s, "compute", ("p50", "p99", "p999", "max")),
+        lateness_us=_percentiles(s, "lateness", ("p50", "p99", "max")),
+        packets={"received": s.packets_received, "dropped": s.packets_dropped, "sent": s.packets_sent},
+        wall_seconds=s.wall_seconds, sim_time=float(sim.time), status=s.status,
+        failed_step=s.failed_step if failed else None,
+        failed_dof=dof_names[s.failed_dof] if failed and 0 <= s.failed_dof < len(dof_names) else None,
+        interrupted=interrupted,
+        energy={"start": energy0, "end": _energy(sim)}, momentum={"start": momentum0, "end": _momentum(sim)},
+        dof_names=list(dof_names), compute_ns=runner.compute_ns, lateness_ns=runner.lateness_ns, t=t, q=q, v=v)
+
+
+def format_table(r: HilReport) -> str:
+    """The timing table printed by `soadyn hil`."""
+    c, lat, p = r.compute_us, r.lateness_us, r.packets
+    mode = "real time" if r.realtime else "as fast as possible"
+    dh = max(abs(a - b) for a, b in zip(r.momentum["end"], r.momentum["start"]))
+    lines = [
+        f"steps            {r.steps} of {r.requested_steps} at {r.rate_hz:g} Hz ({mode}), "
+        f"{r.sim_time:.3f} s simulated in {r.wall_seconds:.3f} s",
+        f"deadline misses  {r.deadline_misses}",
+        f"compute   us     p50 {c['p50']:8.1f}   p99 {c['p99']:8.1f}   p99.9 {c['p999']:8.1f}   max {c['max']:8.1f}",
+        f"lateness  us     p50 {lat['p50']:8.1f}   p99 {lat['p99']:8.1f}   max {lat['max']:8.1f}",
+        f"packets          received {p['received']}, dropped {p['dropped']}, sent {p['sent']}",
+        f"energy    J      {r.energy['start']:.6g} -> {r.energy['end']:.6g}",
+        f"momentum         largest change {dh:.3e}",
+        f"status           {r.status}" + (f" at step {r.failed_step}" if r.failed_step is not None else "")
+        + (f" (DOF '{r.failed_dof}')" if r.failed_dof else "") + (" (interrupted)" if r.interrupted else ""),
+    ]
+    return "\n".join(lines)
+
+
+def require_matplotlib():
+    """The matplotlib module, or an ImportError saying how to install it."""
+    try:
+        import matplotlib
+    except ImportError:
+        raise ImportError("plotting needs matplotlib: pip install 'soadyn[plot]'") from None
+    return matplotlib
+
+
+def plot_report(r: HilReport, path, model=None, max_dofs: int = 6) -> None:
+    """A PNG with the compute-time and lateness histograms, the velocities of
+    the `max_dofs` DOFs that moved most, and (given the model) the energy."""
+    matplotlib = require_matplotlib()
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 2, figsize=(12, 8))
+    _histogram(axes[0, 0], r.compute_ns / 1e3, "compute time per step (us)", 1e6 / r.rate_hz)
+    _histogram(axes[0, 1], r.lateness_ns / 1e3, "lateness of the wake-up (us)", None)
+    _velocity_history(axes[1, 0], r, max_dofs)
+    _energy_history(axes[1, 1], r, model)
+    fig.suptitle(f"soadyn HIL: {r.steps} steps at {r.rate_hz:g} Hz, {r.deadline_misses} deadline misses")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def _histogram(ax, values_us, label: str, period_us: float | None) -> None:
+    if len(values_us):
+        ax.hist(values_us, bins=100, log=True)
+    if period_us is not None:
+        ax.axvline(period_us, color="red", linestyle="--", label="period")
+        ax.legend()
+    ax.set_xlabel(label)
+    ax.set_ylabel("steps")
+
+
+def _velocity_history(ax, r: HilReport, max_dofs: int) -> None:
+    if len(r.t):
+        moved = np.ptp(r.v, axis=0)
+        for k in np.argsort(-moved)[:max_dofs]:
+            ax.plot(r.t, r.v[:, k], label=r.dof_names[k])
+        ax.legend(fontsize="small")
+    ax.set_xlabel("simulation time (s)")
+    ax.set_ylabel("velocity (rad/s or m/s)")
+
+
+def _energy_history(ax, r: HilReport, model) -> None:
+    if model is not None and len(r.t):
+        energy = [core.kinetic_energy(model, q, v) + core.potential_energy(model, q) for q, v in zip(r.q, r.v)]
+        ax.plot(r.t, energy)
+    ax.set_xlabel("simulation time (s)")
+    ax.set_ylabel("kinetic + potential energy (J)")
