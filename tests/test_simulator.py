@@ -103,9 +103,9 @@ def test_sources_match_their_closed_forms():
 
 
 def test_lock_conserves_momentum_and_never_gains_energy():
+    """With every other driven DOF at rest (the turntable and gimbal held), a lock is a plastic impact."""
     c = scenes.cassini()
     sim = Simulator(c, 1e-3, "rk4")
-    sim.prescribe("turntable", MotionSource.constant_velocity(scenes.TURNTABLE_RATE))
     for name, torque in (("scan_az", 2.0), ("scan_el", -1.0), ("wheel_2", 0.5), ("probe_relay_antenna", 0.3)):
         sim.set_input(name, torque)
     sim.run(1.0)
