@@ -5,6 +5,7 @@
 
 #include "arrays.hpp"
 #include "model_handle.hpp"
+#include "soadyn/scenes.hpp"
 #include "soadyn/sim/simulator.hpp"
 
 namespace soadyn_py {
@@ -117,6 +118,7 @@ void bind_simulator(py::module_& mod) {
            })
       .def("_schedule_prescribe", [](Sim& s, double t, int dof, const Source& src) {
              return s.schedule_prescribe(finite(t, "time"), dof, src.source); })
+      .def("_drive_cassini", [](Sim& s) { soadyn::drive_cassini(s); })
       .def("_lock", [](Sim& s, int dof) { raise_on(s.lock(dof), s); })
       .def("_release", [](Sim& s, int dof) { raise_on(s.release(dof), s); })
       .def("step", [](Sim& s) {

@@ -93,6 +93,22 @@ void drive_cassini(SimulatorTpl<S>& sim) {
   ConstantAcceleration<S> rate;
   rate.v0 = S(kTurntableRate);
   sim.prescribe(sim.model().dof_index("turntable"), rate);
+  // Gimbal under direct velocity control: rate commands w(t) = A sin(2 pi t / T + phase),
+  // A = 0.5 deg/s, T = 20 s, yaw a quarter period behind pitch.
+  const char* axes[2] = {"gimbal_pitch", "gimbal_yaw"};
+  for (int k = 0; k < 2; ++k) {
+    const S amplitude = S(0.5 * 3.14159265358979323846 / 180.0), omega = S(2 * 3.14159265358979323846 / 20.0);
+    const S phase = S(k) * S(3.14159265358979323846 / 2);
+    CallbackSource<S> command;
+    command.fn = [amplitude, omega, phase](S t) {
+      using std::cos;
+      using std::sin;
+      const S angle = omega * t + phase;
+      return MotionSample<S>{amplitude / omega * (cos(phase) - cos(angle)), amplitude * sin(angle),
+                             amplitude * omega * cos(angle)};
+    };
+    sim.prescribe(sim.model().dof_index(axes[k]), command);
+  }
 }
 
 template <class S>

@@ -21,8 +21,8 @@ import numpy as np
 
 from . import _soadyn as core
 from ._soadyn import HilRunner
-from .scenes import SCENES, TURNTABLE_RATE
-from .simulator import MotionSource, Simulator
+from .scenes import SCENES, drive_cassini
+from .simulator import Simulator
 
 __all__ = ["HilEvent", "HilReport", "HilRunner", "format_table", "parse_event", "plot_report", "require_matplotlib",
            "run_hil", "scene_simulator"]
@@ -105,15 +105,15 @@ def parse_event(text: str) -> HilEvent:
 
 def scene_simulator(scene: str, rate: float, integrator: str = "rk4", events=()) -> Simulator:
     """A Simulator of a built-in scene stepping at 1/rate, with the events
-    scheduled. cassini: the turntable turns at TURNTABLE_RATE (the gimbal stays
-    locked); pendulum-chain: starts at rest with every joint at 0.3 rad.
+    scheduled. cassini: the turntable turns at 3 rpm and the engine
+    gimbal follows velocity commands (scenes.drive_cassini); pendulum-chain: starts at rest with every joint at 0.3 rad.
     An unknown DOF or joint in an event raises ValueError naming it."""
     if scene not in SCENES:
         raise ValueError(f"unknown scene {scene!r} (choose from {sorted(SCENES)})")
     model = SCENES[scene]()
     sim = Simulator(model, 1.0 / rate, integrator, event_capacity=64 + 6 * len(events))
     if scene == "cassini":
-        sim.prescribe("turntable", MotionSource.constant_velocity(TURNTABLE_RATE))
+        drive_cassini(sim)
     elif scene == "pendulum-chain":
         sim.set_state(np.full(model.nq, 0.3), np.zeros(model.nv))
     for event in events:

@@ -27,6 +27,12 @@ def cassini() -> Model:
     return m
 
 
+def drive_cassini(sim) -> None:
+    """Drive a cassini Simulator as in the paper: the turntable at 3 rpm and the
+    engine gimbal under velocity control (0.5 deg/s sinusoidal rate commands, period 20 s)."""
+    sim._drive_cassini()
+
+
 def pendulum_chain(n: int = 10, length: float = 0.5, mass: float = 1.0) -> Model:
     """n identical links swinging about parallel x axes, hanging along -z."""
     m = Model()

@@ -21,8 +21,9 @@ constexpr double kTurntableRate = 3.0 * 2.0 * 3.14159265358979323846 / 60.0;  //
 template <class S>
 ModelTpl<S> cassini_model();
 
-// Drives the scene's simulator as in the paper: the turntable at 3 rpm (the
-// gimbal stays held until given a source).
+// Drives the scene's simulator as in the paper: the turntable at 3 rpm and
+// the two-axis engine gimbal under direct velocity control (slow sinusoidal
+// rate commands of 0.5 deg/s amplitude, period 20 s).
 template <class S>
 void drive_cassini(SimulatorTpl<S>& sim);
 
