@@ -5,6 +5,7 @@ void bind_model(pybind11::module_& mod);
 void bind_algorithms(pybind11::module_& mod);
 void bind_simulator(pybind11::module_& mod);
 void bind_hil(pybind11::module_& mod);
+void bind_flexible_body(pybind11::module_& mod);
 }  // namespace soadyn_py
 
 PYBIND11_MODULE(_soadyn, mod) {
@@ -13,4 +14,5 @@ PYBIND11_MODULE(_soadyn, mod) {
   soadyn_py::bind_algorithms(mod);
   soadyn_py::bind_simulator(mod);
   soadyn_py::bind_hil(mod);
+  soadyn_py::bind_flexible_body(mod);
 }

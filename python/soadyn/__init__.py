@@ -8,6 +8,7 @@ fresh numpy arrays; the model's preallocated scratch is reused between calls.
 from ._soadyn import (
     QUATERNION_TOLERANCE,
     DynamicsError,
+    FlexibleBody,
     Joint,
     bias_forces,
     center_of_mass,
@@ -33,6 +34,7 @@ __version__ = "0.1.0"
 __all__ = [
     "Model", "Joint", "DynamicsError", "QUATERNION_TOLERANCE", "load_urdf", "UrdfError",
     "Simulator", "Trajectory", "MotionSource",
+    "FlexibleBody",
     "forward_dynamics", "inverse_dynamics", "hybrid_dynamics", "mass_matrix", "bias_forces",
     "joint_wrenches", "kinetic_energy", "potential_energy", "momentum", "center_of_mass",
     "forward_kinematics", "integrate", "neutral_configuration", "random_configuration",

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 #include "soadyn/model.hpp"
+#include "soadyn/validation.hpp"
 
 namespace soadyn {
 
@@ -13,17 +14,14 @@ namespace detail {
 
 template <class S>
 S model_tolerance() {
-  using std::sqrt;
-  return sqrt(std::numeric_limits<S>::epsilon());
+  return validation_tolerance<S>();
 }
 
 [[noreturn]] inline void fail(const std::string& what) { throw std::invalid_argument(what); }
 
 template <class S>
 std::string str(const S& x) {
-  std::ostringstream o;
-  o << x;
-  return o.str();
+  return to_text(x);
 }
 
 template <class S>

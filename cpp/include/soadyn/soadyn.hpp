@@ -8,4 +8,8 @@
 #include "soadyn/algorithms/kinematics.hpp"
 #include "soadyn/algorithms/rnea.hpp"
 #include "soadyn/data.hpp"
+#include "soadyn/flex/cantilever_beam.hpp"
+#include "soadyn/flex/flexible_body.hpp"
 #include "soadyn/model.hpp"
+#include "soadyn/scenes.hpp"
+#include "soadyn/sim/simulator.hpp"

@@ -1,0 +1,80 @@
+// Modal integrals of a lumped flexible body: the invariants from which its
+// augmented mass matrix M(eta) is evaluated exactly, for any eta, in
+// O(n_m^2) operations without visiting the nodes again.
+//
+// Kinetic energy of the lumped model. With V = [omega; v] the body-frame
+// spatial velocity of the reference frame (v: velocity of its origin),
+// p_j(eta) = r_j + Phi_t,j eta the deformed node position, and the rotary
+// inertia J_j kept in its undeformed orientation (the modelling choice of
+// flexible_body.hpp):
+//   T = sum_j 1/2 m_j |v + omega x p_j + Phi_t,j eta_dot|^2
+//     + 1/2 (omega + Phi_r,j eta_dot)' J_j (omega + Phi_r,j eta_dot)       (1)
+//     = 1/2 [V; eta_dot]' M(eta) [V; eta_dot],
+// which gives, blockwise over (omega, v, eta_dot):
+//   M = [ M_ww(eta)   [c(eta)]x   M_we(eta) ]
+//       [ -[c(eta)]x  m 1         S1        ]
+//       [ M_we'       S1'         M_ee      ]
+//   c(eta)    = sum_j m_j p_j = c0 + S1 eta                                 (2)
+//   E(eta)    = sum_j m_j p_j p_j'
+//             = E0 + sum_k eta_k (A_k + A_k') + sum_kl eta_k eta_l B_kl      (3)
+//   M_ww(eta) = tr(E) 1 - E + sum_j J_j                                     (4)
+//   M_we(eta) = sum_j m_j [p_j]x Phi_t,j + J_j Phi_r,j
+//             = H0 + sum_k eta_k Q_k                                        (5)
+//   M_ee      = sum_j m_j Phi_t,j' Phi_t,j + Phi_r,j' J_j Phi_r,j            (6)
+// with the invariants (e_k: k-th unit vector of R^n_m)
+//   m = sum m_j, c0 = sum m_j r_j, E0 = sum m_j r_j r_j', S1 = sum m_j Phi_t,j,
+//   A_k  = sum_j m_j r_j (Phi_t,j e_k)'            (3 x 3 per mode)
+//   B_kl = sum_j m_j (Phi_t,j e_k)(Phi_t,j e_l)'   (3 x 3 per mode pair)
+//   H0   = sum_j m_j [r_j]x Phi_t,j + J_j Phi_r,j  (3 x n_m)
+//   Q_k  = sum_j m_j [Phi_t,j e_k]x Phi_t,j        (3 x n_m per mode).
+// T is a quadratic polynomial in eta, so (2)-(6) are exact for the lumped
+// model, not a truncated expansion. These are the lumped-mass forms of the
+// inertia shape integrals of floating-frame flexible bodies (Shabana,
+// "Dynamics of Multibody Systems", ch. 5) and the modal mass integrals of
+// Jain & Rodriguez, JGCD 15(6), 1992. The top-left 6x6 block is a rigid
+// spatial inertia about the body origin (inertia.hpp) for the deformed
+// shape; M_ee is constant because the modes are linear.
+//
+// Storage: about 13 n_m^2 + 15 n_m scalars (B_kl dominates); evaluation of
+// M(eta): about 12 n_m^2 multiply-adds plus copying the constant blocks.
+#pragma once
+#include "soadyn/flex/flexible_node.hpp"
+
+namespace soadyn {
+
+template <class S>
+struct ModalIntegrals {
+  int n_modes = 0;
+  S mass = S(0);                                     // m
+  Vec3<S> first_moment = Vec3<S>::Zero();            // c0
+  Mat3<S> second_moment = Mat3<S>::Zero();           // E0
+  Mat3<S> rotary_inertia = Mat3<S>::Zero();          // sum_j J_j
+  ModeShape3<S> modal_first_moment;                  // S1 (3 x n_m)
+  MatX<S> second_moment_linear;     // [A_0 ... A_{n-1}], 3 x 3n_m
+  MatX<S> second_moment_quadratic;  // B_kl at columns 3(k n_m + l), 3 x 3n_m^2
+  ModeShape3<S> angular_coupling;                    // H0 (3 x n_m)
+  MatX<S> angular_coupling_linear;  // [Q_0 ... Q_{n-1}], 3 x n_m^2
+  MatX<S> modal_mass;                                // M_ee (n_m x n_m)
+
+  // One pass over the nodes; every node's mode_shape has n_modes columns.
+  static ModalIntegrals from_nodes(const FlexibleNodes<S>& nodes, int n_modes);
+
+  // c(eta), Eq. (2), and E(eta), Eq. (3).
+  Vec3<S> first_moment_at(const Eigen::Ref<const VecX<S>>& eta) const;
+  Mat3<S> second_moment_at(const Eigen::Ref<const VecX<S>>& eta) const;
+
+  // out = M(eta), (6 + n_m) square, both triangles. O(n_m^2), no allocation:
+  // the recursion calls this with a block of its preallocated Data.
+  void augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<MatX<S>> out) const;
+};
+
+// M_ee of Eq. (6) straight from the nodes (also used to validate them).
+template <class S>
+MatX<S> modal_mass_matrix(const FlexibleNodes<S>& nodes, int n_modes);
+
+extern template struct ModalIntegrals<double>;
+extern template struct ModalIntegrals<float>;
+extern template MatX<double> modal_mass_matrix<double>(const FlexibleNodes<double>&, int);
+extern template MatX<float> modal_mass_matrix<float>(const FlexibleNodes<float>&, int);
+
+}  // namespace soadyn

@@ -1,0 +1,115 @@
+// Modal integrals (templated implementation of modal_integrals.hpp).
+#pragma once
+#include "soadyn/flex/modal_integrals.hpp"
+
+namespace soadyn {
+
+namespace flex_detail {
+
+// Adds one node's terms of the mode-independent invariants m, c0, E0, sum J.
+template <class S>
+void add_rigid_moments(const FlexibleNode<S>& node, ModalIntegrals<S>& mi) {
+  const S m = node.mass;
+  const Vec3<S>& r = node.position;
+  mi.mass += m;
+  mi.first_moment += m * r;
+  mi.second_moment += m * r * r.transpose();
+  mi.rotary_inertia += node.rotary_inertia;
+}
+
+// Adds one node's terms of S1, A_k, B_kl, H0 and Q_k (modal_integrals.hpp).
+template <class S>
+void add_modal_moments(const FlexibleNode<S>& node, ModalIntegrals<S>& mi) {
+  const int n = mi.n_modes;
+  const S m = node.mass;
+  const Vec3<S>& r = node.position;
+  const ModeShape3<S> translation = node.translation_shape();
+  mi.modal_first_moment += m * translation;
+  mi.angular_coupling += m * skew(r) * translation + node.rotary_inertia * node.rotation_shape();
+  for (int k = 0; k < n; ++k) {
+    const Vec3<S> tk = translation.col(k);
+    mi.second_moment_linear.template middleCols<3>(3 * k) += m * r * tk.transpose();
+    mi.angular_coupling_linear.middleCols(k * n, n) += m * skew(tk) * translation;
+    for (int l = 0; l < n; ++l)
+      mi.second_moment_quadratic.template middleCols<3>(3 * (k * n + l)) += m * tk * translation.col(l).transpose();
+  }
+}
+
+}  // namespace flex_detail
+
+template <class S>
+MatX<S> modal_mass_matrix(const FlexibleNodes<S>& nodes, int n_modes) {
+  // Eq. (6): M_ee = sum_j m_j Phi_t,j' Phi_t,j + Phi_r,j' J_j Phi_r,j.
+  MatX<S> mass = MatX<S>::Zero(n_modes, n_modes);
+  for (const FlexibleNode<S>& node : nodes) {
+    const ModeShape3<S> translation = node.translation_shape();
+    const ModeShape3<S> rotation = node.rotation_shape();
+    mass += node.mass * translation.transpose() * translation +
+            rotation.transpose() * node.rotary_inertia * rotation;
+  }
+  return S(0.5) * (mass + mass.transpose());
+}
+
+template <class S>
+ModalIntegrals<S> ModalIntegrals<S>::from_nodes(const FlexibleNodes<S>& nodes, int n_modes) {
+  ModalIntegrals<S> mi;
+  const int n = n_modes;
+  mi.n_modes = n;
+  mi.modal_first_moment = ModeShape3<S>::Zero(3, n);
+  mi.second_moment_linear = MatX<S>::Zero(3, 3 * n);
+  mi.second_moment_quadratic = MatX<S>::Zero(3, 3 * n * n);
+  mi.angular_coupling = ModeShape3<S>::Zero(3, n);
+  mi.angular_coupling_linear = MatX<S>::Zero(3, n * n);
+  for (const FlexibleNode<S>& node : nodes) {
+    flex_detail::add_rigid_moments(node, mi);
+    flex_detail::add_modal_moments(node, mi);
+  }
+  mi.modal_mass = modal_mass_matrix(nodes, n);
+  return mi;
+}
+
+template <class S>
+Vec3<S> ModalIntegrals<S>::first_moment_at(const Eigen::Ref<const VecX<S>>& eta) const {
+  return first_moment + modal_first_moment * eta;  // Eq. (2)
+}
+
+template <class S>
+Mat3<S> ModalIntegrals<S>::second_moment_at(const Eigen::Ref<const VecX<S>>& eta) const {
+  // Eq. (3): E0 + sum_k eta_k (A_k + A_k') + sum_k eta_k sum_l eta_l B_kl.
+  // Cost 9 n_m^2 multiply-adds.
+  const int n = n_modes;
+  Mat3<S> linear = Mat3<S>::Zero();
+  Mat3<S> quadratic = Mat3<S>::Zero();
+  for (int k = 0; k < n; ++k) {
+    linear += eta[k] * second_moment_linear.template middleCols<3>(3 * k);
+    Mat3<S> row = Mat3<S>::Zero();
+    for (int l = 0; l < n; ++l) row += eta[l] * second_moment_quadratic.template middleCols<3>(3 * (k * n + l));
+    quadratic += eta[k] * row;
+  }
+  const Mat3<S> E = second_moment + linear + linear.transpose() + quadratic;
+  // E is symmetric (B_lk = B_kl'); averaging makes it so in floating point.
+  return S(0.5) * (E + E.transpose());
+}
+
+template <class S>
+void ModalIntegrals<S>::augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& eta,
+                                              Eigen::Ref<MatX<S>> out) const {
+  const int n = n_modes;
+  const Mat3<S> E = second_moment_at(eta);
+  const Mat3<S> cx = skew(first_moment_at(eta));
+  // Rigid 6x6 block: Eqs. (2) and (4).
+  out.template topLeftCorner<3, 3>() = E.trace() * Mat3<S>::Identity() - E + rotary_inertia;
+  out.template block<3, 3>(0, 3) = cx;
+  out.template block<3, 3>(3, 0) = -cx;
+  out.template block<3, 3>(3, 3) = mass * Mat3<S>::Identity();
+  // Rigid-modal coupling: Eq. (5) for omega, S1 for v; 3 n_m^2 multiply-adds.
+  auto angular = out.block(0, 6, 3, n);
+  angular = angular_coupling;
+  for (int k = 0; k < n; ++k) angular += eta[k] * angular_coupling_linear.middleCols(k * n, n);
+  out.block(3, 6, 3, n) = modal_first_moment;
+  out.block(6, 0, n, 6) = out.block(0, 6, 6, n).transpose();
+  // Modal block: Eq. (6).
+  out.bottomRightCorner(n, n) = modal_mass;
+}
+
+}  // namespace soadyn
