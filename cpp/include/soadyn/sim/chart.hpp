@@ -8,24 +8,11 @@
 //   spherical: quat = quat0 * exp(xi), dxi/dt = Jr^-1(xi) w
 //   free: p = p0 + xi_p, quat = quat0 * exp(xi_r),
 //         dxi_r/dt = Jr^-1(xi_r) w, dxi_p/dt = R(quat) v
-// with Jr^-1 the inverse right Jacobian of SO(3).
+// with Jr^-1 the inverse right Jacobian of SO(3) (spatial/lie.hpp).
 #pragma once
 #include "soadyn/joints/joint.hpp"
 
 namespace soadyn {
-
-// Inverse right Jacobian of SO(3): I + [xi]x/2 + (1/t^2 - (1 + cos t)/(2 t sin t)) [xi]x^2.
-template <class S>
-Mat3<S> so3_right_jacobian_inverse(const Vec3<S>& xi) {
-  using std::cos;
-  using std::sin;
-  using std::sqrt;
-  const S t2 = xi.squaredNorm();
-  const S c = t2 < S(1e-6) ? S(1) / S(12) + t2 / S(720)
-                           : S(1) / t2 - (S(1) + cos(sqrt(t2))) / (S(2) * sqrt(t2) * sin(sqrt(t2)));
-  const Mat3<S> k = skew(xi);
-  return Mat3<S>::Identity() + k / S(2) + c * (k * k);
-}
 
 template <class S>
 void chart_retract(const JointModel<S>& j, const S* q0, const S* xi, S* q) {

@@ -163,7 +163,8 @@ Status SimulatorTpl<S>::switch_mode(int dof, Drive drive, int source, bool impul
     held_position_[dof] = q_[coordinate];
   }
   if (!impulse || target_velocity == v_[dof]) return Status{};
-  const S energy_before = kinetic_energy<S>(model_, data_, q_, v_);
+  // Only a lock's energy change is recorded (see below): skip the sweep otherwise.
+  const S energy_before = drive == Drive::held ? kinetic_energy<S>(model_, data_, q_, v_) : S(0);
   u_.setZero();
   u_[dof] = target_velocity - v_[dof];
   const Status s = hybrid_impulse<S>(model_, data_, q_, u_);

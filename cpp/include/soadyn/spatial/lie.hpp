@@ -53,6 +53,19 @@ Mat3<S> so3_left_jacobian(const Vec3<S>& phi) {
   return Mat3<S>::Identity() + a * k + b * (k * k);
 }
 
+// Inverse right Jacobian of SO(3): I + [xi]x/2 + (1/t^2 - (1 + cos t)/(2 t sin t)) [xi]x^2.
+template <class S>
+Mat3<S> so3_right_jacobian_inverse(const Vec3<S>& xi) {
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const S t2 = xi.squaredNorm();
+  const S c = t2 < S(1e-6) ? S(1) / S(12) + t2 / S(720)
+                           : S(1) / t2 - (S(1) + cos(sqrt(t2))) / (S(2) * sqrt(t2) * sin(sqrt(t2)));
+  const Mat3<S> k = skew(xi);
+  return Mat3<S>::Identity() + k / S(2) + c * (k * k);
+}
+
 // SE(2): planar displacement of the body-frame twist (vx, vy, w) * dt,
 // returned as (dx, dy) in the starting body frame.
 template <class S>
