@@ -5,6 +5,7 @@
 
 #include "arrays.hpp"
 #include "model_handle.hpp"
+#include "soadyn/flex/flexible_body.hpp"
 #include "soadyn/scenes.hpp"
 
 namespace soadyn_py {
@@ -30,6 +31,19 @@ JointSpec make(const std::string& name, Args... args) {
 py::array_t<bool> prescribed_mask(const soadyn::Model& m) {
   py::array_t<bool> mask(m.nv);
   for (int k = 0; k < m.nv; ++k) mask.mutable_at(k) = m.prescribed[static_cast<std::size_t>(k)] != 0;
+  return mask;
+}
+
+// Checked before any flag changes, so a refused request changes nothing.
+void refuse_modal(const soadyn::Model& m, int dof, bool flag) {
+  if (flag && m.is_modal(dof))
+    throw py::value_error("DOF '" + m.dof_names[static_cast<std::size_t>(dof)] +
+                          "' is a modal coordinate of a flexible body: modal DOFs are always regular");
+}
+
+py::array_t<bool> modal_mask(const soadyn::Model& m) {
+  py::array_t<bool> mask(m.nv);
+  for (int k = 0; k < m.nv; ++k) mask.mutable_at(k) = m.is_modal(k);
   return mask;
 }
 
@@ -82,14 +96,24 @@ void bind_model(py::module_& mod) {
              X.translation = p;
              return h.model.add_body(name, parent, joint.joint, X, mass, com, inertia, joint.name);
            })
+      .def("_add_flexible_body",
+           [](ModelHandle& h, const std::string& name, const std::string& parent, const JointSpec& joint,
+              const Eigen::Matrix3d& R, const Eigen::Vector3d& p, const soadyn::FlexibleBody& body) {
+             soadyn::Transform<double> X;
+             X.rotation = R;
+             X.translation = p;
+             return h.model.add_flexible_body(name, parent, joint.joint, X, body, joint.name);
+           })
       .def("_set_prescribed_indices",
            [](ModelHandle& h, const std::vector<int>& dofs, bool flag) {
              std::lock_guard<std::mutex> lock(h.mutex);
+             for (int d : dofs) refuse_modal(h.model, d, flag);
              for (int d : dofs) h.model.set_prescribed(d, flag);
            })
       .def("_set_prescribed_mask",
            [](ModelHandle& h, const std::vector<bool>& mask) {
              std::lock_guard<std::mutex> lock(h.mutex);
+             for (int d = 0; d < h.model.nv; ++d) refuse_modal(h.model, d, mask[static_cast<std::size_t>(d)]);
              for (int d = 0; d < h.model.nv; ++d) h.model.set_prescribed(d, mask[static_cast<std::size_t>(d)]);
            })
       .def("body_index", [](const ModelHandle& h, const std::string& n) { return h.model.body_index(n); },
@@ -129,6 +153,15 @@ void bind_model(py::module_& mod) {
       .def_property_readonly("q_index", [](const ModelHandle& h) { return h.model.q_index; })
       .def_property_readonly("v_index", [](const ModelHandle& h) { return h.model.v_index; })
       .def_property_readonly("masses", [](const ModelHandle& h) { return h.model.mass; })
+      .def_property_readonly("n_modes", [](const ModelHandle& h) { return h.model.n_modes; },
+                             "Modal coordinates per body (0 for a rigid body).")
+      .def_property_readonly("modal", [](const ModelHandle& h) { return modal_mask(h.model); },
+                             "Bool array (nv): True where the DOF is a modal coordinate (always regular).")
+      .def("flexible_body", [](const ModelHandle& h, const std::string& name) {
+             const int b = h.model.body_index(name);
+             if (b < 0 || !h.model.is_flexible(b)) throw py::value_error("'" + name + "' is not a flexible body");
+             return h.model.flexible_body(b);
+           }, py::arg("name"), "The FlexibleBody of the named body.")
       .def_property_readonly("prescribed", [](const ModelHandle& h) { return prescribed_mask(h.model); },
                              "Bool array (nv): True where the DOF is prescribed.")
       .def_property(

@@ -14,7 +14,7 @@ from soadyn.demo import run_demo
 def test_demo_cli_prints_report(capsys):
     assert main(["demo", "--duration", "0.2"]) == 0
     out = capsys.readouterr().out
-    assert "scene cassini: 13 bodies" in out and "steps              200" in out
+    assert "scene cassini: 15 bodies" in out and "steps              200" in out
 
 
 def test_console_script_is_installed():

@@ -1,6 +1,8 @@
 // Built-in scenes (see scenes.hpp for the sources of the parameters).
 #include "soadyn/scenes.hpp"
 
+#include "soadyn/flex/cantilever_beam.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -47,6 +49,29 @@ Vec3<S> vec(S x, S y, S z) {
   return Vec3<S>(x, y, z);
 }
 
+// A uniform boom (cantilever_beam: two bending modes per plane, 40 lumped
+// segments) with modal damping ratio `zeta`: C_kk = 2 zeta sqrt(K_kk M_kk)
+// (the beam's modes are mass- and stiffness-orthogonal to within the lumping).
+template <class S>
+FlexibleBodyTpl<S> boom(S length, S bending_stiffness, S mass_per_length, S zeta) {
+  using std::sqrt;
+  FlexibleBodyDescription<S> d = cantilever_beam<S>(length, bending_stiffness, mass_per_length, 2, 40).description();
+  const FlexibleBodyTpl<S> undamped(d);
+  d.damping.setZero();
+  for (int k = 0; k < undamped.n_modes(); ++k)
+    d.damping(k, k) = S(2) * zeta * sqrt(undamped.stiffness()(k, k) * undamped.modal_mass()(k, k));
+  return FlexibleBodyTpl<S>(d);
+}
+
+// Placement at (x, y, z) whose x axis (a boom's axis) points along `axis`.
+template <class S>
+Transform<S> boom_mount(S x, S y, S z, const Vec3<S>& axis) {
+  Transform<S> X = at<S>(x, y, z);
+  const Mat3<S> R = frame_with_z(axis);  // z column = axis
+  X.rotation << R.col(2), R.col(0), R.col(1);
+  return X;
+}
+
 }  // namespace
 
 template <class S>
@@ -59,7 +84,13 @@ ModelTpl<S> cassini_model() {
   m.add_body("high_gain_antenna", "bus", FixedJoint<S>{}, at<S>(0, 0, 4), S(105),
              zero, Vec3<S>(105, 105, 210).asDiagonal());
   m.add_body("huygens_probe", "bus", FixedJoint<S>{}, at<S>(1.3, 0, 1), S(320), zero, cylinder<S>(320, 1.35, 0.6, 0));
-  m.add_body("magnetometer_boom", "bus", FixedJoint<S>{}, at<S>(0, 1, 3.5), S(30), vec<S>(0, 5.5, 0), rod<S>(30, 11, 1));
+  // Flexible booms clamped to the bus: the 11 m, 30 kg magnetometer boom
+  // (first bending mode 0.50 Hz) and a 10 m, 4 kg radio and plasma wave
+  // antenna (0.30 Hz), both with 0.5 % modal damping.
+  m.add_flexible_body("magnetometer_boom", "bus", FixedJoint<S>{}, boom_mount<S>(0, 1, 3.5, Vec3<S>::UnitY()),
+                      boom<S>(11, 3.2e4, S(30) / S(11), S(0.005)));
+  m.add_flexible_body("plasma_wave_antenna", "bus", FixedJoint<S>{}, boom_mount<S>(-1, 0.5, 3.8, -Vec3<S>::UnitX()),
+                      boom<S>(10, 1150, 0.4, S(0.005)));
   m.add_body("turntable", "bus", R{Vec3<S>::UnitZ()}, at<S>(0, -1.2, 0.5), S(80), vec<S>(0, 0, 0.2),
              cylinder<S>(80, 0.6, 0.3));
   m.add_body("scan_az", "bus", R{Vec3<S>::UnitZ()}, at<S>(-1.2, 0, 2.5), S(40), vec<S>(0, 0, 0.3),

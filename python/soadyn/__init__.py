@@ -25,6 +25,7 @@ from ._soadyn import (
     potential_energy,
     random_configuration,
 )
+from .linearize import natural_frequencies, stiffness_matrix
 from .model import Model
 from .simulator import MotionSource, Simulator, Trajectory
 from .urdf import UrdfError, load_urdf
@@ -34,7 +35,7 @@ __version__ = "0.1.0"
 __all__ = [
     "Model", "Joint", "DynamicsError", "QUATERNION_TOLERANCE", "load_urdf", "UrdfError",
     "Simulator", "Trajectory", "MotionSource",
-    "FlexibleBody",
+    "FlexibleBody", "natural_frequencies", "stiffness_matrix",
     "forward_dynamics", "inverse_dynamics", "hybrid_dynamics", "mass_matrix", "bias_forces",
     "joint_wrenches", "kinetic_energy", "potential_energy", "momentum", "center_of_mass",
     "forward_kinematics", "integrate", "neutral_configuration", "random_configuration",

@@ -5,7 +5,7 @@ from typing import Iterable, Union
 
 import numpy as np
 
-from ._soadyn import Joint, _Model
+from ._soadyn import FlexibleBody, Joint, _Model
 
 __all__ = ["Model", "Joint"]
 
@@ -70,25 +70,45 @@ class Model(_Model):
         """
         if not isinstance(joint, Joint):
             raise TypeError(f"body '{name}': joint must be a soadyn.Joint, got {type(joint).__name__}")
-        if parent is None:
-            parent_name = ""
-        elif isinstance(parent, (int, np.integer)):
-            if parent == -1:
-                parent_name = ""
-            elif 0 <= parent < self.nbodies:
-                parent_name = self.body_names[parent]
-            else:
-                raise ValueError(f"body '{name}': parent index {parent} does not exist "
-                                 f"(the model has {self.nbodies} bodies)")
-        elif isinstance(parent, str):
-            if parent == "":
-                raise ValueError(f"body '{name}': parent name is empty (use None for the world)")
-            parent_name = parent
-        else:
-            raise TypeError(f"body '{name}': parent must be None, a name or an index")
+        parent_name = self._parent_name(parent, name)
         R, p = _placement(placement, name)
         return self._add_body(str(name), parent_name, joint, R, p, float(mass), _vector3(com, "com", name),
                               _inertia(inertia, name))
+
+    def add_flexible_body(self, name: str, parent, body: FlexibleBody, joint: Joint | None = None,
+                          placement: Placement = None) -> int:
+        """Add a flexible body (modal deformation) and return its index.
+
+        Its reference frame is the joint frame; its mass and deformation come
+        from `body` (a FlexibleBody). joint None clamps it to the parent (a
+        fixed joint; it stays a body with modal DOFs only). Its modal
+        coordinates are DOFs named '<name>:mode<k>', k = 1..n_modes, after the
+        joint's DOFs; they are always regular. Each attachment node becomes a
+        frame '<name>:<attachment>' that add_body accepts as a parent.
+        """
+        if not isinstance(body, FlexibleBody):
+            raise TypeError(f"body '{name}': body must be a soadyn.FlexibleBody, got {type(body).__name__}")
+        joint = Joint.fixed() if joint is None else joint
+        if not isinstance(joint, Joint):
+            raise TypeError(f"body '{name}': joint must be a soadyn.Joint, got {type(joint).__name__}")
+        R, p = _placement(placement, name)
+        return self._add_flexible_body(str(name), self._parent_name(parent, name), joint, R, p, body)
+
+    def _parent_name(self, parent, name: str) -> str:
+        if parent is None:
+            return ""
+        if isinstance(parent, (int, np.integer)):
+            if parent == -1:
+                return ""
+            if 0 <= parent < self.nbodies:
+                return self.body_names[parent]
+            raise ValueError(f"body '{name}': parent index {parent} does not exist "
+                             f"(the model has {self.nbodies} bodies)")
+        if isinstance(parent, str):
+            if parent == "":
+                raise ValueError(f"body '{name}': parent name is empty (use None for the world)")
+            return parent
+        raise TypeError(f"body '{name}': parent must be None, a name or an index")
 
     def _dof_indices(self, selection) -> list[int]:
         """DOF indices of a name, index, or iterable of them. A joint name selects all its DOFs."""
@@ -108,7 +128,8 @@ class Model(_Model):
                 out.append(k)
                 continue
             prefix = item + ":"
-            joint_dofs = [i for i, n in enumerate(names) if n.startswith(prefix)]
+            modal = self.modal
+            joint_dofs = [i for i, n in enumerate(names) if n.startswith(prefix) and not modal[i]]
             if not joint_dofs:
                 raise ValueError(f"unknown DOF or joint '{item}'")
             out.extend(joint_dofs)

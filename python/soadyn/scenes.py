@@ -10,11 +10,14 @@ Huygens probe); they are plausible, not flight data. Prescribed DOFs: the
 turntable and the engine gimbal.
 
 ``pendulum_chain`` is n identical rods swinging about parallel x axes.
+
+``cantilever_beam`` is one uniform Euler-Bernoulli beam clamped to the world.
 """
 from __future__ import annotations
 
 import numpy as np
 
+from ._soadyn import FlexibleBody
 from .model import Model
 
 TURNTABLE_RATE = 3.0 * 2.0 * np.pi / 60.0  # 3 rpm in rad/s
@@ -37,6 +40,20 @@ def pendulum_chain(n: int = 10, length: float = 0.5, mass: float = 1.0) -> Model
     """n identical links swinging about parallel x axes, hanging along -z."""
     m = Model()
     m._load_pendulum_chain(int(n), float(length), float(mass))
+    return m
+
+
+def cantilever_beam(length: float, EI: float, mass_per_length: float, n_modes: int,
+                    n_nodes: int = 60) -> Model:
+    """One flexible beam 'beam' along x, clamped to the world at the origin, without gravity.
+
+    n_modes clamped-free bending modes in each of the x-y and x-z planes
+    (FlexibleBody.cantilever_beam: 2 n_modes modal DOFs, 'beam:mode1', ...),
+    from n_nodes lumped segments; its tip is the frame 'beam:tip'.
+    """
+    m = Model()
+    m.gravity = [0.0, 0.0, 0.0]
+    m.add_flexible_body("beam", None, FlexibleBody.cantilever_beam(length, EI, mass_per_length, n_modes, n_nodes))
     return m
 
 

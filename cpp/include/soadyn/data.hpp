@@ -4,9 +4,29 @@
 // the Model it was built from (same `model_version`); rebuild it after adding
 // bodies. Flipping prescribed/regular flags needs no rebuild.
 #pragma once
+#include <Eigen/Cholesky>
 #include "soadyn/model.hpp"
 
 namespace soadyn {
+
+template <class S> using Mat6X = Eigen::Matrix<S, 6, Eigen::Dynamic>;
+
+// Scratch of one flexible body (n_m modal coordinates), flex/flexible_body.hpp:
+// its augmented mass matrix and the modal blocks of its articulated inertia.
+template <class S>
+struct FlexibleBodyData {
+  explicit FlexibleBodyData(int n_modes);
+
+  MatX<S> mass;                   // M(eta), (6 + n_m) square
+  MatX<S> second_moment_rates;    // [D_0 ... D_{n_m-1}] (modal_integrals.hpp, Eq. 7)
+  VecX<S> bias;                   // inertial bias (6 + n_m), modal_integrals.hpp
+  VecX<S> modal_bias;             // modal rows of the body's bias; then of z (articulated) or the modal force (RNEA)
+  Mat6X<S> coupling;              // rigid-modal block of the articulated inertia (6 x n_m)
+  MatX<S> modal_inertia;          // modal block of the articulated inertia (n_m x n_m)
+  Eigen::LLT<MatX<S>> modal_factor;  // of modal_inertia
+  MatX<S> gain_transpose;         // modal_inertia^-1 coupling' (n_m x 6)
+  VecX<S> innovation;             // modal_inertia^-1 (u_modal - modal rows of z)
+};
 
 template <class S>
 struct DataTpl {
@@ -34,6 +54,17 @@ struct DataTpl {
   aligned_vector<Mat6N<S>> regular_subspace;    // S columns of the regular DOFs (mixed hinges)
   aligned_vector<Mat6N<S>> gain;                // G(i) = P S_r D^-1
   aligned_vector<VecN<S>> innovation;           // nu(i) = D^-1 eps(i)
+
+  // Flexible bodies (empty without them). Per flexible body, in the order of
+  // model.flexible_bodies:
+  std::vector<FlexibleBodyData<S>, Eigen::aligned_allocator<FlexibleBodyData<S>>> flexible;
+  // Per body placed on a node of a flexible parent: the node's deformation
+  // motion subspace in this body's frame (6 x n_m of the parent) and the
+  // velocity-product part of the node's motion relative to the parent's
+  // body frame, also in this body's frame (flexible_steps.hpp).
+  aligned_vector<Mat6X<S>> attachment_subspace;
+  aligned_vector<Vec6<S>> attachment_bias;
+  VecX<S> unit_acceleration;  // mass-matrix columns of flexible models
 
   // Outputs.
   VecX<S> qdd;          // generalized accelerations (nv)

@@ -4,6 +4,18 @@
 namespace soadyn {
 
 template <class S>
+FlexibleBodyData<S>::FlexibleBodyData(int n)
+    : mass(MatX<S>::Zero(6 + n, 6 + n)),
+      second_moment_rates(MatX<S>::Zero(3, 3 * n)),
+      bias(VecX<S>::Zero(6 + n)),
+      modal_bias(VecX<S>::Zero(n)),
+      coupling(Mat6X<S>::Zero(6, n)),
+      modal_inertia(MatX<S>::Zero(n, n)),
+      modal_factor(n),
+      gain_transpose(MatX<S>::Zero(n, 6)),
+      innovation(VecX<S>::Zero(n)) {}
+
+template <class S>
 DataTpl<S>::DataTpl(const ModelTpl<S>& model) : model_version(model.version) {
   const std::size_t n = static_cast<std::size_t>(model.nbodies());
   pose_in_parent.resize(n);
@@ -27,6 +39,12 @@ DataTpl<S>::DataTpl(const ModelTpl<S>& model) : model_version(model.version) {
     gain[i].setZero(6, nv);
     innovation[i].setZero(nv);
   }
+  for (const FlexibleBodyTpl<S>& body : model.flexible_bodies) flexible.emplace_back(body.n_modes());
+  attachment_subspace.resize(n);
+  attachment_bias.assign(n, Vec6<S>::Zero());
+  for (std::size_t i = 0; i < n; ++i)
+    if (model.attachment_node[i] >= 0) attachment_subspace[i].setZero(6, model.n_modes[static_cast<std::size_t>(model.parent[i])]);
+  if (model.has_flexible_bodies()) unit_acceleration.setZero(model.nv);
   qdd.setZero(model.nv);
   tau.setZero(model.nv);
   mass_matrix.setZero(model.nv, model.nv);

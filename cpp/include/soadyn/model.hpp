@@ -5,10 +5,13 @@
 // flags concurrently.
 //
 // Layout: bodies are stored in topological order (parent < child). Body i
-// owns the coordinate block [q_index[i], q_index[i] + nq_body[i]) and the
-// velocity block [v_index[i], v_index[i] + nv_body[i]); blocks follow body
-// order. A body's block is its joint's DOFs; flexible bodies will append
-// their modal DOFs to the same block, so no other layout changes.
+// owns the coordinates [q_index[i], q_index[i] + nq_body[i]) and the hinge
+// DOFs [v_index[i], v_index[i] + nv_body[i]) of its joint, followed, for a
+// flexible body (flex/flexible_body.hpp), by its n_modes[i] modal
+// coordinates, which are both coordinates and DOFs: they start at
+// modal_q_index(i) and modal_v_index(i). Blocks follow body order.
+// Modal DOFs are named '<body>:mode<k>', k = 1..n_modes, and are always
+// regular (their accelerations are unknowns of every dynamics call).
 //
 // A body added with a fixed joint is not a body of the tree: its mass,
 // centre of mass and inertia are merged exactly into the body it is welded
@@ -17,17 +20,21 @@
 #include <cstdint>
 #include <string>
 #include <unordered_map>
+#include "soadyn/flex/flexible_body.hpp"
 #include "soadyn/joints/joint.hpp"
 #include "soadyn/spatial/inertia.hpp"
 
 namespace soadyn {
 
-// A named frame rigidly attached to a body (body == -1: the world).
+// A named frame rigidly attached to a body (body == -1: the world), or, with
+// node >= 0, the frame of attachment node `node` of a flexible body (it moves
+// with the deformation; `placement` is then in the node frame).
 template <class S>
 struct Frame {
   std::string name;
   int body = -1;
   Transform<S> placement;  // frame in the body frame
+  int node = -1;
 };
 
 // Per-body view of the DOF flags, derived from the per-DOF flags.
@@ -60,12 +67,32 @@ class ModelTpl {
   int add_body(const std::string& name, int parent, const JointModel<S>& joint,
                const Transform<S>& placement, S mass, const Vec3<S>& com, const Mat3<S>& inertia_com,
                const std::string& joint_name = "");
+  // Adds a flexible body: its reference frame is the joint frame (as for a
+  // rigid body), its mass is the flexible body's nodes, and its modal
+  // coordinates follow the joint's DOFs. A fixed joint clamps it to the
+  // parent (it stays a body, with modal DOFs only). Every attachment node
+  // becomes a frame '<name>:<attachment>' that children can use as parent.
+  // Bodies cannot be welded (fixed joint) to a flexible body: give the mass
+  // to its nodes instead.
+  int add_flexible_body(const std::string& name, const std::string& parent, const JointModel<S>& joint,
+                        const Transform<S>& placement, const FlexibleBodyTpl<S>& body,
+                        const std::string& joint_name = "");
 
   int nbodies() const { return static_cast<int>(parent.size()); }
+  bool has_flexible_bodies() const { return !flexible_bodies.empty(); }
+  bool is_flexible(int body) const { return flexible_index[static_cast<std::size_t>(body)] >= 0; }
+  const FlexibleBodyTpl<S>& flexible_body(int body) const {
+    return flexible_bodies[static_cast<std::size_t>(flexible_index[static_cast<std::size_t>(body)])];
+  }
+  int modal_q_index(int body) const { return q_index[static_cast<std::size_t>(body)] + nq_body[static_cast<std::size_t>(body)]; }
+  int modal_v_index(int body) const { return v_index[static_cast<std::size_t>(body)] + nv_body[static_cast<std::size_t>(body)]; }
+  bool is_modal(int dof) const { return modal_dof[static_cast<std::size_t>(dof)] != 0; }
 
   // Prescribed (true) or regular (false) flag of velocity index `dof`.
   // Allocation free and O(n): only the per-body views are refreshed.
+  // Throws std::invalid_argument for a modal DOF (always regular).
   void set_prescribed(int dof, bool flag);
+  // Every hinge DOF; modal DOFs stay regular.
   void set_all_prescribed(bool flag);
   bool is_prescribed(int dof) const { return prescribed[static_cast<std::size_t>(dof)] != 0; }
 
@@ -85,12 +112,19 @@ class ModelTpl {
   aligned_vector<Vec3<S>> com;
   std::vector<int> q_index, v_index, nq_body, nv_body;
   std::vector<HingeModes> modes;
+  // Flexible bodies: index into flexible_bodies (-1: rigid), modal
+  // coordinate count (0: rigid), and the node of a flexible parent this
+  // body's joint is placed on (-1: the parent's body frame; `placement` is
+  // then in the node frame).
+  std::vector<int> flexible_index, n_modes, attachment_node;
+  std::vector<FlexibleBodyTpl<S>> flexible_bodies;
 
   // Per DOF / coordinate.
   int nq = 0, nv = 0;
   std::vector<std::string> dof_names, coordinate_names;
   std::vector<int> dof_body;
   std::vector<std::uint8_t> prescribed;
+  std::vector<std::uint8_t> modal_dof;  // 1 for modal coordinates
   int n_prescribed = 0;  // how many DOFs are prescribed
 
   std::vector<Frame<S>> frames;
@@ -101,6 +135,11 @@ class ModelTpl {
  private:
   void refresh_modes();
   void refresh_body_modes(int body);
+  // add_body / add_flexible_body after the parent is resolved; `flexible`
+  // null for a rigid body.
+  int add_resolved(const std::string& name, int parent_body, int node, const JointModel<S>& joint,
+                   const Transform<S>& placement, S mass, const Vec3<S>& com, const Mat3<S>& inertia_com,
+                   const std::string& joint_name, const FlexibleBodyTpl<S>* flexible);
   std::unordered_map<std::string, int> body_lookup_, dof_lookup_, frame_lookup_;
 };
 

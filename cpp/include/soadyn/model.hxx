@@ -126,20 +126,74 @@ int ModelTpl<S>::add_body(const std::string& name, const std::string& parent_nam
   const int f = frame_index(parent_name);
   if (f < 0) detail::fail("body '" + name + "': parent '" + parent_name + "' does not exist");
   const Frame<S> frame = frames[static_cast<std::size_t>(f)];
+  if (frame.node >= 0) {
+    if (joint_is_fixed(joint))
+      detail::fail("body '" + name + "': cannot be welded to flexible body '" +
+                   body_names[static_cast<std::size_t>(frame.body)] + "'; give its mass to a node instead");
+    detail::check_placement(X, name);
+    return add_resolved(name, frame.body, frame.node, joint, frame.placement * X, m, c, I, joint_name, nullptr);
+  }
   return add_body(name, frame.body, joint, frame.placement * X, m, c, I, joint_name);
 }
 
 template <class S>
-int ModelTpl<S>::add_body(const std::string& name, int parent_body, const JointModel<S>& joint_in,
+int ModelTpl<S>::add_body(const std::string& name, int parent_body, const JointModel<S>& joint,
                           const Transform<S>& X, S m, const Vec3<S>& c, const Mat3<S>& I,
-                          const std::string& joint_name_in) {
+                          const std::string& joint_name) {
+  if (joint_is_fixed(joint) && parent_body >= 0 && parent_body < nbodies() && is_flexible(parent_body))
+    detail::fail("body '" + name + "': cannot be welded to flexible body '" +
+                 body_names[static_cast<std::size_t>(parent_body)] + "'; give its mass to a node instead");
+  return add_resolved(name, parent_body, -1, joint, X, m, c, I, joint_name, nullptr);
+}
+
+template <class S>
+int ModelTpl<S>::add_flexible_body(const std::string& name, const std::string& parent_name,
+                                   const JointModel<S>& joint, const Transform<S>& X, const FlexibleBodyTpl<S>& body,
+                                   const std::string& joint_name) {
+  int parent_body = -1, node = -1;
+  Transform<S> placement = X;
+  if (!(parent_name.empty() || parent_name == "world")) {
+    parent_body = body_index(parent_name);
+    if (parent_body < 0) {
+      const int f = frame_index(parent_name);
+      if (f < 0) detail::fail("body '" + name + "': parent '" + parent_name + "' does not exist");
+      const Frame<S>& frame = frames[static_cast<std::size_t>(f)];
+      detail::check_placement(X, name);
+      parent_body = frame.body;
+      node = frame.node;
+      placement = frame.placement * X;
+    }
+  }
+  for (const auto& [attachment, j] : body.attachments()) {
+    const std::string frame_name = name + ":" + attachment;
+    if (body_index(frame_name) >= 0 || frame_index(frame_name) >= 0)
+      detail::fail("flexible body '" + name + "': attachment frame '" + frame_name + "' clashes with an existing name");
+  }
+  const ModalIntegrals<S>& mi = body.modal_integrals();
+  const Vec3<S> com = mi.mass > S(0) ? Vec3<S>(mi.first_moment / mi.mass) : Vec3<S>::Zero();
+  // Rotational inertia about the centre of mass of the undeformed body.
+  const Mat3<S> inertia_origin = mi.second_moment.trace() * Mat3<S>::Identity() - mi.second_moment + mi.rotary_inertia;
+  const Mat3<S> inertia_com = inertia_origin - mi.mass * (com.squaredNorm() * Mat3<S>::Identity() - com * com.transpose());
+  const int index = add_resolved(name, parent_body, node, joint, placement, mi.mass, com,
+                                 S(0.5) * (inertia_com + inertia_com.transpose()), joint_name, &body);
+  for (const auto& [attachment, j] : body.attachments()) {
+    frame_lookup_[name + ":" + attachment] = static_cast<int>(frames.size());
+    frames.push_back(Frame<S>{name + ":" + attachment, index, Transform<S>::Identity(), j});
+  }
+  return index;
+}
+
+template <class S>
+int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node, const JointModel<S>& joint_in,
+                              const Transform<S>& X, S m, const Vec3<S>& c, const Mat3<S>& I,
+                              const std::string& joint_name_in, const FlexibleBodyTpl<S>* flexible) {
   if (name.empty()) detail::fail("body name is empty");
   if (name == "world") detail::fail("body name 'world' is reserved for the ground");
   if (body_index(name) >= 0 || frame_index(name) >= 0) detail::fail("duplicate body name '" + name + "'");
   if (parent_body < -1 || parent_body >= nbodies())
     detail::fail("body '" + name + "': parent index " + std::to_string(parent_body) + " does not exist");
   const std::string jname = joint_name_in.empty() ? name : joint_name_in;
-  const bool welded = joint_is_fixed(joint_in);
+  const bool welded = joint_is_fixed(joint_in) && flexible == nullptr;
   if (!joint_name_in.empty())
     for (const auto& other : joint_names)
       if (other == jname) detail::fail("duplicate joint name '" + jname + "'");
@@ -150,7 +204,7 @@ int ModelTpl<S>::add_body(const std::string& name, int parent_body, const JointM
   if (!welded) detail::check_physical_inertia(m, I, "body '" + name + "'");
   const Mat6<S> body_inertia = spatial_inertia(m, c, I);
 
-  if (joint_is_fixed(joint)) {  // weld: merge into the parent, keep the name as a frame
+  if (welded) {  // weld: merge into the parent, keep the name as a frame
     if (parent_body >= 0) {
       const std::size_t p = static_cast<std::size_t>(parent_body);
       const Mat6<S> merged = inertia[p] + X.inertia_to_parent(body_inertia);
@@ -165,18 +219,22 @@ int ModelTpl<S>::add_body(const std::string& name, int parent_body, const JointM
       com[p] = merged_com;
     }
     frame_lookup_[name] = static_cast<int>(frames.size());
-    frames.push_back(Frame<S>{name, parent_body, X});
+    frames.push_back(Frame<S>{name, parent_body, X, -1});
     ++version;
     return -1;
   }
 
   const int jq = joint_nq(joint), jv = joint_nv(joint);
+  const int nm = flexible ? flexible->n_modes() : 0;
   const char* const* qs = joint_coordinate_suffixes(joint);
   const char* const* vs = joint_velocity_suffixes(joint);
   std::vector<std::string> new_dofs;
-  for (int k = 0; k < jv; ++k) {
-    new_dofs.push_back(jv == 1 ? jname : jname + ":" + vs[k]);
-    if (dof_index(new_dofs.back()) >= 0) detail::fail("duplicate DOF name '" + new_dofs.back() + "'");
+  for (int k = 0; k < jv; ++k) new_dofs.push_back(jv == 1 ? jname : jname + ":" + vs[k]);
+  for (int k = 0; k < nm; ++k) new_dofs.push_back(name + ":mode" + std::to_string(k + 1));
+  for (std::size_t k = 0; k < new_dofs.size(); ++k) {
+    if (dof_index(new_dofs[k]) >= 0) detail::fail("duplicate DOF name '" + new_dofs[k] + "'");
+    for (std::size_t l = 0; l < k; ++l)
+      if (new_dofs[l] == new_dofs[k]) detail::fail("duplicate DOF name '" + new_dofs[k] + "'");
   }
   // Checked: from here on nothing throws, so a refused body leaves no trace.
   const int index = nbodies();
@@ -192,15 +250,21 @@ int ModelTpl<S>::add_body(const std::string& name, int parent_body, const JointM
   v_index.push_back(nv);
   nq_body.push_back(jq);
   nv_body.push_back(jv);
+  n_modes.push_back(nm);
+  attachment_node.push_back(node);
+  flexible_index.push_back(flexible ? static_cast<int>(flexible_bodies.size()) : -1);
+  if (flexible) flexible_bodies.push_back(*flexible);
   for (int k = 0; k < jq; ++k) coordinate_names.push_back(jq == 1 ? jname : jname + ":" + qs[k]);
-  for (int k = 0; k < jv; ++k) {
+  for (int k = 0; k < nm; ++k) coordinate_names.push_back(new_dofs[static_cast<std::size_t>(jv + k)]);
+  for (int k = 0; k < jv + nm; ++k) {
     dof_lookup_[new_dofs[static_cast<std::size_t>(k)]] = nv + k;
     dof_names.push_back(new_dofs[static_cast<std::size_t>(k)]);
     dof_body.push_back(index);
     prescribed.push_back(0);
+    modal_dof.push_back(k >= jv ? 1 : 0);
   }
-  nq += jq;
-  nv += jv;
+  nq += jq + nm;
+  nv += jv + nm;
   body_lookup_[name] = index;
   modes.emplace_back();
   refresh_body_modes(index);
@@ -229,13 +293,18 @@ void ModelTpl<S>::refresh_modes() {
   for (int i = 0; i < nbodies(); ++i) {
     const int p = parent[static_cast<std::size_t>(i)];
     HingeModes& h = modes[static_cast<std::size_t>(i)];
-    h.needs_articulated_inertia = h.n_regular > 0 || (p >= 0 && modes[static_cast<std::size_t>(p)].needs_articulated_inertia);
+    // Modal DOFs are regular: a flexible body always needs one.
+    h.needs_articulated_inertia = h.n_regular > 0 || flexible_index[static_cast<std::size_t>(i)] >= 0 ||
+                                  (p >= 0 && modes[static_cast<std::size_t>(p)].needs_articulated_inertia);
   }
 }
 
 template <class S>
 void ModelTpl<S>::set_prescribed(int dof, bool flag) {
   const std::size_t d = static_cast<std::size_t>(dof);
+  if (modal_dof[d] && flag)
+    detail::fail("DOF '" + dof_names[d] + "' is a modal coordinate of flexible body '" +
+                 body_names[static_cast<std::size_t>(dof_body[d])] + "': modal DOFs are always regular");
   if (prescribed[d] == static_cast<std::uint8_t>(flag)) return;
   prescribed[d] = static_cast<std::uint8_t>(flag);
   refresh_body_modes(dof_body[d]);
@@ -244,7 +313,7 @@ void ModelTpl<S>::set_prescribed(int dof, bool flag) {
 
 template <class S>
 void ModelTpl<S>::set_all_prescribed(bool flag) {
-  for (auto& p : prescribed) p = static_cast<std::uint8_t>(flag);
+  for (std::size_t d = 0; d < prescribed.size(); ++d) prescribed[d] = static_cast<std::uint8_t>(flag && !modal_dof[d]);
   for (int i = 0; i < nbodies(); ++i) refresh_body_modes(i);
   refresh_modes();
 }

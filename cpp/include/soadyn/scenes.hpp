@@ -7,7 +7,10 @@
 // Masses and sizes are round figures of the Cassini orbiter's published
 // class (about 2.5 t dry bus, an 11 m magnetometer boom, a 4 m high-gain
 // antenna, the 320 kg Huygens probe): plausible, not flight data.
-// Prescribed DOFs: turntable, gimbal_pitch, gimbal_yaw.
+// Prescribed DOFs: turntable, gimbal_pitch, gimbal_yaw. Two flexible booms
+// clamped to the bus (flex/flexible_body.hpp): the magnetometer boom
+// (first bending mode 0.50 Hz) and a radio and plasma wave antenna
+// (0.30 Hz), each with two bending modes per plane and 0.5 % damping.
 //
 // pendulum_chain: n identical links swinging about parallel x axes.
 #pragma once

@@ -1,38 +1,63 @@
 #pragma once
 #include "soadyn/algorithms/aba.hpp"
+#include "soadyn/algorithms/flexible_steps.hpp"
 
 namespace soadyn {
 
-template <class S>
-Status forward_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                        const ConstVecRef<S>& tau, const S* f_ext) {
+namespace detail {
+
+// The articulated-body sweeps; Flex adds the modal DOFs of flexible bodies
+// (flexible_steps.hpp) and is false for rigid models.
+template <bool Flex, class S>
+Status articulated_body_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v,
+                               const ConstVecRef<S>& tau, const S* f_ext) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   const Vec6<S> world_acc = world_acceleration(m);
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, b (seed Eq. 1)
-    joint_step(m, d, i, q.data(), v.data());
-    velocity_step(m, d, i, v.data());
-    bias_force_step(m, d, i, f_ext);
-    d.articulated_inertia[i] = m.inertia[i];
-    d.articulated_bias[i] = d.bias_force[i];
+    body_joint_step<Flex>(m, d, i, q, v);
+    body_motion_step<Flex>(m, d, i, q, v, f_ext);
+    init_articulated<Flex>(m, d, i);
   }
   Mat6<S> P_plus;
   Vec6<S> z_plus;
   for (std::size_t i = n; i-- > 0;) {  // tip to base (seed Eqs. 14, 28, all hinges regular)
+    if constexpr (Flex) {
+      if (m.is_flexible(static_cast<int>(i))) {
+        const int bad = eliminate_modal_coordinates(m, d, i, tau.data());
+        if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
+      }
+    }
     const Mat6<S>& P = d.articulated_inertia[i];
     const Vec6<S> z = d.articulated_bias[i] + P * d.coriolis[i];
-    VecN<S> eps = tau.segment(m.v_index[i], m.nv_body[i]);
-    const int bad = articulated_hinge_step(P, d.subspace[i], z, eps, d.gain[i], d.innovation[i], P_plus, z_plus);
-    if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, m.v_index[i] + bad};
-    if (m.parent[i] >= 0) push_articulated_to_parent(m, d, i, P_plus, z_plus);
+    if (m.nv_body[i] > 0) {
+      VecN<S> eps = tau.segment(m.v_index[i], m.nv_body[i]);
+      const int bad = articulated_hinge_step(P, d.subspace[i], z, eps, d.gain[i], d.innovation[i], P_plus, z_plus);
+      if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, m.v_index[i] + bad};
+    } else {  // a clamped flexible body
+      P_plus = P;
+      z_plus = z;
+    }
+    if (m.parent[i] >= 0) push_articulated<Flex>(m, d, i, P_plus, z_plus);
   }
   for (std::size_t i = 0; i < n; ++i) {  // base to tip (seed Eq. 29)
-    const Vec6<S> alpha_plus = parent_acceleration(m, d, i, world_acc);
+    const Vec6<S> alpha_plus = body_parent_acceleration<Flex>(m, d, i, world_acc, d.qdd.data());
     auto qdd = d.qdd.segment(m.v_index[i], m.nv_body[i]);
     qdd.noalias() = d.innovation[i] - d.gain[i].transpose() * alpha_plus;
     d.acceleration[i] = alpha_plus + d.coriolis[i];
     d.acceleration[i].noalias() += d.subspace[i] * qdd;
+    if constexpr (Flex)
+      if (m.is_flexible(static_cast<int>(i))) modal_accelerations(m, d, i, tau.data());
   }
   return check_finite(d.qdd);
+}
+
+}  // namespace detail
+
+template <class S>
+Status forward_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                        const ConstVecRef<S>& tau, const S* f_ext) {
+  if (m.has_flexible_bodies()) return detail::articulated_body_sweeps<true>(m, d, q.data(), v.data(), tau, f_ext);
+  return detail::articulated_body_sweeps<false>(m, d, q.data(), v.data(), tau, f_ext);
 }
 
 }  // namespace soadyn

@@ -11,7 +11,8 @@ template <class S>
 void neutral_configuration(const ModelTpl<S>& model, VecRef<S> q);
 
 // Angles uniform in [-pi, pi], translations uniform in [-1, 1], quaternions
-// uniform on the unit sphere; deterministic for a given seed.
+// uniform on the unit sphere, modal coordinates uniform in [-0.1, 0.1];
+// deterministic for a given seed.
 template <class S>
 void random_configuration(const ModelTpl<S>& model, std::uint64_t seed, VecRef<S> q);
 

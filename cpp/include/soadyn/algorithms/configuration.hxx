@@ -7,13 +7,16 @@ namespace soadyn {
 
 template <class S>
 void neutral_configuration(const ModelTpl<S>& m, VecRef<S> q) {
-  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) joint_neutral(m.joints[i], q.data() + m.q_index[i]);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
+    joint_neutral(m.joints[i], q.data() + m.q_index[i]);
+    q.segment(m.modal_q_index(static_cast<int>(i)), m.n_modes[i]).setZero();  // undeformed
+  }
 }
 
 template <class S>
 void random_configuration(const ModelTpl<S>& m, std::uint64_t seed, VecRef<S> q) {
   std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> angle(-M_PI, M_PI), offset(-1.0, 1.0);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI), offset(-1.0, 1.0), modal(-0.1, 0.1);
   std::normal_distribution<double> gauss;
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
     S* qi = q.data() + m.q_index[i];
@@ -29,13 +32,18 @@ void random_configuration(const ModelTpl<S>& m, std::uint64_t seed, VecRef<S> q)
       for (double& x : g) x = gauss(rng), n2 += x * x;
       for (int k = 0; k < 4; ++k) qi[qo + k] = S(g[k] / std::sqrt(n2));
     }
+    for (int k = 0; k < m.n_modes[i]; ++k) q[m.modal_q_index(static_cast<int>(i)) + k] = S(modal(rng));
   }
 }
 
 template <class S>
 void integrate(const ModelTpl<S>& m, const ConstVecRef<S>& q, const ConstVecRef<S>& v, S dt, VecRef<S> q_out) {
-  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i)
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
     joint_integrate(m.joints[i], q.data() + m.q_index[i], v.data() + m.v_index[i], dt, q_out.data() + m.q_index[i]);
+    const int b = static_cast<int>(i);
+    q_out.segment(m.modal_q_index(b), m.n_modes[i]) =
+        q.segment(m.modal_q_index(b), m.n_modes[i]) + dt * v.segment(m.modal_v_index(b), m.n_modes[i]);
+  }
 }
 
 template <class S>

@@ -4,13 +4,48 @@
 
 namespace soadyn {
 
+namespace detail {
+
+// Spatial momentum of body i about its origin, body frame: M V for a rigid
+// body, the rigid rows of M(eta) [V; eta_dot] for a flexible one (after
+// forward_kinematics with velocities). Uses the flexible body's scratch.
+template <class S>
+Vec6<S> body_momentum(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
+  if (!m.is_flexible(static_cast<int>(i))) return m.inertia[i] * d.velocity[i];
+  flexible_inertia_step(m, d, i, q);
+  const FlexibleBodyData<S>& fd = flexible_data(m, d, i);
+  Vec6<S> h;
+  h.noalias() = fd.mass.template topLeftCorner<6, 6>() * d.velocity[i];
+  h.noalias() += fd.mass.topRightCorner(6, m.n_modes[i]) * modal_velocities(m, static_cast<int>(i), v);
+  return h;
+}
+
+// First moment of mass of body i about its origin, body frame (c(eta) of a
+// flexible body, modal_integrals.hpp Eq. 2).
+template <class S>
+Vec3<S> body_first_moment(const ModelTpl<S>& m, std::size_t i, const S* q) {
+  if (!m.is_flexible(static_cast<int>(i))) return m.mass[i] * m.com[i];
+  return m.flexible_body(static_cast<int>(i)).modal_integrals().first_moment_at(modal_coordinates(m, static_cast<int>(i), q));
+}
+
+}  // namespace detail
+
 template <class S>
 S kinetic_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
+  forward_kinematics<S>(m, d, q.data(), v.data());
   S energy(0);
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    joint_step(m, d, i, q.data(), v.data());
-    velocity_step(m, d, i, v.data());
-    energy += S(0.5) * d.velocity[i].dot(m.inertia[i] * d.velocity[i]);
+    const Vec6<S> h = detail::body_momentum(m, d, i, q.data(), v.data());
+    energy += S(0.5) * d.velocity[i].dot(h);
+    if (m.is_flexible(static_cast<int>(i))) {  // + 1/2 eta_dot' (M_eV V + M_ee eta_dot)
+      FlexibleBodyData<S>& fd = flexible_data(m, d, i);
+      const Eigen::Index n = m.n_modes[i];
+      const auto eta_dot = modal_velocities(m, static_cast<int>(i), v.data());
+      auto modal_momentum = fd.bias.tail(n);
+      modal_momentum.noalias() = fd.mass.bottomLeftCorner(n, 6) * d.velocity[i];
+      modal_momentum.noalias() += fd.mass.bottomRightCorner(n, n) * eta_dot;
+      energy += S(0.5) * eta_dot.dot(modal_momentum);
+    }
   }
   return energy;
 }
@@ -22,7 +57,8 @@ Vec3<S> center_of_mass(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>
   Vec3<S> first_moment = Vec3<S>::Zero();
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
     mass += m.mass[i];
-    first_moment += m.mass[i] * d.pose_in_world[i].apply_point(m.com[i]);
+    const Transform<S>& X = d.pose_in_world[i];
+    first_moment += m.mass[i] * X.translation + X.rotation * detail::body_first_moment(m, i, q.data());
   }
   if (total_mass) *total_mass = mass;
   return mass > S(0) ? Vec3<S>(first_moment / mass) : Vec3<S>::Zero();
@@ -32,7 +68,15 @@ template <class S>
 S potential_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   S mass;
   const Vec3<S> c = center_of_mass(m, d, q, &mass);
-  return -mass * m.gravity.dot(c);
+  S strain(0);  // 1/2 eta' K eta
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
+    if (!m.is_flexible(static_cast<int>(i))) continue;
+    FlexibleBodyData<S>& fd = flexible_data(m, d, i);
+    const auto eta = modal_coordinates(m, static_cast<int>(i), q.data());
+    fd.modal_bias.noalias() = m.flexible_body(static_cast<int>(i)).stiffness() * eta;
+    strain += S(0.5) * eta.dot(fd.modal_bias);
+  }
+  return strain - mass * m.gravity.dot(c);
 }
 
 template <class S>
@@ -40,7 +84,7 @@ Vec6<S> momentum(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, c
   forward_kinematics<S>(m, d, q.data(), v.data());
   Vec6<S> h = Vec6<S>::Zero();
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i)
-    h += d.pose_in_world[i].force_to_parent(Vec6<S>(m.inertia[i] * d.velocity[i]));
+    h += d.pose_in_world[i].force_to_parent(detail::body_momentum(m, d, i, q.data(), v.data()));
   return h;
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 #include "soadyn/algorithms/aba.hpp"
+#include "soadyn/algorithms/flexible_steps.hpp"
 #include "soadyn/algorithms/hybrid.hpp"
 
 namespace soadyn {
@@ -18,9 +19,15 @@ inline Vec6<S> prescribed_hinge_acceleration(const ModelTpl<S>& m, const DataTpl
 }
 
 // Tip-to-base step of a body that needs an articulated inertia (seed Eq. 28).
-template <class S>
+template <bool Flex, class S>
 inline int articulated_body_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
                                    const Vec6<S>& world_acc) {
+  if constexpr (Flex) {
+    if (m.is_flexible(static_cast<int>(i))) {
+      const int bad = eliminate_modal_coordinates(m, d, i, u);
+      if (bad >= 0) return bad;
+    }
+  }
   const HingeModes& h = m.modes[i];
   const Mat6<S>& P = d.articulated_inertia[i];
   // z(k) = phi z+(k-1) + b(k) + P(k) [H_p* qdd_p(k) + a(k)]
@@ -53,7 +60,7 @@ inline int articulated_body_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
   const int p = m.parent[i];
   if (p < 0) return -1;
   if (m.modes[static_cast<std::size_t>(p)].needs_articulated_inertia) {
-    push_articulated_to_parent(m, d, i, *P_out, *z_out);
+    push_articulated<Flex>(m, d, i, *P_out, *z_out);
   } else {  // the parent's acceleration is already known: f = P+ alpha+ + z+
     const Vec6<S> f = *P_out * parent_acceleration(m, d, i, world_acc) + *z_out;
     push_force_to_parent(m, d, i, f);
@@ -62,12 +69,12 @@ inline int articulated_body_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
 }
 
 // Base-to-tip step of a body that needs an articulated inertia (seed Eq. 29).
-template <class S>
+template <bool Flex, class S>
 inline void articulated_body_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
                                      const Vec6<S>& world_acc, bool want_force) {
   const HingeModes& h = m.modes[i];
   const int vi = m.v_index[i], ni = m.nv_body[i];
-  const Vec6<S> alpha_plus = parent_acceleration(m, d, i, world_acc);
+  const Vec6<S> alpha_plus = body_parent_acceleration<Flex>(m, d, i, world_acc, d.qdd.data());
   auto qdd = d.qdd.segment(vi, ni);
   auto tau = d.tau.segment(vi, ni);
   if (h.n_prescribed == 0) {  // the articulated-body case: no gather, no scatter
@@ -89,6 +96,8 @@ inline void articulated_body_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::s
     for (int k = 0; k < h.n_prescribed; ++k)
       tau[h.prescribed[k]] = d.subspace[i].col(h.prescribed[k]).dot(d.hinge_force[i]);
   }
+  if constexpr (Flex)
+    if (m.is_flexible(static_cast<int>(i))) modal_accelerations(m, d, i, u);
 }
 
 }  // namespace detail
@@ -96,18 +105,17 @@ inline void articulated_body_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::s
 namespace detail {
 
 // The three sweeps; `v` null means zero velocity.
-template <class S>
+template <bool Flex, class S>
 Status hybrid_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const ConstVecRef<S>& u,
                      const S* f_ext, const Vec6<S>& world_acc, HybridOutputs outputs) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   const S* up = u.data();
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, b; accelerations of all-prescribed regions
-    joint_step(m, d, i, q, v);
-    motion_step(m, d, i, v, f_ext);
+    body_joint_step<Flex>(m, d, i, q, v);
+    body_motion_step<Flex>(m, d, i, q, v, f_ext);
     if (m.modes[i].needs_articulated_inertia) {
-      d.articulated_inertia[i] = m.inertia[i];
-      d.articulated_bias[i] = d.bias_force[i];
-    } else {
+      init_articulated<Flex>(m, d, i);
+    } else {  // neither flexible nor on a flexible body (those need P)
       d.acceleration[i] = parent_acceleration(m, d, i, world_acc) + d.coriolis[i];
       d.acceleration[i].noalias() += d.subspace[i] * Eigen::Map<const VecN<S>>(up + m.v_index[i], m.nv_body[i]);
       d.hinge_force[i] = m.inertia[i] * d.acceleration[i] + d.bias_force[i];
@@ -115,7 +123,7 @@ Status hybrid_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v
   }
   for (std::size_t i = n; i-- > 0;) {  // tip to base
     if (m.modes[i].needs_articulated_inertia) {
-      const int bad = articulated_body_inward(m, d, i, up, world_acc);
+      const int bad = articulated_body_inward<Flex>(m, d, i, up, world_acc);
       if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
     } else {  // Newton-Euler: T = H f, f(parent) += phi f
       const int vi = m.v_index[i], ni = m.nv_body[i];
@@ -126,7 +134,7 @@ Status hybrid_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v
   }
   for (std::size_t i = 0; i < n; ++i)  // base to tip
     if (m.modes[i].needs_articulated_inertia)
-      articulated_body_outward(m, d, i, up, world_acc, outputs.hinge_forces);
+      articulated_body_outward<Flex>(m, d, i, up, world_acc, outputs.hinge_forces);
   const Status s = check_finite(d.qdd);
   return s.ok() ? check_finite(d.tau) : s;
 }
@@ -141,12 +149,16 @@ Status hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>
     d.tau = u;
     return s;
   }
-  return detail::hybrid_sweeps(m, d, q.data(), v.data(), u, f_ext, world_acceleration(m), outputs);
+  if (m.has_flexible_bodies())
+    return detail::hybrid_sweeps<true>(m, d, q.data(), v.data(), u, f_ext, world_acceleration(m), outputs);
+  return detail::hybrid_sweeps<false>(m, d, q.data(), v.data(), u, f_ext, world_acceleration(m), outputs);
 }
 
 template <class S>
 Status hybrid_impulse(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& u) {
-  return detail::hybrid_sweeps<S>(m, d, q.data(), nullptr, u, nullptr, Vec6<S>::Zero(), HybridOutputs{});
+  if (m.has_flexible_bodies())
+    return detail::hybrid_sweeps<true, S>(m, d, q.data(), nullptr, u, nullptr, Vec6<S>::Zero(), HybridOutputs{});
+  return detail::hybrid_sweeps<false, S>(m, d, q.data(), nullptr, u, nullptr, Vec6<S>::Zero(), HybridOutputs{});
 }
 
 

@@ -1,4 +1,5 @@
 #pragma once
+#include "soadyn/algorithms/flexible_steps.hpp"
 #include "soadyn/algorithms/kinematics.hpp"
 
 namespace soadyn {
@@ -11,12 +12,22 @@ void update_world_poses(const ModelTpl<S>& m, DataTpl<S>& d) {
   }
 }
 
+namespace detail {
+template <bool Flex, class S>
+void kinematic_sweep(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v) {
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
+    body_joint_step<Flex>(m, d, i, q, v);
+    if (v) body_velocity_step<Flex>(m, d, i, v);
+  }
+}
+}  // namespace detail
+
 template <class S>
 void forward_kinematics(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v) {
-  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    joint_step(m, d, i, q, v);
-    if (v) velocity_step(m, d, i, v);
-  }
+  if (m.has_flexible_bodies())
+    detail::kinematic_sweep<true>(m, d, q, v);
+  else
+    detail::kinematic_sweep<false>(m, d, q, v);
   update_world_poses(m, d);
 }
 

@@ -1,26 +1,44 @@
 #pragma once
+#include "soadyn/algorithms/flexible_steps.hpp"
 #include "soadyn/algorithms/rnea.hpp"
 
 namespace soadyn {
 
 namespace detail {
-// qdd may be null (zero accelerations).
-template <class S>
-void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* qdd, const S* f_ext) {
+// v and qdd may be null (zero velocities: no velocity products and no
+// elastic forces; zero accelerations). Flex adds flexible bodies.
+template <bool Flex, class S>
+void newton_euler_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* qdd, const S* f_ext,
+                         const Vec6<S>& world_acc) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
-  const Vec6<S> world_acc = world_acceleration(m);
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: kinematics, accelerations, body forces
-    joint_step(m, d, i, q, v);
-    velocity_step(m, d, i, v);
-    bias_force_step(m, d, i, f_ext);
-    d.acceleration[i] = parent_acceleration(m, d, i, world_acc) + d.coriolis[i];
+    body_joint_step<Flex>(m, d, i, q, v);
+    body_motion_step<Flex>(m, d, i, q, v, f_ext);
+    d.acceleration[i] = body_parent_acceleration<Flex>(m, d, i, world_acc, qdd) + d.coriolis[i];
     if (qdd) d.acceleration[i].noalias() += d.subspace[i] * Eigen::Map<const VecN<S>>(qdd + m.v_index[i], m.nv_body[i]);
+    if constexpr (Flex) {
+      if (m.is_flexible(static_cast<int>(i))) {
+        flexible_newton_euler(m, d, i, qdd);
+        continue;
+      }
+    }
     d.hinge_force[i] = m.inertia[i] * d.acceleration[i] + d.bias_force[i];
   }
   for (std::size_t i = n; i-- > 0;) {  // tip to base: hinge forces
     d.tau.segment(m.v_index[i], m.nv_body[i]).noalias() = d.subspace[i].transpose() * d.hinge_force[i];
-    push_force_to_parent(m, d, i, d.hinge_force[i]);
+    if constexpr (Flex)
+      if (m.is_flexible(static_cast<int>(i)))
+        d.tau.segment(m.modal_v_index(static_cast<int>(i)), m.n_modes[i]) = flexible_data(m, d, i).modal_bias;
+    push_body_force<Flex>(m, d, i, d.hinge_force[i]);
   }
+}
+
+template <class S>
+void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* qdd, const S* f_ext) {
+  if (m.has_flexible_bodies())
+    newton_euler_sweeps<true>(m, d, q, v, qdd, f_ext, world_acceleration(m));
+  else
+    newton_euler_sweeps<false>(m, d, q, v, qdd, f_ext, world_acceleration(m));
 }
 }  // namespace detail
 

@@ -100,6 +100,18 @@ class FlexibleBodyTpl {
   // frame is parallel to the body frame. Requires 0 <= j < n_nodes().
   Transform<S> node_pose(int j, const Eigen::Ref<const VecX<S>>& eta) const;
 
+  // Motion of node j relative to the body frame, as a child body placed on
+  // the node sees it. With theta = Phi_r,j eta and R = exp([theta]x):
+  //   relative velocity (node frame)  Psi_j(eta) eta_dot,
+  //     Psi_j = [Jr(theta) Phi_r,j; R' Phi_t,j]                            (10)
+  //   velocity-product part of the relative acceleration (node frame)
+  //     [dJr/dt theta_dot; -(Jr theta_dot) x (R' Phi_t,j eta_dot)]         (11)
+  // (Jr: right Jacobian of SO(3), spatial/lie.hpp). node_subspace writes
+  // Psi_j into `subspace` (6 x n_m) and returns node_pose(j, eta). No
+  // allocation.
+  Transform<S> node_subspace(int j, const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<ModeShape<S>> subspace) const;
+  Vec6<S> node_motion_bias(int j, const Eigen::Ref<const VecX<S>>& eta, const Eigen::Ref<const VecX<S>>& eta_dot) const;
+
   // Natural frequencies (rad/s, ascending) of the body clamped at its
   // reference frame: sqrt of the generalized eigenvalues of K x = w^2 M_ee x.
   VecX<S> clamped_natural_frequencies() const;

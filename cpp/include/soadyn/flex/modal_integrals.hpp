@@ -35,6 +35,20 @@
 // spatial inertia about the body origin (inertia.hpp) for the deformed
 // shape; M_ee is constant because the modes are linear.
 //
+// Velocity terms. With w = [V; eta_dot], the body's equations of motion
+// (Euler-Poincare for the reference frame, Lagrange for eta) are
+//   M(eta) dw/dt + [dM/dt w + (V x* (M w)_V; 0)] - [0; dT/deta] = generalized force,
+// where (dM/dt) and dT/deta follow from the derivatives of (2)-(5),
+//   dE/deta_k = D_k + D_k',  D_k = sum_j m_j p_j (Phi_t,j e_k)' = A_k + sum_l eta_l B_lk,   (7)
+//   dc/deta_k = S1 e_k,      dM_we/deta_k = Q_k,
+// so that, with omega, v the halves of V and G = sum_k eta_dot_k D_k:
+//   dM/dt w = [ (tr(G + G') 1 - G - G') omega + (S1 eta_dot) x v + sum_k eta_dot_k Q_k eta_dot ;
+//               omega x (S1 eta_dot) ;
+//               sum_k eta_dot_k Q_k' omega ]                                            (8)
+//   dT/deta_k = tr(D_k) |omega|^2 - omega' D_k omega + (S1 e_k).(v x omega)
+//             + omega' Q_k eta_dot.                                                     (9)
+// Cost about 15 n_m^2 multiply-adds.
+//
 // Storage: about 13 n_m^2 + 15 n_m scalars (B_kl dominates); evaluation of
 // M(eta): about 12 n_m^2 multiply-adds plus copying the constant blocks.
 #pragma once
@@ -66,6 +80,14 @@ struct ModalIntegrals {
   // out = M(eta), (6 + n_m) square, both triangles. O(n_m^2), no allocation:
   // the recursion calls this with a block of its preallocated Data.
   void augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<MatX<S>> out) const;
+
+  // out = [D_0 ... D_{n_m-1}] of Eq. (7), 3 x 3n_m. No allocation.
+  void second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<MatX<S>> out) const;
+
+  // out (6 + n_m) = dM/dt w + [V x* (M w)_V; 0] - [0; dT/deta], Eqs. (7)-(9),
+  // given `mass` = M(eta) and `rates` = Eq. (7) at eta. No allocation.
+  void inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, const Vec6<S>& V, const Eigen::Ref<const MatX<S>>& mass,
+                     const Eigen::Ref<const MatX<S>>& rates, Eigen::Ref<VecX<S>> out) const;
 };
 
 // M_ee of Eq. (6) straight from the nodes (also used to validate them).

@@ -112,4 +112,50 @@ void ModalIntegrals<S>::augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& e
   out.bottomRightCorner(n, n) = modal_mass;
 }
 
+template <class S>
+void ModalIntegrals<S>::second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<MatX<S>> out) const {
+  const int n = n_modes;
+  out = second_moment_linear;  // A_k
+  for (int l = 0; l < n; ++l)  // + eta_l B_lk
+    for (int k = 0; k < n; ++k)
+      out.template middleCols<3>(3 * k) += eta[l] * second_moment_quadratic.template middleCols<3>(3 * (l * n + k));
+}
+
+template <class S>
+void ModalIntegrals<S>::inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, const Vec6<S>& V,
+                                      const Eigen::Ref<const MatX<S>>& mass, const Eigen::Ref<const MatX<S>>& rates,
+                                      Eigen::Ref<VecX<S>> out) const {
+  const int n = n_modes;
+  const Vec3<S> omega = V.template head<3>(), v = V.template tail<3>();
+  Mat3<S> G = Mat3<S>::Zero();
+  Vec3<S> coupling_rate = Vec3<S>::Zero();  // sum_k eta_dot_k Q_k eta_dot
+  Vec3<S> Qk_eta_dot;
+  for (int k = 0; k < n; ++k) {
+    G += eta_dot[k] * rates.template middleCols<3>(3 * k);
+    Qk_eta_dot.noalias() = angular_coupling_linear.middleCols(k * n, n) * eta_dot;
+    coupling_rate += eta_dot[k] * Qk_eta_dot;
+  }
+  const Mat3<S> E_rate = G + G.transpose();
+  const Vec3<S> c_rate = modal_first_moment * eta_dot;
+  // Eq. (8), rigid rows, plus the gyroscopic term V x* (M w)_V.
+  Vec6<S> momentum;
+  momentum.noalias() = mass.template topLeftCorner<6, 6>() * V;
+  momentum.noalias() += mass.topRightCorner(6, n) * eta_dot;
+  out.template head<3>() = E_rate.trace() * omega - E_rate * omega + c_rate.cross(v) + coupling_rate;
+  out.template segment<3>(3) = omega.cross(c_rate);
+  out.template head<6>() += force_cross(V, momentum);
+  // Eq. (8), modal rows, minus Eq. (9).
+  const S omega2 = omega.squaredNorm();
+  const Vec3<S> v_cross_omega = v.cross(omega);
+  for (int k = 0; k < n; ++k) {
+    const auto Qk = angular_coupling_linear.middleCols(k * n, n);
+    const auto Dk = rates.template middleCols<3>(3 * k);
+    Qk_eta_dot.noalias() = Qk * eta_dot;
+    out[6 + k] = -(Dk.trace() * omega2 - omega.dot(Dk * omega) + modal_first_moment.col(k).dot(v_cross_omega) +
+                   omega.dot(Qk_eta_dot));
+  }
+  for (int k = 0; k < n; ++k)
+    out.tail(n).noalias() += eta_dot[k] * (angular_coupling_linear.middleCols(k * n, n).transpose() * omega);
+}
+
 }  // namespace soadyn

@@ -133,8 +133,9 @@ struct FreeJoint {
   void fill_subspace(Mat6N<S>& s) const { s.setIdentity(); }
 };
 
-// Welds the body to its parent. Model::add_body merges such a body into its
-// parent, so a fixed joint never reaches the dynamics sweeps.
+// Welds the body to its parent. Model::add_body merges a rigid body so
+// welded into its parent; only a clamped flexible body reaches the dynamics
+// sweeps with it (no hinge DOF, modal DOFs only).
 template <class S>
 struct FixedJoint {
   static constexpr int nq = 0, nv = 0;

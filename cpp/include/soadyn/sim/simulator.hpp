@@ -87,6 +87,7 @@ class SimulatorTpl {
   Status switch_mode(int dof, Drive drive, int source, bool impulse);
   Status fire_due_events();
   void check_dof(int dof) const;
+  void check_drivable(int dof) const;  // check_dof, and not a modal DOF
 
   ModelTpl<S> model_;
   DataTpl<S> data_;

@@ -54,6 +54,11 @@ SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integra
       scalar_coordinate_[dof] = scalar;
       coordinate_of_[dof] = scalar ? model_.q_index[bi] + k : -1;
     }
+    for (int k = 0; k < model_.n_modes[bi]; ++k) {  // modal coordinates: q' = v
+      const std::size_t dof = static_cast<std::size_t>(model_.modal_v_index(b) + k);
+      scalar_coordinate_[dof] = true;
+      coordinate_of_[dof] = model_.modal_q_index(b) + k;
+    }
   }
   for (int dof = 0; dof < nv; ++dof)
     if (model_.is_prescribed(dof)) drive_[static_cast<std::size_t>(dof)] = Drive::held;
@@ -64,6 +69,14 @@ SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integra
 template <class S>
 void SimulatorTpl<S>::check_dof(int dof) const {
   if (dof < 0 || dof >= model_.nv) throw std::invalid_argument("DOF index " + std::to_string(dof) + " is out of range");
+}
+
+template <class S>
+void SimulatorTpl<S>::check_drivable(int dof) const {
+  check_dof(dof);
+  if (model_.is_modal(dof))
+    throw std::invalid_argument("DOF '" + model_.dof_names[static_cast<std::size_t>(dof)] +
+                                "' is a modal coordinate: modal DOFs are always regular and cannot be driven");
 }
 
 template <class S>
@@ -93,7 +106,7 @@ void SimulatorTpl<S>::set_input(int dof, S torque) {
 
 template <class S>
 void SimulatorTpl<S>::prescribe(int dof, MotionSource<S> source) {
-  check_dof(dof);
+  check_drivable(dof);
   if (!scalar_coordinate_[static_cast<std::size_t>(dof)])
     throw std::invalid_argument("DOF '" + model_.dof_names[static_cast<std::size_t>(dof)] +
                                 "' has no scalar coordinate (planar, spherical or free joint): it can be locked or "
@@ -105,7 +118,7 @@ void SimulatorTpl<S>::prescribe(int dof, MotionSource<S> source) {
 
 template <class S>
 int SimulatorTpl<S>::schedule(S time, EventKind kind, int dof) {
-  check_dof(dof);
+  check_drivable(dof);
   if (kind == EventKind::prescribe) throw std::invalid_argument("use schedule_prescribe for prescribe events");
   if (events_.size() >= event_capacity_) throw std::invalid_argument("event capacity exhausted");
   Event<S> e;
@@ -119,7 +132,7 @@ int SimulatorTpl<S>::schedule(S time, EventKind kind, int dof) {
 
 template <class S>
 int SimulatorTpl<S>::schedule_prescribe(S time, int dof, MotionSource<S> source) {
-  check_dof(dof);
+  check_drivable(dof);
   if (!scalar_coordinate_[static_cast<std::size_t>(dof)])
     throw std::invalid_argument("DOF '" + model_.dof_names[static_cast<std::size_t>(dof)] +
                                 "' has no scalar coordinate: it cannot be given a motion source");
@@ -132,13 +145,13 @@ int SimulatorTpl<S>::schedule_prescribe(S time, int dof, MotionSource<S> source)
 
 template <class S>
 Status SimulatorTpl<S>::lock(int dof) {
-  if (dof < 0 || dof >= model_.nv) return Status{StatusCode::invalid_dof, dof};
+  if (dof < 0 || dof >= model_.nv || model_.is_modal(dof)) return Status{StatusCode::invalid_dof, dof};
   return switch_mode(dof, Drive::held, -1, true);
 }
 
 template <class S>
 Status SimulatorTpl<S>::release(int dof) {
-  if (dof < 0 || dof >= model_.nv) return Status{StatusCode::invalid_dof, dof};
+  if (dof < 0 || dof >= model_.nv || model_.is_modal(dof)) return Status{StatusCode::invalid_dof, dof};
   return switch_mode(dof, Drive::regular, -1, false);
 }
 
@@ -213,14 +226,19 @@ void SimulatorTpl<S>::chart_rates(const VecX<S>& q, const VecX<S>& xi, const Vec
   for (std::size_t b = 0; b < static_cast<std::size_t>(model_.nbodies()); ++b) {
     const int iv = model_.v_index[b];
     chart_rate(model_.joints[b], q.data() + model_.q_index[b], xi.data() + iv, v.data() + iv, rate.data() + iv);
+    const int mv = model_.modal_v_index(static_cast<int>(b));
+    rate.segment(mv, model_.n_modes[b]) = v.segment(mv, model_.n_modes[b]);  // modal coordinates: a flat chart
   }
 }
 
 template <class S>
 void SimulatorTpl<S>::retract(const VecX<S>& xi, VecX<S>& q) const {
-  for (std::size_t b = 0; b < static_cast<std::size_t>(model_.nbodies()); ++b)
+  for (std::size_t b = 0; b < static_cast<std::size_t>(model_.nbodies()); ++b) {
     chart_retract(model_.joints[b], q0_.data() + model_.q_index[b], xi.data() + model_.v_index[b],
                   q.data() + model_.q_index[b]);
+    const int mq = model_.modal_q_index(static_cast<int>(b)), mv = model_.modal_v_index(static_cast<int>(b));
+    q.segment(mq, model_.n_modes[b]) = q0_.segment(mq, model_.n_modes[b]) + xi.segment(mv, model_.n_modes[b]);
+  }
 }
 
 // One explicit Runge-Kutta step of size h from (q_, v_) in the chart at q_

@@ -53,6 +53,45 @@ Mat3<S> so3_left_jacobian(const Vec3<S>& phi) {
   return Mat3<S>::Identity() + a * k + b * (k * k);
 }
 
+// Right Jacobian of SO(3) at theta: the body-frame angular velocity of
+// exp([theta]x) is Jr(theta) dtheta/dt,
+// Jr = I - (1 - cos t)/t^2 [theta]x + (t - sin t)/t^3 [theta]x^2 (= Jl(-theta)).
+template <class S>
+Mat3<S> so3_right_jacobian(const Vec3<S>& theta) {
+  return so3_left_jacobian(Vec3<S>(-theta));
+}
+
+// d/dt(Jr(theta)) dtheta/dt for theta moving at rate theta_dot: the
+// velocity-product part of the body-frame angular acceleration of
+// exp([theta]x). With a = (1 - cos t)/t^2, b = (t - sin t)/t^3 and
+// t' = theta.theta_dot / t:
+//   -a' t' theta x theta_dot + b' t' theta x (theta x theta_dot)
+//   + b theta_dot x (theta x theta_dot),
+// where a'(t)/t = (t sin t - 2 (1 - cos t))/t^4 and
+// b'(t)/t = (t (1 - cos t) - 3 (t - sin t))/t^5, replaced near zero by
+// their series -1/12 + t^2/180 - t^4/6720 and -1/60 + t^2/1260 - t^4/60480.
+template <class S>
+Vec3<S> so3_right_jacobian_rate(const Vec3<S>& theta, const Vec3<S>& theta_dot) {
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const S t2 = theta.squaredNorm();
+  S b, da, db;  // b(t), a'(t)/t, b'(t)/t
+  if (t2 < S(1e-3)) {
+    b = S(1) / S(6) - t2 / S(120) + t2 * t2 / S(5040);
+    da = -S(1) / S(12) + t2 / S(180) - t2 * t2 / S(6720);
+    db = -S(1) / S(60) + t2 / S(1260) - t2 * t2 / S(60480);
+  } else {
+    const S t = sqrt(t2), c = cos(t), s = sin(t);
+    b = (t - s) / (t2 * t);
+    da = (t * s - S(2) * (S(1) - c)) / (t2 * t2);
+    db = (t * (S(1) - c) - S(3) * (t - s)) / (t2 * t2 * t);
+  }
+  const S along = theta.dot(theta_dot);  // t t'
+  const Vec3<S> cross = theta.cross(theta_dot);
+  return -da * along * cross + db * along * theta.cross(cross) + b * theta_dot.cross(cross);
+}
+
 // Inverse right Jacobian of SO(3): I + [xi]x/2 + (1/t^2 - (1 + cos t)/(2 t sin t)) [xi]x^2.
 template <class S>
 Mat3<S> so3_right_jacobian_inverse(const Vec3<S>& xi) {
