@@ -53,13 +53,22 @@ class Simulator(_Simulator):
         """Drive the DOF by `source` from now on (positions continuous; a velocity jump is an impulse)."""
         self._prescribe(self._one_dof(dof), source)
 
+    def _drivable(self, dof) -> list[int]:
+        dofs = self._dofs(dof)
+        modal = self._model.modal
+        for k in dofs:
+            if modal[k]:
+                raise ValueError(f"DOF '{self._model.dof_names[k]}' is a modal coordinate: "
+                                 "modal DOFs are always regular and cannot be locked or released")
+        return dofs
+
     def lock(self, dof) -> None:
         """Stop the DOF(s) now with the impulse that brings them to rest (see energy_lost)."""
-        for k in self._dofs(dof):
+        for k in self._drivable(dof):
             self._lock(k)
 
     def release(self, dof) -> None:
-        for k in self._dofs(dof):
+        for k in self._drivable(dof):
             self._release(k)
 
     def schedule(self, t: float, kind: str, dof, source: MotionSource | None = None) -> None:
