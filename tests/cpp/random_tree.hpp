@@ -210,9 +210,26 @@ inline std::vector<bool> random_mask(int nv, Random& rng, double p_prescribed) {
   return mask;
 }
 
+// Modal DOFs are always regular: the mask applies to hinge DOFs only.
 template <class S>
 void apply_mask(soadyn::ModelTpl<S>& model, const std::vector<bool>& mask) {
-  for (int dof = 0; dof < model.nv; ++dof) model.set_prescribed(dof, mask[static_cast<std::size_t>(dof)]);
+  for (int dof = 0; dof < model.nv; ++dof)
+    model.set_prescribed(dof, mask[static_cast<std::size_t>(dof)] && !model.is_modal(dof));
+}
+
+// Adds flexible bodies to a model of at least four bodies: a hinged beam on
+// body 3 with a rigid tool and a second beam (ball joint) on its tip, and a
+// beam clamped to body 1: every way of attaching flexible bodies.
+template <class S>
+void add_flexible_bodies(soadyn::ModelTpl<S>& model) {
+  const soadyn::FlexibleBodyTpl<S> beam = soadyn::cantilever_beam<S>(S(0.5), S(2), S(1), 2, 12);
+  const soadyn::Transform<S> offset = soadyn::Transform<S>::Identity();
+  model.add_flexible_body("flex_arm", model.body_names[3], soadyn::RevoluteJoint<S>{soadyn::Vec3<S>::UnitZ()}, offset,
+                          beam);
+  model.add_body("flex_tool", "flex_arm:tip", soadyn::RevoluteJoint<S>{soadyn::Vec3<S>::UnitY()}, offset, S(0.4),
+                 soadyn::Vec3<S>(S(0.05), S(0), S(0)), soadyn::Mat3<S>(soadyn::Mat3<S>::Identity() * S(1e-3)));
+  model.add_flexible_body("flex_tip", "flex_arm:tip", soadyn::SphericalJoint<S>{}, offset, beam);
+  model.add_flexible_body("flex_panel", model.body_names[1], soadyn::FixedJoint<S>{}, offset, beam);
 }
 
 }  // namespace soadyn_test

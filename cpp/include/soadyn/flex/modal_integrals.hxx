@@ -125,37 +125,37 @@ template <class S>
 void ModalIntegrals<S>::inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, const Vec6<S>& V,
                                       const Eigen::Ref<const MatX<S>>& mass, const Eigen::Ref<const MatX<S>>& rates,
                                       Eigen::Ref<VecX<S>> out) const {
+  // Loops over fixed-size 3-vectors (q_kl: column l of Q_k): no dynamic temporaries.
   const int n = n_modes;
   const Vec3<S> omega = V.template head<3>(), v = V.template tail<3>();
-  Mat3<S> G = Mat3<S>::Zero();
-  Vec3<S> coupling_rate = Vec3<S>::Zero();  // sum_k eta_dot_k Q_k eta_dot
-  Vec3<S> Qk_eta_dot;
+  const Vec3<S> v_cross_omega = v.cross(omega);
+  const S omega2 = omega.squaredNorm();
+  Mat3<S> G = Mat3<S>::Zero();                                 // sum_k eta_dot_k D_k
+  Vec3<S> c_rate = Vec3<S>::Zero();                            // S1 eta_dot
+  Vec6<S> momentum = mass.template topLeftCorner<6, 6>() * V;  // (M w)_V
   for (int k = 0; k < n; ++k) {
-    G += eta_dot[k] * rates.template middleCols<3>(3 * k);
-    Qk_eta_dot.noalias() = angular_coupling_linear.middleCols(k * n, n) * eta_dot;
-    coupling_rate += eta_dot[k] * Qk_eta_dot;
+    const Mat3<S> Dk = rates.template middleCols<3>(3 * k);
+    G += eta_dot[k] * Dk;
+    c_rate += eta_dot[k] * modal_first_moment.col(k);
+    momentum += eta_dot[k] * mass.template block<6, 1>(0, 6 + k);
+    // Eq. (9) without its last term, which the double loop below subtracts.
+    out[6 + k] = -(Dk.trace() * omega2 - omega.dot(Dk * omega) + modal_first_moment.col(k).dot(v_cross_omega));
+  }
+  Vec3<S> coupling_rate = Vec3<S>::Zero();  // sum_k eta_dot_k Q_k eta_dot
+  for (int k = 0; k < n; ++k) {
+    for (int l = 0; l < n; ++l) {
+      const Vec3<S> q_kl = angular_coupling_linear.template block<3, 1>(0, k * n + l);
+      const S q_omega = q_kl.dot(omega);
+      coupling_rate += (eta_dot[k] * eta_dot[l]) * q_kl;
+      out[6 + l] += eta_dot[k] * q_omega;  // Eq. (8), modal rows: sum_k eta_dot_k Q_k' omega
+      out[6 + k] -= eta_dot[l] * q_omega;  // Eq. (9): omega' Q_k eta_dot
+    }
   }
   const Mat3<S> E_rate = G + G.transpose();
-  const Vec3<S> c_rate = modal_first_moment * eta_dot;
   // Eq. (8), rigid rows, plus the gyroscopic term V x* (M w)_V.
-  Vec6<S> momentum;
-  momentum.noalias() = mass.template topLeftCorner<6, 6>() * V;
-  momentum.noalias() += mass.topRightCorner(6, n) * eta_dot;
   out.template head<3>() = E_rate.trace() * omega - E_rate * omega + c_rate.cross(v) + coupling_rate;
   out.template segment<3>(3) = omega.cross(c_rate);
   out.template head<6>() += force_cross(V, momentum);
-  // Eq. (8), modal rows, minus Eq. (9).
-  const S omega2 = omega.squaredNorm();
-  const Vec3<S> v_cross_omega = v.cross(omega);
-  for (int k = 0; k < n; ++k) {
-    const auto Qk = angular_coupling_linear.middleCols(k * n, n);
-    const auto Dk = rates.template middleCols<3>(3 * k);
-    Qk_eta_dot.noalias() = Qk * eta_dot;
-    out[6 + k] = -(Dk.trace() * omega2 - omega.dot(Dk * omega) + modal_first_moment.col(k).dot(v_cross_omega) +
-                   omega.dot(Qk_eta_dot));
-  }
-  for (int k = 0; k < n; ++k)
-    out.tail(n).noalias() += eta_dot[k] * (angular_coupling_linear.middleCols(k * n, n).transpose() * omega);
 }
 
 }  // namespace soadyn
