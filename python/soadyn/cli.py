@@ -15,6 +15,9 @@ def main(argv: list[str] | None = None) -> int:
     demo.add_argument("--scene", default="cassini", choices=["cassini"], help="built-in scene (default cassini)")
     demo.add_argument("--duration", type=float, default=2.0, help="simulated seconds (default 2)")
     demo.add_argument("--dt", type=float, default=1e-3, help="step in seconds (default 0.001)")
+    demo.add_argument("--boom-duration", type=float, default=20.0,
+                      help="simulated seconds of the boom-vibration run after a gimbal step (default 20; 0 skips it)")
+    demo.add_argument("--plot", metavar="OUT.png", help="plot the booms' tip deflections (needs matplotlib)")
     check = sub.add_parser("check", help="compare soadyn with DART and Pinocchio on a URDF")
     check.add_argument("urdf", help="path of the URDF file")
     check.add_argument("--floating", action="store_true", help="add a free-floating root joint")
@@ -30,9 +33,19 @@ def main(argv: list[str] | None = None) -> int:
         return run_hil_command(args, hil_parser)
     if not (args.duration > 0 and args.dt > 0):
         parser.error("--duration and --dt must be positive")
+    if not args.boom_duration >= 0:
+        parser.error("--boom-duration must not be negative")
     model = scenes.SCENES[args.scene]()
     print(describe_scene(args.scene, model))
     print(format_result(run_demo(model, args.duration, args.dt)))
+    if args.boom_duration > 0:
+        from .boom_vibration import format_response, gimbal_step_response, plot_response
+
+        response = gimbal_step_response(scenes.SCENES[args.scene](), duration=args.boom_duration, dt=args.dt)
+        print(format_response(response))
+        if args.plot:
+            plot_response(response, args.plot)
+            print(f"plot written to {args.plot}")
     return 0
 
 
