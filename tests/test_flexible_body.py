@@ -6,6 +6,7 @@ import pytest
 
 import soadyn
 from soadyn import FlexibleBody
+from flexible_trees import rodrigues, skew
 
 # beta_i L of the clamped-free beam, roots of 1 + cos x cosh x = 0
 # (Blevins, "Formulas for natural frequency and mode shape", table 8-1).
@@ -21,18 +22,6 @@ def euler_bernoulli_frequencies(beta_l, length, EI, mass_per_length):
 def distinct_clamped_frequencies(body):
     """The beam's modes come in equal pairs (x-y and x-z planes, interleaved)."""
     return body.natural_frequencies_clamped()[::2]
-
-
-def skew(p):
-    return np.array([[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]])
-
-
-def rodrigues(phi):
-    theta = np.linalg.norm(phi)
-    if theta == 0.0:
-        return np.eye(3)
-    k = skew(phi / theta)
-    return np.eye(3) + np.sin(theta) * k + (1.0 - np.cos(theta)) * k @ k
 
 
 def assembled_mass_matrix(body, eta):
