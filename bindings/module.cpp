@@ -6,6 +6,7 @@ void bind_algorithms(pybind11::module_& mod);
 void bind_simulator(pybind11::module_& mod);
 void bind_hil(pybind11::module_& mod);
 void bind_flexible_body(pybind11::module_& mod);
+void bind_timing(pybind11::module_& mod);
 }  // namespace soadyn_py
 
 PYBIND11_MODULE(_soadyn, mod) {
@@ -15,4 +16,5 @@ PYBIND11_MODULE(_soadyn, mod) {
   soadyn_py::bind_simulator(mod);
   soadyn_py::bind_hil(mod);
   soadyn_py::bind_flexible_body(mod);
+  soadyn_py::bind_timing(mod);
 }

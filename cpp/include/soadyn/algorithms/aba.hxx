@@ -41,10 +41,11 @@ Status articulated_body_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, 
   }
   for (std::size_t i = 0; i < n; ++i) {  // base to tip (seed Eq. 29)
     const Vec6<S> alpha_plus = body_parent_acceleration<Flex>(m, d, i, world_acc, d.qdd.data());
-    auto qdd = d.qdd.segment(m.v_index[i], m.nv_body[i]);
-    qdd.noalias() = d.innovation[i] - d.gain[i].transpose() * alpha_plus;
+    const Eigen::Index ni = m.nv_body[i];
+    S* qdd = d.qdd.data() + m.v_index[i];
+    for (Eigen::Index k = 0; k < ni; ++k) qdd[k] = d.innovation[i][k] - d.gain[i].col(k).dot(alpha_plus);
     d.acceleration[i] = alpha_plus + d.coriolis[i];
-    d.acceleration[i].noalias() += d.subspace[i] * qdd;
+    if (ni > 0) d.acceleration[i] += subspace_times(d.subspace[i], qdd);
     if constexpr (Flex)
       if (m.is_flexible(static_cast<int>(i))) modal_accelerations(m, d, i, tau.data());
   }

@@ -68,7 +68,7 @@ inline void body_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
   if constexpr (Flex) {
     if (m.attachment_node[i] >= 0) {
       const int p = m.parent[i];
-      const Vec6<S> joint_velocity = d.subspace[i] * Eigen::Map<const VecN<S>>(v + m.v_index[i], m.nv_body[i]);
+      const Vec6<S> joint_velocity = subspace_times(d.subspace[i], v + m.v_index[i]);
       const Vec6<S> carried = d.pose_in_parent[i].motion_to_child(d.velocity[static_cast<std::size_t>(p)]);
       Vec6<S> deformation;
       deformation.noalias() = d.attachment_subspace[i] * modal_velocities(m, p, v);

@@ -12,7 +12,7 @@ template <class S>
 inline Vec6<S> prescribed_hinge_acceleration(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i, const S* u) {
   const HingeModes& h = m.modes[i];
   const S* ui = u + m.v_index[i];
-  if (h.n_regular == 0) return d.subspace[i] * Eigen::Map<const VecN<S>>(ui, m.nv_body[i]);
+  if (h.n_regular == 0) return subspace_times(d.subspace[i], ui);
   Vec6<S> a = Vec6<S>::Zero();
   for (int k = 0; k < h.n_prescribed; ++k) a += d.subspace[i].col(h.prescribed[k]) * ui[h.prescribed[k]];
   return a;
@@ -78,7 +78,7 @@ inline void articulated_body_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::s
   auto qdd = d.qdd.segment(vi, ni);
   auto tau = d.tau.segment(vi, ni);
   if (h.n_prescribed == 0) {  // the articulated-body case: no gather, no scatter
-    qdd.noalias() = d.innovation[i] - d.gain[i].transpose() * alpha_plus;
+    for (int k = 0; k < ni; ++k) qdd[k] = d.innovation[i][k] - d.gain[i].col(k).dot(alpha_plus);
     tau = Eigen::Map<const VecN<S>>(u + vi, ni);
   } else if (h.n_regular > 0) {  // qdd_r = nu - G* alpha+
     const VecN<S> qdd_r = d.innovation[i] - d.gain[i].transpose() * alpha_plus;
@@ -90,7 +90,7 @@ inline void articulated_body_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::s
   for (int k = 0; k < h.n_prescribed; ++k) qdd[h.prescribed[k]] = u[vi + h.prescribed[k]];
   // alpha = alpha+ + H* qdd + a
   d.acceleration[i] = alpha_plus + d.coriolis[i];
-  d.acceleration[i].noalias() += d.subspace[i] * qdd;
+  if (ni > 0) d.acceleration[i] += subspace_times(d.subspace[i], qdd);
   if (h.n_prescribed > 0 || want_force) {  // f = P alpha + z, T_p = H f
     d.hinge_force[i] = d.articulated_inertia[i] * d.acceleration[i] + d.articulated_bias[i];
     for (int k = 0; k < h.n_prescribed; ++k)
@@ -117,7 +117,7 @@ Status hybrid_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v
       init_articulated<Flex>(m, d, i);
     } else {  // neither flexible nor on a flexible body (those need P)
       d.acceleration[i] = parent_acceleration(m, d, i, world_acc) + d.coriolis[i];
-      d.acceleration[i].noalias() += d.subspace[i] * Eigen::Map<const VecN<S>>(up + m.v_index[i], m.nv_body[i]);
+      d.acceleration[i] += subspace_times(d.subspace[i], up + m.v_index[i]);
       d.hinge_force[i] = m.inertia[i] * d.acceleration[i] + d.bias_force[i];
     }
   }
@@ -128,7 +128,7 @@ Status hybrid_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v
     } else {  // Newton-Euler: T = H f, f(parent) += phi f
       const int vi = m.v_index[i], ni = m.nv_body[i];
       d.qdd.segment(vi, ni) = u.segment(vi, ni);
-      d.tau.segment(vi, ni).noalias() = d.subspace[i].transpose() * d.hinge_force[i];
+      subspace_transpose_times(d.subspace[i], d.hinge_force[i], d.tau.segment(vi, ni));
       push_force_to_parent(m, d, i, d.hinge_force[i]);
     }
   }

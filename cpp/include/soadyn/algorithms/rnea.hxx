@@ -15,7 +15,7 @@ void newton_euler_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
     body_joint_step<Flex>(m, d, i, q, v);
     body_motion_step<Flex>(m, d, i, q, v, f_ext);
     d.acceleration[i] = body_parent_acceleration<Flex>(m, d, i, world_acc, qdd) + d.coriolis[i];
-    if (qdd) d.acceleration[i].noalias() += d.subspace[i] * Eigen::Map<const VecN<S>>(qdd + m.v_index[i], m.nv_body[i]);
+    if (qdd) d.acceleration[i] += subspace_times(d.subspace[i], qdd + m.v_index[i]);
     if constexpr (Flex) {
       if (m.is_flexible(static_cast<int>(i))) {
         flexible_newton_euler(m, d, i, qdd);
@@ -25,7 +25,7 @@ void newton_euler_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
     d.hinge_force[i] = m.inertia[i] * d.acceleration[i] + d.bias_force[i];
   }
   for (std::size_t i = n; i-- > 0;) {  // tip to base: hinge forces
-    d.tau.segment(m.v_index[i], m.nv_body[i]).noalias() = d.subspace[i].transpose() * d.hinge_force[i];
+    subspace_transpose_times(d.subspace[i], d.hinge_force[i], d.tau.segment(m.v_index[i], m.nv_body[i]));
     if constexpr (Flex)
       if (m.is_flexible(static_cast<int>(i)))
         d.tau.segment(m.modal_v_index(static_cast<int>(i)), m.n_modes[i]) = flexible_data(m, d, i).modal_bias;

@@ -28,6 +28,26 @@ Vec6<S> world_acceleration(const ModelTpl<S>& m) {
   return a;
 }
 
+// S x for a hinge subspace S (6 x n, n <= 6) and n values x, column by
+// column with fixed-size vectors (no dynamic-size product for 1-6 columns).
+template <class S, class Derived>
+inline Vec6<S> subspace_times(const Mat6N<S>& s, const Eigen::MatrixBase<Derived>& x) {
+  Vec6<S> r = s.col(0) * x[0];
+  for (Eigen::Index k = 1; k < s.cols(); ++k) r += s.col(k) * x[k];
+  return r;
+}
+template <class S>
+inline Vec6<S> subspace_times(const Mat6N<S>& s, const S* x) {
+  if (s.cols() == 0) return Vec6<S>::Zero();
+  return subspace_times(s, Eigen::Map<const VecN<S>>(x, s.cols()));
+}
+
+// out = S' f (n values), column by column.
+template <class S, class Derived>
+inline void subspace_transpose_times(const Mat6N<S>& s, const Vec6<S>& f, Eigen::MatrixBase<Derived>&& out) {
+  for (Eigen::Index k = 0; k < s.cols(); ++k) out[k] = s.col(k).dot(f);
+}
+
 // Joint transform, motion subspace and joint bias of body i.
 template <class S>
 inline void joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
@@ -42,7 +62,7 @@ inline void joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const
 template <class S>
 inline void velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v) {
   const int p = m.parent[i];
-  const Vec6<S> joint_velocity = d.subspace[i] * Eigen::Map<const VecN<S>>(v + m.v_index[i], m.nv_body[i]);
+  const Vec6<S> joint_velocity = subspace_times(d.subspace[i], v + m.v_index[i]);
   if (p >= 0)
     d.velocity[i] = d.pose_in_parent[i].motion_to_child(d.velocity[static_cast<std::size_t>(p)]) + joint_velocity;
   else
@@ -104,15 +124,24 @@ inline S singular_pivot_threshold(const Mat6<S>& P) {
 template <class S>
 inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z, VecN<S>& eps,
                                   Mat6N<S>& G, VecN<S>& nu, Mat6<S>& P_plus, Vec6<S>& z_plus) {
-  const Mat6N<S> U = P * Sr;  // 6 x nr
   const S threshold = singular_pivot_threshold(P);
-  eps.noalias() -= Sr.transpose() * z;
-  if (Sr.cols() == 1) {  // the common case: a scalar D
-    const S D = Sr.col(0).dot(U.col(0));
+  if (Sr.cols() == 1) {  // the common case, in fixed-size arithmetic: a scalar D
+    const Vec6<S> u = P * Sr.col(0);
+    const S D = Sr.col(0).dot(u);
     if (!(D > threshold)) return 0;
-    G = U / D;
-    nu = eps / D;
-  } else {
+    const Vec6<S> g = u / D;
+    const S e = eps[0] - Sr.col(0).dot(z);
+    eps[0] = e;
+    G.col(0) = g;
+    nu[0] = e / D;
+    P_plus = P;
+    P_plus.noalias() -= g * u.transpose();
+    z_plus = z + g * e;
+    return -1;
+  }
+  const Mat6N<S> U = P * Sr;  // 6 x nr
+  eps.noalias() -= Sr.transpose() * z;
+  {
     const MatN<S> D = Sr.transpose() * U;
     const Eigen::LLT<MatN<S>> llt(D);
     if (llt.info() != Eigen::Success) return 0;

@@ -1,0 +1,75 @@
+// Timing loops for bench/: an algorithm called in C++ on a pool of states,
+// timed with the protocol of ../shared/tools/peer_bench (median of 7
+// repetitions of `calls` calls cycling through the states), so C++ timings
+// of models loaded in Python (URDF) compare with Pinocchio's C++ timings.
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "arrays.hpp"
+#include "model_handle.hpp"
+#include "soadyn/soadyn.hpp"
+
+namespace soadyn_py {
+
+namespace {
+
+using Vector = Eigen::VectorXd;
+
+double median_microseconds_per_call(const std::function<void(int)>& call, int calls, int repetitions) {
+  std::vector<double> per_call;
+  for (int rep = 0; rep < repetitions; ++rep) {
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < calls; ++i) call(i);
+    per_call.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() / calls);
+  }
+  std::sort(per_call.begin(), per_call.end());
+  return per_call[per_call.size() / 2];
+}
+
+std::vector<Vector> rows(const Array& a, py::ssize_t width, const char* name) {
+  if (a.ndim() != 2 || a.shape(1) != width || a.shape(0) < 1)
+    throw py::value_error(std::string(name) + " must have shape (states, " + std::to_string(width) + ")");
+  std::vector<Vector> out;
+  for (py::ssize_t k = 0; k < a.shape(0); ++k) out.emplace_back(Eigen::Map<const Vector>(a.data(k, 0), width));
+  return out;
+}
+
+}  // namespace
+
+void bind_timing(py::module_& mod) {
+  mod.def("_time_cpp",
+      [](ModelHandle& h, const std::string& algorithm, const Array& q, const Array& v, const Array& u, int calls,
+         int repetitions) {
+        const soadyn::Model& m = h.model;
+        const std::vector<Vector> qs = rows(q, m.nq, "q"), vs = rows(v, m.nv, "v"), us = rows(u, m.nv, "u");
+        if (calls < 1 || repetitions < 1) throw py::value_error("calls and repetitions must be positive");
+        const int n = static_cast<int>(qs.size());
+        py::gil_scoped_release release;
+        std::lock_guard<std::mutex> lock(h.mutex);
+        soadyn::Data& d = h.scratch();
+        std::function<void(int)> call;
+        if (algorithm == "hybrid")
+          call = [&](int i) { soadyn::hybrid_dynamics<double>(m, d, qs[i % n], vs[i % n], us[i % n]); };
+        else if (algorithm == "aba")
+          call = [&](int i) { soadyn::forward_dynamics<double>(m, d, qs[i % n], vs[i % n], us[i % n]); };
+        else if (algorithm == "rnea")
+          call = [&](int i) { soadyn::inverse_dynamics<double>(m, d, qs[i % n], vs[i % n], us[i % n]); };
+        else if (algorithm == "crba")
+          call = [&](int i) { soadyn::mass_matrix<double>(m, d, qs[i % n]); };
+        else
+          throw std::invalid_argument("unknown algorithm '" + algorithm + "' (hybrid, aba, rnea, crba)");
+        return median_microseconds_per_call(call, calls, repetitions);
+      },
+      py::arg("model"), py::arg("algorithm"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("calls") = 20000,
+      py::arg("repetitions") = 7,
+      "Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea' or 'crba' over the given\n"
+      "states (rows), `calls` calls per repetition. For benchmarks; the GIL is released.");
+}
+
+}  // namespace soadyn_py
