@@ -37,16 +37,6 @@ constexpr int kRounds = 10;                 // passes over all models
 // Models
 // ---------------------------------------------------------------------------
 
-// A 7-DOF revolute arm: axes alternate z / y, links of 0.3 m along z.
-TreeSpec arm_spec() {
-  TreeSpec arm = soadyn_test::chain_spec(std::vector<JointKind>(7, JointKind::revolute), 7);
-  for (std::size_t i = 0; i < arm.size(); ++i) {
-    arm[i].axis = i % 2 == 0 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
-    arm[i].rotation.setIdentity();
-    arm[i].translation = Eigen::Vector3d(0, 0, i == 0 ? 0.0 : 0.3);
-  }
-  return arm;
-}
 
 // A chain of `n` flexible beams (0.5 m, 2 bending modes per plane: 4 modal
 // DOFs each) on revolute joints alternating about z and y, each hinged at the
@@ -75,7 +65,7 @@ Case tree_case(const std::string& name, const TreeSpec& spec) {
 
 std::vector<Case> benchmark_cases() {
   return {
-      tree_case("7-DOF revolute arm", arm_spec()),
+      tree_case("7-DOF revolute arm", soadyn_test::seven_dof_arm_spec()),
       tree_case("revolute chain, 10 bodies", soadyn_test::chain_spec(std::vector<JointKind>(10, JointKind::revolute), 10)),
       tree_case("revolute chain, 100 bodies",
                 soadyn_test::chain_spec(std::vector<JointKind>(100, JointKind::revolute), 100)),

@@ -49,9 +49,19 @@ void raise_on(const soadyn::Status& s, const soadyn::Model& m) {
 
 py::array_t<double> vector_out(py::ssize_t n) { return py::array_t<double>(n); }
 
-// Runs `fn(model, data)` with the GIL released and the model's Data locked.
+// Models up to this many DOFs compute in less time than releasing and
+// re-taking the GIL costs; larger ones release it so other threads run.
+constexpr int kReleaseGilAboveDofs = 24;
+
+// Runs `fn(model, data)` with the model's Data locked, and the GIL released
+// for models large enough to make it worthwhile.
 template <class Fn>
 void run_locked(ModelHandle& h, Fn&& fn) {
+  if (h.model.nv <= kReleaseGilAboveDofs) {
+    std::lock_guard<std::mutex> lock(h.mutex);
+    fn(h.model, h.scratch());
+    return;
+  }
   py::gil_scoped_release release;
   std::lock_guard<std::mutex> lock(h.mutex);
   fn(h.model, h.scratch());

@@ -210,6 +210,17 @@ inline std::vector<bool> random_mask(int nv, Random& rng, double p_prescribed) {
   return mask;
 }
 
+// A 7-DOF revolute arm: axes alternate z / y, links of 0.3 m along z.
+inline TreeSpec seven_dof_arm_spec() {
+  TreeSpec arm = chain_spec(std::vector<JointKind>(7, JointKind::revolute), 7);
+  for (std::size_t i = 0; i < arm.size(); ++i) {
+    arm[i].axis = i % 2 == 0 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+    arm[i].rotation.setIdentity();
+    arm[i].translation = Eigen::Vector3d(0, 0, i == 0 ? 0.0 : 0.3);
+  }
+  return arm;
+}
+
 // Modal DOFs are always regular: the mask applies to hinge DOFs only.
 template <class S>
 void apply_mask(soadyn::ModelTpl<S>& model, const std::vector<bool>& mask) {

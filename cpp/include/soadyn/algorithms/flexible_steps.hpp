@@ -189,7 +189,10 @@ inline int eliminate_modal_coordinates(const ModelTpl<S>& m, DataTpl<S>& d, std:
     if (!(pivot * pivot > threshold)) return first + static_cast<int>(k);
   }
   fd.gain_transpose = fd.coupling.transpose();
-  fd.modal_factor.solveInPlace(fd.gain_transpose);
+  for (Eigen::Index c = 0; c < 6; ++c) {  // vector solves: no blocked kernel for a 6-column right-hand side
+    auto column = fd.gain_transpose.col(c);
+    fd.modal_factor.solveInPlace(column);
+  }
   fd.innovation = Eigen::Map<const VecX<S>>(u + first, n) - fd.modal_bias;
   fd.modal_factor.solveInPlace(fd.innovation);
   d.articulated_inertia[i].noalias() -= fd.coupling * fd.gain_transpose;

@@ -139,6 +139,24 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     z_plus = z + g * e;
     return -1;
   }
+  if (Sr.cols() == 6) {  // free joints: fixed-size 6 x 6 arithmetic
+    const Mat6<S> S6 = Sr;
+    const Mat6<S> U6 = P * S6;
+    Vec6<S> e = eps;
+    e.noalias() -= S6.transpose() * z;
+    const Eigen::LLT<Mat6<S>> llt(S6.transpose() * U6);
+    if (llt.info() != Eigen::Success) return 0;
+    for (int k = 0; k < 6; ++k)
+      if (!(llt.matrixLLT()(k, k) * llt.matrixLLT()(k, k) > threshold)) return k;
+    const Mat6<S> G6 = llt.solve(U6.transpose()).transpose();
+    eps = e;
+    nu = llt.solve(e);
+    G = G6;
+    P_plus = P;
+    P_plus.noalias() -= G6 * U6.transpose();
+    z_plus = z + G6 * e;
+    return -1;
+  }
   const Mat6N<S> U = P * Sr;  // 6 x nr
   eps.noalias() -= Sr.transpose() * z;
   {

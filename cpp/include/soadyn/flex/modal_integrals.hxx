@@ -75,18 +75,19 @@ Vec3<S> ModalIntegrals<S>::first_moment_at(const Eigen::Ref<const VecX<S>>& eta)
 
 template <class S>
 Mat3<S> ModalIntegrals<S>::second_moment_at(const Eigen::Ref<const VecX<S>>& eta) const {
-  // Eq. (3): E0 + sum_k eta_k (A_k + A_k') + sum_k eta_k sum_l eta_l B_kl.
-  // Cost 9 n_m^2 multiply-adds.
+  // Eq. (3): E0 + sum_k eta_k (A_k + A_k') + sum_k eta_k sum_l eta_l B_kl,
+  // the quadratic part as eta' (9 x n_m^2 block product) eta: 9 n_m^2
+  // multiply-adds in contiguous memory.
   const int n = n_modes;
+  using Mat9X = Eigen::Matrix<S, 9, Eigen::Dynamic>;
+  Eigen::Matrix<S, 9, 1> quadratic = Eigen::Matrix<S, 9, 1>::Zero(), row;
   Mat3<S> linear = Mat3<S>::Zero();
-  Mat3<S> quadratic = Mat3<S>::Zero();
   for (int k = 0; k < n; ++k) {
     linear += eta[k] * second_moment_linear.template middleCols<3>(3 * k);
-    Mat3<S> row = Mat3<S>::Zero();
-    for (int l = 0; l < n; ++l) row += eta[l] * second_moment_quadratic.template middleCols<3>(3 * (k * n + l));
+    row.noalias() = Eigen::Map<const Mat9X>(second_moment_quadratic.data() + 9 * k * n, 9, n) * eta;
     quadratic += eta[k] * row;
   }
-  const Mat3<S> E = second_moment + linear + linear.transpose() + quadratic;
+  const Mat3<S> E = second_moment + linear + linear.transpose() + Eigen::Map<const Mat3<S>>(quadratic.data());
   // E is symmetric (B_lk = B_kl'); averaging makes it so in floating point.
   return S(0.5) * (E + E.transpose());
 }
@@ -103,9 +104,10 @@ void ModalIntegrals<S>::augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& e
   out.template block<3, 3>(3, 0) = -cx;
   out.template block<3, 3>(3, 3) = mass * Mat3<S>::Identity();
   // Rigid-modal coupling: Eq. (5) for omega, S1 for v; 3 n_m^2 multiply-adds.
-  auto angular = out.block(0, 6, 3, n);
-  angular = angular_coupling;
-  for (int k = 0; k < n; ++k) angular += eta[k] * angular_coupling_linear.middleCols(k * n, n);
+  // M_we = H0 + sum_k eta_k Q_k, column by column in fixed-size 3-vectors.
+  for (int c = 0; c < n; ++c) out.template block<3, 1>(0, 6 + c) = angular_coupling.col(c);
+  for (int k = 0; k < n; ++k)
+    for (int c = 0; c < n; ++c) out.template block<3, 1>(0, 6 + c) += eta[k] * angular_coupling_linear.template block<3, 1>(0, k * n + c);
   out.block(3, 6, 3, n) = modal_first_moment;
   out.block(6, 0, n, 6) = out.block(0, 6, 6, n).transpose();
   // Modal block: Eq. (6).
@@ -114,11 +116,16 @@ void ModalIntegrals<S>::augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& e
 
 template <class S>
 void ModalIntegrals<S>::second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<MatX<S>> out) const {
+  // D_k = A_k + sum_l eta_l B_lk = A_k + (sum_l eta_l B_kl)': the B_kl of one
+  // k are 9 n_m contiguous scalars, so the sum is one 9 x n_m product.
   const int n = n_modes;
-  out = second_moment_linear;  // A_k
-  for (int l = 0; l < n; ++l)  // + eta_l B_lk
-    for (int k = 0; k < n; ++k)
-      out.template middleCols<3>(3 * k) += eta[l] * second_moment_quadratic.template middleCols<3>(3 * (l * n + k));
+  using Mat9X = Eigen::Matrix<S, 9, Eigen::Dynamic>;
+  Eigen::Matrix<S, 9, 1> sum;
+  for (int k = 0; k < n; ++k) {
+    sum.noalias() = Eigen::Map<const Mat9X>(second_moment_quadratic.data() + 9 * k * n, 9, n) * eta;
+    out.template middleCols<3>(3 * k) =
+        second_moment_linear.template middleCols<3>(3 * k) + Eigen::Map<const Mat3<S>>(sum.data()).transpose();
+  }
 }
 
 template <class S>
