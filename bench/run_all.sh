@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Every benchmark in one command; writes bench/results/ (markdown tables and
+# PNG plots). Run from the venv made by the README's test command (it has
+# cmake, ninja, pin, dartpy and example-robot-data):
+#   bash bench/run_all.sh            (about 10 minutes on 2 cores)
+# Pinocchio's C++ timings come from ../shared/tools/peer_bench (built on first
+# use). Timings are never asserted anywhere; compare ratios measured in the
+# same run.
+set -euo pipefail
+repo="$(cd "$(dirname "$0")/.." && pwd)"
+cd "$repo"
+bash bench/run_core.sh                                   # results/core.md (also configures build/bench)
+cmake --build build/bench --target bench_work_precision -j2
+python bench/bench_work_precision.py build/bench/bench/bench_work_precision   # results/work_precision.*
+python bench/bench_scaling.py                            # results/scaling.*
+python bench/bench_robots.py                             # results/robots.md
+soadyn hil --scene cassini --rate 1000 --duration 10 --integrator rk4 --no-progress \
+  --report bench/results/hil_cassini.json --plot bench/results/hil_cassini.png | tee bench/results/hil_cassini.txt
+echo "bench/results/ updated"
