@@ -22,8 +22,7 @@ struct FlexibleBodyData {
   VecX<S> bias;                   // inertial bias (6 + n_m), modal_integrals.hpp
   VecX<S> modal_bias;             // modal rows of the body's bias; then of z (articulated) or the modal force (RNEA)
   Mat6X<S> coupling;              // rigid-modal block of the articulated inertia (6 x n_m)
-  MatX<S> modal_inertia;          // modal block of the articulated inertia (n_m x n_m)
-  Eigen::LLT<MatX<S>> modal_factor;  // of modal_inertia
+  MatX<S> modal_inertia;          // modal block of the articulated inertia (n_m x n_m); its Cholesky factor after elimination
   MatX<S> gain_transpose;         // modal_inertia^-1 coupling' (n_m x 6)
   VecX<S> innovation;             // modal_inertia^-1 (u_modal - modal rows of z)
 };

@@ -11,7 +11,6 @@ FlexibleBodyData<S>::FlexibleBodyData(int n)
       modal_bias(VecX<S>::Zero(n)),
       coupling(Mat6X<S>::Zero(6, n)),
       modal_inertia(MatX<S>::Zero(n, n)),
-      modal_factor(n),
       gain_transpose(MatX<S>::Zero(n, 6)),
       innovation(VecX<S>::Zero(n)) {}
 

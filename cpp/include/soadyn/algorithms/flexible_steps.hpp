@@ -21,6 +21,7 @@
 // and the hinge is then processed exactly as for a rigid body with (P^, z^);
 // in the outward sweep eta_ddot = P_ee^-1 (u_modal - z_e) - P_ee^-1 P_eV alpha(k).
 #pragma once
+#include "soadyn/algorithms/small_cholesky.hpp"
 #include "soadyn/algorithms/steps.hpp"
 
 namespace soadyn {
@@ -181,22 +182,18 @@ inline int eliminate_modal_coordinates(const ModelTpl<S>& m, DataTpl<S>& d, std:
   FlexibleBodyData<S>& fd = flexible_data(m, d, i);
   const int first = m.modal_v_index(static_cast<int>(i));
   const Eigen::Index n = fd.modal_bias.size();
-  fd.modal_factor.compute(fd.modal_inertia);
-  if (fd.modal_factor.info() != Eigen::Success) return first;
   const S threshold = S(16) * std::numeric_limits<S>::epsilon() * fd.modal_inertia.diagonal().cwiseAbs().maxCoeff();
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const S pivot = fd.modal_factor.matrixLLT()(k, k);
-    if (!(pivot * pivot > threshold)) return first + static_cast<int>(k);
-  }
+  const int bad = cholesky_in_place(fd.modal_inertia, threshold);  // P_ee = L L', in place
+  if (bad >= 0) return first + bad;
   fd.gain_transpose = fd.coupling.transpose();
-  for (Eigen::Index c = 0; c < 6; ++c) {  // vector solves: no blocked kernel for a 6-column right-hand side
-    auto column = fd.gain_transpose.col(c);
-    fd.modal_factor.solveInPlace(column);
-  }
+  for (Eigen::Index c = 0; c < 6; ++c) cholesky_solve_in_place(fd.modal_inertia, fd.gain_transpose.col(c).data());
   fd.innovation = Eigen::Map<const VecX<S>>(u + first, n) - fd.modal_bias;
-  fd.modal_factor.solveInPlace(fd.innovation);
-  d.articulated_inertia[i].noalias() -= fd.coupling * fd.gain_transpose;
-  d.articulated_bias[i].noalias() += fd.coupling * fd.innovation;
+  cholesky_solve_in_place(fd.modal_inertia, fd.innovation.data());
+  for (Eigen::Index k = 0; k < n; ++k) {  // P -= coupling gain' and z += coupling innovation, as 6-vector updates
+    const Vec6<S> g = fd.gain_transpose.row(k).transpose();
+    d.articulated_inertia[i].noalias() -= fd.coupling.col(k) * g.transpose();
+    d.articulated_bias[i] += fd.innovation[k] * fd.coupling.col(k);
+  }
   return -1;
 }
 

@@ -73,13 +73,20 @@ struct Transform {
     const Mat3<S> A = R * I.template topLeftCorner<3, 3>() * R.transpose();
     const Mat3<S> B = R * I.template topRightCorner<3, 3>() * R.transpose();
     const Mat3<S> C = R * I.template bottomRightCorner<3, 3>() * R.transpose();
-    const Mat3<S> px = skew(translation);
-    const Mat3<S> top_right = B + px * C;
-    const Mat3<S> bpx = B * px;
+    // With p = translation: [p]x M is a column-wise cross product, and
+    // M [p]x = -([p]x M')' , so the shift needs X = [p]x B' and Y = [p]x C
+    // only: top-left A + X + X' - [p]x C [p]x = A + X + X' + ([p]x Y')'.
+    const Vec3<S>& p = translation;
+    Mat3<S> X, Y, Z;
+    for (int c = 0; c < 3; ++c) {
+      X.col(c) = p.cross(Vec3<S>(B.row(c).transpose()));
+      Y.col(c) = p.cross(Vec3<S>(C.col(c)));
+    }
+    for (int c = 0; c < 3; ++c) Z.col(c) = p.cross(Vec3<S>(Y.row(c).transpose()));  // Z = [p]x Y'
     Mat6<S> r;
-    r.template topLeftCorner<3, 3>() = A + px * B.transpose() - bpx - px * C * px;
-    r.template topRightCorner<3, 3>() = top_right;
-    r.template bottomLeftCorner<3, 3>() = top_right.transpose();
+    r.template topLeftCorner<3, 3>() = A + X + X.transpose() + Z.transpose();
+    r.template topRightCorner<3, 3>() = B + Y;
+    r.template bottomLeftCorner<3, 3>() = (B + Y).transpose();
     r.template bottomRightCorner<3, 3>() = C;
     return r;
   }

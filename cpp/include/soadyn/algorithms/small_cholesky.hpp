@@ -1,0 +1,49 @@
+// Cholesky factorisation and solves for the small dynamic-size blocks of the
+// recursion (a flexible body's modal block, n_m x n_m): plain loops, no
+// allocation, none of the dispatch overhead general solvers carry for
+// blocked right-hand sides at these sizes.
+#pragma once
+#include <cmath>
+#include "soadyn/spatial/types.hpp"
+
+namespace soadyn {
+
+// In place: the lower triangle of A becomes L with A = L L'. Returns the
+// index of the first pivot whose square is not above `threshold` (A not
+// positive definite to within rounding), or -1.
+template <class S>
+int cholesky_in_place(MatX<S>& A, S threshold) {
+  using std::sqrt;
+  const Eigen::Index n = A.rows();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    S d = A(j, j);
+    for (Eigen::Index k = 0; k < j; ++k) d -= A(j, k) * A(j, k);
+    if (!(d > threshold)) return static_cast<int>(j);
+    const S pivot = sqrt(d);
+    A(j, j) = pivot;
+    for (Eigen::Index i = j + 1; i < n; ++i) {
+      S x = A(i, j);
+      for (Eigen::Index k = 0; k < j; ++k) x -= A(i, k) * A(j, k);
+      A(i, j) = x / pivot;
+    }
+  }
+  return -1;
+}
+
+// x <- (L L')^-1 x for the factor of cholesky_in_place; x has L.rows() entries.
+template <class S>
+void cholesky_solve_in_place(const MatX<S>& L, S* x) {
+  const Eigen::Index n = L.rows();
+  for (Eigen::Index i = 0; i < n; ++i) {  // L y = x
+    S y = x[i];
+    for (Eigen::Index k = 0; k < i; ++k) y -= L(i, k) * x[k];
+    x[i] = y / L(i, i);
+  }
+  for (Eigen::Index i = n; i-- > 0;) {  // L' x = y
+    S y = x[i];
+    for (Eigen::Index k = i + 1; k < n; ++k) y -= L(k, i) * x[k];
+    x[i] = y / L(i, i);
+  }
+}
+
+}  // namespace soadyn
