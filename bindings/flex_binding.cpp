@@ -166,6 +166,21 @@ void bind_flexible_body(py::module_& mod) {
              return homogeneous(b.node_pose(j, eta_arg(b, eta)));
            },
            py::arg("j"), py::arg("eta"), "4x4 pose of node j in the body frame at eta.")
+      .def("node_load",
+           [](const FlexibleBody& b, int j, py::handle eta, const Eigen::Matrix<double, 6, 1>& wrench) {
+             if (j < 0 || j >= b.n_nodes())
+               throw py::index_error("node " + std::to_string(j) + " is out of range: the body has " +
+                                     std::to_string(b.n_nodes()) + " nodes");
+             if (!wrench.allFinite()) throw py::value_error("wrench is not finite");
+             Eigen::Matrix<double, 6, 1> body;
+             Eigen::VectorXd modal(b.n_modes());
+             b.node_load(j, eta_arg(b, eta), wrench, body, modal);
+             return py::make_tuple(body, modal);
+           },
+           py::arg("j"), py::arg("eta"), py::arg("wrench"),
+           "Generalized force of `wrench` = [torque; force] applied at node j (node frame) at eta: returns\n"
+           "(body_wrench, modal_forces): the wrench about the body origin in the body frame (add it to\n"
+           "f_ext[body]) and the modal forces (add them to the modal DOFs' entries of tau / u).")
       .def("natural_frequencies_clamped", &FlexibleBody::clamped_natural_frequencies,
            "Natural frequencies (rad/s, ascending) of the body clamped at its reference frame.")
       .def("__repr__", [](const FlexibleBody& b) {

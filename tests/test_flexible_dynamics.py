@@ -257,3 +257,55 @@ def test_undeformed_flexible_body_weighs_its_nodes():
     strain = 0.5 * q @ body.stiffness @ q
     gravity = -mass * np.array([0, 0, -9.81]) @ shifted
     assert soadyn.potential_energy(m, q) == pytest.approx(strain + gravity, rel=1e-12)
+
+
+def test_tip_force_deflects_the_cantilever_as_euler_bernoulli():
+    """A static force F at the tip node: K eta = Psi' w, tip deflection F L^3 / (3 EI)."""
+    L, EI, mu, F = 2.0, 50.0, 1.5, 0.7
+    body = FlexibleBody.cantilever_beam(L, EI, mu, 4, n_nodes=200)
+    tip = body.attachments["tip"]
+    body_wrench, modal = body.node_load(tip, np.zeros(body.n_modes), [0, 0, 0, 0, F, 0])
+    np.testing.assert_allclose(body_wrench, [0, 0, F * L, 0, F, 0], atol=1e-12)  # moment about the clamp
+    eta = np.linalg.solve(body.stiffness, modal)
+    deflection = body.mode_shapes[tip][3:] @ eta
+    expected = F * L**3 / (3 * EI)
+    assert abs(deflection[1] / expected - 1) < 2e-3, deflection[1] / expected
+    assert abs(deflection[0]) < 1e-15 and abs(deflection[2]) < 1e-12 * expected
+
+
+def test_node_load_changes_momentum_and_energy_as_the_applied_force():
+    """A free-floating flexible body pushed at its tip node by a world-fixed force: the
+    rate of its linear momentum is the force, its angular momentum changes at the force's
+    moment, and its energy at the force's power on the moving tip point (the modal part of
+    the load does that work)."""
+    body = FlexibleBody.cantilever_beam(1.0, 20.0, 2.0, 2, n_nodes=30)
+    m = soadyn.Model()
+    m.gravity = [0.0, 0.0, 0.0]
+    m.add_flexible_body("beam", None, body, soadyn.Joint.free())
+    rng = np.random.default_rng(4)
+    q = soadyn.random_configuration(m, 4)
+    q[7:] = rng.uniform(-0.05, 0.05, size=body.n_modes)
+    v = rng.normal(size=m.nv)
+    world_force = np.array([0.3, -1.1, 0.6])
+    tip = body.attachments["tip"]
+
+    def tip_point(mm, qq, vv=None):
+        pose = soadyn.forward_kinematics(mm, qq)[0][0]  # (poses, velocities): the one body's 4x4 pose
+        node = body.node_pose(tip, qq[7:])
+        return pose[:3, :3] @ node[:3, 3] + pose[:3, 3], pose[:3, :3] @ node[:3, :3]
+
+    point, R_node = tip_point(m, q)
+    wrench, modal = body.node_load(tip, q[7:], np.concatenate([np.zeros(3), R_node.T @ world_force]))
+    u = np.zeros(m.nv)
+    u[6:] = modal
+    qdd = soadyn.forward_dynamics(m, q, v, u, wrench.reshape(1, 6))
+    rate = flow_derivative(lambda mm, qq, vv: soadyn.momentum(mm, qq, vv), m, q, v, qdd)
+    scale = np.abs(soadyn.momentum(m, q, v)).max()
+    np.testing.assert_allclose(rate[3:], world_force, atol=1e-6 * scale)
+    np.testing.assert_allclose(rate[:3], np.cross(point, world_force), atol=1e-6 * scale)
+    tip_velocity = flow_derivative(lambda mm, qq, vv: tip_point(mm, qq)[0], m, q, v, qdd)
+    power = world_force @ tip_velocity
+    energy_rate = flow_derivative(lambda mm, qq, vv: soadyn.kinetic_energy(mm, qq, vv) + soadyn.potential_energy(mm, qq),
+                                  m, q, v, qdd)
+    assert abs(energy_rate - power) <= 1e-6 * max(1.0, abs(power))
+    assert abs(wrench @ v[:6] + modal @ v[6:] - power) <= 1e-6 * max(1.0, abs(power))  # virtual power

@@ -112,6 +112,15 @@ class FlexibleBodyTpl {
   Transform<S> node_subspace(int j, const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<ModeShape<S>> subspace) const;
   Vec6<S> node_motion_bias(int j, const Eigen::Ref<const VecX<S>>& eta, const Eigen::Ref<const VecX<S>>& eta_dot) const;
 
+  // Generalized force of a wrench w = [torque; force] applied at node j and
+  // expressed in the node frame, at eta: by virtual power with the node's
+  // velocity X V + Psi_j eta_dot (Eq. 10), the body receives X* w about its
+  // origin (body frame; add it to the body's external wrench) and the modes
+  // Psi_j' w (add them to the modal DOFs' generalized forces). No allocation;
+  // `modal` must have n_modes() entries.
+  void node_load(int j, const Eigen::Ref<const VecX<S>>& eta, const Vec6<S>& w, Vec6<S>& body_wrench,
+                 Eigen::Ref<VecX<S>> modal) const;
+
   // Natural frequencies (rad/s, ascending) of the body clamped at its
   // reference frame: sqrt of the generalized eigenvalues of K x = w^2 M_ee x.
   VecX<S> clamped_natural_frequencies() const;

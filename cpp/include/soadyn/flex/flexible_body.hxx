@@ -233,6 +233,19 @@ Vec6<S> FlexibleBodyTpl<S>::node_motion_bias(int j, const Eigen::Ref<const VecX<
 }
 
 template <class S>
+void FlexibleBodyTpl<S>::node_load(int j, const Eigen::Ref<const VecX<S>>& eta, const Vec6<S>& w, Vec6<S>& body_wrench,
+                                   Eigen::Ref<VecX<S>> modal) const {
+  const FlexibleNode<S>& n = node(j);
+  const Transform<S> pose = node_pose(j, eta);
+  body_wrench = pose.force_to_parent(w);
+  const Mat3<S> Jr = so3_right_jacobian(Vec3<S>(n.rotation_shape() * eta));
+  const Vec3<S> torque_in_modes = Jr.transpose() * w.template head<3>();  // Psi_j' w, Eq. (10)
+  const Vec3<S> force_in_body = pose.rotation * w.template tail<3>();
+  for (int k = 0; k < n_modes(); ++k)
+    modal[k] = n.rotation_shape().col(k).dot(torque_in_modes) + n.translation_shape().col(k).dot(force_in_body);
+}
+
+template <class S>
 VecX<S> FlexibleBodyTpl<S>::clamped_natural_frequencies() const {
   using std::sqrt;
   if (n_modes() == 0) return VecX<S>();
