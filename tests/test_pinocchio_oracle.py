@@ -18,6 +18,7 @@ import pinocchio as pin
 import pytest
 
 import soadyn
+from error_log import ErrorLog
 from trees import JOINT_KINDS, random_inertia, random_rotation, random_unit
 
 RTOL = 1e-10
@@ -233,27 +234,14 @@ def make_case(seed: int, floating: bool) -> Case:
 # Comparison with error log
 # ---------------------------------------------------------------------------
 
-MAX_ERRORS: dict[str, float] = {}
-
-
-def rel_error(a, b) -> float:
-    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    assert a.shape == b.shape
-    return float(np.max(np.abs(a - b)) / max(1.0, float(np.max(np.abs(b)))))
-
-
-def check(quantity: str, soadyn_value, pin_value):
-    err = rel_error(soadyn_value, pin_value)
-    MAX_ERRORS[quantity] = max(MAX_ERRORS.get(quantity, 0.0), err)
-    assert err <= RTOL, f"{quantity}: relative error {err:.3e} > {RTOL:g}"
+LOG = ErrorLog("Pinocchio", RTOL)
+check = LOG.check
 
 
 @pytest.fixture(scope="module", autouse=True)
 def report_errors():
     yield
-    print("\nlargest relative error vs Pinocchio:")
-    for quantity, err in sorted(MAX_ERRORS.items()):
-        print(f"  {quantity:28s} {err:.3e}")
+    LOG.report()
 
 
 parametrize_cases = pytest.mark.parametrize("seed,floating", CASES, ids=CASE_IDS)
