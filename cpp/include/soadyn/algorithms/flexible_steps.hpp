@@ -49,10 +49,12 @@ inline void attachment_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, 
   const FlexibleBodyTpl<S>& parent = m.flexible_body(p);
   const auto eta = modal_coordinates(m, p, q);
   Mat6X<S>& shape = d.attachment_subspace[i];
-  const Transform<S> node = parent.node_subspace(m.attachment_node[i], eta, shape);
+  Vec6<S> node_bias;
+  const Transform<S> node =
+      parent.node_motion(m.attachment_node[i], eta, shape, v ? v + m.modal_v_index(p) : nullptr, &node_bias);
   const Transform<S> in_node = d.pose_in_parent[i];
   for (Eigen::Index c = 0; c < shape.cols(); ++c) shape.col(c) = in_node.motion_to_child(Vec6<S>(shape.col(c)));
-  if (v) d.attachment_bias[i] = in_node.motion_to_child(parent.node_motion_bias(m.attachment_node[i], eta, modal_velocities(m, p, v)));
+  if (v) d.attachment_bias[i] = in_node.motion_to_child(node_bias);
   d.pose_in_parent[i] = node * in_node;
 }
 

@@ -106,11 +106,12 @@ class FlexibleBodyTpl {
   //     Psi_j = [Jr(theta) Phi_r,j; R' Phi_t,j]                            (10)
   //   velocity-product part of the relative acceleration (node frame)
   //     [dJr/dt theta_dot; -(Jr theta_dot) x (R' Phi_t,j eta_dot)]         (11)
-  // (Jr: right Jacobian of SO(3), spatial/lie.hpp). node_subspace writes
-  // Psi_j into `subspace` (6 x n_m) and returns node_pose(j, eta). No
-  // allocation.
-  Transform<S> node_subspace(int j, const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<ModeShape<S>> subspace) const;
-  Vec6<S> node_motion_bias(int j, const Eigen::Ref<const VecX<S>>& eta, const Eigen::Ref<const VecX<S>>& eta_dot) const;
+  // (Jr: right Jacobian of SO(3), spatial/lie.hpp). node_motion writes
+  // Psi_j into `subspace` (6 x n_m), with `eta_dot` and `bias` non-null also
+  // Eq. (11) into *bias, and returns node_pose(j, eta); the rotation and Jr
+  // are computed once for both. No allocation.
+  Transform<S> node_motion(int j, const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<ModeShape<S>> subspace,
+                           const S* eta_dot = nullptr, Vec6<S>* bias = nullptr) const;
 
   // Generalized force of a wrench w = [torque; force] applied at node j and
   // expressed in the node frame, at eta: by virtual power with the node's

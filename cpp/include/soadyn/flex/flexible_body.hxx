@@ -207,29 +207,27 @@ Transform<S> FlexibleBodyTpl<S>::node_pose(int j, const Eigen::Ref<const VecX<S>
 }
 
 template <class S>
-Transform<S> FlexibleBodyTpl<S>::node_subspace(int j, const Eigen::Ref<const VecX<S>>& eta,
-                                               Eigen::Ref<ModeShape<S>> subspace) const {
+Transform<S> FlexibleBodyTpl<S>::node_motion(int j, const Eigen::Ref<const VecX<S>>& eta,
+                                             Eigen::Ref<ModeShape<S>> subspace, const S* eta_dot, Vec6<S>* bias) const {
   const FlexibleNode<S>& n = node(j);
-  const Transform<S> pose = node_pose(j, eta);
-  const Mat3<S> Jr = so3_right_jacobian(Vec3<S>(n.rotation_shape() * eta));
+  Vec3<S> theta;
+  theta.noalias() = n.rotation_shape() * eta;
+  Transform<S> pose;
+  pose.rotation = quaternion_rotation(quaternion_exp(theta).data());
+  pose.translation = n.position;
+  pose.translation.noalias() += n.translation_shape() * eta;
+  const Mat3<S> Jr = so3_right_jacobian(theta);
   subspace.template topRows<3>().noalias() = Jr * n.rotation_shape();  // Eq. (10)
   subspace.template bottomRows<3>().noalias() = pose.rotation.transpose() * n.translation_shape();
+  if (eta_dot && bias) {  // Eq. (11)
+    const Eigen::Map<const VecX<S>> rate(eta_dot, n_modes());
+    Vec3<S> theta_dot, p_dot;
+    theta_dot.noalias() = n.rotation_shape() * rate;
+    p_dot.noalias() = n.translation_shape() * rate;
+    const Vec3<S> omega = Jr * theta_dot;
+    *bias << so3_right_jacobian_rate(theta, theta_dot), -omega.cross(pose.rotation.transpose() * p_dot);
+  }
   return pose;
-}
-
-template <class S>
-Vec6<S> FlexibleBodyTpl<S>::node_motion_bias(int j, const Eigen::Ref<const VecX<S>>& eta,
-                                             const Eigen::Ref<const VecX<S>>& eta_dot) const {
-  const FlexibleNode<S>& n = node(j);
-  Vec3<S> theta, theta_dot, p_dot;
-  theta.noalias() = n.rotation_shape() * eta;
-  theta_dot.noalias() = n.rotation_shape() * eta_dot;
-  p_dot.noalias() = n.translation_shape() * eta_dot;
-  const Mat3<S> R = quaternion_rotation(quaternion_exp(theta).data());
-  const Vec3<S> omega = so3_right_jacobian(theta) * theta_dot;
-  Vec6<S> bias;  // Eq. (11)
-  bias << so3_right_jacobian_rate(theta, theta_dot), -omega.cross(R.transpose() * p_dot);
-  return bias;
 }
 
 template <class S>
