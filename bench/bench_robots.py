@@ -12,6 +12,12 @@ pin.aba, and soadyn.hybrid_dynamics against DART's hybrid dynamics with the same
 (DART: set positions, velocities and commands, computeForwardDynamics, read
 accelerations and forces; actuator types set once per mask, outside the timing).
 
+The machine is shared and its speed drifts by up to 2x within minutes, so nothing is
+compared across phases: the C++ timings run in rounds, each round timing Pinocchio (one
+peer_bench run) and then soadyn on every robot, and every ratio is the median over rounds
+of the ratio measured within a round. The Python timings interleave the libraries call
+batch by call batch the same way.
+
 Writes bench/results/robots.md. Usage: python bench/bench_robots.py [--quick]
 """
 from __future__ import annotations
@@ -63,16 +69,23 @@ def random_states(model, rng, count=STATES):
     return q, v, u
 
 
-def python_per_call_us(fn, states, calls=2000, repetitions=7):
-    q, v, u = states
-    n = len(q)
-    samples = []
+def interleaved_per_call_us(fns, calls=2000, repetitions=7):
+    """Per-call wall time (us) of each named function, the functions timed in turn within each
+    repetition. Returns {name: [sample per repetition]}."""
+    samples = {name: [] for name in fns}
     for _ in range(repetitions):
-        start = time.perf_counter()
-        for i in range(calls):
-            fn(q[i % n], v[i % n], u[i % n])
-        samples.append((time.perf_counter() - start) / calls * 1e6)
-    return float(np.median(samples))
+        for name, (fn, (q, v, u)) in fns.items():
+            n = len(q)
+            start = time.perf_counter()
+            for i in range(calls):
+                fn(q[i % n], v[i % n], u[i % n])
+            samples[name].append((time.perf_counter() - start) / calls * 1e6)
+    return samples
+
+
+def median_ratio(a, b):
+    """Median over repetitions of the ratio a/b measured within each repetition."""
+    return float(np.median(np.asarray(a) / np.asarray(b)))
 
 
 def joint_masks(model, rng, fraction):
@@ -112,36 +125,37 @@ def python_timings(name, path, floating, model, states, calls):
     pq = np.array([pin.randomConfiguration(pmodel, -np.ones(pmodel.nq), np.ones(pmodel.nq)) for _ in range(STATES)])
     rng = np.random.default_rng(5)
     pstates = (pq, rng.uniform(-1, 1, (STATES, pmodel.nv)), rng.uniform(-1, 1, (STATES, pmodel.nv)))
-    t = {"pin.aba": python_per_call_us(lambda q, v, u: pin.aba(pmodel, pdata, q, v, u), pstates, calls)}
-    t["forward_dynamics"] = python_per_call_us(lambda q, v, u: soadyn.forward_dynamics(model, q, v, u), states, calls)
-    t["hybrid regular"] = python_per_call_us(lambda q, v, u: soadyn.hybrid_dynamics(model, q, v, u), states, calls)
     mask = joint_masks(model, np.random.default_rng(11), 0.5)
-    model.set_prescribed(mask)
-    t["hybrid mixed"] = python_per_call_us(lambda q, v, u: soadyn.hybrid_dynamics(model, q, v, u), states, calls)
-    model.set_prescribed(np.zeros(model.nv, dtype=bool))
     dart = DartOracle(model, str(path), floating)
     sk = dart.skeleton
     dart._set_actuators(mask, np.zeros(model.nv))
     for tree in range(sk.getNumTrees()):
         sk.dirtyArticulatedInertia(tree)
     q, v, u = states
-    dq = np.array([dart._positions(x) for x in q])
-    dv, du = v[:, dart.v_of_dart], u[:, dart.v_of_dart]
+    dstates = (np.array([dart._positions(x) for x in q]), v[:, dart.v_of_dart], u[:, dart.v_of_dart])
 
-    def dart_call(i):
-        sk.setPositions(dq[i])
-        sk.setVelocities(dv[i])
-        sk.setCommands(du[i])
+    def dart_call(q, v, u):
+        sk.setPositions(q)
+        sk.setVelocities(v)
+        sk.setCommands(u)
         sk.computeForwardDynamics()
         return sk.getAccelerations(), sk.getForces()
 
-    samples = []
-    for _ in range(7):
-        start = time.perf_counter()
-        for i in range(calls):
-            dart_call(i % STATES)
-        samples.append((time.perf_counter() - start) / calls * 1e6)
-    t["dart hybrid mixed"] = float(np.median(samples))
+    model.set_prescribed(np.zeros(model.nv, dtype=bool))
+    regular = interleaved_per_call_us({
+        "pin.aba": (lambda q, v, u: pin.aba(pmodel, pdata, q, v, u), pstates),
+        "forward_dynamics": (lambda q, v, u: soadyn.forward_dynamics(model, q, v, u), states),
+        "hybrid regular": (lambda q, v, u: soadyn.hybrid_dynamics(model, q, v, u), states),
+    }, calls)
+    model.set_prescribed(mask)
+    mixed = interleaved_per_call_us({
+        "hybrid mixed": (lambda q, v, u: soadyn.hybrid_dynamics(model, q, v, u), states),
+        "dart hybrid mixed": (dart_call, dstates),
+    }, calls)
+    model.set_prescribed(np.zeros(model.nv, dtype=bool))
+    t = {k: float(np.median(x)) for k, x in {**regular, **mixed}.items()}
+    t["hybrid / pin.aba"] = median_ratio(regular["hybrid regular"], regular["pin.aba"])
+    t["dart / hybrid"] = median_ratio(mixed["dart hybrid mixed"], mixed["hybrid mixed"])
     return t
 
 
@@ -149,28 +163,43 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer calls (a smoke run, noisier)")
     args = parser.parse_args()
-    cpp_calls, py_calls = (2000, 300) if args.quick else (20000, 2000)
+    cpp_calls, py_calls, rounds = (2000, 300, 2) if args.quick else (20000, 2000, 5)
     paths = {name: robot(name)[0] for name in ROBOTS}
-    peer = peer_timings(paths)
-    rows_cpp, rows_py = [], []
+    models, states = {}, {}
     for name in ROBOTS:
         path, floating = robot(name)
-        model = soadyn.load_urdf(path, floating_base=floating)
-        states = random_states(model, np.random.default_rng(1))
-        c = cpp_timings(model, states, cpp_calls)
-        p = peer.get(name, {})
-        ratio = lambda a, b: f"{a / b:.2f}" if b else "n/a"  # noqa: E731
+        models[name] = soadyn.load_urdf(path, floating_base=floating)
+        states[name] = random_states(models[name], np.random.default_rng(1))
+    peer_rounds, ours_rounds = [], []
+    for r in range(rounds):  # Pinocchio and soadyn back to back, so both see the same machine
+        peer_rounds.append(peer_timings(paths))
+        ours_rounds.append({name: cpp_timings(models[name], states[name], cpp_calls) for name in ROBOTS})
+        print(f"round {r + 1}/{rounds} done", flush=True)
+    rows_cpp, rows_py = [], []
+    for name in ROBOTS:
+        model = models[name]
+        c = {k: float(np.median([o[name][k] for o in ours_rounds])) for k in ours_rounds[0][name]}
+        have_peer = all(name in p for p in peer_rounds)
+        p = {k: float(np.median([pr[name][k] for pr in peer_rounds])) for k in peer_rounds[0][name]} if have_peer else {}
+
+        def ratio(ours, theirs):
+            if not have_peer:
+                return "n/a"
+            return f"{np.median([o[name][ours] / pr[name][theirs] for o, pr in zip(ours_rounds, peer_rounds)]):.2f}"
+
+        mixed = np.median([o[name]["hybrid mixed worst"] / o[name]["hybrid regular"] for o in ours_rounds])
         rows_cpp.append(
             f"| {name} | {model.nv} | {c['aba']:.2f} | {c['hybrid regular']:.2f} | {p.get('aba', float('nan')):.2f} | "
-            f"**{ratio(c['hybrid regular'], p.get('aba'))}** | {c['hybrid prescribed']:.2f} | {c['rnea']:.2f} | "
-            f"{p.get('rnea', float('nan')):.2f} | **{ratio(c['hybrid prescribed'], p.get('rnea'))}** | "
-            f"{c['hybrid mixed worst']:.2f} | **{c['hybrid mixed worst'] / c['hybrid regular']:.2f}** | "
-            f"{c['crba']:.2f} | {p.get('crba', float('nan')):.2f} |")
-        t = python_timings(name, path, floating, model, states, py_calls)
+            f"**{ratio('hybrid regular', 'aba')}** | {c['hybrid prescribed']:.2f} | {c['rnea']:.2f} | "
+            f"{p.get('rnea', float('nan')):.2f} | **{ratio('hybrid prescribed', 'rnea')}** | "
+            f"{c['hybrid mixed worst']:.2f} | **{mixed:.2f}** | "
+            f"{c['crba']:.2f} | {p.get('crba', float('nan')):.2f} | **{ratio('crba', 'crba')}** |")
+        path, floating = robot(name)
+        t = python_timings(name, path, floating, model, states[name], py_calls)
         rows_py.append(
             f"| {name} | {t['forward_dynamics']:.2f} | {t['hybrid regular']:.2f} | {t['pin.aba']:.2f} | "
-            f"**{t['hybrid regular'] / t['pin.aba']:.2f}** | {t['hybrid mixed']:.2f} | {t['dart hybrid mixed']:.2f} | "
-            f"**{t['dart hybrid mixed'] / t['hybrid mixed']:.1f}** |")
+            f"**{t['hybrid / pin.aba']:.2f}** | {t['hybrid mixed']:.2f} | {t['dart hybrid mixed']:.2f} | "
+            f"**{t['dart / hybrid']:.1f}** |")
         print(rows_cpp[-1], rows_py[-1], sep="\n", flush=True)
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown")
     source = subprocess.run(["git", "-C", str(HERE.parent), "describe", "--always", "--dirty"], capture_output=True,
@@ -179,13 +208,15 @@ def main() -> int:
         "# Robots: soadyn against Pinocchio and DART", "",
         f"- Date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; machine: {cpu}, {os.cpu_count()} logical cores",
         f"- Source: {source}; command: `python bench/bench_robots.py{' --quick' if args.quick else ''}`",
-        "- C++: median of 7 repetitions of "
-        f"{cpp_calls} calls over {STATES} random states, both libraries built with g++ -O3, no -march=native.",
+        f"- C++: {rounds} rounds, each timing Pinocchio (peer_bench) then soadyn on every robot; per library and "
+        f"round the median of 7 repetitions of {cpp_calls} calls over {STATES} random states; both libraries built "
+        "with g++ -O3, no -march=native. Times: medians over rounds. Ratios: medians over rounds of the ratio "
+        "within a round.",
         "", "## C++ per call (us)", "",
         "| robot | nv | soadyn ABA | soadyn hybrid all-regular | Pinocchio ABA | **hybrid / pin ABA** (target <= 0.7) "
         "| soadyn hybrid all-prescribed | soadyn RNEA | Pinocchio RNEA | **all-prescribed / pin RNEA** (target <= 1) "
-        "| worst mixed mask | **mixed / all-regular** (target <= 1) | soadyn CRBA | Pinocchio CRBA |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "| worst mixed mask | **mixed / all-regular** (target <= 1) | soadyn CRBA | Pinocchio CRBA | **CRBA ratio** |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
         *rows_cpp, "",
         "Mixed masks: random whole-joint masks with 25, 50 and 75 % of the joints prescribed; the worst is shown.",
         "", "## Python per call (us, numpy in and out)", "",

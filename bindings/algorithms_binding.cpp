@@ -131,7 +131,7 @@ void bind_algorithms(py::module_& mod) {
         auto out = wrench_out(h);
         double* o = out.mutable_data();
         run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-          soadyn::inverse_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext);
+          soadyn::inverse_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext, soadyn::DynamicsOutputs{true});
           copy_wrenches(d, o);
         });
         return out;
@@ -149,7 +149,7 @@ void bind_algorithms(py::module_& mod) {
         soadyn::Status s;
         run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
           s = soadyn::hybrid_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext,
-                                              soadyn::HybridOutputs{wrenches});
+                                              soadyn::DynamicsOutputs{wrenches});
           Eigen::Map<Eigen::VectorXd>(qo, m.nv) = d.qdd;
           Eigen::Map<Eigen::VectorXd>(to, m.nv) = d.tau;
           if (wo) copy_wrenches(d, wo);

@@ -3,7 +3,7 @@
 namespace soadyn {
 #define SOADYN_INSTANTIATE(S)                                                                                 \
   template Status hybrid_dynamics<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, const ConstVecRef<S>&, \
-                                     const ConstVecRef<S>&, const S*, HybridOutputs);                          \
+                                     const ConstVecRef<S>&, const S*, DynamicsOutputs);                          \
   template Status hybrid_impulse<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, const ConstVecRef<S>&);
 SOADYN_INSTANTIATE(double)
 SOADYN_INSTANTIATE(float)

@@ -80,7 +80,7 @@ Results<S> run_algorithms(soadyn::ModelTpl<S>& model, soadyn::DataTpl<S>& data,
                           const soadyn_test::StateTpl<S>& s, const std::vector<bool>& mask) {
   Results<S> r;
   soadyn_test::apply_mask(model, mask);
-  const soadyn::HybridOutputs with_hinge_forces{true};
+  const soadyn::DynamicsOutputs with_hinge_forces{true};
   r.all_ok &= soadyn::hybrid_dynamics<S>(model, data, s.q, s.v, s.u, s.f_ext.data(), with_hinge_forces).ok();
   r.hybrid_qdd = data.qdd;
   r.hybrid_tau = data.tau;

@@ -72,7 +72,7 @@ Tally run_workload(soadyn::Model& model, soadyn::Data& data, const std::vector<s
     change_random_flags(model, rng, tally);
     const soadyn_test::State& s = states[static_cast<std::size_t>(call % kStates)];
     const double* f_ext = call % 2 ? s.f_ext.data() : nullptr;
-    const soadyn::HybridOutputs outputs{call % 3 == 0};
+    const soadyn::DynamicsOutputs outputs{call % 3 == 0};
     tally.check(soadyn::hybrid_dynamics(model, data, s.q, s.v, s.u, f_ext, outputs), call);
     ++tally.hybrid_calls;
     if (call % kOtherAlgorithmsEvery == 0) run_other_algorithms(model, data, s, q_next, call, tally);

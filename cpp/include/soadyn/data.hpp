@@ -46,6 +46,13 @@ struct DataTpl {
   // i's frame about its origin (seed f(i)): the joint reaction wrench.
   aligned_vector<Vec6<S>> hinge_force;
 
+  // Rigid models: forward and hybrid dynamics work in tree frames
+  // (algorithms/tree_frame_steps.hpp) and leave velocity, coriolis,
+  // bias_force, acceleration and the articulated quantities in tree-frame
+  // coordinates; every other algorithm leaves them in body frames.
+  aligned_vector<Transform<S>> tree_pose;  // body i in its tree frame
+  aligned_vector<Mat6N<S>> tree_subspace;  // S(i) in the tree frame
+
   // Articulated-body quantities (seed Eq. 14, 28). Also used as composite
   // inertia scratch by the mass matrix.
   aligned_vector<Mat6<S>> articulated_inertia;  // P(i)

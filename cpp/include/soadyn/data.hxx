@@ -20,6 +20,8 @@ DataTpl<S>::DataTpl(const ModelTpl<S>& model) : model_version(model.version) {
   pose_in_parent.resize(n);
   pose_in_world.resize(n);
   subspace.resize(n);
+  tree_pose.resize(n);
+  tree_subspace.resize(n);
   joint_bias.assign(n, Vec6<S>::Zero());
   velocity.assign(n, Vec6<S>::Zero());
   coriolis.assign(n, Vec6<S>::Zero());
@@ -34,6 +36,7 @@ DataTpl<S>::DataTpl(const ModelTpl<S>& model) : model_version(model.version) {
   for (std::size_t i = 0; i < n; ++i) {
     joint_init_subspace(model.joints[i], subspace[i]);
     const Eigen::Index nv = subspace[i].cols();
+    tree_subspace[i].setZero(6, nv);
     regular_subspace[i].setZero(6, nv);
     gain[i].setZero(6, nv);
     innovation[i].setZero(nv);

@@ -22,6 +22,7 @@
 #include <unordered_map>
 #include "soadyn/flex/flexible_body.hpp"
 #include "soadyn/joints/joint.hpp"
+#include "soadyn/joints/joint_kernel.hpp"
 #include "soadyn/spatial/inertia.hpp"
 
 namespace soadyn {
@@ -110,6 +111,9 @@ class ModelTpl {
   aligned_vector<Mat6<S>> inertia;         // spatial inertia about the body origin (seed M(k))
   std::vector<S> mass;
   aligned_vector<Vec3<S>> com;
+  aligned_vector<Mat3<S>> inertia_com;     // rotational inertia about the centre of mass, body frame
+  std::vector<JointKernel> joint_kernel;   // joints/joint_kernel.hpp
+  std::vector<S> axis_sign;                // +-1: the axis of an axis-aligned revolute or prismatic joint is axis_sign e_k
   std::vector<int> q_index, v_index, nq_body, nv_body;
   std::vector<HingeModes> modes;
   // Flexible bodies: index into flexible_bodies (-1: rigid), modal

@@ -217,6 +217,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
       inertia[p] = merged;
       mass[p] = merged_mass;
       com[p] = merged_com;
+      inertia_com[p] = merged_inertia_com;
     }
     frame_lookup_[name] = static_cast<int>(frames.size());
     frames.push_back(Frame<S>{name, parent_body, X, -1});
@@ -246,6 +247,10 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
   inertia.push_back(body_inertia);
   mass.push_back(m);
   com.push_back(c);
+  inertia_com.push_back(I);
+  S sign;
+  joint_kernel.push_back(classify_joint(joint, sign));
+  axis_sign.push_back(sign);
   q_index.push_back(nq);
   v_index.push_back(nv);
   nq_body.push_back(jq);

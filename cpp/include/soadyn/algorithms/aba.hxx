@@ -1,6 +1,7 @@
 #pragma once
 #include "soadyn/algorithms/aba.hpp"
 #include "soadyn/algorithms/flexible_steps.hpp"
+#include "soadyn/algorithms/tree_frame_sweeps.hxx"
 
 namespace soadyn {
 
@@ -58,7 +59,7 @@ template <class S>
 Status forward_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                         const ConstVecRef<S>& tau, const S* f_ext) {
   if (m.has_flexible_bodies()) return detail::articulated_body_sweeps<true>(m, d, q.data(), v.data(), tau, f_ext);
-  return detail::articulated_body_sweeps<false>(m, d, q.data(), v.data(), tau, f_ext);
+  return detail::tree_frame_sweeps<detail::ModePolicy::all_regular>(m, d, q.data(), v.data(), tau.data(), f_ext, world_acceleration(m), false);
 }
 
 }  // namespace soadyn

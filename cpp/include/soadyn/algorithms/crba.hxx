@@ -1,34 +1,36 @@
 #pragma once
 #include "soadyn/algorithms/crba.hpp"
 #include "soadyn/algorithms/rnea.hxx"
+#include "soadyn/algorithms/tree_frame_steps.hpp"
 
 namespace soadyn {
 
 namespace detail {
 
-// Composite-rigid-body algorithm (rigid models).
+// Composite-rigid-body algorithm (rigid models) in tree frames
+// (tree_frame_steps.hpp): composite inertias add without a congruence, and
+// a column block F = Ic(i) H*(i) needs no transform on its way to the root,
+// M(j, i) = H(j) F for every ancestor j.
 template <class S>
 void composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   for (std::size_t i = 0; i < n; ++i) {
-    joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
-    d.articulated_inertia[i] = m.inertia[i];  // composite inertia accumulator
+    tree_joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
+    d.articulated_inertia[i] = spatial_inertia_in_frame(d.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i]);
   }
   for (std::size_t i = n; i-- > 0;) {
     const int p = m.parent[i];
     const Eigen::Index vi = m.v_index[i], ni = m.nv_body[i];
-    // Force of unit accelerations of hinge i on the composite body i.
-    Mat6N<S> F = d.articulated_inertia[i] * d.subspace[i];
-    d.mass_matrix.block(vi, vi, ni, ni).noalias() = d.subspace[i].transpose() * F;
-    for (std::size_t j = i; m.parent[j] >= 0;) {  // walk to the root
-      d.pose_in_parent[j].forces_to_parent_inplace(F);
-      j = static_cast<std::size_t>(m.parent[j]);
+    const Mat6N<S> F = d.articulated_inertia[i] * d.tree_subspace[i];  // forces of unit hinge accelerations
+    for (std::size_t j = i;;) {  // M(j, i) for j = i and every ancestor
       const Eigen::Index vj = m.v_index[j], nj = m.nv_body[j];
-      d.mass_matrix.block(vj, vi, nj, ni).noalias() = d.subspace[j].transpose() * F;
-      d.mass_matrix.block(vi, vj, ni, nj) = d.mass_matrix.block(vj, vi, nj, ni).transpose();
+      for (Eigen::Index b = 0; b < ni; ++b)
+        for (Eigen::Index a = 0; a < nj; ++a)
+          d.mass_matrix(vi + b, vj + a) = d.mass_matrix(vj + a, vi + b) = d.tree_subspace[j].col(a).dot(F.col(b));
+      if (m.parent[j] < 0) break;
+      j = static_cast<std::size_t>(m.parent[j]);
     }
-    if (p >= 0)
-      d.articulated_inertia[static_cast<std::size_t>(p)] += d.pose_in_parent[i].inertia_to_parent(d.articulated_inertia[i]);
+    if (p >= 0) d.articulated_inertia[static_cast<std::size_t>(p)] += d.articulated_inertia[i];
   }
 }
 

@@ -14,19 +14,13 @@
 
 namespace soadyn {
 
-struct HybridOutputs {
-  // Also fill data.hinge_force for bodies below a regular hinge (bodies in
-  // all-prescribed regions always get theirs; it is a by-product there).
-  bool hinge_forces = false;
-};
-
 // `u` holds, per DOF, the torque of a regular DOF or the acceleration of a
 // prescribed one (model.prescribed). On return data.qdd and data.tau hold
 // every DOF's acceleration and generalized force (given entries copied
 // through). Allocation free; never throws.
 template <class S>
 Status hybrid_dynamics(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                       const ConstVecRef<S>& u, const S* f_ext = nullptr, HybridOutputs outputs = {});
+                       const ConstVecRef<S>& u, const S* f_ext = nullptr, DynamicsOutputs outputs = {});
 
 // The same algorithm in impulse form, for impacts (locking a moving hinge):
 // velocities and gravity drop out, `u` holds the generalized impulse of each

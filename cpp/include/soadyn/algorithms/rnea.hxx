@@ -1,6 +1,7 @@
 #pragma once
 #include "soadyn/algorithms/flexible_steps.hpp"
 #include "soadyn/algorithms/rnea.hpp"
+#include "soadyn/algorithms/tree_frame_sweeps.hxx"
 
 namespace soadyn {
 
@@ -34,23 +35,24 @@ void newton_euler_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
 }
 
 template <class S>
-void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* qdd, const S* f_ext) {
+void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* qdd, const S* f_ext,
+          DynamicsOutputs outputs) {
   if (m.has_flexible_bodies())
     newton_euler_sweeps<true>(m, d, q, v, qdd, f_ext, world_acceleration(m));
   else
-    newton_euler_sweeps<false>(m, d, q, v, qdd, f_ext, world_acceleration(m));
+    tree_frame_sweeps<ModePolicy::all_prescribed>(m, d, q, v, qdd, f_ext, world_acceleration(m), outputs.hinge_forces);
 }
 }  // namespace detail
 
 template <class S>
 void inverse_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                      const ConstVecRef<S>& qdd, const S* f_ext) {
-  detail::rnea(m, d, q.data(), v.data(), qdd.data(), f_ext);
+                      const ConstVecRef<S>& qdd, const S* f_ext, DynamicsOutputs outputs) {
+  detail::rnea(m, d, q.data(), v.data(), qdd.data(), f_ext, outputs);
 }
 
 template <class S>
 void bias_forces(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
-  detail::rnea<S>(m, d, q.data(), v.data(), nullptr, nullptr);
+  detail::rnea<S>(m, d, q.data(), v.data(), nullptr, nullptr, DynamicsOutputs{});
 }
 
 }  // namespace soadyn

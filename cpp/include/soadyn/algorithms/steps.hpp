@@ -19,6 +19,12 @@ struct type_identity {
 template <class S> using ConstVecRef = typename type_identity<Eigen::Ref<const VecX<S>>>::type;
 template <class S> using VecRef = typename type_identity<Eigen::Ref<VecX<S>>>::type;
 
+// Outputs a caller may ask for beyond qdd and tau.
+struct DynamicsOutputs {
+  // Fill data.hinge_force with every joint reaction wrench (body frames).
+  bool hinge_forces = false;
+};
+
 // Spatial acceleration of the world: gravity enters as a base acceleration
 // [0; -g], so every hinge force includes it.
 template <class S>

@@ -1,6 +1,6 @@
 // Rigid-body spatial inertia about the body frame origin (seed M(k)).
 #pragma once
-#include "soadyn/spatial/types.hpp"
+#include "soadyn/spatial/transform.hpp"
 
 namespace soadyn {
 
@@ -12,12 +12,25 @@ namespace soadyn {
 template <class S>
 Mat6<S> spatial_inertia(const S& mass, const Vec3<S>& com, const Mat3<S>& inertia_com) {
   const Mat3<S> cx = skew(com);
+  const Vec3<S> mc = mass * com;
   Mat6<S> I;
-  I.template topLeftCorner<3, 3>() = inertia_com - mass * cx * cx;
+  // -m [c]x[c]x = m (|c|^2 1 - c c')
+  I.template topLeftCorner<3, 3>() = inertia_com - mc * com.transpose();
+  I.template topLeftCorner<3, 3>().diagonal().array() += mc.dot(com);
   I.template topRightCorner<3, 3>() = mass * cx;
   I.template bottomLeftCorner<3, 3>() = -mass * cx;
   I.template bottomRightCorner<3, 3>() = mass * Mat3<S>::Identity();
   return I;
+}
+
+// The spatial inertia of a body whose frame has `pose` in a frame F, in F's
+// coordinates and about F's origin: the centre of mass and the rotational
+// inertia are carried to F (R c + t, R Ic R'), then assembled as above.
+template <class S>
+Mat6<S> spatial_inertia_in_frame(const Transform<S>& pose, const S& mass, const Vec3<S>& com,
+                                 const Mat3<S>& inertia_com) {
+  const Mat3<S> rotated = pose.rotation * inertia_com * pose.rotation.transpose();
+  return spatial_inertia(mass, pose.apply_point(com), rotated);
 }
 
 // Mass, centre of mass and rotational inertia about it, read back from a

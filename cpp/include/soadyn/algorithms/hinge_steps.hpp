@@ -1,0 +1,96 @@
+// The hinge's own part of the hybrid algorithm's sweeps (seed Eqs. 28, 29,
+// Lemma 8), shared by the body-frame sweeps (flexible models, hybrid.hxx)
+// and the tree-frame sweeps (rigid models, tree_frame_sweeps.hxx): both pass
+// the hinge subspace H* in the frame their P, z and alpha are expressed in.
+// `AllRegular` treats every DOF as regular whatever the model's flags say
+// (forward dynamics).
+#pragma once
+#include "soadyn/algorithms/steps.hpp"
+
+namespace soadyn {
+namespace detail {
+
+// H*_p qdd_p: the known hinge acceleration of the prescribed DOFs of body i.
+template <class S>
+inline Vec6<S> prescribed_hinge_acceleration(const ModelTpl<S>& m, const Mat6N<S>& s, std::size_t i, const S* u) {
+  const HingeModes& h = m.modes[i];
+  const S* ui = u + m.v_index[i];
+  if (h.n_regular == 0) return subspace_times(s, ui);
+  Vec6<S> a = Vec6<S>::Zero();
+  for (int k = 0; k < h.n_prescribed; ++k) a += s.col(h.prescribed[k]) * ui[h.prescribed[k]];
+  return a;
+}
+
+// Tip-to-base hinge step of a body with an articulated inertia (seed Eq. 28):
+// z = z_children + b + P (H*_p qdd_p + a); the regular DOFs then give P+ and
+// z+ (articulated_hinge_step); a hinge with no regular DOF passes P and z on.
+// Returns the DOF of a singular D, or -1.
+template <bool AllRegular, class S>
+inline int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u, const Mat6N<S>& s,
+                        Mat6<S>& P_plus, Vec6<S>& z_plus) {
+  const HingeModes& h = m.modes[i];
+  const int n_prescribed = AllRegular ? 0 : h.n_prescribed;
+  const int n_regular = AllRegular ? m.nv_body[i] : h.n_regular;
+  const Mat6<S>& P = d.articulated_inertia[i];
+  Vec6<S> hinge_acc = d.coriolis[i];
+  if (n_prescribed > 0) hinge_acc += prescribed_hinge_acceleration(m, s, i, u);
+  Vec6<S> z = d.articulated_bias[i];
+  z.noalias() += P * hinge_acc;
+  if (n_regular == 0) {
+    P_plus = P;
+    z_plus = z;
+    return -1;
+  }
+  const S* ui = u + m.v_index[i];
+  VecN<S> eps(n_regular);
+  const Mat6N<S>* Sr = &s;
+  if (n_prescribed > 0) {  // mixed hinge: gather the regular columns and torques
+    Mat6N<S>& gathered = d.regular_subspace[i];
+    gathered.resize(6, n_regular);
+    for (int k = 0; k < n_regular; ++k) {
+      gathered.col(k) = s.col(h.regular[k]);
+      eps[k] = ui[h.regular[k]];
+    }
+    Sr = &gathered;
+  } else {
+    eps = Eigen::Map<const VecN<S>>(ui, n_regular);
+  }
+  const int bad = articulated_hinge_step(P, *Sr, z, eps, d.gain[i], d.innovation[i], P_plus, z_plus);
+  if (bad < 0) return -1;
+  return m.v_index[i] + (n_prescribed > 0 ? h.regular[bad] : bad);
+}
+
+// Base-to-tip hinge step (seed Eq. 29) once alpha+ (the parent's acceleration
+// in this body's frame) is known: regular qdd = nu - G* alpha+, prescribed
+// qdd copied; alpha = alpha+ + H* qdd + a; f = P alpha + z and the prescribed
+// torques T_p = H f. The hinge force f is computed only when a prescribed DOF
+// needs it or `want_force` asks for it.
+template <bool AllRegular, class S>
+inline void hinge_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u, const Vec6<S>& alpha_plus,
+                          const Mat6N<S>& s, bool want_force) {
+  const HingeModes& h = m.modes[i];
+  const int n_prescribed = AllRegular ? 0 : h.n_prescribed;
+  const int vi = m.v_index[i], ni = m.nv_body[i];
+  S* qdd = d.qdd.data() + vi;
+  S* tau = d.tau.data() + vi;
+  if (n_prescribed == 0) {  // the articulated-body case: no gather, no scatter
+    for (int k = 0; k < ni; ++k) qdd[k] = d.innovation[i][k] - d.gain[i].col(k).dot(alpha_plus);
+    for (int k = 0; k < ni; ++k) tau[k] = u[vi + k];
+  } else {
+    for (int k = 0; k < h.n_regular; ++k) {
+      qdd[h.regular[k]] = d.innovation[i][k] - d.gain[i].col(k).dot(alpha_plus);
+      tau[h.regular[k]] = u[vi + h.regular[k]];
+    }
+    for (int k = 0; k < n_prescribed; ++k) qdd[h.prescribed[k]] = u[vi + h.prescribed[k]];
+  }
+  d.acceleration[i] = alpha_plus + d.coriolis[i];
+  if (ni > 0) d.acceleration[i] += subspace_times(s, qdd);
+  if (n_prescribed > 0 || want_force) {
+    d.hinge_force[i] = d.articulated_bias[i];
+    d.hinge_force[i].noalias() += d.articulated_inertia[i] * d.acceleration[i];
+    for (int k = 0; k < n_prescribed; ++k) tau[h.prescribed[k]] = s.col(h.prescribed[k]).dot(d.hinge_force[i]);
+  }
+}
+
+}  // namespace detail
+}  // namespace soadyn

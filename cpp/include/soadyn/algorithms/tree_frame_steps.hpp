@@ -1,0 +1,145 @@
+// Per-body steps of the rigid-model sweeps in tree frames.
+//
+// The seed's recursions (Eqs. 1, 14, 28, 29) hold in any frame. For rigid
+// models, forward and hybrid dynamics express every spatial quantity of a
+// body in its *tree frame*: the world's orientation, origin at the tree's
+// root body origin. In one common frame the inter-body operator phi(k+1, k)
+// is the identity, so
+//   - the inward sweep adds P+ and z+ to the parent without the 6x6
+//     congruence phi P+ phi* (Eq. 14), the most expensive step of the
+//     body-frame recursion (~220 multiplications per body);
+//   - the outward sweeps add the parent's velocity and acceleration without a
+//     transform (Eqs. 1, 29).
+// The price is one inertia per body carried to the tree frame from its ten
+// parameters (spatial_inertia_in_frame, ~80 multiplications) and the hinge
+// subspace H* in that frame (a column of the body rotation for axis-aligned
+// joints, joints/joint_kernel.hpp). Featherstone (Rigid Body Dynamics
+// Algorithms, 2008, Sec. 7.3) notes the same trade for the ABA in world
+// coordinates. The origin at the root body rather than the world's keeps lever
+// arms as short as in body frames: a spacecraft far from the world origin
+// loses no precision, and every tree is independent of where it is.
+//
+// Velocity products: with H* constant in the body frame, its rate in the tree
+// frame is V x H*, so the Coriolis term of Eq. 1 is a(k) = V(k) x (H* qdot),
+// plus the joint's own bias for joints whose subspace varies (universal).
+#pragma once
+#include "soadyn/algorithms/steps.hpp"
+#include "soadyn/joints/joint_kernel.hpp"
+
+namespace soadyn {
+
+namespace detail {
+
+// Motion subspace of a unit-axis hinge: [w; t x w] for a rotation axis w
+// through the body origin t, [0; w] for a translation along w.
+template <class S>
+inline void rotation_subspace(const Transform<S>& pose, const Vec3<S>& w, Mat6N<S>& s) {
+  s.col(0) << w, pose.translation.cross(w);
+}
+template <class S>
+inline void translation_subspace(const Vec3<S>& w, Mat6N<S>& s) {
+  s.col(0) << Vec3<S>::Zero(), w;
+}
+
+// Free joint: H* = X(pose) (body twists to tree-frame twists).
+template <class S>
+inline void free_subspace(const Transform<S>& pose, Mat6N<S>& s) {
+  for (int c = 0; c < 3; ++c) {
+    s.col(c) << pose.rotation.col(c), pose.translation.cross(Vec3<S>(pose.rotation.col(c)));
+    s.col(c + 3) << Vec3<S>::Zero(), pose.rotation.col(c);
+  }
+}
+
+// Any joint: its body-frame pose, subspace and bias from JointModel, carried
+// to the tree frame. Returns the bias (dS/dt v) in the tree frame.
+template <class S>
+inline Vec6<S> general_joint_tree_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const Transform<S>& base,
+                                       const S* q, const S* v, bool root) {
+  Transform<S> joint_pose;
+  joint_calc(m.joints[i], q + m.q_index[i], v ? v + m.v_index[i] : nullptr, joint_pose, d.subspace[i], d.joint_bias[i]);
+  Transform<S>& pose = d.tree_pose[i];
+  pose = base * joint_pose;
+  if (root) pose.translation.setZero();
+  Mat6N<S>& s = d.tree_subspace[i];
+  for (Eigen::Index c = 0; c < s.cols(); ++c) s.col(c) = pose.motion_to_parent(Vec6<S>(d.subspace[i].col(c)));
+  return pose.motion_to_parent(d.joint_bias[i]);
+}
+
+}  // namespace detail
+
+// Pose of body i in its tree frame and its motion subspace there; returns the
+// joint's velocity-product acceleration in the tree frame (zero for every
+// joint but the universal one). A root body's tree pose has no translation.
+template <class S>
+inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
+  const int p = m.parent[i];
+  const bool root = p < 0;
+  Transform<S> base;
+  if (root)
+    base.rotation = m.placement[i].rotation;
+  else
+    base = d.tree_pose[static_cast<std::size_t>(p)] * m.placement[i];
+  Transform<S>& pose = d.tree_pose[i];
+  Mat6N<S>& s = d.tree_subspace[i];
+  // The 1-DOF kernels' coordinate along +e_k.
+  const auto x = [&] { return q[m.q_index[i]] * m.axis_sign[i]; };
+  switch (m.joint_kernel[i]) {
+    case JointKernel::revolute_x: rotate_about_coordinate_axis<0>(base, x(), pose); break;
+    case JointKernel::revolute_y: rotate_about_coordinate_axis<1>(base, x(), pose); break;
+    case JointKernel::revolute_z: rotate_about_coordinate_axis<2>(base, x(), pose); break;
+    case JointKernel::prismatic_x:
+    case JointKernel::prismatic_y:
+    case JointKernel::prismatic_z: {
+      const int k = static_cast<int>(m.joint_kernel[i]) - static_cast<int>(JointKernel::prismatic_x);
+      pose.rotation = base.rotation;
+      pose.translation = root ? Vec3<S>::Zero() : Vec3<S>(base.translation + base.rotation.col(k) * x());
+      detail::translation_subspace(Vec3<S>(pose.rotation.col(k) * m.axis_sign[i]), s);
+      return Vec6<S>::Zero();
+    }
+    case JointKernel::free: {
+      const S* qi = q + m.q_index[i];
+      Transform<S> joint_pose;
+      joint_pose.rotation = quaternion_rotation(qi + 3);
+      joint_pose.translation << qi[0], qi[1], qi[2];
+      pose = base * joint_pose;
+      if (root) pose.translation.setZero();
+      detail::free_subspace(pose, s);
+      return Vec6<S>::Zero();
+    }
+    default: return detail::general_joint_tree_step(m, d, i, base, q, v, root);
+  }
+  // the revolute kernels
+  const int k = static_cast<int>(m.joint_kernel[i]) - static_cast<int>(JointKernel::revolute_x);
+  detail::rotation_subspace(pose, Vec3<S>(pose.rotation.col(k) * m.axis_sign[i]), s);
+  return Vec6<S>::Zero();
+}
+
+// Tree-frame kinematics and body terms of body i (seed Eq. 1): pose and
+// subspace, V(i) = V(parent) + H* qdot, a(i) = V(i) x (H* qdot) + joint bias,
+// the body inertia M(i) into articulated_inertia[i] (the start of P) and
+// b(i) = V x* (M V) - f_ext into bias_force[i] and articulated_bias[i].
+// `v` null: zero velocity (impulse problems); `f_ext` as in steps.hpp.
+template <class S>
+inline void tree_motion_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
+                             const S* f_ext) {
+  const Vec6<S> joint_rate = tree_joint_step(m, d, i, q, v);
+  const Transform<S>& pose = d.tree_pose[i];
+  Mat6<S>& inertia = d.articulated_inertia[i];
+  inertia = spatial_inertia_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i]);
+  Vec6<S>& b = d.bias_force[i];
+  if (v) {
+    const int p = m.parent[i];
+    const Vec6<S> joint_velocity = subspace_times(d.tree_subspace[i], v + m.v_index[i]);
+    d.velocity[i] = p >= 0 ? Vec6<S>(d.velocity[static_cast<std::size_t>(p)] + joint_velocity) : joint_velocity;
+    d.coriolis[i] = motion_cross(d.velocity[i], joint_velocity) + joint_rate;
+    b = force_cross(d.velocity[i], Vec6<S>(inertia * d.velocity[i]));
+  } else {
+    d.velocity[i].setZero();
+    d.coriolis[i].setZero();
+    b.setZero();
+  }
+  if (f_ext) b -= pose.force_to_parent(Eigen::Map<const Vec6<S>>(f_ext + 6 * i));
+  d.articulated_bias[i] = b;
+}
+
+}  // namespace soadyn

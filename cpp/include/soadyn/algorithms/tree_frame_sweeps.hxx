@@ -1,0 +1,139 @@
+// The hybrid algorithm's three sweeps for rigid models, in tree frames
+// (tree_frame_steps.hpp): hybrid dynamics and its impulse form (the model's
+// flags), forward dynamics (every DOF regular: the articulated-body
+// algorithm) and inverse dynamics (every DOF prescribed: Newton-Euler, two
+// sweeps). Flexible models use the body-frame sweeps (hybrid.hxx, aba.hxx,
+// rnea.hxx).
+#pragma once
+#include <Eigen/Cholesky>
+#include "soadyn/algorithms/hinge_steps.hpp"
+#include "soadyn/algorithms/tree_frame_steps.hpp"
+
+namespace soadyn {
+namespace detail {
+
+// A free root joint with every DOF regular. Its subspace in the tree frame,
+// blockdiag(R, R), is invertible, so Eq. 28 gives P+ = 0 and the hinge
+// equation H (P alpha + z) = T fixes the body's acceleration outright:
+//   alpha = P^-1 (H^-* T - z),  H^-* = H (orthogonal blocks),
+// one 6x6 Cholesky factorisation instead of D = H P H*, G and P+.
+// Stores alpha in acceleration[i]; returns the DOF of a singular P, or -1.
+template <class S>
+inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u) {
+  const Mat6<S>& P = d.articulated_inertia[i];
+  const Mat6N<S>& s = d.tree_subspace[i];
+  const Eigen::LLT<Mat6<S>> llt(P);
+  const S threshold = singular_pivot_threshold(P);
+  if (llt.info() != Eigen::Success) return m.v_index[i];
+  for (int k = 0; k < 6; ++k)
+    if (!(llt.matrixLLT()(k, k) * llt.matrixLLT()(k, k) > threshold)) return m.v_index[i] + k;
+  const Eigen::Map<const Vec6<S>> torque(u + m.v_index[i]);
+  Vec6<S> rhs;
+  rhs << s.template topLeftCorner<3, 3>() * torque.template head<3>(),
+      s.template bottomRightCorner<3, 3>() * torque.template tail<3>();
+  d.acceleration[i] = llt.solve(rhs - d.articulated_bias[i]);
+  return -1;
+}
+
+// qdd = H^-1 (alpha - alpha+ - a) of that free root, H^-1 = H* (orthogonal blocks).
+template <class S>
+inline void free_root_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u, const Vec6<S>& world_acc,
+                              bool want_force) {
+  const Mat6N<S>& s = d.tree_subspace[i];
+  const int vi = m.v_index[i];
+  const Vec6<S> relative = d.acceleration[i] - world_acc - d.coriolis[i];
+  d.qdd.template segment<3>(vi) = s.template topLeftCorner<3, 3>().transpose() * relative.template head<3>();
+  d.qdd.template segment<3>(vi + 3) = s.template bottomRightCorner<3, 3>().transpose() * relative.template tail<3>();
+  d.tau.template segment<6>(vi) = Eigen::Map<const Vec6<S>>(u + vi);
+  if (want_force) d.hinge_force[i] = d.articulated_inertia[i] * d.acceleration[i] + d.articulated_bias[i];
+}
+
+// Hinge forces of the sweeps, from tree frames to body frames.
+template <class S>
+inline void hinge_forces_to_body_frames(DataTpl<S>& d) {
+  for (std::size_t i = 0; i < d.hinge_force.size(); ++i) d.hinge_force[i] = d.tree_pose[i].force_to_child(d.hinge_force[i]);
+}
+
+// Whose flags the sweeps follow.
+enum class ModePolicy { model_flags, all_regular, all_prescribed };
+
+template <ModePolicy Modes, class S>
+inline bool needs_articulated_inertia(const ModelTpl<S>& m, std::size_t i) {
+  if constexpr (Modes == ModePolicy::model_flags) return m.modes[i].needs_articulated_inertia;
+  return Modes == ModePolicy::all_regular;
+}
+
+template <ModePolicy Modes, class S>
+inline bool is_regular_free_root(const ModelTpl<S>& m, std::size_t i) {
+  return m.parent[i] < 0 && m.joint_kernel[i] == JointKernel::free &&
+         (Modes == ModePolicy::all_regular || m.modes[i].n_prescribed == 0);
+}
+
+// The three sweeps, rigid models, tree frames (two for all_prescribed). `v`
+// null means zero velocity; `u` null (all_prescribed only) zero acceleration;
+// `want_force` also leaves every hinge force in data.hinge_force (body frame).
+template <ModePolicy Modes, class S>
+Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u, const S* f_ext,
+                         const Vec6<S>& world_acc, bool want_force) {
+  const std::size_t n = static_cast<std::size_t>(m.nbodies());
+  const auto parent_acc = [&](std::size_t i) -> const Vec6<S>& {
+    const int p = m.parent[i];
+    return p >= 0 ? d.acceleration[static_cast<std::size_t>(p)] : world_acc;
+  };
+  for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, M, b (seed Eq. 1); all-prescribed regions' accelerations
+    tree_motion_step(m, d, i, q, v, f_ext);
+    if (!needs_articulated_inertia<Modes>(m, i)) {  // Newton-Euler: alpha = alpha+ + H* qdd + a, f = M alpha + b
+      d.acceleration[i] = parent_acc(i) + d.coriolis[i];
+      if (u) d.acceleration[i] += subspace_times(d.tree_subspace[i], u + m.v_index[i]);
+      d.hinge_force[i] = d.bias_force[i];
+      d.hinge_force[i].noalias() += d.articulated_inertia[i] * d.acceleration[i];
+    }
+  }
+  Mat6<S> P_plus;
+  Vec6<S> z_plus;
+  for (std::size_t i = n; i-- > 0;) {  // tip to base (seed Eq. 28)
+    const int p = m.parent[i];
+    const std::size_t pp = static_cast<std::size_t>(p);
+    if (!needs_articulated_inertia<Modes>(m, i)) {  // T = H f, f(parent) += f
+      const int vi = m.v_index[i], ni = m.nv_body[i];
+      if constexpr (Modes != ModePolicy::all_prescribed)
+        for (int k = 0; k < ni; ++k) d.qdd[vi + k] = u[vi + k];
+      subspace_transpose_times(d.tree_subspace[i], d.hinge_force[i], d.tau.segment(vi, ni));
+      if (p >= 0) d.hinge_force[pp] += d.hinge_force[i];
+      continue;
+    }
+    if (is_regular_free_root<Modes>(m, i)) {
+      const int bad = free_root_inward(m, d, i, u);
+      if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
+      continue;
+    }
+    const int bad = hinge_inward<Modes == ModePolicy::all_regular>(m, d, i, u, d.tree_subspace[i], P_plus, z_plus);
+    if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
+    if (p < 0) continue;
+    if (needs_articulated_inertia<Modes>(m, pp)) {  // seed Eq. 14 with phi = 1
+      d.articulated_inertia[pp] += P_plus;
+      d.articulated_bias[pp] += z_plus;
+    } else {  // the parent's acceleration is already known: f = P+ alpha(parent) + z+
+      d.hinge_force[pp] += z_plus;
+      d.hinge_force[pp].noalias() += P_plus * d.acceleration[pp];
+    }
+  }
+  if constexpr (Modes == ModePolicy::all_prescribed) {  // inverse dynamics: no third sweep, no check
+    if (want_force) hinge_forces_to_body_frames(d);
+    return Status{};
+  }
+  for (std::size_t i = 0; i < n; ++i) {  // base to tip (seed Eq. 29)
+    if (!needs_articulated_inertia<Modes>(m, i)) continue;
+    if (is_regular_free_root<Modes>(m, i))
+      free_root_outward(m, d, i, u, world_acc, want_force);
+    else
+      hinge_outward<Modes == ModePolicy::all_regular>(m, d, i, u, parent_acc(i), d.tree_subspace[i], want_force);
+  }
+  if (want_force) hinge_forces_to_body_frames(d);
+  const Status s = check_finite(d.qdd);
+  if constexpr (Modes == ModePolicy::all_regular) return s;  // tau is the given torque
+  return s.ok() ? check_finite(d.tau) : s;
+}
+
+}  // namespace detail
+}  // namespace soadyn
