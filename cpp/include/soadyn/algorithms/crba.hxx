@@ -18,20 +18,21 @@ void composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef
     tree_joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
     d.articulated_inertia[i] = spatial_inertia_in_frame(d.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i]);
   }
-  for (std::size_t i = n; i-- > 0;) {
+  for (std::size_t i = n; i-- > 0;) {  // upper triangle: M(j, i) for j = i and every ancestor (v_index[j] <= v_index[i])
     const int p = m.parent[i];
     const Eigen::Index vi = m.v_index[i], ni = m.nv_body[i];
-    const Mat6N<S> F = d.articulated_inertia[i] * d.tree_subspace[i];  // forces of unit hinge accelerations
-    for (std::size_t j = i;;) {  // M(j, i) for j = i and every ancestor
-      const Eigen::Index vj = m.v_index[j], nj = m.nv_body[j];
-      for (Eigen::Index b = 0; b < ni; ++b)
-        for (Eigen::Index a = 0; a < nj; ++a)
-          d.mass_matrix(vi + b, vj + a) = d.mass_matrix(vj + a, vi + b) = d.tree_subspace[j].col(a).dot(F.col(b));
-      if (m.parent[j] < 0) break;
-      j = static_cast<std::size_t>(m.parent[j]);
+    for (Eigen::Index b = 0; b < ni; ++b) {
+      const Vec6<S> F = d.articulated_inertia[i] * d.tree_subspace[i].col(b);  // force of a unit hinge acceleration
+      for (std::size_t j = i;;) {
+        const Eigen::Index vj = m.v_index[j], nj = j == i ? b + 1 : m.nv_body[j];
+        for (Eigen::Index a = 0; a < nj; ++a) d.mass_matrix(vj + a, vi + b) = d.tree_subspace[j].col(a).dot(F);
+        if (m.parent[j] < 0) break;
+        j = static_cast<std::size_t>(m.parent[j]);
+      }
     }
     if (p >= 0) d.articulated_inertia[static_cast<std::size_t>(p)] += d.articulated_inertia[i];
   }
+  d.mass_matrix.template triangularView<Eigen::StrictlyLower>() = d.mass_matrix.transpose();
 }
 
 // Models with flexible bodies: column k of M is the generalized force of a

@@ -3,6 +3,7 @@
 #include "soadyn/algorithms/flexible_steps.hpp"
 #include "soadyn/algorithms/hinge_steps.hpp"
 #include "soadyn/algorithms/hybrid.hpp"
+#include "soadyn/algorithms/rnea.hxx"
 #include "soadyn/algorithms/tree_frame_sweeps.hxx"
 
 namespace soadyn {
@@ -93,6 +94,11 @@ Status hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>
     const Status s = forward_dynamics(m, d, q, v, u, f_ext);
     d.tau = u;
     return s;
+  }
+  if (m.n_prescribed == m.nv) {  // every DOF prescribed (so rigid: modal DOFs are regular): exactly RNEA
+    detail::newton_euler_sweeps<false>(m, d, q.data(), v.data(), u.data(), f_ext, world_acceleration(m));
+    d.qdd = u;
+    return check_finite(d.tau);
   }
   if (m.has_flexible_bodies())
     return detail::hybrid_sweeps<true>(m, d, q.data(), v.data(), u, f_ext, world_acceleration(m), outputs);

@@ -40,7 +40,7 @@ void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* 
   if (m.has_flexible_bodies())
     newton_euler_sweeps<true>(m, d, q, v, qdd, f_ext, world_acceleration(m));
   else
-    tree_frame_sweeps<ModePolicy::all_prescribed>(m, d, q, v, qdd, f_ext, world_acceleration(m), outputs.hinge_forces);
+    newton_euler_sweeps<false>(m, d, q, v, qdd, f_ext, world_acceleration(m));
 }
 }  // namespace detail
 

@@ -54,13 +54,33 @@ inline void subspace_transpose_times(const Mat6N<S>& s, const Vec6<S>& f, Eigen:
   for (Eigen::Index k = 0; k < s.cols(); ++k) out[k] = s.col(k).dot(f);
 }
 
-// Joint transform, motion subspace and joint bias of body i.
+// Joint transform, motion subspace and joint bias of body i. Axis-aligned
+// revolute and prismatic joints (joints/joint_kernel.hpp) keep the constant
+// subspace and zero bias Data was built with and only compose the placement
+// with the joint motion.
 template <class S>
 inline void joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
-  Transform<S> joint_pose;
   const int iq = m.q_index[i], iv = m.v_index[i];
-  joint_calc(m.joints[i], q + iq, v ? v + iv : nullptr, joint_pose, d.subspace[i], d.joint_bias[i]);
-  d.pose_in_parent[i] = m.placement[i] * joint_pose;
+  Transform<S>& pose = d.pose_in_parent[i];
+  const Transform<S>& placement = m.placement[i];
+  switch (m.joint_kernel[i]) {
+    case JointKernel::revolute_x: rotate_about_coordinate_axis<0>(placement, q[iq] * m.axis_sign[i], pose); return;
+    case JointKernel::revolute_y: rotate_about_coordinate_axis<1>(placement, q[iq] * m.axis_sign[i], pose); return;
+    case JointKernel::revolute_z: rotate_about_coordinate_axis<2>(placement, q[iq] * m.axis_sign[i], pose); return;
+    case JointKernel::prismatic_x:
+    case JointKernel::prismatic_y:
+    case JointKernel::prismatic_z: {
+      const int k = static_cast<int>(m.joint_kernel[i]) - static_cast<int>(JointKernel::prismatic_x);
+      pose.rotation = placement.rotation;
+      pose.translation = placement.translation + placement.rotation.col(k) * (q[iq] * m.axis_sign[i]);
+      return;
+    }
+    default: {
+      Transform<S> joint_pose;
+      joint_calc(m.joints[i], q + iq, v ? v + iv : nullptr, joint_pose, d.subspace[i], d.joint_bias[i]);
+      pose = placement * joint_pose;
+    }
+  }
 }
 
 // Body velocity V(i) = phi* V(parent) + S v_i and Coriolis term
