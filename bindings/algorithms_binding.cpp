@@ -131,7 +131,7 @@ void bind_algorithms(py::module_& mod) {
         auto out = wrench_out(h);
         double* o = out.mutable_data();
         run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-          soadyn::inverse_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext, soadyn::DynamicsOutputs{true});
+          soadyn::inverse_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext);
           copy_wrenches(d, o);
         });
         return out;

@@ -1,5 +1,6 @@
 // The HIL runner: a HilRunner and its optional UdpLink, run with the GIL
 // released. The progress display and the report live in python/soadyn/hil.py.
+#include <cmath>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -45,7 +46,7 @@ py::array_t<double> to_numpy(const std::vector<double>& x, std::int64_t rows, in
 
 std::unique_ptr<HilSession> make_session(soadyn::Simulator& sim, double rate_hz, std::int64_t steps,
                                          std::optional<int> udp_port, int udp_destination_port,
-                                         bool as_fast_as_possible, std::int64_t record_every) {
+                                         bool as_fast_as_possible, std::int64_t record_every, double spin_us) {
   auto session = std::make_unique<HilSession>();
   try {
     const auto& m = sim.model();
@@ -56,6 +57,7 @@ std::unique_ptr<HilSession> make_session(soadyn::Simulator& sim, double rate_hz,
     throw py::value_error(e.what());
   }
   session->runner->set_as_fast_as_possible(as_fast_as_possible);
+  session->runner->set_spin_ns(std::llround(spin_us * 1e3));
   return session;
 }
 
@@ -97,7 +99,7 @@ void bind_hil(py::module_& mod) {
                          "Fixed-rate loop over a Simulator with optional UDP I/O (see soadyn.hil.run_hil).")
       .def(py::init(&make_session), py::arg("sim"), py::arg("rate_hz"), py::arg("steps"),
            py::arg("udp_port") = py::none(), py::arg("udp_destination_port") = 0,
-           py::arg("as_fast_as_possible") = false, py::arg("record_every") = 0,
+           py::arg("as_fast_as_possible") = false, py::arg("record_every") = 0, py::arg("spin_us") = 0.0,
            py::keep_alive<1, 2>())  // the simulator outlives the runner
       .def("run", &run, "Run the loop (GIL released); the outcome is in summary().")
       .def("request_stop", [](HilSession& s) { s.runner->request_stop(); }, "Ask a running loop to stop (thread-safe).")

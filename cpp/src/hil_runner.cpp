@@ -109,7 +109,11 @@ Status HilRunner::run() {
       break;
     }
     const std::int64_t deadline = deadline_ns(k);
-    if (!as_fast_as_possible_) sleep_until_ns(deadline);
+    if (!as_fast_as_possible_) {
+      sleep_until_ns(deadline - spin_ns_);
+      while (now_ns() < deadline) {
+      }
+    }
     const std::int64_t wake = now_ns();
     const Status s = advance(k);
     const std::int64_t end = now_ns();

@@ -81,6 +81,12 @@ class ModelTpl {
 
   int nbodies() const { return static_cast<int>(parent.size()); }
   bool has_flexible_bodies() const { return !flexible_bodies.empty(); }
+  // Some body's joint sits on a node of a flexible body.
+  bool has_node_attachments() const {
+    for (const int node : attachment_node)
+      if (node >= 0) return true;
+    return false;
+  }
   bool is_flexible(int body) const { return flexible_index[static_cast<std::size_t>(body)] >= 0; }
   const FlexibleBodyTpl<S>& flexible_body(int body) const {
     return flexible_bodies[static_cast<std::size_t>(flexible_index[static_cast<std::size_t>(body)])];

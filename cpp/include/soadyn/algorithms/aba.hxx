@@ -58,8 +58,14 @@ Status articulated_body_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, 
 template <class S>
 Status forward_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                         const ConstVecRef<S>& tau, const S* f_ext) {
-  if (m.has_flexible_bodies()) return detail::articulated_body_sweeps<true>(m, d, q.data(), v.data(), tau, f_ext);
-  return detail::tree_frame_sweeps<detail::ModePolicy::all_regular>(m, d, q.data(), v.data(), tau.data(), f_ext, world_acceleration(m), false);
+  constexpr auto all_regular = detail::ModePolicy::all_regular;
+  if (!m.has_flexible_bodies())
+    return detail::tree_frame_sweeps<all_regular, false>(m, d, q.data(), v.data(), tau.data(), f_ext,
+                                                         world_acceleration(m), false);
+  if (!m.has_node_attachments())
+    return detail::tree_frame_sweeps<all_regular, true>(m, d, q.data(), v.data(), tau.data(), f_ext,
+                                                        world_acceleration(m), false);
+  return detail::articulated_body_sweeps<true>(m, d, q.data(), v.data(), tau, f_ext);
 }
 
 }  // namespace soadyn

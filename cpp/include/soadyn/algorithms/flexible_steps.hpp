@@ -91,11 +91,12 @@ inline void flexible_inertia_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size
 }
 
 // Bias of flexible body i: bias_force[i] = b_V - f_ext and modal_bias =
-// b_e + K eta + C eta_dot (Eqs. 8-9); zero velocity (v null) leaves only
-// -f_ext (impulse problems and mass-matrix columns: no elastic impulse).
+// b_e + K eta + C eta_dot (Eqs. 8-9), in the body frame, given the body-frame
+// velocity; zero velocity (v null) leaves only -f_ext (impulse problems and
+// mass-matrix columns: no elastic impulse).
 template <class S>
 inline void flexible_bias_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
-                               const S* f_ext) {
+                               const Vec6<S>& body_velocity, const S* f_ext) {
   const int b = static_cast<int>(i);
   FlexibleBodyData<S>& fd = flexible_data(m, d, i);
   if (v) {
@@ -104,7 +105,7 @@ inline void flexible_bias_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
     const auto eta_dot = modal_velocities(m, b, v);
     const ModalIntegrals<S>& mi = body.modal_integrals();
     mi.second_moment_rates(eta, fd.second_moment_rates);
-    mi.inertial_bias(eta_dot, d.velocity[i], fd.mass, fd.second_moment_rates, fd.bias);
+    mi.inertial_bias(eta_dot, body_velocity, fd.mass, fd.second_moment_rates, fd.bias);
     d.bias_force[i] = fd.bias.template head<6>();
     fd.modal_bias = fd.bias.tail(body.n_modes());
     fd.modal_bias.noalias() += body.stiffness() * eta;
@@ -127,7 +128,7 @@ inline void body_motion_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i,
       else
         d.velocity[i].setZero(), d.coriolis[i].setZero();
       flexible_inertia_step(m, d, i, q);
-      flexible_bias_step(m, d, i, q, v, f_ext);
+      flexible_bias_step(m, d, i, q, v, d.velocity[i], f_ext);
       return;
     }
     if (v) {

@@ -100,17 +100,25 @@ Status hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>
     d.qdd = u;
     return check_finite(d.tau);
   }
-  if (m.has_flexible_bodies())
-    return detail::hybrid_sweeps<true>(m, d, q.data(), v.data(), u, f_ext, world_acceleration(m), outputs);
-  return detail::tree_frame_sweeps<detail::ModePolicy::model_flags>(m, d, q.data(), v.data(), u.data(), f_ext, world_acceleration(m),
-                                          outputs.hinge_forces);
+  constexpr auto flags = detail::ModePolicy::model_flags;
+  if (!m.has_flexible_bodies())
+    return detail::tree_frame_sweeps<flags, false>(m, d, q.data(), v.data(), u.data(), f_ext, world_acceleration(m),
+                                                   outputs.hinge_forces);
+  if (!m.has_node_attachments())
+    return detail::tree_frame_sweeps<flags, true>(m, d, q.data(), v.data(), u.data(), f_ext, world_acceleration(m),
+                                                  outputs.hinge_forces);
+  return detail::hybrid_sweeps<true>(m, d, q.data(), v.data(), u, f_ext, world_acceleration(m), outputs);
 }
 
 template <class S>
 Status hybrid_impulse(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& u) {
-  if (m.has_flexible_bodies())
-    return detail::hybrid_sweeps<true, S>(m, d, q.data(), nullptr, u, nullptr, Vec6<S>::Zero(), DynamicsOutputs{});
-  return detail::tree_frame_sweeps<detail::ModePolicy::model_flags, S>(m, d, q.data(), nullptr, u.data(), nullptr, Vec6<S>::Zero(), false);
+  constexpr auto flags = detail::ModePolicy::model_flags;
+  const Vec6<S> no_gravity = Vec6<S>::Zero();
+  if (!m.has_flexible_bodies())
+    return detail::tree_frame_sweeps<flags, false, S>(m, d, q.data(), nullptr, u.data(), nullptr, no_gravity, false);
+  if (!m.has_node_attachments())
+    return detail::tree_frame_sweeps<flags, true, S>(m, d, q.data(), nullptr, u.data(), nullptr, no_gravity, false);
+  return detail::hybrid_sweeps<true, S>(m, d, q.data(), nullptr, u, nullptr, no_gravity, DynamicsOutputs{});
 }
 
 

@@ -4,13 +4,11 @@
 
 namespace soadyn {
 
-// data.tau = M(q) qdd + h(q, v) - J' f_ext; with outputs.hinge_forces,
-// data.hinge_force holds every joint reaction wrench. `f_ext`: nbodies x 6
-// body-frame wrenches, or null. Rigid models run in tree frames
-// (tree_frame_sweeps.hxx), flexible models in body frames.
+// data.tau = M(q) qdd + h(q, v) - J' f_ext; data.hinge_force holds every
+// joint reaction wrench. `f_ext`: nbodies x 6 body-frame wrenches, or null.
 template <class S>
 void inverse_dynamics(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                      const ConstVecRef<S>& qdd, const S* f_ext = nullptr, DynamicsOutputs outputs = {});
+                      const ConstVecRef<S>& qdd, const S* f_ext = nullptr);
 
 // data.tau = h(q, v): Coriolis, centrifugal and gravity forces.
 template <class S>

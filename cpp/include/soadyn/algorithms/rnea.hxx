@@ -1,7 +1,6 @@
 #pragma once
 #include "soadyn/algorithms/flexible_steps.hpp"
 #include "soadyn/algorithms/rnea.hpp"
-#include "soadyn/algorithms/tree_frame_sweeps.hxx"
 
 namespace soadyn {
 
@@ -35,8 +34,7 @@ void newton_euler_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
 }
 
 template <class S>
-void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* qdd, const S* f_ext,
-          DynamicsOutputs outputs) {
+void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* qdd, const S* f_ext) {
   if (m.has_flexible_bodies())
     newton_euler_sweeps<true>(m, d, q, v, qdd, f_ext, world_acceleration(m));
   else
@@ -46,13 +44,13 @@ void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* 
 
 template <class S>
 void inverse_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                      const ConstVecRef<S>& qdd, const S* f_ext, DynamicsOutputs outputs) {
-  detail::rnea(m, d, q.data(), v.data(), qdd.data(), f_ext, outputs);
+                      const ConstVecRef<S>& qdd, const S* f_ext) {
+  detail::rnea(m, d, q.data(), v.data(), qdd.data(), f_ext);
 }
 
 template <class S>
 void bias_forces(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
-  detail::rnea<S>(m, d, q.data(), v.data(), nullptr, nullptr, DynamicsOutputs{});
+  detail::rnea<S>(m, d, q.data(), v.data(), nullptr, nullptr);
 }
 
 }  // namespace soadyn

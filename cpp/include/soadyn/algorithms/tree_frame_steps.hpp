@@ -23,7 +23,7 @@
 // frame is V x H*, so the Coriolis term of Eq. 1 is a(k) = V(k) x (H* qdot),
 // plus the joint's own bias for joints whose subspace varies (universal).
 #pragma once
-#include "soadyn/algorithms/steps.hpp"
+#include "soadyn/algorithms/flexible_steps.hpp"
 #include "soadyn/joints/joint_kernel.hpp"
 
 namespace soadyn {
@@ -114,32 +114,59 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
   return Vec6<S>::Zero();
 }
 
-// Tree-frame kinematics and body terms of body i (seed Eq. 1): pose and
-// subspace, V(i) = V(parent) + H* qdot, a(i) = V(i) x (H* qdot) + joint bias,
-// the body inertia M(i) into articulated_inertia[i] (the start of P) and
-// b(i) = V x* (M V) - f_ext into bias_force[i] and articulated_bias[i].
-// `v` null: zero velocity (impulse problems); `f_ext` as in steps.hpp.
+// Tree-frame kinematics of body i (seed Eq. 1): pose and subspace,
+// V(i) = V(parent) + H* qdot and a(i) = V(i) x (H* qdot) + joint bias.
+// `v` null: zero velocity (impulse problems).
 template <class S>
-inline void tree_motion_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
-                             const S* f_ext) {
+inline void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   const Vec6<S> joint_rate = tree_joint_step(m, d, i, q, v);
+  if (!v) {
+    d.velocity[i].setZero();
+    d.coriolis[i].setZero();
+    return;
+  }
+  const int p = m.parent[i];
+  const Vec6<S> joint_velocity = subspace_times(d.tree_subspace[i], v + m.v_index[i]);
+  d.velocity[i] = p >= 0 ? Vec6<S>(d.velocity[static_cast<std::size_t>(p)] + joint_velocity) : joint_velocity;
+  d.coriolis[i] = motion_cross(d.velocity[i], joint_velocity) + joint_rate;
+}
+
+// Body terms of rigid body i in its tree frame: M(i) into
+// articulated_inertia[i] (the start of P) and b(i) = V x* (M V) - f_ext into
+// bias_force[i] and articulated_bias[i]; `f_ext` as in steps.hpp.
+template <class S>
+inline void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v, const S* f_ext) {
   const Transform<S>& pose = d.tree_pose[i];
   Mat6<S>& inertia = d.articulated_inertia[i];
   inertia = spatial_inertia_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i]);
   Vec6<S>& b = d.bias_force[i];
-  if (v) {
-    const int p = m.parent[i];
-    const Vec6<S> joint_velocity = subspace_times(d.tree_subspace[i], v + m.v_index[i]);
-    d.velocity[i] = p >= 0 ? Vec6<S>(d.velocity[static_cast<std::size_t>(p)] + joint_velocity) : joint_velocity;
-    d.coriolis[i] = motion_cross(d.velocity[i], joint_velocity) + joint_rate;
+  if (v)
     b = force_cross(d.velocity[i], Vec6<S>(inertia * d.velocity[i]));
-  } else {
-    d.velocity[i].setZero();
-    d.coriolis[i].setZero();
+  else
     b.setZero();
-  }
   if (f_ext) b -= pose.force_to_parent(Eigen::Map<const Vec6<S>>(f_ext + 6 * i));
   d.articulated_bias[i] = b;
+}
+
+// Body terms of flexible body i (flexible_steps.hpp) in its tree frame: M(eta)
+// and the bias come from the modal integrals in the body frame (they need
+// the body-frame velocity); the rigid block of M becomes the start of P by
+// one congruence, the coupling block's columns and b_V are carried as forces,
+// the modal blocks need no transform. Bodies on a node of this body are not
+// handled here (the sweeps then run in body frames).
+template <class S>
+inline void tree_flexible_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
+                                    const S* f_ext) {
+  const Transform<S>& pose = d.tree_pose[i];
+  flexible_inertia_step(m, d, i, q);
+  flexible_bias_step(m, d, i, q, v, Vec6<S>(pose.motion_to_child(d.velocity[i])), f_ext);
+  FlexibleBodyData<S>& fd = flexible_data(m, d, i);
+  const Eigen::Index n = fd.modal_bias.size();
+  d.bias_force[i] = pose.force_to_parent(d.bias_force[i]);
+  d.articulated_bias[i] = d.bias_force[i];
+  d.articulated_inertia[i] = pose.inertia_to_parent(fd.mass.template topLeftCorner<6, 6>());
+  for (Eigen::Index c = 0; c < n; ++c) fd.coupling.col(c) = pose.force_to_parent(Vec6<S>(fd.mass.col(6 + c).template head<6>()));
+  fd.modal_inertia = fd.mass.bottomRightCorner(n, n);
 }
 
 }  // namespace soadyn

@@ -1,9 +1,11 @@
-// The hybrid algorithm's three sweeps for rigid models, in tree frames
-// (tree_frame_steps.hpp): hybrid dynamics and its impulse form (the model's
-// flags), forward dynamics (every DOF regular: the articulated-body
-// algorithm) and inverse dynamics (every DOF prescribed: Newton-Euler, two
-// sweeps). Flexible models use the body-frame sweeps (hybrid.hxx, aba.hxx,
-// rnea.hxx).
+// The hybrid algorithm's three sweeps in tree frames (tree_frame_steps.hpp):
+// hybrid dynamics and its impulse form (the model's flags) and forward
+// dynamics (every DOF regular: the articulated-body algorithm), for rigid
+// models (Flex = false) and for models whose flexible bodies carry no body
+// on a node (Flex = true: appendages such as booms, antennas and arrays).
+// Models with bodies on nodes use the body-frame sweeps (hybrid.hxx,
+// aba.hxx). Inverse dynamics stays in body frames (rnea.hxx): without an
+// articulated inertia to carry, body frames need fewer operations.
 #pragma once
 #include <Eigen/Cholesky>
 #include "soadyn/algorithms/hinge_steps.hpp"
@@ -55,12 +57,12 @@ inline void hinge_forces_to_body_frames(DataTpl<S>& d) {
 }
 
 // Whose flags the sweeps follow.
-enum class ModePolicy { model_flags, all_regular, all_prescribed };
+enum class ModePolicy { model_flags, all_regular };
 
 template <ModePolicy Modes, class S>
 inline bool needs_articulated_inertia(const ModelTpl<S>& m, std::size_t i) {
-  if constexpr (Modes == ModePolicy::model_flags) return m.modes[i].needs_articulated_inertia;
-  return Modes == ModePolicy::all_regular;
+  if constexpr (Modes == ModePolicy::all_regular) return true;
+  return m.modes[i].needs_articulated_inertia;
 }
 
 template <ModePolicy Modes, class S>
@@ -69,10 +71,9 @@ inline bool is_regular_free_root(const ModelTpl<S>& m, std::size_t i) {
          (Modes == ModePolicy::all_regular || m.modes[i].n_prescribed == 0);
 }
 
-// The three sweeps, rigid models, tree frames (two for all_prescribed). `v`
-// null means zero velocity; `u` null (all_prescribed only) zero acceleration;
-// `want_force` also leaves every hinge force in data.hinge_force (body frame).
-template <ModePolicy Modes, class S>
+// The three sweeps in tree frames. `v` null means zero velocity; `want_force`
+// also leaves every hinge force in data.hinge_force (body frame).
+template <ModePolicy Modes, bool Flex, class S>
 Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u, const S* f_ext,
                          const Vec6<S>& world_acc, bool want_force) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
@@ -81,10 +82,17 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
     return p >= 0 ? d.acceleration[static_cast<std::size_t>(p)] : world_acc;
   };
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, M, b (seed Eq. 1); all-prescribed regions' accelerations
-    tree_motion_step(m, d, i, q, v, f_ext);
+    tree_velocity_step(m, d, i, q, v);
+    if constexpr (Flex) {
+      if (m.is_flexible(static_cast<int>(i))) {  // always regular modal DOFs: always an articulated inertia
+        tree_flexible_body_step(m, d, i, q, v, f_ext);
+        continue;
+      }
+    }
+    tree_rigid_body_step(m, d, i, v, f_ext);
     if (!needs_articulated_inertia<Modes>(m, i)) {  // Newton-Euler: alpha = alpha+ + H* qdd + a, f = M alpha + b
       d.acceleration[i] = parent_acc(i) + d.coriolis[i];
-      if (u) d.acceleration[i] += subspace_times(d.tree_subspace[i], u + m.v_index[i]);
+      d.acceleration[i] += subspace_times(d.tree_subspace[i], u + m.v_index[i]);
       d.hinge_force[i] = d.bias_force[i];
       d.hinge_force[i].noalias() += d.articulated_inertia[i] * d.acceleration[i];
     }
@@ -96,11 +104,16 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
     const std::size_t pp = static_cast<std::size_t>(p);
     if (!needs_articulated_inertia<Modes>(m, i)) {  // T = H f, f(parent) += f
       const int vi = m.v_index[i], ni = m.nv_body[i];
-      if constexpr (Modes != ModePolicy::all_prescribed)
-        for (int k = 0; k < ni; ++k) d.qdd[vi + k] = u[vi + k];
+      for (int k = 0; k < ni; ++k) d.qdd[vi + k] = u[vi + k];
       subspace_transpose_times(d.tree_subspace[i], d.hinge_force[i], d.tau.segment(vi, ni));
       if (p >= 0) d.hinge_force[pp] += d.hinge_force[i];
       continue;
+    }
+    if constexpr (Flex) {
+      if (m.is_flexible(static_cast<int>(i))) {  // P^ and z^ first (flexible_steps.hpp)
+        const int bad = eliminate_modal_coordinates(m, d, i, u);
+        if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
+      }
     }
     if (is_regular_free_root<Modes>(m, i)) {
       const int bad = free_root_inward(m, d, i, u);
@@ -118,16 +131,14 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
       d.hinge_force[pp].noalias() += P_plus * d.acceleration[pp];
     }
   }
-  if constexpr (Modes == ModePolicy::all_prescribed) {  // inverse dynamics: no third sweep, no check
-    if (want_force) hinge_forces_to_body_frames(d);
-    return Status{};
-  }
   for (std::size_t i = 0; i < n; ++i) {  // base to tip (seed Eq. 29)
     if (!needs_articulated_inertia<Modes>(m, i)) continue;
     if (is_regular_free_root<Modes>(m, i))
       free_root_outward(m, d, i, u, world_acc, want_force);
     else
       hinge_outward<Modes == ModePolicy::all_regular>(m, d, i, u, parent_acc(i), d.tree_subspace[i], want_force);
+    if constexpr (Flex)
+      if (m.is_flexible(static_cast<int>(i))) modal_accelerations(m, d, i, u);
   }
   if (want_force) hinge_forces_to_body_frames(d);
   const Status s = check_finite(d.qdd);

@@ -8,6 +8,12 @@
 // does not shift the schedule: the steps after it run at once until the loop
 // has caught up, so simulation time stays locked to the wall clock.
 //
+// With a spin margin, the loop sleeps until `spin` before the deadline and
+// busy-waits the rest: the core stays awake and its caches warm, so neither
+// the wake-up latency of a sleeping core nor cold caches reach the step (the
+// usual practice on a core dedicated to the simulation; it costs that share
+// of the core).
+//
 // Per step it records the compute time (wake-up to the end of the step,
 // I/O included) and the lateness (wake-up minus deadline); a step whose
 // compute ends after the next deadline is a deadline miss. In
@@ -54,6 +60,8 @@ class HilRunner {
 
   // Setup, before run().
   void set_as_fast_as_possible(bool on) { as_fast_as_possible_ = on; }
+  // Busy-wait the last `ns` nanoseconds before each deadline (0: sleep all the way).
+  void set_spin_ns(std::int64_t ns) { spin_ns_ = ns > 0 ? ns : 0; }
   // Records time, q and v at the start and after every `every` steps
   // (0: no recording). Allocates the buffers.
   void record_state_every(std::int64_t every);
@@ -93,6 +101,7 @@ class HilRunner {
   double rate_hz_;
   std::int64_t steps_;
   bool as_fast_as_possible_ = false;
+  std::int64_t spin_ns_ = 0;
   std::int64_t start_ns_ = 0, end_ns_ = 0;
   std::vector<std::int64_t> compute_ns_, lateness_ns_;
   std::int64_t record_every_ = 0, recorded_rows_ = 0;
