@@ -73,6 +73,17 @@ def test_real_rate_run_completes_every_step():
     assert report.packets == {"received": 0, "dropped": 0, "sent": 0}
 
 
+def test_spinning_run_keeps_the_schedule_and_the_trajectory():
+    _, sim = swinging_chain(dt=1 / 200)
+    report = run_hil(sim, 200.0, 0.5, progress=False, spin_us=2000.0)
+    assert_consistent(report, 100)
+    _, reference = swinging_chain(dt=1 / 200)
+    reference.run(0.5)
+    np.testing.assert_array_equal(sim.q, reference.q)
+    # Busy-waiting ends at or after the deadline, never before it.
+    assert report.lateness_ns.min() >= 0
+
+
 def send_all(packets, port):
     client = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     client.bind(("127.0.0.1", 0))
@@ -180,6 +191,9 @@ def test_bad_runner_arguments():
         HilRunner(sim, 100.0, 10, udp_port=70000)
     with pytest.raises(ValueError, match="duration"):
         run_hil(sim, 100.0, math.nan, progress=False)
+    for spin in (-1.0, 10000.0, math.nan):  # the period at 100 Hz is 10000 us
+        with pytest.raises(ValueError, match="spin_us"):
+            run_hil(sim, 100.0, 0.1, progress=False, spin_us=spin)
 
 
 def test_cli_end_to_end_with_report_and_plot(tmp_path):

@@ -139,3 +139,20 @@ def test_gravity_and_external_wrench_enter_as_forces():
     np.testing.assert_allclose(qdd, [0, 0, 0, 2.0, 0, -9.81], atol=1e-14)
     m.gravity = [0.0, 0.0, 0.0]
     np.testing.assert_allclose(soadyn.forward_dynamics(m, q, v, np.zeros(6)), np.zeros(6), atol=0)
+
+
+@pytest.mark.parametrize("seed", SEEDS[:3])
+def test_far_from_the_world_origin(seed):
+    """Translating a free-floating tree by 1e6 m changes nothing: the sweeps refer spatial vectors to the
+    root body's origin (tree frames), so no lever arm of 1e6 m eats the digits of the result."""
+    m, q, v, rng, _, _ = dense_state(seed)
+    u = rng.normal(size=m.nv)
+    far = q.copy()
+    far[:3] += np.array([1e6, -2e6, 3e6])  # the free root's position comes first
+    m.set_prescribed(rng.uniform(size=m.nv) < 0.5)
+    near_out, far_out = soadyn.hybrid_dynamics(m, q, v, u), soadyn.hybrid_dynamics(m, far, v, u)
+    for a, b in zip(near_out, far_out):
+        np.testing.assert_allclose(b, a, rtol=1e-12, atol=1e-12 * np.abs(a).max())
+    m.set_prescribed(np.zeros(m.nv, dtype=bool))
+    a, b = soadyn.forward_dynamics(m, q, v, u), soadyn.forward_dynamics(m, far, v, u)
+    np.testing.assert_allclose(b, a, rtol=1e-12, atol=1e-12 * np.abs(a).max())

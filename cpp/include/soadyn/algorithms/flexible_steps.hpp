@@ -189,9 +189,9 @@ inline int eliminate_modal_coordinates(const ModelTpl<S>& m, DataTpl<S>& d, std:
   const int bad = cholesky_in_place(fd.modal_inertia, threshold);  // P_ee = L L', in place
   if (bad >= 0) return first + bad;
   fd.gain_transpose = fd.coupling.transpose();
-  for (Eigen::Index c = 0; c < 6; ++c) cholesky_solve_in_place(fd.modal_inertia, fd.gain_transpose.col(c).data());
+  cholesky_solve_in_place(fd.modal_inertia, fd.gain_transpose);
   fd.innovation = Eigen::Map<const VecX<S>>(u + first, n) - fd.modal_bias;
-  cholesky_solve_in_place(fd.modal_inertia, fd.innovation.data());
+  cholesky_solve_in_place(fd.modal_inertia, fd.innovation);
   for (Eigen::Index k = 0; k < n; ++k) {  // P -= coupling gain' and z += coupling innovation, as 6-vector updates
     const Vec6<S> g = fd.gain_transpose.row(k).transpose();
     d.articulated_inertia[i].noalias() -= fd.coupling.col(k) * g.transpose();

@@ -30,19 +30,26 @@ int cholesky_in_place(MatX<S>& A, S threshold) {
   return -1;
 }
 
-// x <- (L L')^-1 x for the factor of cholesky_in_place; x has L.rows() entries.
-template <class S>
-void cholesky_solve_in_place(const MatX<S>& L, S* x) {
-  const Eigen::Index n = L.rows();
-  for (Eigen::Index i = 0; i < n; ++i) {  // L y = x
-    S y = x[i];
-    for (Eigen::Index k = 0; k < i; ++k) y -= L(i, k) * x[k];
-    x[i] = y / L(i, i);
+// X <- (L L')^-1 X for the factor of cholesky_in_place, every column of X
+// (L.rows() rows) at once, row by row: one division per pivot and pass.
+template <class S, class Derived>
+void cholesky_solve_in_place(const MatX<S>& L, Eigen::MatrixBase<Derived>& X) {
+  const Eigen::Index n = L.rows(), m = X.cols();
+  for (Eigen::Index i = 0; i < n; ++i) {  // L Y = X
+    const S inverse_pivot = S(1) / L(i, i);
+    for (Eigen::Index c = 0; c < m; ++c) {
+      S y = X(i, c);
+      for (Eigen::Index k = 0; k < i; ++k) y -= L(i, k) * X(k, c);
+      X(i, c) = y * inverse_pivot;
+    }
   }
-  for (Eigen::Index i = n; i-- > 0;) {  // L' x = y
-    S y = x[i];
-    for (Eigen::Index k = i + 1; k < n; ++k) y -= L(k, i) * x[k];
-    x[i] = y / L(i, i);
+  for (Eigen::Index i = n; i-- > 0;) {  // L' X = Y
+    const S inverse_pivot = S(1) / L(i, i);
+    for (Eigen::Index c = 0; c < m; ++c) {
+      S y = X(i, c);
+      for (Eigen::Index k = i + 1; k < n; ++k) y -= L(k, i) * X(k, c);
+      X(i, c) = y * inverse_pivot;
+    }
   }
 }
 
