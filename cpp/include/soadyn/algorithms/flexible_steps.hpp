@@ -1,8 +1,9 @@
 // Per-body steps for flexible bodies (flex/flexible_body.hpp) in the sweeps
-// of steps.hpp. The algorithms instantiate their sweeps twice, with
-// Flex = false (no flexible body in the model: every function below reduces
-// to its rigid counterpart at compile time, so rigid scenes pay nothing) and
-// Flex = true.
+// of steps.hpp (body frames) and tree_frame_steps.hpp (tree frames). The
+// algorithms instantiate their sweeps with Flex = false (no flexible body in
+// the model: every function below reduces to its rigid counterpart at
+// compile time, so rigid scenes pay nothing) and Flex = true. Bodies placed on
+// a node of a flexible body (J_c below) run in body frames only.
 //
 // A flexible body k carries the augmented velocity w = [V; eta_dot] and the
 // augmented equations of motion M(eta) dw/dt + b = [f; u_modal]

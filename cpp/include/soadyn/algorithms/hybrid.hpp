@@ -8,7 +8,10 @@
 // forces come from the Newton-Euler inward sweep, as in inverse dynamics.
 // With every flag prescribed the algorithm is RNEA; with every flag regular
 // it is the articulated-body algorithm: a tree with no prescribed DOF runs the
-// very sweeps of forward_dynamics (aba.hpp), so it never costs more.
+// very sweeps of forward_dynamics (aba.hpp), so it never costs more; a tree
+// with every DOF prescribed runs inverse dynamics (rnea.hpp). Rigid models and
+// models whose flexible bodies carry nothing on a node run in tree frames
+// (tree_frame_sweeps.hxx), the others in body frames (hybrid.hxx).
 #pragma once
 #include "soadyn/algorithms/steps.hpp"
 
