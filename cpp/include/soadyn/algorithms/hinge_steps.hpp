@@ -23,11 +23,12 @@ inline Vec6<S> prescribed_hinge_acceleration(const ModelTpl<S>& m, const Mat6N<S
 
 // Tip-to-base hinge step of a body with an articulated inertia (seed Eq. 28):
 // z = z_children + b + P (H*_p qdd_p + a); the regular DOFs then give P+ and
-// z+ (articulated_hinge_step); a hinge with no regular DOF passes P and z on.
+// z+ (articulated_hinge_step) in P_plus and z_plus; a hinge with no regular
+// DOF passes P on (P_out points at articulated_inertia[i]) and z in z_plus.
 // Returns the DOF of a singular D, or -1.
 template <bool AllRegular, class S>
 inline int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u, const Mat6N<S>& s,
-                        Mat6<S>& P_plus, Vec6<S>& z_plus) {
+                        Mat6<S>& P_plus, Vec6<S>& z_plus, const Mat6<S>*& P_out) {
   const HingeModes& h = m.modes[i];
   const int n_prescribed = AllRegular ? 0 : h.n_prescribed;
   const int n_regular = AllRegular ? m.nv_body[i] : h.n_regular;
@@ -37,10 +38,11 @@ inline int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, cons
   Vec6<S> z = d.articulated_bias[i];
   z.noalias() += P * hinge_acc;
   if (n_regular == 0) {
-    P_plus = P;
+    P_out = &P;
     z_plus = z;
     return -1;
   }
+  P_out = &P_plus;
   const S* ui = u + m.v_index[i];
   VecN<S> eps(n_regular);
   const Mat6N<S>* Sr = &s;

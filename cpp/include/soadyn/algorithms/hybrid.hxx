@@ -23,14 +23,15 @@ inline int articulated_body_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
   }
   Mat6<S> P_plus;
   Vec6<S> z_plus;
-  const int bad = hinge_inward<false>(m, d, i, u, d.subspace[i], P_plus, z_plus);
+  const Mat6<S>* P_out = nullptr;
+  const int bad = hinge_inward<false>(m, d, i, u, d.subspace[i], P_plus, z_plus, P_out);
   if (bad >= 0) return bad;
   const int p = m.parent[i];
   if (p < 0) return -1;
   if (m.modes[static_cast<std::size_t>(p)].needs_articulated_inertia) {
-    push_articulated<Flex>(m, d, i, P_plus, z_plus);
+    push_articulated<Flex>(m, d, i, *P_out, z_plus);
   } else {  // the parent's acceleration is already known: f = P+ alpha+ + z+
-    const Vec6<S> f = P_plus * parent_acceleration(m, d, i, world_acc) + z_plus;
+    const Vec6<S> f = *P_out * parent_acceleration(m, d, i, world_acc) + z_plus;
     push_force_to_parent(m, d, i, f);
   }
   return -1;

@@ -37,13 +37,13 @@ Vec6<S> world_acceleration(const ModelTpl<S>& m) {
 // S x for a hinge subspace S (6 x n, n <= 6) and n values x, column by
 // column with fixed-size vectors (no dynamic-size product for 1-6 columns).
 template <class S, class Derived>
-inline Vec6<S> subspace_times(const Mat6N<S>& s, const Eigen::MatrixBase<Derived>& x) {
+SOADYN_ALWAYS_INLINE Vec6<S> subspace_times(const Mat6N<S>& s, const Eigen::MatrixBase<Derived>& x) {
   Vec6<S> r = s.col(0) * x[0];
   for (Eigen::Index k = 1; k < s.cols(); ++k) r += s.col(k) * x[k];
   return r;
 }
 template <class S>
-inline Vec6<S> subspace_times(const Mat6N<S>& s, const S* x) {
+SOADYN_ALWAYS_INLINE Vec6<S> subspace_times(const Mat6N<S>& s, const S* x) {
   if (s.cols() == 0) return Vec6<S>::Zero();
   return subspace_times(s, Eigen::Map<const VecN<S>>(x, s.cols()));
 }

@@ -118,7 +118,7 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
 // V(i) = V(parent) + H* qdot and a(i) = V(i) x (H* qdot) + joint bias.
 // `v` null: zero velocity (impulse problems).
 template <class S>
-inline void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
+SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   const Vec6<S> joint_rate = tree_joint_step(m, d, i, q, v);
   if (!v) {
     d.velocity[i].setZero();
@@ -135,7 +135,7 @@ inline void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
 // articulated_inertia[i] (the start of P) and b(i) = V x* (M V) - f_ext into
 // bias_force[i] and articulated_bias[i]; `f_ext` as in steps.hpp.
 template <class S>
-inline void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v, const S* f_ext) {
+SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v, const S* f_ext) {
   const Transform<S>& pose = d.tree_pose[i];
   Mat6<S>& inertia = d.articulated_inertia[i];
   inertia = spatial_inertia_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i]);

@@ -120,15 +120,17 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
       if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
       continue;
     }
-    const int bad = hinge_inward<Modes == ModePolicy::all_regular>(m, d, i, u, d.tree_subspace[i], P_plus, z_plus);
+    const Mat6<S>* P_out = nullptr;
+    const int bad =
+        hinge_inward<Modes == ModePolicy::all_regular>(m, d, i, u, d.tree_subspace[i], P_plus, z_plus, P_out);
     if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
     if (p < 0) continue;
     if (needs_articulated_inertia<Modes>(m, pp)) {  // seed Eq. 14 with phi = 1
-      d.articulated_inertia[pp] += P_plus;
+      d.articulated_inertia[pp] += *P_out;
       d.articulated_bias[pp] += z_plus;
     } else {  // the parent's acceleration is already known: f = P+ alpha(parent) + z+
       d.hinge_force[pp] += z_plus;
-      d.hinge_force[pp].noalias() += P_plus * d.acceleration[pp];
+      d.hinge_force[pp].noalias() += *P_out * d.acceleration[pp];
     }
   }
   for (std::size_t i = 0; i < n; ++i) {  // base to tip (seed Eq. 29)

@@ -10,7 +10,7 @@ namespace soadyn {
 //   [ Ic - m [c]x[c]x   m [c]x ]
 //   [ -m [c]x           m 1    ]
 template <class S>
-Mat6<S> spatial_inertia(const S& mass, const Vec3<S>& com, const Mat3<S>& inertia_com) {
+SOADYN_ALWAYS_INLINE Mat6<S> spatial_inertia(const S& mass, const Vec3<S>& com, const Mat3<S>& inertia_com) {
   const Mat3<S> cx = skew(com);
   const Vec3<S> mc = mass * com;
   Mat6<S> I;
@@ -27,9 +27,12 @@ Mat6<S> spatial_inertia(const S& mass, const Vec3<S>& com, const Mat3<S>& inerti
 // coordinates and about F's origin: the centre of mass and the rotational
 // inertia are carried to F (R c + t, R Ic R'), then assembled as above.
 template <class S>
-Mat6<S> spatial_inertia_in_frame(const Transform<S>& pose, const S& mass, const Vec3<S>& com,
+SOADYN_ALWAYS_INLINE Mat6<S> spatial_inertia_in_frame(const Transform<S>& pose, const S& mass, const Vec3<S>& com,
                                  const Mat3<S>& inertia_com) {
-  const Mat3<S> rotated = pose.rotation * inertia_com * pose.rotation.transpose();
+  const Mat3<S> half = pose.rotation * inertia_com;  // R Ic R' is symmetric: its lower triangle from R Ic
+  Mat3<S> rotated;
+  for (int c = 0; c < 3; ++c)
+    for (int r = c; r < 3; ++r) rotated(r, c) = rotated(c, r) = half.row(r).dot(pose.rotation.row(c));
   return spatial_inertia(mass, pose.apply_point(com), rotated);
 }
 

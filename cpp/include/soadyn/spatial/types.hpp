@@ -5,6 +5,15 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+// Forces inlining of the small per-body kernels the sweeps call many times
+// per body: at -O3 GCC otherwise leaves some as calls that pass 6-vectors
+// through memory.
+#if defined(__GNUC__)
+#define SOADYN_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define SOADYN_ALWAYS_INLINE inline
+#endif
+
 namespace soadyn {
 
 template <class S> using Vec3 = Eigen::Matrix<S, 3, 1>;
@@ -30,7 +39,7 @@ Mat3<S> skew(const Vec3<S>& w) {
 
 // Motion cross product v x m (Featherstone's crm): [w x mw; w x mv + vl x mw].
 template <class S>
-Vec6<S> motion_cross(const Vec6<S>& v, const Vec6<S>& m) {
+SOADYN_ALWAYS_INLINE Vec6<S> motion_cross(const Vec6<S>& v, const Vec6<S>& m) {
   const Vec3<S> w = v.template head<3>(), vl = v.template tail<3>();
   const Vec3<S> mw = m.template head<3>(), mv = m.template tail<3>();
   Vec6<S> r;
@@ -40,7 +49,7 @@ Vec6<S> motion_cross(const Vec6<S>& v, const Vec6<S>& m) {
 
 // Force cross product v x* f (Featherstone's crf): [w x n + vl x f; w x f].
 template <class S>
-Vec6<S> force_cross(const Vec6<S>& v, const Vec6<S>& f) {
+SOADYN_ALWAYS_INLINE Vec6<S> force_cross(const Vec6<S>& v, const Vec6<S>& f) {
   const Vec3<S> w = v.template head<3>(), vl = v.template tail<3>();
   const Vec3<S> n = f.template head<3>(), fl = f.template tail<3>();
   Vec6<S> r;
