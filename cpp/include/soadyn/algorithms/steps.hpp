@@ -142,6 +142,33 @@ inline S singular_pivot_threshold(const Mat6<S>& P) {
   return S(16) * std::numeric_limits<S>::epsilon() * P.diagonal().cwiseAbs().maxCoeff();
 }
 
+// articulated_hinge_step (below) for a hinge of N regular DOFs, N fixed at
+// compile time: universal (2), spherical (3) and free (6) joints.
+template <int N, class S>
+inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z, VecN<S>& eps,
+                                        Mat6N<S>& G, VecN<S>& nu, Mat6<S>& P_plus, Vec6<S>& z_plus,
+                                        const S& threshold) {
+  using Mat6n = Eigen::Matrix<S, 6, N>;
+  using Vecn = Eigen::Matrix<S, N, 1>;
+  const Mat6n s = Sr;
+  const Mat6n U = P * s;
+  Vecn e = eps.template head<N>();
+  e.noalias() -= s.transpose() * z;
+  const Eigen::LLT<Eigen::Matrix<S, N, N>> llt(s.transpose() * U);  // D = S' P S
+  if (llt.info() != Eigen::Success) return 0;
+  for (int k = 0; k < N; ++k)
+    if (!(llt.matrixLLT()(k, k) * llt.matrixLLT()(k, k) > threshold)) return k;
+  const Mat6n gain = llt.solve(U.transpose()).transpose();  // G = P S D^-1
+  eps = e;
+  nu = llt.solve(e);
+  G = gain;
+  P_plus = P;
+  P_plus.noalias() -= gain * U.transpose();
+  z_plus = z;
+  z_plus.noalias() += gain * e;
+  return -1;
+}
+
 // The regular part of a hinge in the tip-to-base sweep (seed Eqs. 14, 28):
 //   D = S' P S,  G = P S D^-1,  eps = T - S' z,  nu = D^-1 eps,
 //   P+ = (I - G S') P,  z+ = z + G eps.
@@ -165,23 +192,11 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     z_plus = z + g * e;
     return -1;
   }
-  if (Sr.cols() == 6) {  // free joints: fixed-size 6 x 6 arithmetic
-    const Mat6<S> S6 = Sr;
-    const Mat6<S> U6 = P * S6;
-    Vec6<S> e = eps;
-    e.noalias() -= S6.transpose() * z;
-    const Eigen::LLT<Mat6<S>> llt(S6.transpose() * U6);
-    if (llt.info() != Eigen::Success) return 0;
-    for (int k = 0; k < 6; ++k)
-      if (!(llt.matrixLLT()(k, k) * llt.matrixLLT()(k, k) > threshold)) return k;
-    const Mat6<S> G6 = llt.solve(U6.transpose()).transpose();
-    eps = e;
-    nu = llt.solve(e);
-    G = G6;
-    P_plus = P;
-    P_plus.noalias() -= G6 * U6.transpose();
-    z_plus = z + G6 * e;
-    return -1;
+  switch (Sr.cols()) {  // multi-DOF hinges in fixed-size arithmetic
+    case 2: return articulated_hinge_step_fixed<2>(P, Sr, z, eps, G, nu, P_plus, z_plus, threshold);
+    case 3: return articulated_hinge_step_fixed<3>(P, Sr, z, eps, G, nu, P_plus, z_plus, threshold);
+    case 6: return articulated_hinge_step_fixed<6>(P, Sr, z, eps, G, nu, P_plus, z_plus, threshold);
+    default: break;
   }
   const Mat6N<S> U = P * Sr;  // 6 x nr
   eps.noalias() -= Sr.transpose() * z;
