@@ -1,7 +1,9 @@
 """Linear scaling: C++ time per body of the hybrid algorithm on chains and random trees of
 10, 100 and 1000 bodies (every DOF regular, every DOF prescribed, half the DOFs prescribed).
 
-Timed in C++ (soadyn._soadyn._time_cpp: median of 7 repetitions over 64 random states).
+Timed in C++ (soadyn._soadyn._time_cpp over 64 random states). The machine's speed drifts,
+so the sizes are timed in rounds, each round visiting every size, and the table gives the
+median over rounds.
 The target: time per body flat within 15 % across the sizes. Writes
 bench/results/scaling.md and bench/results/scaling.png. Usage: python bench/bench_scaling.py
 """
@@ -30,31 +32,37 @@ def models(n):
     yield "random revolute tree", random_tree(7, n, kinds=("revolute",), floating=False)[0]
 
 
-def per_body_us(model, n):
+ROUNDS = 5
+
+
+def timing_cases(model, n):
+    """(mode, mask, states, calls) for one model."""
     rng = np.random.default_rng(n)
     q = np.array([soadyn.random_configuration(model, k) for k in range(64)])
     v, u = rng.uniform(-1, 1, (64, model.nv)), rng.uniform(-1, 1, (64, model.nv))
-    calls = max(200, 200000 // n)
-    out = {}
-    for mode, mask in zip(MODES, (np.zeros(model.nv, bool), np.ones(model.nv, bool), rng.uniform(size=model.nv) < 0.5)):
-        model.set_prescribed(mask)
-        out[mode] = _time_cpp(model, "hybrid", q, v, u, calls) / n
-    return out
+    masks = (np.zeros(model.nv, bool), np.ones(model.nv, bool), rng.uniform(size=model.nv) < 0.5)
+    return [(mode, mask, (q, v, u), max(200, 200000 // n)) for mode, mask in zip(MODES, masks)]
 
 
 def main() -> int:
-    results = {}  # (kind, mode) -> [us per body for each size]
-    for n in SIZES:
-        for kind, model in models(n):
-            for mode, t in per_body_us(model, n).items():
-                results.setdefault((kind, mode), []).append(t)
-            print(n, kind, {k: round(v[-1], 4) for k, v in results.items() if k[0] == kind}, flush=True)
+    cases = [(n, kind, model, timing_cases(model, n)) for n in SIZES for kind, model in models(n)]
+    samples = {}  # (kind, mode, n) -> us per body, one per round
+    for r in range(ROUNDS):
+        for n, kind, model, timings in cases:
+            for mode, mask, (q, v, u), calls in timings:
+                model.set_prescribed(mask)
+                samples.setdefault((kind, mode, n), []).append(_time_cpp(model, "hybrid", q, v, u, calls, 3) / n)
+        print(f"round {r + 1}/{ROUNDS} done", flush=True)
+    results = {}  # (kind, mode) -> [median us per body for each size]
+    for (kind, mode, n), ts in samples.items():
+        results.setdefault((kind, mode), []).append(float(np.median(ts)))
     lines = ["# Linear scaling: C++ time per body (us) of hybrid_dynamics", "",
              "| model | DOF modes | " + " | ".join(f"{n} bodies" for n in SIZES) + " | max / min (target <= 1.15) |",
              "|---|---|" + "---:|" * (len(SIZES) + 1)]
     for (kind, mode), ts in results.items():
         lines.append(f"| {kind} | {mode} | " + " | ".join(f"{t:.3f}" for t in ts) + f" | **{max(ts) / min(ts):.2f}** |")
-    lines += ["", "Median of 7 repetitions over 64 random states, one C++ loop per entry, on a shared machine.",
+    lines += ["", f"Median over {ROUNDS} rounds (each round times every size; per entry the median of 3 repetitions "
+              "over 64 random states, one C++ loop), on a shared machine.",
               "With a random half of the DOFs prescribed, the share of bodies whose whole root path is prescribed "
               "(handled like RNEA) shrinks as trees grow deeper, so that row's cost per body rises towards the "
               "all-regular cost: a property of the mask, not of the scaling.",

@@ -32,10 +32,14 @@ Array q_arg(const ModelHandle& h, py::handle q) {
 Array v_arg(const ModelHandle& h, py::handle v, const char* name) { return checked_vector(v, name, h.model.dof_names); }
 
 // f_ext: None or (nbodies, 6) body-frame wrenches [torque; force] about the body origin.
-const double* f_ext_arg(const ModelHandle& h, py::handle f, Array& keep) {
+// (`keep` holds the checked array; a default-constructed Array would itself
+// allocate an empty numpy array on every call.)
+const double* f_ext_arg(const ModelHandle& h, py::handle f, py::object& keep) {
   if (f.is_none()) return nullptr;
-  keep = checked_matrix(f, "f_ext", 6, h.model.body_names);
-  return keep.data();
+  Array checked = checked_matrix(f, "f_ext", 6, h.model.body_names);
+  const double* data = checked.data();
+  keep = std::move(checked);
+  return data;
 }
 
 void raise_on(const soadyn::Status& s, const soadyn::Model& m) {
@@ -47,7 +51,7 @@ void raise_on(const soadyn::Status& s, const soadyn::Model& m) {
   throw DynamicsError("the result for DOF '" + dof + "' is not finite");
 }
 
-py::array_t<double> vector_out(py::ssize_t n) { return py::array_t<double>(n); }
+py::array_t<double> vector_out(py::ssize_t n) { return fresh_array(n); }
 
 // Models up to this many DOFs compute in less time than releasing and
 // re-taking the GIL costs; larger ones release it so other threads run.
@@ -71,11 +75,12 @@ void copy_wrenches(const soadyn::Data& d, double* out) {
   for (std::size_t i = 0; i < d.hinge_force.size(); ++i) Eigen::Map<soadyn::Vec6<double>>(out + 6 * i) = d.hinge_force[i];
 }
 
-py::array_t<double> wrench_out(const ModelHandle& h) { return py::array_t<double>({h.model.nbodies(), 6}); }
+py::array_t<double> wrench_out(const ModelHandle& h) { return fresh_array(h.model.nbodies(), 6); }
 
 // The checked (q, v, x, f_ext) of a dynamics call; x is tau, qdd or u.
 struct StateArgs {
-  Array q, v, x, f;
+  Array q, v, x;
+  py::object f;
   const double* f_ext = nullptr;
   StateArgs(const ModelHandle& h, py::handle q_in, py::handle v_in, py::handle x_in, const char* x_name,
             py::handle f_in)
@@ -144,8 +149,13 @@ void bind_algorithms(py::module_& mod) {
       [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext, bool wrenches) -> py::object {
         const StateArgs a(h, q, v, u, "u", f_ext);
         auto qdd = vector_out(h.model.nv), tau = vector_out(h.model.nv);
-        py::array_t<double> w = wrenches ? wrench_out(h) : py::array_t<double>();
-        double *qo = qdd.mutable_data(), *to = tau.mutable_data(), *wo = wrenches ? w.mutable_data() : nullptr;
+        py::object w;
+        double *qo = qdd.mutable_data(), *to = tau.mutable_data(), *wo = nullptr;
+        if (wrenches) {
+          auto wa = wrench_out(h);
+          wo = wa.mutable_data();
+          w = std::move(wa);
+        }
         soadyn::Status s;
         run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
           s = soadyn::hybrid_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext,

@@ -54,6 +54,18 @@ Array checked_vector(py::handle obj, const char* arg, const std::vector<std::str
   return a;
 }
 
+py::array_t<double> fresh_array(py::ssize_t rows, py::ssize_t cols) {
+  const auto& api = py::detail::npy_api::get();
+  Py_intptr_t dims[2] = {rows, cols};
+  PyObject* descr = api.PyArray_DescrFromType_(py::detail::npy_api::NPY_DOUBLE_);
+  if (!descr) throw py::error_already_set();
+  // NewFromDescr takes over the reference to descr; no strides and flags 0: C order.
+  PyObject* array = api.PyArray_NewFromDescr_(api.PyArray_Type_, descr, cols < 0 ? 1 : 2, dims, nullptr, nullptr, 0,
+                                              nullptr);
+  if (!array) throw py::error_already_set();
+  return py::reinterpret_steal<py::array_t<double>>(array);
+}
+
 Array checked_matrix(py::handle obj, const char* arg, py::ssize_t cols, const std::vector<std::string>& row_names) {
   Array a = as_float_array(obj, arg);
   const py::ssize_t rows = static_cast<py::ssize_t>(row_names.size());

@@ -14,6 +14,11 @@ using Array = py::array_t<double, py::array::c_style>;
 // 1-D real array of length n, every entry finite; `names` name the entries.
 Array checked_vector(py::handle obj, const char* arg, const std::vector<std::string>& names);
 
+// A fresh C-contiguous float64 array of shape (rows,) or, with cols >= 0,
+// (rows, cols), made with numpy's C API directly: pybind11's shape
+// containers would cost heap allocations on every call.
+py::array_t<double> fresh_array(py::ssize_t rows, py::ssize_t cols = -1);
+
 // 2-D real array of shape (rows, cols), finite; `row_names` name the rows.
 Array checked_matrix(py::handle obj, const char* arg, py::ssize_t cols, const std::vector<std::string>& row_names);
 
