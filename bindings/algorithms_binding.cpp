@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include "arrays.hpp"
+#include "dynamics_calls.hpp"
 #include "model_handle.hpp"
 #include "soadyn/soadyn.hpp"
 
@@ -18,7 +19,6 @@ struct DynamicsError : std::runtime_error {
 namespace {
 
 using Map = Eigen::Map<const Eigen::VectorXd>;
-constexpr double kQuaternionTolerance = 1e-6;
 
 Array q_arg(const ModelHandle& h, py::handle q) {
   Array a = checked_vector(q, "q", h.model.coordinate_names);
@@ -53,28 +53,6 @@ void raise_on(const soadyn::Status& s, const soadyn::Model& m) {
 
 py::array_t<double> vector_out(py::ssize_t n) { return fresh_array(n); }
 
-// Models up to this many DOFs compute in less time than releasing and
-// re-taking the GIL costs; larger ones release it so other threads run.
-constexpr int kReleaseGilAboveDofs = 24;
-
-// Runs `fn(model, data)` with the model's Data locked, and the GIL released
-// for models large enough to make it worthwhile.
-template <class Fn>
-void run_locked(ModelHandle& h, Fn&& fn) {
-  if (h.model.nv <= kReleaseGilAboveDofs) {
-    std::lock_guard<std::mutex> lock(h.mutex);
-    fn(h.model, h.scratch());
-    return;
-  }
-  py::gil_scoped_release release;
-  std::lock_guard<std::mutex> lock(h.mutex);
-  fn(h.model, h.scratch());
-}
-
-void copy_wrenches(const soadyn::Data& d, double* out) {
-  for (std::size_t i = 0; i < d.hinge_force.size(); ++i) Eigen::Map<soadyn::Vec6<double>>(out + 6 * i) = d.hinge_force[i];
-}
-
 py::array_t<double> wrench_out(const ModelHandle& h) { return fresh_array(h.model.nbodies(), 6); }
 
 // The checked (q, v, x, f_ext) of a dynamics call; x is tau, qdd or u.
@@ -87,9 +65,7 @@ struct StateArgs {
       : q(q_arg(h, q_in)), v(v_arg(h, v_in, "v")), x(v_arg(h, x_in, x_name)) {
     f_ext = f_ext_arg(h, f_in, f);
   }
-  Map q_map() const { return Map(q.data(), q.size()); }
-  Map v_map() const { return Map(v.data(), v.size()); }
-  Map x_map() const { return Map(x.data(), x.size()); }
+  StateBuffers buffers() const { return {q.data(), v.data(), x.data(), f_ext}; }
 };
 
 }  // namespace
@@ -102,13 +78,7 @@ void bind_algorithms(py::module_& mod) {
       [](ModelHandle& h, py::handle q, py::handle v, py::handle tau, py::handle f_ext) {
         const StateArgs a(h, q, v, tau, "tau", f_ext);
         auto out = vector_out(h.model.nv);
-        double* o = out.mutable_data();
-        soadyn::Status s;
-        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-          s = soadyn::forward_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext);
-          Eigen::Map<Eigen::VectorXd>(o, m.nv) = d.qdd;
-        });
-        raise_on(s, h.model);
+        raise_on(forward_dynamics_into(h, a.buffers(), out.mutable_data()), h.model);
         return out;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("tau"), py::arg("f_ext") = py::none(),
@@ -120,11 +90,7 @@ void bind_algorithms(py::module_& mod) {
       [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext) {
         const StateArgs a(h, q, v, qdd, "qdd", f_ext);
         auto out = vector_out(h.model.nv);
-        double* o = out.mutable_data();
-        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-          soadyn::inverse_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext);
-          Eigen::Map<Eigen::VectorXd>(o, m.nv) = d.tau;
-        });
+        inverse_dynamics_into(h, a.buffers(), out.mutable_data(), nullptr);
         return out;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("qdd"), py::arg("f_ext") = py::none(),
@@ -134,11 +100,7 @@ void bind_algorithms(py::module_& mod) {
       [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext) {
         const StateArgs a(h, q, v, qdd, "qdd", f_ext);
         auto out = wrench_out(h);
-        double* o = out.mutable_data();
-        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-          soadyn::inverse_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext);
-          copy_wrenches(d, o);
-        });
+        inverse_dynamics_into(h, a.buffers(), nullptr, out.mutable_data());
         return out;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("qdd"), py::arg("f_ext") = py::none(),
@@ -150,21 +112,13 @@ void bind_algorithms(py::module_& mod) {
         const StateArgs a(h, q, v, u, "u", f_ext);
         auto qdd = vector_out(h.model.nv), tau = vector_out(h.model.nv);
         py::object w;
-        double *qo = qdd.mutable_data(), *to = tau.mutable_data(), *wo = nullptr;
+        double* wo = nullptr;
         if (wrenches) {
           auto wa = wrench_out(h);
           wo = wa.mutable_data();
           w = std::move(wa);
         }
-        soadyn::Status s;
-        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-          s = soadyn::hybrid_dynamics<double>(m, d, a.q_map(), a.v_map(), a.x_map(), a.f_ext,
-                                              soadyn::DynamicsOutputs{wrenches});
-          Eigen::Map<Eigen::VectorXd>(qo, m.nv) = d.qdd;
-          Eigen::Map<Eigen::VectorXd>(to, m.nv) = d.tau;
-          if (wo) copy_wrenches(d, wo);
-        });
-        raise_on(s, h.model);
+        raise_on(hybrid_dynamics_into(h, a.buffers(), qdd.mutable_data(), tau.mutable_data(), wo), h.model);
         if (wrenches) return py::make_tuple(qdd, tau, w);
         return py::make_tuple(qdd, tau);
       },
@@ -177,7 +131,7 @@ void bind_algorithms(py::module_& mod) {
   mod.def("mass_matrix",
       [](ModelHandle& h, py::handle q) {
         const Array qa = q_arg(h, q);
-        py::array_t<double> out({h.model.nv, h.model.nv});
+        auto out = fresh_array(h.model.nv, h.model.nv);
         double* o = out.mutable_data();
         run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
           soadyn::mass_matrix<double>(m, d, Map(qa.data(), m.nq));

@@ -4,10 +4,6 @@
 
 namespace soadyn_py {
 
-namespace {
-
-// Real numeric input as a C-contiguous float64 array (no copy when it
-// already is one). Complex, object, string and boolean data are refused.
 Array as_float_array(py::handle obj, const char* arg) {
   if (py::isinstance<Array>(obj)) {
     auto a = py::reinterpret_borrow<py::array>(obj);
@@ -21,10 +17,17 @@ Array as_float_array(py::handle obj, const char* arg) {
   if (!a) throw py::type_error(std::string(arg) + " must be an array of real numbers");
   const char kind = a.dtype().kind();
   if (kind != 'f' && kind != 'i' && kind != 'u')
-    throw py::type_error(std::string(arg) + " must hold real numbers, got dtype " +
+    throw py::type_error(std::string(arg) + " must be an array of real numbers, got dtype " +
                          py::str(a.dtype()).cast<std::string>());
-  return Array::ensure(a);
+  // forcecast: long double and float128 inputs are rounded to double as
+  // np.asarray(x, float) would (without it numpy refuses the unsafe cast).
+  using Cast = py::array_t<double, py::array::c_style | py::array::forcecast>;
+  Cast converted = Cast::ensure(a);
+  if (!converted) throw py::type_error(std::string(arg) + " cannot be converted to float64");
+  return py::reinterpret_steal<Array>(converted.release());
 }
+
+namespace {
 
 void check_finite(const double* x, py::ssize_t n, py::ssize_t cols, const char* arg,
                   const std::vector<std::string>& names) {

@@ -11,6 +11,11 @@ namespace soadyn_py {
 namespace py = pybind11;
 using Array = py::array_t<double, py::array::c_style>;
 
+// Real numeric input as a C-contiguous float64 array (no copy when it
+// already is one). Complex, object, string and boolean data are refused
+// with a TypeError naming `arg`.
+Array as_float_array(py::handle obj, const char* arg);
+
 // 1-D real array of length n, every entry finite; `names` name the entries.
 Array checked_vector(py::handle obj, const char* arg, const std::vector<std::string>& names);
 

@@ -29,20 +29,14 @@ std::string shape_text(const Shape& shape, const char* any) {
 // messages) as C-contiguous float64. Finiteness is left to
 // FlexibleBodyDescription::validate, which names the node or mode.
 Array shaped_array(py::handle obj, const char* arg, const Shape& expected, const char* free_extent = "N") {
-  py::array a;
-  try {
-    a = py::array::ensure(obj);
-  } catch (py::error_already_set&) {
-  }
-  if (!a || (a.dtype().kind() != 'f' && a.dtype().kind() != 'i' && a.dtype().kind() != 'u'))
-    throw py::type_error(std::string(arg) + " must be an array of real numbers");
+  Array a = as_float_array(obj, arg);
   Shape actual(a.shape(), a.shape() + a.ndim());
   bool ok = actual.size() == expected.size();
   for (std::size_t k = 0; ok && k < expected.size(); ++k) ok = expected[k] < 0 || actual[k] == expected[k];
   if (!ok)
     throw py::value_error(std::string(arg) + " has shape " + shape_text(actual, "") + ", expected " +
                           shape_text(expected, free_extent));
-  return Array::ensure(a);
+  return a;
 }
 
 soadyn::FlexibleBodyDescription<double> description_from_arrays(py::handle positions, py::handle masses,

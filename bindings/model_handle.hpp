@@ -1,5 +1,7 @@
 // The Python-side Model: a soadyn::Model with the Data its calls reuse.
 #pragma once
+#include <pybind11/pybind11.h>
+
 #include <memory>
 #include <mutex>
 #include "soadyn/data.hpp"
@@ -20,5 +22,23 @@ struct ModelHandle {
     return *data;
   }
 };
+
+// Models up to this many DOFs compute in less time than releasing and
+// re-taking the GIL costs; larger ones release it so other threads run.
+constexpr int kReleaseGilAboveDofs = 24;
+
+// Runs `fn(model, data)` with the model's Data locked, and the GIL released
+// for models large enough to make it worthwhile. Call with the GIL held.
+template <class Fn>
+void run_locked(ModelHandle& h, Fn&& fn) {
+  if (h.model.nv <= kReleaseGilAboveDofs) {
+    std::lock_guard<std::mutex> lock(h.mutex);
+    fn(h.model, h.scratch());
+    return;
+  }
+  pybind11::gil_scoped_release release;
+  std::lock_guard<std::mutex> lock(h.mutex);
+  fn(h.model, h.scratch());
+}
 
 }  // namespace soadyn_py

@@ -392,3 +392,11 @@ def test_invalid_beam_parameters_are_refused(kwargs, message):
     arguments.update(kwargs)
     with pytest.raises(ValueError, match=message):
         FlexibleBody.cantilever_beam(**arguments)
+
+
+def test_long_double_arrays_are_rounded_to_double():
+    reference = FlexibleBody(**modified(lambda arrays: None))
+    body = FlexibleBody(**modified(lambda arrays: arrays.update(
+        {key: np.asarray(value, dtype=np.longdouble) for key, value in arrays.items() if key != "attachments"})))
+    for name in ("nodes", "masses", "rotary_inertias", "mode_shapes", "stiffness", "damping", "modal_mass"):
+        np.testing.assert_array_equal(getattr(body, name), getattr(reference, name))

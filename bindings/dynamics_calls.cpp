@@ -1,0 +1,48 @@
+#include "dynamics_calls.hpp"
+
+#include "soadyn/soadyn.hpp"
+
+namespace soadyn_py {
+
+namespace {
+
+using Map = Eigen::Map<const Eigen::VectorXd>;
+using VectorOut = Eigen::Map<Eigen::VectorXd>;
+
+void copy_wrenches(const soadyn::Data& d, double* out) {
+  for (std::size_t i = 0; i < d.hinge_force.size(); ++i) Eigen::Map<soadyn::Vec6<double>>(out + 6 * i) = d.hinge_force[i];
+}
+
+}  // namespace
+
+soadyn::Status forward_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd) {
+  soadyn::Status status;
+  run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+    status = soadyn::forward_dynamics<double>(m, d, Map(s.q, m.nq), Map(s.v, m.nv), Map(s.x, m.nv), s.f_ext);
+    VectorOut(qdd, m.nv) = d.qdd;
+  });
+  return status;
+}
+
+void inverse_dynamics_into(ModelHandle& h, const StateBuffers& s, double* tau, double* wrenches) {
+  run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+    soadyn::inverse_dynamics<double>(m, d, Map(s.q, m.nq), Map(s.v, m.nv), Map(s.x, m.nv), s.f_ext);
+    if (tau) VectorOut(tau, m.nv) = d.tau;
+    if (wrenches) copy_wrenches(d, wrenches);
+  });
+}
+
+soadyn::Status hybrid_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd, double* tau,
+                                    double* wrenches) {
+  soadyn::Status status;
+  run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+    status = soadyn::hybrid_dynamics<double>(m, d, Map(s.q, m.nq), Map(s.v, m.nv), Map(s.x, m.nv), s.f_ext,
+                                             soadyn::DynamicsOutputs{wrenches != nullptr});
+    VectorOut(qdd, m.nv) = d.qdd;
+    VectorOut(tau, m.nv) = d.tau;
+    if (wrenches) copy_wrenches(d, wrenches);
+  });
+  return status;
+}
+
+}  // namespace soadyn_py

@@ -1,0 +1,33 @@
+// The per-step dynamics calls on a model's preallocated Data, on raw
+// checked buffers. Both the general pybind11 functions and the vectorcall
+// fast path (fast_calls.cpp) run these, so the two cannot drift apart.
+#pragma once
+#include "model_handle.hpp"
+#include "soadyn/status.hpp"
+
+namespace soadyn_py {
+
+// How far from 1 a quaternion's norm in q may be.
+constexpr double kQuaternionTolerance = 1e-6;
+
+// Checked inputs: q (nq), v (nv), x = tau, qdd or u (nv), f_ext (nbodies x 6,
+// row-major) or nullptr.
+struct StateBuffers {
+  const double* q;
+  const double* v;
+  const double* x;
+  const double* f_ext;
+};
+
+// qdd = forward dynamics (every DOF regular).
+soadyn::Status forward_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd);
+
+// tau = inverse dynamics; wrenches (nbodies x 6) when not nullptr.
+void inverse_dynamics_into(ModelHandle& h, const StateBuffers& s, double* tau, double* wrenches);
+
+// (qdd, tau) = hybrid dynamics under the model's prescribed flags; the joint
+// wrenches (nbodies x 6) when `wrenches` is not nullptr.
+soadyn::Status hybrid_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd, double* tau,
+                                    double* wrenches);
+
+}  // namespace soadyn_py

@@ -1,0 +1,123 @@
+"""forward_dynamics, inverse_dynamics and hybrid_dynamics have a fast entry for
+the call a stepping loop makes, f(model, q, v, x) with float64 arrays; every
+other call goes to the general function. Both must give the same numbers and
+the same errors."""
+import inspect
+import sys
+
+import numpy as np
+import pytest
+
+import soadyn
+from soadyn import _soadyn
+
+CALLS = [soadyn.forward_dynamics, soadyn.inverse_dynamics, soadyn.hybrid_dynamics]
+
+
+@pytest.fixture
+def model():
+    # A free base (quaternion in q), a ball joint and revolute joints, half of them prescribed.
+    m = soadyn.Model()
+    m.add_body("base", None, soadyn.Joint.free(), mass=3.0, inertia=[0.3, 0.4, 0.5], com=[0.1, 0, 0])
+    m.add_body("shoulder", "base", soadyn.Joint.spherical(), placement=[0, 0, 0.4], mass=1.0,
+               inertia=[0.1, 0.1, 0.05], com=[0, 0, 0.2])
+    m.add_body("elbow", "shoulder", soadyn.Joint.revolute([0, 1, 0]), placement=[0, 0, 0.5], mass=0.7,
+               inertia=[0.05, 0.05, 0.01], com=[0, 0, 0.2])
+    m.add_body("wrist", "elbow", soadyn.Joint.revolute([1, 0, 0]), placement=[0, 0, 0.4], mass=0.3,
+               inertia=[0.01, 0.01, 0.01], com=[0, 0.05, 0])
+    m.set_prescribed(["elbow", "shoulder"])
+    return m
+
+
+@pytest.fixture
+def state(model):
+    rng = np.random.default_rng(7)
+    q = soadyn.random_configuration(model, 3)
+    return q, rng.uniform(-1, 1, model.nv), rng.uniform(-2, 2, model.nv)
+
+
+def general(fn):
+    return fn.__self__  # the pybind11 function the fast entry hands other calls to
+
+
+def as_tuple(result):
+    return result if isinstance(result, tuple) else (result,)
+
+
+@pytest.mark.parametrize("fn", CALLS)
+def test_fast_and_general_calls_agree_bit_for_bit(model, state, fn):
+    fast = as_tuple(fn(model, *state))
+    for other in (general(fn)(model, *state), fn(model, *state, None), fn(model, *state[:2], state[2], f_ext=None)):
+        for a, b in zip(fast, as_tuple(other)):
+            assert a.dtype == np.float64 and a.shape == (model.nv,)
+            np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("fn", CALLS)
+def test_other_layouts_and_types_take_the_general_path_with_the_same_result(model, state, fn):
+    q, v, x = state
+    expected = as_tuple(fn(model, q, v, x))
+    strided = np.empty((model.nv, 2))
+    strided[:, 0] = v
+    for args in ((q, strided[:, 0], x), (q, v, x.astype(">f8")), (list(q), list(v), tuple(x)),
+                 (q.astype(np.longdouble), v, x)):
+        for a, b in zip(as_tuple(fn(model, *args)), expected):
+            np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("fn", CALLS)
+def test_errors_are_the_general_functions(model, state, fn):
+    q, v, x = state
+    bad = x.copy()
+    bad[6] = np.nan
+    name = {"forward_dynamics": "tau", "inverse_dynamics": "qdd", "hybrid_dynamics": "u"}[fn.__name__]
+    with pytest.raises(ValueError, match=rf"{name}\[6\] \('shoulder:wx'\) is NaN"):
+        fn(model, q, v, bad)
+    q_off = q.copy()
+    q_off[3:7] *= 1.1
+    with pytest.raises(ValueError, match="quaternion of joint 'base'"):
+        fn(model, q_off, v, x)
+    with pytest.raises(ValueError, match=r"v has shape \(10,\), expected \(11,\)"):
+        fn(model, q, v[:-1], x)
+    with pytest.raises(TypeError):
+        fn("not a model", q, v, x)
+    with pytest.raises(TypeError):
+        fn(model, q, v)
+
+
+def test_singular_inertia_raises_through_the_fast_entry():
+    m = soadyn.Model()
+    m.add_body("massless", None, soadyn.Joint.revolute([0, 0, 1]), mass=0.0, inertia=[0, 0, 0])
+    q, v = soadyn.neutral_configuration(m), np.zeros(1)
+    for fn in (soadyn.forward_dynamics, soadyn.hybrid_dynamics):
+        with pytest.raises(soadyn.DynamicsError, match="DOF 'massless'"):
+            fn(m, q, v, np.ones(1))
+
+
+def test_a_plain_extension_model_takes_the_fast_path_too():
+    plain = _soadyn._Model()  # not the Python subclass soadyn.Model
+    plain._add_body("wheel", "", soadyn.Joint.revolute([0, 0, 1]), np.eye(3), np.zeros(3), 2.0, np.zeros(3),
+                    np.diag([2.5, 2.5, 4.0]))
+    out = soadyn.forward_dynamics(plain, np.zeros(1), np.zeros(1), np.ones(1))
+    np.testing.assert_allclose(out, [0.25], rtol=1e-15)  # tau / I_zz
+
+
+@pytest.mark.parametrize("fn", CALLS)
+def test_no_references_leak(model, state, fn):
+    q, v, x = state
+    before = [sys.getrefcount(o) for o in (model, q, v, x)]
+    for _ in range(1000):
+        fn(model, q, v, x)
+        fn(model, q, v, x, None)
+    assert [sys.getrefcount(o) for o in (model, q, v, x)] == before
+
+
+@pytest.mark.parametrize("fn, params", [
+    (soadyn.forward_dynamics, ["model", "q", "v", "tau", "f_ext"]),
+    (soadyn.inverse_dynamics, ["model", "q", "v", "qdd", "f_ext"]),
+    (soadyn.hybrid_dynamics, ["model", "q", "v", "u", "f_ext", "joint_wrenches"]),
+])
+def test_signature_and_documentation(fn, params):
+    assert list(inspect.signature(fn).parameters) == params
+    assert fn.__doc__ == general(fn).__doc__.split("\n\n", 1)[1]
+    assert fn.__module__ == "soadyn._soadyn"
