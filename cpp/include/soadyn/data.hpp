@@ -23,7 +23,7 @@ struct FlexibleBodyData {
   VecX<S> modal_bias;             // modal rows of the body's bias; then of z (articulated) or the modal force (RNEA)
   Mat6X<S> coupling;              // rigid-modal block of the articulated inertia (6 x n_m)
   MatX<S> modal_inertia;          // modal block of the articulated inertia (n_m x n_m); its Cholesky factor after elimination
-  MatX<S> gain_transpose;         // modal_inertia^-1 coupling' (n_m x 6)
+  MatX<S> gain_transpose;         // modal_inertia^-1 coupling' (n_m x 6); tree frames: M_ee^-1 M_eV, body frame
   VecX<S> innovation;             // modal_inertia^-1 (u_modal - modal rows of z)
 };
 
@@ -46,9 +46,10 @@ struct DataTpl {
   // i's frame about its origin (seed f(i)): the joint reaction wrench.
   aligned_vector<Vec6<S>> hinge_force;
 
-  // Rigid models: forward and hybrid dynamics work in tree frames
-  // (algorithms/tree_frame_steps.hpp) and leave velocity, coriolis,
-  // bias_force, acceleration and the articulated quantities in tree-frame
+  // Rigid models, and flexible models with no body on a node: forward and
+  // hybrid dynamics work in tree frames (algorithms/tree_frame_steps.hpp) and
+  // leave velocity, coriolis, bias_force (a flexible body's stays in its body
+  // frame), acceleration and the articulated quantities in tree-frame
   // coordinates; every other algorithm leaves them in body frames.
   aligned_vector<Transform<S>> tree_pose;  // body i in its tree frame
   aligned_vector<Mat6N<S>> tree_subspace;  // S(i) in the tree frame

@@ -1,7 +1,8 @@
-// Cholesky factorisation and solves for the small dynamic-size blocks of the
-// recursion (a flexible body's modal block, n_m x n_m): plain loops, no
-// allocation, none of the dispatch overhead general solvers carry for
-// blocked right-hand sides at these sizes.
+// Cholesky factorisation and solves for the small blocks of the recursion (a
+// flexible body's modal block, n_m x n_m; a free root's 6x6 articulated
+// inertia): plain loops, no allocation, none of the dispatch overhead general
+// solvers carry for blocked right-hand sides at these sizes. With a
+// fixed-size matrix the loops unroll.
 #pragma once
 #include <cmath>
 #include "soadyn/spatial/types.hpp"
@@ -11,8 +12,9 @@ namespace soadyn {
 // In place: the lower triangle of A becomes L with A = L L'. Returns the
 // index of the first pivot whose square is not above `threshold` (A not
 // positive definite to within rounding), or -1.
-template <class S>
-int cholesky_in_place(MatX<S>& A, S threshold) {
+template <class Derived>
+int cholesky_in_place(Eigen::MatrixBase<Derived>& A, typename Derived::Scalar threshold) {
+  using S = typename Derived::Scalar;
   using std::sqrt;
   const Eigen::Index n = A.rows();
   for (Eigen::Index j = 0; j < n; ++j) {
@@ -32,8 +34,9 @@ int cholesky_in_place(MatX<S>& A, S threshold) {
 
 // X <- (L L')^-1 X for the factor of cholesky_in_place, every column of X
 // (L.rows() rows) at once, row by row: one division per pivot and pass.
-template <class S, class Derived>
-void cholesky_solve_in_place(const MatX<S>& L, Eigen::MatrixBase<Derived>& X) {
+template <class FactorDerived, class Derived>
+void cholesky_solve_in_place(const Eigen::MatrixBase<FactorDerived>& L, Eigen::MatrixBase<Derived>& X) {
+  using S = typename Derived::Scalar;
   const Eigen::Index n = L.rows(), m = X.cols();
   for (Eigen::Index i = 0; i < n; ++i) {  // L Y = X
     const S inverse_pivot = S(1) / L(i, i);

@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 #include <limits>
 #include <cmath>
+#include "soadyn/algorithms/small_cholesky.hpp"
 #include "soadyn/data.hpp"
 #include "soadyn/status.hpp"
 
@@ -154,13 +155,16 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
   const Mat6n U = P * s;
   Vecn e = eps.template head<N>();
   e.noalias() -= s.transpose() * z;
-  const Eigen::LLT<Eigen::Matrix<S, N, N>> llt(s.transpose() * U);  // D = S' P S
-  if (llt.info() != Eigen::Success) return 0;
-  for (int k = 0; k < N; ++k)
-    if (!(llt.matrixLLT()(k, k) * llt.matrixLLT()(k, k) > threshold)) return k;
-  const Mat6n gain = llt.solve(U.transpose()).transpose();  // G = P S D^-1
+  Eigen::Matrix<S, N, N> L = s.transpose() * U;  // D = S' P S, factored in place
+  const int bad = cholesky_in_place(L, threshold);
+  if (bad >= 0) return bad;
+  Eigen::Matrix<S, N, 6> gain_transpose = U.transpose();  // G' = D^-1 (P S)'
+  cholesky_solve_in_place(L, gain_transpose);
+  const Mat6n gain = gain_transpose.transpose();
   eps = e;
-  nu = llt.solve(e);
+  Vecn solved = e;  // nu = D^-1 eps
+  cholesky_solve_in_place(L, solved);
+  nu = solved;
   G = gain;
   P_plus = P;
   P_plus.noalias() -= gain * U.transpose();

@@ -148,25 +148,53 @@ SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>&
   d.articulated_bias[i] = b;
 }
 
-// Body terms of flexible body i (flexible_steps.hpp) in its tree frame: M(eta)
-// and the bias come from the modal integrals in the body frame (they need
-// the body-frame velocity); the rigid block of M becomes the start of P by
-// one congruence, the coupling block's columns and b_V are carried as forces,
-// the modal blocks need no transform. Bodies on a node of this body are not
-// handled here (the sweeps then run in body frames).
+// Body terms of flexible body i (flexible_steps.hpp) in its tree frame.
+// With no body on its nodes, the modal block of its articulated inertia is
+// the constant modal mass M_ee: children only add to the rigid block. So the
+// modal DOFs (always regular) are eliminated at once, in the body frame where
+// M(eta) and the bias come from the modal integrals, with the precomputed
+// M_ee^-1 (no factorization per call):
+//   G' = M_ee^-1 M_eV,  nu = M_ee^-1 (u_e - b_e),
+//   P^ = M_VV - M_Ve G',  z^ = b_V + M_Ve nu,
+// and P^, z^ are carried to the tree frame by one congruence. Children add
+// their P+ and z+ to P^ and z^; once alpha(i) is known,
+// eta_ddot = nu - G' alpha (tree_modal_accelerations).
 template <class S>
 inline void tree_flexible_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
-                                    const S* f_ext) {
+                                    const S* u, const S* f_ext) {
   const Transform<S>& pose = d.tree_pose[i];
   flexible_inertia_step(m, d, i, q);
   flexible_bias_step(m, d, i, q, v, Vec6<S>(pose.motion_to_child(d.velocity[i])), f_ext);
   FlexibleBodyData<S>& fd = flexible_data(m, d, i);
   const Eigen::Index n = fd.modal_bias.size();
-  d.bias_force[i] = pose.force_to_parent(d.bias_force[i]);
-  d.articulated_bias[i] = d.bias_force[i];
-  d.articulated_inertia[i] = pose.inertia_to_parent(fd.mass.template topLeftCorner<6, 6>());
-  for (Eigen::Index c = 0; c < n; ++c) fd.coupling.col(c) = pose.force_to_parent(Vec6<S>(fd.mass.col(6 + c).template head<6>()));
-  fd.modal_inertia = fd.mass.bottomRightCorner(n, n);
+  const MatX<S>& modal_mass_inverse = m.flexible_body(static_cast<int>(i)).modal_integrals().modal_mass_inverse;
+  const auto coupling = fd.mass.topRightCorner(6, n);  // M_Ve
+  fd.gain_transpose.noalias() = modal_mass_inverse * fd.mass.bottomLeftCorner(n, 6);
+  fd.innovation.noalias() = modal_mass_inverse * Eigen::Map<const VecX<S>>(u + m.modal_v_index(static_cast<int>(i)), n);
+  fd.innovation.noalias() -= modal_mass_inverse * fd.modal_bias;
+  Mat6<S> P = fd.mass.template topLeftCorner<6, 6>();
+  Vec6<S> z = d.bias_force[i];
+  for (Eigen::Index k = 0; k < n; ++k) {  // 6-vector updates: no dynamic-size product
+    const Vec6<S> c = coupling.col(k);
+    P.noalias() -= c * fd.gain_transpose.row(k);
+    z += fd.innovation[k] * c;
+  }
+  d.articulated_inertia[i] = pose.inertia_to_parent(P);
+  d.articulated_bias[i] = pose.force_to_parent(z);
+}
+
+// Modal accelerations of flexible body i once alpha(i) (tree frame) is known:
+// eta_ddot = nu - G' alpha in the body frame; the modal forces are u's.
+template <class S>
+inline void tree_modal_accelerations(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u) {
+  FlexibleBodyData<S>& fd = flexible_data(m, d, i);
+  const int first = m.modal_v_index(static_cast<int>(i));
+  const Eigen::Index n = fd.innovation.size();
+  const Vec6<S> alpha = d.tree_pose[i].motion_to_child(d.acceleration[i]);
+  auto eta_ddot = d.qdd.segment(first, n);
+  eta_ddot = fd.innovation;
+  eta_ddot.noalias() -= fd.gain_transpose * alpha;
+  d.tau.segment(first, n) = Eigen::Map<const VecX<S>>(u + first, n);
 }
 
 }  // namespace soadyn

@@ -7,8 +7,8 @@
 // aba.hxx). Inverse dynamics stays in body frames (rnea.hxx): without an
 // articulated inertia to carry, body frames need fewer operations.
 #pragma once
-#include <Eigen/Cholesky>
 #include "soadyn/algorithms/hinge_steps.hpp"
+#include "soadyn/algorithms/small_cholesky.hpp"
 #include "soadyn/algorithms/tree_frame_steps.hpp"
 
 namespace soadyn {
@@ -22,18 +22,16 @@ namespace detail {
 // Stores alpha in acceleration[i]; returns the DOF of a singular P, or -1.
 template <class S>
 inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u) {
-  const Mat6<S>& P = d.articulated_inertia[i];
   const Mat6N<S>& s = d.tree_subspace[i];
-  const Eigen::LLT<Mat6<S>> llt(P);
-  const S threshold = singular_pivot_threshold(P);
-  if (llt.info() != Eigen::Success) return m.v_index[i];
-  for (int k = 0; k < 6; ++k)
-    if (!(llt.matrixLLT()(k, k) * llt.matrixLLT()(k, k) > threshold)) return m.v_index[i] + k;
+  Mat6<S> L = d.articulated_inertia[i];
+  const int bad = cholesky_in_place(L, singular_pivot_threshold(L));
+  if (bad >= 0) return m.v_index[i] + bad;
   const Eigen::Map<const Vec6<S>> torque(u + m.v_index[i]);
-  Vec6<S> rhs;
-  rhs << s.template topLeftCorner<3, 3>() * torque.template head<3>(),
+  Vec6<S>& alpha = d.acceleration[i];
+  alpha << s.template topLeftCorner<3, 3>() * torque.template head<3>(),
       s.template bottomRightCorner<3, 3>() * torque.template tail<3>();
-  d.acceleration[i] = llt.solve(rhs - d.articulated_bias[i]);
+  alpha -= d.articulated_bias[i];
+  cholesky_solve_in_place(L, alpha);
   return -1;
 }
 
@@ -84,8 +82,8 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, M, b (seed Eq. 1); all-prescribed regions' accelerations
     tree_velocity_step(m, d, i, q, v);
     if constexpr (Flex) {
-      if (m.is_flexible(static_cast<int>(i))) {  // always regular modal DOFs: always an articulated inertia
-        tree_flexible_body_step(m, d, i, q, v, f_ext);
+      if (m.is_flexible(static_cast<int>(i))) {  // modal DOFs always regular: P^ and z^ at once
+        tree_flexible_body_step(m, d, i, q, v, u, f_ext);
         continue;
       }
     }
@@ -108,12 +106,6 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
       subspace_transpose_times(d.tree_subspace[i], d.hinge_force[i], d.tau.segment(vi, ni));
       if (p >= 0) d.hinge_force[pp] += d.hinge_force[i];
       continue;
-    }
-    if constexpr (Flex) {
-      if (m.is_flexible(static_cast<int>(i))) {  // P^ and z^ first (flexible_steps.hpp)
-        const int bad = eliminate_modal_coordinates(m, d, i, u);
-        if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
-      }
     }
     if (is_regular_free_root<Modes>(m, i)) {
       const int bad = free_root_inward(m, d, i, u);
@@ -140,7 +132,7 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
     else
       hinge_outward<Modes == ModePolicy::all_regular>(m, d, i, u, parent_acc(i), d.tree_subspace[i], want_force);
     if constexpr (Flex)
-      if (m.is_flexible(static_cast<int>(i))) modal_accelerations(m, d, i, u);
+      if (m.is_flexible(static_cast<int>(i))) tree_modal_accelerations(m, d, i, u);
   }
   if (want_force) hinge_forces_to_body_frames(d);
   const Status s = check_finite(d.qdd);

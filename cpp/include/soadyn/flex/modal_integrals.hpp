@@ -69,6 +69,7 @@ struct ModalIntegrals {
   ModeShape3<S> angular_coupling;                    // H0 (3 x n_m)
   MatX<S> angular_coupling_linear;  // [Q_0 ... Q_{n-1}], 3 x n_m^2
   MatX<S> modal_mass;                                // M_ee (n_m x n_m)
+  MatX<S> modal_mass_inverse;                        // M_ee^-1, for bodies that carry nothing on a node
 
   // One pass over the nodes; every node's mode_shape has n_modes columns.
   static ModalIntegrals from_nodes(const FlexibleNodes<S>& nodes, int n_modes);

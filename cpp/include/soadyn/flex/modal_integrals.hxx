@@ -65,6 +65,10 @@ ModalIntegrals<S> ModalIntegrals<S>::from_nodes(const FlexibleNodes<S>& nodes, i
     flex_detail::add_modal_moments(node, mi);
   }
   mi.modal_mass = modal_mass_matrix(nodes, n);
+  // M_ee is positive definite (FlexibleBodyDescription::validate); its
+  // inverse is symmetrized like the matrix itself.
+  const MatX<S> inverse = mi.modal_mass.llt().solve(MatX<S>::Identity(n, n));
+  mi.modal_mass_inverse = S(0.5) * (inverse + inverse.transpose());
   return mi;
 }
 
