@@ -15,8 +15,9 @@ accelerations and forces; actuator types set once per mask, outside the timing).
 The machine is shared and its speed drifts by up to 2x within minutes, so nothing is
 compared across phases: the C++ timings run in rounds, each round timing Pinocchio (one
 peer_bench run) and then soadyn on every robot, and every ratio is the median over rounds
-of the ratio measured within a round. The Python timings interleave the libraries call
-batch by call batch the same way.
+of the ratio measured within a round. The mixed masks are timed against all-regular back to
+back, each mask sample between two all-regular samples (mixed_over_regular). The Python
+timings interleave the libraries call batch by call batch the same way.
 
 Writes bench/results/robots.md. Usage: python bench/bench_robots.py [--quick]
 """
@@ -105,14 +106,37 @@ def cpp_timings(model, states, calls):
     t["hybrid regular"] = _time_cpp(model, "hybrid", q, v, u, calls)
     model.set_prescribed(np.ones(model.nv, dtype=bool))
     t["hybrid prescribed"] = _time_cpp(model, "hybrid", q, v, u, calls)
-    rng = np.random.default_rng(3)
-    mixed = []
-    for fraction in (0.25, 0.5, 0.75):
-        model.set_prescribed(joint_masks(model, rng, fraction))
-        mixed.append(_time_cpp(model, "hybrid", q, v, u, calls))
-    t["hybrid mixed worst"] = max(mixed)
     model.set_prescribed(np.zeros(model.nv, dtype=bool))
     return t
+
+
+MIXED_FRACTIONS = (0.25, 0.5, 0.75)
+
+
+def mixed_over_regular(model, states, calls, pairs):
+    """Each mixed mask against all-regular, measured back to back: every mask sample is divided by the mean of
+    the all-regular samples just before and just after it, so a change of the machine's speed between samples
+    cancels. Returns (median ratio, median time) per mask (random whole-joint masks, MIXED_FRACTIONS)."""
+    q, v, u = states
+    rng = np.random.default_rng(3)
+    masks = [joint_masks(model, rng, fraction) for fraction in MIXED_FRACTIONS]
+
+    def timed(mask):
+        model.set_prescribed(mask)
+        return _time_cpp(model, "hybrid", q, v, u, calls, 3)
+
+    regular = np.zeros(model.nv, dtype=bool)
+    ratios, times = [[] for _ in masks], [[] for _ in masks]
+    before = timed(regular)
+    for _ in range(pairs):
+        for k, mask in enumerate(masks):
+            t = timed(mask)
+            after = timed(regular)
+            ratios[k].append(t / (0.5 * (before + after)))
+            times[k].append(t)
+            before = after
+    model.set_prescribed(regular)
+    return [(float(np.median(r)), float(np.median(t))) for r, t in zip(ratios, times)]
 
 
 def python_timings(name, path, floating, model, states, calls):
@@ -175,6 +199,7 @@ def main() -> int:
         peer_rounds.append(peer_timings(paths))
         ours_rounds.append({name: cpp_timings(models[name], states[name], cpp_calls) for name in ROBOTS})
         print(f"round {r + 1}/{rounds} done", flush=True)
+    mixed = {name: mixed_over_regular(models[name], states[name], cpp_calls // 10, 4 * rounds) for name in ROBOTS}
     rows_cpp, rows_py = [], []
     for name in ROBOTS:
         model = models[name]
@@ -187,12 +212,12 @@ def main() -> int:
                 return "n/a"
             return f"{np.median([o[name][ours] / pr[name][theirs] for o, pr in zip(ours_rounds, peer_rounds)]):.2f}"
 
-        mixed = np.median([o[name]["hybrid mixed worst"] / o[name]["hybrid regular"] for o in ours_rounds])
+        worst_ratio, worst_time = max(mixed[name])
         rows_cpp.append(
             f"| {name} | {model.nv} | {c['aba']:.2f} | {c['hybrid regular']:.2f} | {p.get('aba', float('nan')):.2f} | "
             f"**{ratio('hybrid regular', 'aba')}** | {c['hybrid prescribed']:.2f} | {c['rnea']:.2f} | "
             f"{p.get('rnea', float('nan')):.2f} | **{ratio('hybrid prescribed', 'rnea')}** | "
-            f"{c['hybrid mixed worst']:.2f} | **{mixed:.2f}** | "
+            f"{worst_time:.2f} | **{worst_ratio:.2f}** | "
             f"{c['crba']:.2f} | {p.get('crba', float('nan')):.2f} | **{ratio('crba', 'crba')}** |")
         path, floating = robot(name)
         t = python_timings(name, path, floating, model, states[name], py_calls)
@@ -218,7 +243,12 @@ def main() -> int:
         "| worst mixed mask | **mixed / all-regular** (target <= 1) | soadyn CRBA | Pinocchio CRBA | **CRBA ratio** |",
         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
         *rows_cpp, "",
-        "Mixed masks: random whole-joint masks with 25, 50 and 75 % of the joints prescribed; the worst is shown.",
+        "Mixed masks: random whole-joint masks with 25, 50 and 75 % of the joints prescribed, each timed "
+        f"{4 * rounds} times between two all-regular timings ({cpp_calls // 10} calls x 3 repetitions each); a "
+        "mask's ratio is the median of its time over the mean of the two all-regular times around it. Per mask "
+        "(25 / 50 / 75 %): "
+        + "; ".join(f"{name} {' / '.join(f'{r:.2f}' for r, _ in mixed[name])}" for name in ROBOTS) + ". The worst "
+        "mask is shown in the table.",
         "", "## Python per call (us, numpy in and out)", "",
         "| robot | soadyn.forward_dynamics | soadyn.hybrid_dynamics (regular) | pin.aba | **hybrid / pin.aba** "
         "(target <= 1) | soadyn.hybrid_dynamics (50 % joints prescribed) | DART hybrid (same mask) "

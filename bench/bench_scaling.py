@@ -2,8 +2,8 @@
 10, 100 and 1000 bodies (every DOF regular, every DOF prescribed, half the DOFs prescribed).
 
 Timed in C++ (soadyn._soadyn._time_cpp over 64 random states). The machine's speed drifts,
-so the sizes are timed in rounds, each round visiting every size, and the table gives the
-median over rounds.
+so the sizes are timed in rounds, each round timing the three sizes of a row back to back,
+and the table gives the median over rounds.
 The target: time per body flat within 15 % across the sizes. Writes
 bench/results/scaling.md and bench/results/scaling.png. Usage: python bench/bench_scaling.py
 """
@@ -32,7 +32,7 @@ def models(n):
     yield "random revolute tree", random_tree(7, n, kinds=("revolute",), floating=False)[0]
 
 
-ROUNDS = 5
+ROUNDS = 11
 
 
 def timing_cases(model, n):
@@ -45,11 +45,17 @@ def timing_cases(model, n):
 
 
 def main() -> int:
-    cases = [(n, kind, model, timing_cases(model, n)) for n in SIZES for kind, model in models(n)]
+    # (kind, mode) -> [(n, model, mask, states, calls) for each size]: the sizes of one row are timed back
+    # to back, so they see the same machine.
+    rows = {}
+    for n in SIZES:
+        for kind, model in models(n):
+            for mode, mask, states, calls in timing_cases(model, n):
+                rows.setdefault((kind, mode), []).append((n, model, mask, states, calls))
     samples = {}  # (kind, mode, n) -> us per body, one per round
     for r in range(ROUNDS):
-        for n, kind, model, timings in cases:
-            for mode, mask, (q, v, u), calls in timings:
+        for (kind, mode), sizes in rows.items():
+            for n, model, mask, (q, v, u), calls in sizes:
                 model.set_prescribed(mask)
                 samples.setdefault((kind, mode, n), []).append(_time_cpp(model, "hybrid", q, v, u, calls, 3) / n)
         print(f"round {r + 1}/{ROUNDS} done", flush=True)
@@ -61,7 +67,7 @@ def main() -> int:
              "|---|---|" + "---:|" * (len(SIZES) + 1)]
     for (kind, mode), ts in results.items():
         lines.append(f"| {kind} | {mode} | " + " | ".join(f"{t:.3f}" for t in ts) + f" | **{max(ts) / min(ts):.2f}** |")
-    lines += ["", f"Median over {ROUNDS} rounds (each round times every size; per entry the median of 3 repetitions "
+    lines += ["", f"Median over {ROUNDS} rounds (each round times the sizes of a row back to back; per entry the median of 3 repetitions "
               "over 64 random states, one C++ loop), on a shared machine.",
               "With a random half of the DOFs prescribed, the share of bodies whose whole root path is prescribed "
               "(handled like RNEA) shrinks as trees grow deeper, so that row's cost per body rises towards the "
