@@ -286,15 +286,36 @@ DYNAMICS = {"inverse_dynamics": (soadyn.inverse_dynamics, pin.rnea), "forward_dy
 @parametrize_cases
 @pytest.mark.parametrize("name", sorted(DYNAMICS))
 @pytest.mark.parametrize("with_f_ext", [False, True], ids=["no_fext", "fext"])
-def test_dynamics(seed, floating, name, with_f_ext):
+@pytest.mark.parametrize("at_rest", [False, True], ids=["moving", "at_rest"])
+def test_dynamics(seed, floating, name, with_f_ext, at_rest):
+    """At rest (v = 0) the sweeps skip every velocity term: the result must not change."""
     c = make_case(seed, floating)
     ours, theirs = DYNAMICS[name]
     v, x = c.rng.normal(size=c.m.nv), c.rng.normal(size=c.m.nv)
+    if at_rest:
+        v = np.zeros(c.m.nv)
     f = c.rng.normal(size=(c.m.nbodies, 6)) if with_f_ext else None
     pin_f_ext = (c.map.f_ext(f),) if with_f_ext else ()
     result = ours(c.m, c.q, v, x, f_ext=f)
     ref = theirs(c.model, c.data, c.q_pin, c.map.v(v), c.map.v(x), *pin_f_ext)
-    check(name + (" f_ext" if with_f_ext else ""), c.map.v(result), ref)
+    check(name + (" f_ext" if with_f_ext else "") + (" at rest" if at_rest else ""), c.map.v(result), ref)
+
+
+@parametrize_cases
+@pytest.mark.parametrize("fraction", [0.0, 0.5, 1.0], ids=["all_regular", "mixed", "all_prescribed"])
+def test_hybrid_dynamics_at_rest(seed, floating, fraction):
+    """Hybrid dynamics at v = 0 (velocity terms skipped) against Pinocchio's RNEA: the generalized
+    forces of the returned accelerations are the returned forces; regular DOFs keep their torques."""
+    c = make_case(seed, floating)
+    m = c.m.copy()
+    mask = c.rng.uniform(size=m.nv) < fraction
+    m.set_prescribed(mask)
+    u, v = c.rng.normal(size=m.nv), np.zeros(m.nv)
+    qdd, tau = soadyn.hybrid_dynamics(m, c.q, v, u)
+    np.testing.assert_array_equal(qdd[mask], u[mask])
+    np.testing.assert_array_equal(tau[~mask], u[~mask])
+    check(f"hybrid at rest ({fraction:.0%} prescribed)", c.map.v(tau),
+          pin.rnea(c.model, c.data, c.q_pin, c.map.v(v), c.map.v(qdd)))
 
 
 @parametrize_cases

@@ -97,14 +97,15 @@ Status hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>
     return s;
   }
   if (m.n_prescribed == m.nv) {  // every DOF prescribed (so rigid: modal DOFs are regular): exactly RNEA
-    detail::newton_euler_sweeps<false>(m, d, q.data(), v.data(), u.data(), f_ext, world_acceleration(m));
+    detail::newton_euler_sweeps<false>(m, d, q.data(), velocities_unless_at_rest(m, v), u.data(), f_ext,
+                                       world_acceleration(m));
     d.qdd = u;
     return check_finite(d.tau);
   }
   constexpr auto flags = detail::ModePolicy::model_flags;
   if (!m.has_flexible_bodies())
-    return detail::tree_frame_sweeps<flags, false>(m, d, q.data(), v.data(), u.data(), f_ext, world_acceleration(m),
-                                                   outputs.hinge_forces);
+    return detail::tree_frame_sweeps<flags, false>(m, d, q.data(), velocities_unless_at_rest(m, v), u.data(), f_ext,
+                                                   world_acceleration(m), outputs.hinge_forces);
   if (!m.has_node_attachments())
     return detail::tree_frame_sweeps<flags, true>(m, d, q.data(), v.data(), u.data(), f_ext, world_acceleration(m),
                                                   outputs.hinge_forces);

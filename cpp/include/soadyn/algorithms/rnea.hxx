@@ -45,7 +45,7 @@ void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* 
 template <class S>
 void inverse_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                       const ConstVecRef<S>& qdd, const S* f_ext) {
-  detail::rnea(m, d, q.data(), v.data(), qdd.data(), f_ext);
+  detail::rnea(m, d, q.data(), velocities_unless_at_rest(m, v), qdd.data(), f_ext);
 }
 
 template <class S>
