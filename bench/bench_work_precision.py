@@ -18,6 +18,41 @@ HERE = Path(__file__).resolve().parent
 STYLE = {"euler": "o-", "rk4": "s-", "dopri5": "^-"}
 
 
+def recommendation_at_1khz(rows, scenes) -> list[str]:
+    """Which setting a real-time user should choose at 1 kHz, from the measured 1 ms rows."""
+    at_1ms = {(r["scene"], r["integrator"], r["scalar"]): r for r in rows if float(r["dt"]) == 1e-3}
+
+    def us(scene, integrator, scalar):
+        r = at_1ms[(scene, integrator, scalar)]
+        return float(r["cpu_s_per_sim_s"]) * 1e3  # us per 1 ms step
+
+    def err(scene, integrator, scalar):
+        return float(at_1ms[(scene, integrator, scalar)]["error"])
+
+    lines = ["## Choosing a setting at 1 kHz", "",
+             "| scene | rk4 double: error, us per step | euler double | rk4 float |", "|---|---|---|---|"]
+    for scene in scenes:
+        lines.append(f"| {scene} | {err(scene, 'rk4', 'double'):.1e}, {us(scene, 'rk4', 'double'):.1f} | "
+                     f"{err(scene, 'euler', 'double'):.1e}, {us(scene, 'euler', 'double'):.1f} | "
+                     f"{err(scene, 'rk4', 'float'):.1e}, {us(scene, 'rk4', 'float'):.1f} |")
+    import math
+    worst_rk4 = max(us(scene, "rk4", "double") for scene in scenes)
+    gains = [math.log10(err(sc, "euler", "double") / max(err(sc, "rk4", "double"), 1e-300)) for sc in scenes]
+    float_errors = [err(sc, "rk4", "float") for sc in scenes]
+    float_speed = [us(sc, "rk4", "double") / us(sc, "rk4", "float") for sc in scenes]
+    lines += ["",
+              f"Choose **RK4 in double at the 1 ms step**. It costs at most {worst_rk4:.0f} us per step on these "
+              f"scenes ({worst_rk4 / 10:.0f} % of the 1 ms budget), and its error after 1 s is "
+              f"{min(gains):.0f} to {max(gains):.0f} orders of magnitude below explicit Euler's. Euler saves three "
+              "of the four evaluations, but it is first order: its error shrinks only in proportion to the step. "
+              f"Float runs at {min(float_speed):.2f} to {max(float_speed):.2f} times the speed of double (the "
+              "same sweeps in another scalar type), and its rounding floors RK4's error at "
+              f"{min(float_errors):.0e} to {max(float_errors):.0e}. Dormand-Prince adapts its sub-steps to the "
+              "state, so the cost of a 1 ms step varies from step to step. A fixed-rate loop wants RK4's fixed "
+              "cost: four evaluations every step, so the slowest step stays close to the median."]
+    return lines
+
+
 def main() -> int:
     if len(sys.argv) != 2:
         print(__doc__, file=sys.stderr)
@@ -64,6 +99,7 @@ def main() -> int:
         lines.append(f"| {r['scene']} | {r['integrator']} | {r['scalar']} | {float(r['dt']):g} | "
                      f"{float(r['rtol']) or '-'} | {float(r['error']):.2e} | {float(r['cpu_s_per_sim_s']):.4f} | "
                      f"{us_per_step:.1f} |")
+    lines += ["", *recommendation_at_1khz(rows, scenes)]
     (HERE / "results" / "work_precision.md").write_text("\n".join(lines) + "\n")
     print("wrote bench/results/work_precision.{md,png,csv}")
     return 0
