@@ -2,14 +2,16 @@
 // hybrid_dynamics.
 //
 // A stepping loop calls them as f(model, q, v, x) with float64 arrays of the
-// right length. For a small robot, pybind11's general dispatch (argument
-// vectors, casters, defaults) and array conversion then cost a third of the
-// call. These entry points take exactly that call shape straight from
-// CPython's vectorcall protocol and read the arrays in place. Every other
-// call (keywords, f_ext, lists, other dtypes or layouts) and every failure
-// (a non-finite entry, a non-unit quaternion, a singular inertia) goes to
-// the general pybind11 function: it converts, checks and raises the error
-// that names the item at fault. Both run the same dynamics_calls.
+// right length. pybind11's general dispatch (argument vectors, casters,
+// defaults) and array conversion then cost about 0.4 us per call: a quarter
+// of the call on a one-body model, a tenth on ur5. These entry points take
+// exactly that call shape straight from CPython's vectorcall protocol and
+// read the arrays in place. Every other call (keywords, f_ext, lists, other
+// dtypes or layouts) and every failure (a non-finite entry, a non-unit
+// quaternion, a singular inertia) goes to the general pybind11 function: it
+// converts, checks and raises the error that names the item at fault (a
+// failing call is thus computed twice; only failures pay). Both run the same
+// dynamics_calls.
 #include <cmath>
 #include <string>
 
