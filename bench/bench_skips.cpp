@@ -61,7 +61,7 @@ void hybrid_with_wrenches(const Model& m, soadyn::Data& d, const soadyn_test::St
   soadyn::hybrid_dynamics<double>(m, d, s.q, s.v, s.u, nullptr, soadyn::DynamicsOutputs{true});
 }
 void body_frame_sweeps(const Model& m, soadyn::Data& d, const soadyn_test::State& s) {
-  soadyn::detail::hybrid_sweeps<true, double>(m, d, s.q.data(), s.v.data(), soadyn::ConstVecRef<double>(s.u), nullptr,
+  soadyn::detail::hybrid_sweeps<double>(m, d, s.q.data(), s.v.data(), soadyn::ConstVecRef<double>(s.u), nullptr,
                                       soadyn::world_acceleration(m), soadyn::DynamicsOutputs{});
 }
 template <bool Flex>

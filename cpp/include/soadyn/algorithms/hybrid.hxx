@@ -12,14 +12,12 @@ namespace detail {
 
 // Tip-to-base step of a body that needs an articulated inertia (seed Eq. 28),
 // body frames: flexible bodies first eliminate their modal DOFs.
-template <bool Flex, class S>
+template <class S>
 inline int articulated_body_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
                                    const Vec6<S>& world_acc) {
-  if constexpr (Flex) {
-    if (m.is_flexible(static_cast<int>(i))) {
-      const int bad = eliminate_modal_coordinates(m, d, i, u);
-      if (bad >= 0) return bad;
-    }
+  if (m.is_flexible(static_cast<int>(i))) {
+    const int bad = eliminate_modal_coordinates(m, d, i, u);
+    if (bad >= 0) return bad;
   }
   Mat6<S> P_plus;
   Vec6<S> z_plus;
@@ -29,7 +27,7 @@ inline int articulated_body_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
   const int p = m.parent[i];
   if (p < 0) return -1;
   if (m.modes[static_cast<std::size_t>(p)].needs_articulated_inertia) {
-    push_articulated<Flex>(m, d, i, *P_out, z_plus);
+    push_articulated<true>(m, d, i, *P_out, z_plus);
   } else {  // the parent's acceleration is already known: f = P+ alpha+ + z+
     const Vec6<S> f = *P_out * parent_acceleration(m, d, i, world_acc) + z_plus;
     push_force_to_parent(m, d, i, f);
@@ -38,30 +36,31 @@ inline int articulated_body_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
 }
 
 // Base-to-tip step of a body that needs an articulated inertia (seed Eq. 29), body frames.
-template <bool Flex, class S>
+template <class S>
 inline void articulated_body_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
                                      const Vec6<S>& world_acc, bool want_force) {
-  const Vec6<S> alpha_plus = body_parent_acceleration<Flex>(m, d, i, world_acc, d.qdd.data());
+  const Vec6<S> alpha_plus = body_parent_acceleration<true>(m, d, i, world_acc, d.qdd.data());
   hinge_outward<false>(m, d, i, u, alpha_plus, d.subspace[i], want_force);
-  if constexpr (Flex)
-    if (m.is_flexible(static_cast<int>(i))) modal_accelerations(m, d, i, u);
+  if (m.is_flexible(static_cast<int>(i))) modal_accelerations(m, d, i, u);
 }
 
 }  // namespace detail
 
 namespace detail {
 
-// The three sweeps; `v` null means zero velocity.
-template <bool Flex, class S>
+// The three sweeps in body frames, with the modal DOFs of flexible bodies:
+// the path of models with bodies on a flexible body's node (every other model
+// runs tree_frame_sweeps). `v` null means zero velocity.
+template <class S>
 Status hybrid_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const ConstVecRef<S>& u,
                      const S* f_ext, const Vec6<S>& world_acc, DynamicsOutputs outputs) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   const S* up = u.data();
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, b; accelerations of all-prescribed regions
-    body_joint_step<Flex>(m, d, i, q, v);
-    body_motion_step<Flex>(m, d, i, q, v, f_ext);
+    body_joint_step<true>(m, d, i, q, v);
+    body_motion_step<true>(m, d, i, q, v, f_ext);
     if (m.modes[i].needs_articulated_inertia) {
-      init_articulated<Flex>(m, d, i);
+      init_articulated<true>(m, d, i);
     } else {  // neither flexible nor on a flexible body (those need P)
       d.acceleration[i] = parent_acceleration(m, d, i, world_acc) + d.coriolis[i];
       d.acceleration[i] += subspace_times(d.subspace[i], up + m.v_index[i]);
@@ -70,7 +69,7 @@ Status hybrid_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v
   }
   for (std::size_t i = n; i-- > 0;) {  // tip to base
     if (m.modes[i].needs_articulated_inertia) {
-      const int bad = articulated_body_inward<Flex>(m, d, i, up, world_acc);
+      const int bad = articulated_body_inward(m, d, i, up, world_acc);
       if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
     } else {  // Newton-Euler: T = H f, f(parent) += phi f
       const int vi = m.v_index[i], ni = m.nv_body[i];
@@ -81,7 +80,7 @@ Status hybrid_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v
   }
   for (std::size_t i = 0; i < n; ++i)  // base to tip
     if (m.modes[i].needs_articulated_inertia)
-      articulated_body_outward<Flex>(m, d, i, up, world_acc, outputs.hinge_forces);
+      articulated_body_outward(m, d, i, up, world_acc, outputs.hinge_forces);
   const Status s = check_finite(d.qdd);
   return s.ok() ? check_finite(d.tau) : s;
 }
@@ -109,7 +108,7 @@ Status hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>
   if (!m.has_node_attachments())
     return detail::tree_frame_sweeps<flags, true>(m, d, q.data(), v.data(), u.data(), f_ext, world_acceleration(m),
                                                   outputs.hinge_forces);
-  return detail::hybrid_sweeps<true>(m, d, q.data(), v.data(), u, f_ext, world_acceleration(m), outputs);
+  return detail::hybrid_sweeps(m, d, q.data(), v.data(), u, f_ext, world_acceleration(m), outputs);
 }
 
 template <class S>
@@ -120,7 +119,7 @@ Status hybrid_impulse(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>&
     return detail::tree_frame_sweeps<flags, false, S>(m, d, q.data(), nullptr, u.data(), nullptr, no_gravity, false);
   if (!m.has_node_attachments())
     return detail::tree_frame_sweeps<flags, true, S>(m, d, q.data(), nullptr, u.data(), nullptr, no_gravity, false);
-  return detail::hybrid_sweeps<true, S>(m, d, q.data(), nullptr, u, nullptr, no_gravity, DynamicsOutputs{});
+  return detail::hybrid_sweeps<S>(m, d, q.data(), nullptr, u, nullptr, no_gravity, DynamicsOutputs{});
 }
 
 
