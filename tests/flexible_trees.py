@@ -86,9 +86,11 @@ def _joint(spec):
     return soadyn.Joint.fixed()
 
 
-def random_flexible_tree(seed, n_bodies=8, floating=False, damping=False):
+def random_flexible_tree(seed, n_bodies=8, floating=False, damping=False, appendages=False):
     """Rigid and flexible bodies in a random tree; children of flexible bodies sit on
-    their attachment nodes or on their body frames. Returns (model, parts)."""
+    their attachment nodes or on their body frames (`appendages`: on their body frames
+    only, so that the flexible bodies are appendages with nothing on their nodes).
+    Returns (model, parts)."""
     rng = np.random.default_rng(seed)
     m = soadyn.Model()
     parts: list[Part] = []
@@ -103,13 +105,13 @@ def random_flexible_tree(seed, n_bodies=8, floating=False, damping=False):
         node = None
         parent_part = next((p for p in parts if p.name == parent), None)
         parent_ref = parent
-        if parent_part is not None and parent_part.flexible is not None and rng.uniform() < 0.7:
+        if parent_part is not None and parent_part.flexible is not None and not appendages and rng.uniform() < 0.7:
             attachment = sorted(parent_part.flexible.attachments)[int(rng.integers(2))]
             node = parent_part.flexible.attachments[attachment]
             parent_ref = f"{parent}:{attachment}"
         placement = (random_rotation(rng), rng.uniform(-0.3, 0.3, size=3))
         if i > 0 and rng.uniform() < 0.45:
-            if not floating and rng.uniform() < 0.3:
+            if (appendages or not floating) and rng.uniform() < 0.3:
                 joint = ("fixed",)  # a clamped flexible body
             body = random_flexible_body(rng, damping=damping)
             m.add_flexible_body(name, parent_ref, body, _joint(joint), placement)

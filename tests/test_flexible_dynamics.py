@@ -12,6 +12,11 @@ from test_energy_momentum import flow_derivative, total_energy
 from test_flexible_body import BETA_L, euler_bernoulli_frequencies
 
 TREES = [(seed, floating) for seed in range(8) for floating in (False, True)]
+# Appendage trees: nothing on any flexible body's nodes (the tree-frame sweeps).
+APPENDAGE_TREES = [(seed, floating) for seed in range(4) for floating in (False, True)]
+DYNAMICS_TREES = [(seed, floating, False) for seed, floating in TREES] + \
+    [(seed, floating, True) for seed, floating in APPENDAGE_TREES]
+DYNAMICS_IDS = [f"seed{s}-{'floating' if f else 'fixed'}{'-appendages' if a else ''}" for s, f, a in DYNAMICS_TREES]
 
 
 def modal_mask(m):
@@ -29,6 +34,15 @@ def test_random_trees_cover_every_attachment_kind():
         flexible_on_node += sum(p.node is not None and p.flexible is not None for p in parts)
     assert kinds == {"revolute", "prismatic", "fixed"}
     assert on_node >= 10 and flexible_on_node >= 2
+    kinds, on_frame = set(), 0
+    for seed, floating in APPENDAGE_TREES:
+        _, parts = random_flexible_tree(seed, 8, floating, appendages=True)
+        flexible = {p.name for p in parts if p.flexible is not None}
+        assert all(p.node is None for p in parts)
+        kinds |= {(p.joint[0], floating) for p in parts if p.flexible is not None}
+        on_frame += sum(p.parent in flexible for p in parts)
+    assert {kind for kind, _ in kinds} == {"revolute", "prismatic", "fixed"} and ("fixed", True) in kinds
+    assert on_frame >= 2
 
 
 @pytest.mark.parametrize("seed,floating", TREES)
@@ -42,10 +56,10 @@ def test_mass_matrix_matches_assembled_node_energy(seed, floating):
     assert soadyn.kinetic_energy(m, q, v) == pytest.approx(0.5 * v @ expected @ v, rel=1e-9)
 
 
-@pytest.mark.parametrize("seed,floating", TREES)
-def test_forward_and_inverse_dynamics_agree_with_dense_equations(seed, floating):
+@pytest.mark.parametrize("seed,floating,appendages", DYNAMICS_TREES, ids=DYNAMICS_IDS)
+def test_forward_and_inverse_dynamics_agree_with_dense_equations(seed, floating, appendages):
     """ABA = M^-1 (tau - h), with M from the node assembly; RNEA(ABA) = tau."""
-    m, parts = random_flexible_tree(seed, 8, floating, damping=True)
+    m, parts = random_flexible_tree(seed, 8, floating, damping=True, appendages=appendages)
     q, v, rng = random_flexible_state(m, seed)
     tau = rng.normal(size=m.nv)
     M = assembled_mass_matrix(m, parts, q)
@@ -57,10 +71,10 @@ def test_forward_and_inverse_dynamics_agree_with_dense_equations(seed, floating)
     assert np.abs(back - tau).max() <= 1e-9 * max(1.0, np.abs(tau).max())
 
 
-@pytest.mark.parametrize("seed,floating", TREES)
-def test_hybrid_dynamics_matches_partitioned_solve(seed, floating):
+@pytest.mark.parametrize("seed,floating,appendages", DYNAMICS_TREES, ids=DYNAMICS_IDS)
+def test_hybrid_dynamics_matches_partitioned_solve(seed, floating, appendages):
     """Seed Eq. 12 on the dense M and h, hinge DOFs randomly prescribed, modal DOFs regular."""
-    m, parts = random_flexible_tree(seed, 8, floating, damping=True)
+    m, parts = random_flexible_tree(seed, 8, floating, damping=True, appendages=appendages)
     q, v, rng = random_flexible_state(m, seed)
     M = assembled_mass_matrix(m, parts, q)
     h = soadyn.bias_forces(m, q, v)
@@ -80,12 +94,13 @@ def test_hybrid_dynamics_matches_partitioned_solve(seed, floating):
     m.set_prescribed(np.zeros(m.nv, dtype=bool))
 
 
-@pytest.mark.parametrize("seed,floating", TREES[:8])
-def test_energy_rate_equals_power_minus_modal_damping(seed, floating):
+@pytest.mark.parametrize("seed,floating,appendages", DYNAMICS_TREES[:8] + DYNAMICS_TREES[len(TREES):],
+                         ids=DYNAMICS_IDS[:8] + DYNAMICS_IDS[len(TREES):])
+def test_energy_rate_equals_power_minus_modal_damping(seed, floating, appendages):
     """d/dt (T + V_gravity + V_strain) = v . tau - eta_dot' C eta_dot along the flow:
     the velocity terms of the recursion are consistent with the energies."""
     for damping in (False, True):
-        m, parts = random_flexible_tree(seed, 8, floating, damping=damping)
+        m, parts = random_flexible_tree(seed, 8, floating, damping=damping, appendages=appendages)
         q, v, rng = random_flexible_state(m, seed)
         tau = rng.normal(size=m.nv)
         qdd = soadyn.forward_dynamics(m, q, v, tau)

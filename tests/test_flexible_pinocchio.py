@@ -33,7 +33,7 @@ from error_log import ErrorLog
 from trees import random_inertia, random_rotation, random_unit
 
 RTOL = 1e-10
-LAYOUTS = ("floating", "fixed", "flexible_root")
+LAYOUTS = ("floating", "fixed", "flexible_root", "appendages")
 SEEDS = (0, 1, 2)
 STATES = (0, 1, 2)
 MODELS = [(layout, seed) for layout in LAYOUTS for seed in SEEDS]
@@ -155,6 +155,17 @@ LAYOUT_PARTS = {
         ("f1", "f0:b", "revolute", "flexible-damped"),
         ("c2", "f1:c", "prismatic", "rigid"),
         ("c3", "f0", "revolute", "rigid"),
+    ],
+    # Appendages: flexible bodies with nothing on their nodes (the tree-frame sweeps
+    # eliminate their modes in the body frame): a boom clamped to a free-floating rigid
+    # root, a hinged one carrying a body on its reference frame, one on a sliding body.
+    "appendages": [
+        ("b0", None, "free", "rigid"),
+        ("f1", "b0", "fixed", "flexible-damped"),
+        ("f2", "b0", "revolute", "flexible"),
+        ("c1", "f2", "prismatic", "rigid"),
+        ("c2", "b0", "revolute", "rigid"),
+        ("f3", "c2", "prismatic", "flexible-damped"),
     ],
 }
 
@@ -442,8 +453,13 @@ def test_trees_cover_the_flexible_features(layout, seed):
         np.testing.assert_array_equal(body.soadyn_body().mode_shapes, body.mode_shapes())
     on_node = [p for p in parts if p.parent is not None and ":" in p.parent]
     on_frame = [p for p in parts if any(p.parent == f.name for f in flexible)]
-    assert on_node and on_frame
-    assert any(p.flexible is not None for p in on_node)
+    assert on_frame
+    if layout == "appendages":
+        assert not on_node
+        assert {p.joint[0] for p in flexible} == {"fixed", "revolute", "prismatic"}
+    else:
+        assert on_node
+        assert any(p.flexible is not None for p in on_node)
     total = sum(p.mass for p in parts) + sum(p.flexible.masses.sum() for p in flexible)
     assert sum(inertia.mass for inertia in model.inertias) == pytest.approx(total, rel=1e-14)
     if layout in ("floating", "flexible_root"):
@@ -539,3 +555,42 @@ def test_hybrid_dynamics(layout, seed, state):
             np.testing.assert_array_equal(tau[r], u[r])
     finally:
         c.m.set_prescribed(np.zeros(c.m.nv, dtype=bool))
+
+
+def pinocchio_wrenches(c: Case, f_ext: np.ndarray) -> list:
+    """soadyn's body-frame wrenches about each body origin as Pinocchio joint forces: a
+    wrench on a flexible body acts on its reference frame, anchored like a rigid body's."""
+    fext = [pin.Force.Zero() for _ in range(c.model.njoints)]
+    for p in c.parts:
+        joint, offset = c.tree.body_anchor[p.name]
+        w = f_ext[c.m.body_names.index(p.name)]
+        fext[c.ids[joint.name]] += offset.act(pin.Force(w[3:], w[:3]))
+    return fext
+
+
+@parametrize_cases
+def test_external_wrenches(layout, seed, state):
+    """Forward and hybrid dynamics with a wrench on every body, rigid and flexible."""
+    c = make_case(layout, seed, state)
+    f_ext = c.rng.normal(size=(c.m.nbodies, 6))
+    fext = pinocchio_wrenches(c, f_ext)
+    tau = c.rng.normal(size=c.m.nv)
+    qdd = soadyn.forward_dynamics(c.m, c.q, c.v, tau, f_ext=f_ext)
+    tau_pin = c.map.v(tau + c.map.elastic(c.q, c.v))
+    check("forward_dynamics f_ext", qdd, c.map.back(pin.aba(c.model, c.data, c.q_pin, c.v_pin, tau_pin, fext)))
+    M = pin.crba(c.model, c.data, c.q_pin)
+    M = c.map.matrix(np.triu(M) + np.triu(M, 1).T)
+    zero = np.zeros(c.model.nv)
+    h = c.map.back(pin.rnea(c.model, c.data, c.q_pin, c.v_pin, zero, fext)) - c.map.elastic(c.q, c.v)
+    mask = (c.rng.uniform(size=c.m.nv) < 0.5) & ~c.map.modal_dofs
+    try:
+        c.m.set_prescribed(mask)
+        u = c.rng.normal(size=c.m.nv)
+        qdd, tau = soadyn.hybrid_dynamics(c.m, c.q, c.v, u, f_ext=f_ext)
+    finally:
+        c.m.set_prescribed(np.zeros(c.m.nv, dtype=bool))
+    p, r = mask, ~mask
+    expected_qdd = np.where(p, u, 0.0)
+    expected_qdd[r] = np.linalg.solve(M[np.ix_(r, r)], u[r] - h[r] - M[np.ix_(r, p)] @ u[p])
+    check("hybrid qdd f_ext", qdd, expected_qdd)
+    check("hybrid tau f_ext", tau, M @ expected_qdd + h)

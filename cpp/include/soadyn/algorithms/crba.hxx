@@ -16,7 +16,7 @@ void composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   for (std::size_t i = 0; i < n; ++i) {
     tree_joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
-    d.articulated_inertia[i] = spatial_inertia_in_frame(d.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i]);
+    spatial_inertia_in_frame(d.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i], d.articulated_inertia[i]);
   }
   for (std::size_t i = n; i-- > 0;) {  // upper triangle: M(j, i) for j = i and every ancestor (v_index[j] <= v_index[i])
     const int p = m.parent[i];

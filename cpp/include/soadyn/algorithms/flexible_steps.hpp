@@ -91,6 +91,20 @@ inline void flexible_inertia_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size
   m.flexible_body(static_cast<int>(i)).augmented_mass_matrix(modal_coordinates(m, static_cast<int>(i), q), flexible_data(m, d, i).mass);
 }
 
+// Modal rows of the bias of a flexible body: the inertial bias's (the tail of
+// `bias`, modal_integrals.hpp) plus the elastic forces K eta + C eta_dot,
+// by columns (n_m is small: no matrix-vector kernel).
+template <class S, class Eta, class EtaDot>
+inline void modal_bias_with_elastic_forces(const FlexibleBodyTpl<S>& body, const VecX<S>& bias, const Eta& eta,
+                                           const EtaDot& eta_dot, VecX<S>& modal_bias) {
+  const int n = body.n_modes();
+  const MatX<S>& K = body.stiffness();
+  const MatX<S>& C = body.damping();
+  for (int k = 0; k < n; ++k) modal_bias[k] = bias[6 + k];
+  for (int l = 0; l < n; ++l)
+    for (int k = 0; k < n; ++k) modal_bias[k] += K(k, l) * eta[l] + C(k, l) * eta_dot[l];
+}
+
 // Bias of flexible body i: bias_force[i] = b_V - f_ext and modal_bias =
 // b_e + K eta + C eta_dot (Eqs. 8-9), in the body frame, given the body-frame
 // velocity; zero velocity (v null) leaves only -f_ext (impulse problems and
@@ -106,11 +120,12 @@ inline void flexible_bias_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
     const auto eta_dot = modal_velocities(m, b, v);
     const ModalIntegrals<S>& mi = body.modal_integrals();
     mi.second_moment_rates(eta, fd.second_moment_rates);
-    mi.inertial_bias(eta_dot, body_velocity, fd.mass, fd.second_moment_rates, fd.bias);
+    Vec6<S> momentum;  // (M w)_V
+    momentum.noalias() = fd.mass.template topLeftCorner<6, 6>() * body_velocity;
+    momentum.noalias() += fd.mass.topRightCorner(6, body.n_modes()) * eta_dot;
+    mi.inertial_bias(eta_dot, body_velocity, momentum, fd.second_moment_rates, fd.bias);
     d.bias_force[i] = fd.bias.template head<6>();
-    fd.modal_bias = fd.bias.tail(body.n_modes());
-    fd.modal_bias.noalias() += body.stiffness() * eta;
-    fd.modal_bias.noalias() += body.damping() * eta_dot;
+    modal_bias_with_elastic_forces(body, fd.bias, eta, eta_dot, fd.modal_bias);
   } else {
     d.bias_force[i].setZero();
     fd.modal_bias.setZero();

@@ -89,6 +89,7 @@ inline void joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const
       pose.translation = placement.translation + placement.rotation.col(k) * (q[iq] * m.axis_sign[i]);
       return;
     }
+    case JointKernel::fixed: pose = placement; return;
     default: {
       Transform<S> joint_pose;
       joint_calc(m.joints[i], q + iq, v ? v + iv : nullptr, joint_pose, d.subspace[i], d.joint_bias[i]);

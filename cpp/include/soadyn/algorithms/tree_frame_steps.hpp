@@ -23,7 +23,7 @@
 // frame is V x H*, so the Coriolis term of Eq. 1 is a(k) = V(k) x (H* qdot),
 // plus the joint's own bias for joints whose subspace varies (universal).
 #pragma once
-#include "soadyn/algorithms/flexible_steps.hpp"
+#include "soadyn/algorithms/appendage_step.hpp"
 #include "soadyn/joints/joint_kernel.hpp"
 
 namespace soadyn {
@@ -106,6 +106,9 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
       detail::free_subspace(pose, s);
       return Vec6<S>::Zero();
     }
+    case JointKernel::fixed:
+      pose = base;
+      return Vec6<S>::Zero();
     default: return detail::general_joint_tree_step(m, d, i, base, q, v, root);
   }
   // the revolute kernels
@@ -138,7 +141,7 @@ template <class S>
 SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v, const S* f_ext) {
   const Transform<S>& pose = d.tree_pose[i];
   Mat6<S>& inertia = d.articulated_inertia[i];
-  inertia = spatial_inertia_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i]);
+  spatial_inertia_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i], inertia);
   Vec6<S>& b = d.bias_force[i];
   if (v)
     b = force_cross(d.velocity[i], Vec6<S>(inertia * d.velocity[i]));
@@ -148,37 +151,17 @@ SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>&
   d.articulated_bias[i] = b;
 }
 
-// Body terms of flexible body i (flexible_steps.hpp) in its tree frame.
-// With no body on its nodes, the modal block of its articulated inertia is
-// the constant modal mass M_ee: children only add to the rigid block. So the
-// modal DOFs (always regular) are eliminated at once, in the body frame where
-// M(eta) and the bias come from the modal integrals, with the precomputed
-// M_ee^-1 (no factorization per call):
-//   G' = M_ee^-1 M_eV,  nu = M_ee^-1 (u_e - b_e),
-//   P^ = M_VV - M_Ve G',  z^ = b_V + M_Ve nu,
-// and P^, z^ are carried to the tree frame by one congruence. Children add
-// their P+ and z+ to P^ and z^; once alpha(i) is known,
-// eta_ddot = nu - G' alpha (tree_modal_accelerations).
+// Body terms of flexible appendage i (appendage_step.hpp) in its tree frame:
+// its modal DOFs are eliminated in the body frame, and P^ and z^ are carried
+// to the tree frame by one congruence. Children add their P+ and z+ to them;
+// once alpha(i) is known, eta_ddot = nu - G' alpha (tree_modal_accelerations).
 template <class S>
 inline void tree_flexible_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
                                     const S* u, const S* f_ext) {
   const Transform<S>& pose = d.tree_pose[i];
-  flexible_inertia_step(m, d, i, q);
-  flexible_bias_step(m, d, i, q, v, Vec6<S>(pose.motion_to_child(d.velocity[i])), f_ext);
-  FlexibleBodyData<S>& fd = flexible_data(m, d, i);
-  const Eigen::Index n = fd.modal_bias.size();
-  const MatX<S>& modal_mass_inverse = m.flexible_body(static_cast<int>(i)).modal_integrals().modal_mass_inverse;
-  const auto coupling = fd.mass.topRightCorner(6, n);  // M_Ve
-  fd.gain_transpose.noalias() = modal_mass_inverse * fd.mass.bottomLeftCorner(n, 6);
-  fd.innovation.noalias() = modal_mass_inverse * Eigen::Map<const VecX<S>>(u + m.modal_v_index(static_cast<int>(i)), n);
-  fd.innovation.noalias() -= modal_mass_inverse * fd.modal_bias;
-  Mat6<S> P = fd.mass.template topLeftCorner<6, 6>();
-  Vec6<S> z = d.bias_force[i];
-  for (Eigen::Index k = 0; k < n; ++k) {  // 6-vector updates: no dynamic-size product
-    const Vec6<S> c = coupling.col(k);
-    P.noalias() -= c * fd.gain_transpose.row(k);
-    z += fd.innovation[k] * c;
-  }
+  Mat6<S> P;
+  Vec6<S> z;
+  appendage_step(m, d, i, q, v, u, f_ext, Vec6<S>(pose.motion_to_child(d.velocity[i])), P, z);
   d.articulated_inertia[i] = pose.inertia_to_parent(P);
   d.articulated_bias[i] = pose.force_to_parent(z);
 }
@@ -191,10 +174,10 @@ inline void tree_modal_accelerations(const ModelTpl<S>& m, DataTpl<S>& d, std::s
   const int first = m.modal_v_index(static_cast<int>(i));
   const Eigen::Index n = fd.innovation.size();
   const Vec6<S> alpha = d.tree_pose[i].motion_to_child(d.acceleration[i]);
-  auto eta_ddot = d.qdd.segment(first, n);
-  eta_ddot = fd.innovation;
-  eta_ddot.noalias() -= fd.gain_transpose * alpha;
-  d.tau.segment(first, n) = Eigen::Map<const VecX<S>>(u + first, n);
+  for (Eigen::Index r = 0; r < n; ++r) {
+    d.qdd[first + r] = fd.innovation[r] - fd.gain_transpose.row(r).dot(alpha.transpose());
+    d.tau[first + r] = u[first + r];
+  }
 }
 
 }  // namespace soadyn

@@ -69,6 +69,9 @@ ModalIntegrals<S> ModalIntegrals<S>::from_nodes(const FlexibleNodes<S>& nodes, i
   // inverse is symmetrized like the matrix itself.
   const MatX<S> inverse = mi.modal_mass.llt().solve(MatX<S>::Identity(n, n));
   mi.modal_mass_inverse = S(0.5) * (inverse + inverse.transpose());
+  mi.modal_first_moment_gain = mi.modal_mass_inverse * mi.modal_first_moment.transpose();
+  const Mat3<S> translational = mi.mass * Mat3<S>::Identity() - mi.modal_first_moment * mi.modal_first_moment_gain;
+  mi.translational_appendage_inertia = S(0.5) * (translational + translational.transpose());
   return mi;
 }
 
@@ -80,15 +83,15 @@ Vec3<S> ModalIntegrals<S>::first_moment_at(const Eigen::Ref<const VecX<S>>& eta)
 template <class S>
 Mat3<S> ModalIntegrals<S>::second_moment_at(const Eigen::Ref<const VecX<S>>& eta) const {
   // Eq. (3): E0 + sum_k eta_k (A_k + A_k') + sum_k eta_k sum_l eta_l B_kl,
-  // the quadratic part as eta' (9 x n_m^2 block product) eta: 9 n_m^2
-  // multiply-adds in contiguous memory.
+  // 9 n_m^2 multiply-adds on fixed-size 9-vectors in contiguous memory.
   const int n = n_modes;
-  using Mat9X = Eigen::Matrix<S, 9, Eigen::Dynamic>;
-  Eigen::Matrix<S, 9, 1> quadratic = Eigen::Matrix<S, 9, 1>::Zero(), row;
+  using Vec9 = Eigen::Matrix<S, 9, 1>;
+  Vec9 quadratic = Vec9::Zero();
   Mat3<S> linear = Mat3<S>::Zero();
   for (int k = 0; k < n; ++k) {
     linear += eta[k] * second_moment_linear.template middleCols<3>(3 * k);
-    row.noalias() = Eigen::Map<const Mat9X>(second_moment_quadratic.data() + 9 * k * n, 9, n) * eta;
+    Vec9 row = Vec9::Zero();
+    for (int l = 0; l < n; ++l) row += eta[l] * Eigen::Map<const Vec9>(second_moment_quadratic.data() + 9 * (k * n + l));
     quadratic += eta[k] * row;
   }
   const Mat3<S> E = second_moment + linear + linear.transpose() + Eigen::Map<const Mat3<S>>(quadratic.data());
@@ -121,12 +124,12 @@ void ModalIntegrals<S>::augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& e
 template <class S>
 void ModalIntegrals<S>::second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<MatX<S>> out) const {
   // D_k = A_k + sum_l eta_l B_lk = A_k + (sum_l eta_l B_kl)': the B_kl of one
-  // k are 9 n_m contiguous scalars, so the sum is one 9 x n_m product.
+  // k are n_m contiguous 3x3 blocks, summed as fixed-size 9-vectors.
   const int n = n_modes;
-  using Mat9X = Eigen::Matrix<S, 9, Eigen::Dynamic>;
-  Eigen::Matrix<S, 9, 1> sum;
+  using Vec9 = Eigen::Matrix<S, 9, 1>;
   for (int k = 0; k < n; ++k) {
-    sum.noalias() = Eigen::Map<const Mat9X>(second_moment_quadratic.data() + 9 * k * n, 9, n) * eta;
+    Vec9 sum = Vec9::Zero();
+    for (int l = 0; l < n; ++l) sum += eta[l] * Eigen::Map<const Vec9>(second_moment_quadratic.data() + 9 * (k * n + l));
     out.template middleCols<3>(3 * k) =
         second_moment_linear.template middleCols<3>(3 * k) + Eigen::Map<const Mat3<S>>(sum.data()).transpose();
   }
@@ -134,37 +137,34 @@ void ModalIntegrals<S>::second_moment_rates(const Eigen::Ref<const VecX<S>>& eta
 
 template <class S>
 void ModalIntegrals<S>::inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, const Vec6<S>& V,
-                                      const Eigen::Ref<const MatX<S>>& mass, const Eigen::Ref<const MatX<S>>& rates,
+                                      const Vec6<S>& momentum, const Eigen::Ref<const MatX<S>>& rates,
                                       Eigen::Ref<VecX<S>> out) const {
-  // Loops over fixed-size 3-vectors (q_kl: column l of Q_k): no dynamic temporaries.
+  // Q_k e_l = sum_j m_j (Phi_t,j e_k) x (Phi_t,j e_l) = -Q_l e_k, so the term
+  // sum_k eta_dot_k Q_k eta_dot of Eq. (8) vanishes, and the modal rows'
+  // sum_k eta_dot_k Q_k' omega (Eq. 8) - omega' Q_m eta_dot (Eq. 9) are
+  // 2 sum_k eta_dot_k (Q_k e_m).omega: one dot product per mode pair k < m.
   const int n = n_modes;
   const Vec3<S> omega = V.template head<3>(), v = V.template tail<3>();
   const Vec3<S> v_cross_omega = v.cross(omega);
   const S omega2 = omega.squaredNorm();
-  Mat3<S> G = Mat3<S>::Zero();                                 // sum_k eta_dot_k D_k
-  Vec3<S> c_rate = Vec3<S>::Zero();                            // S1 eta_dot
-  Vec6<S> momentum = mass.template topLeftCorner<6, 6>() * V;  // (M w)_V
+  Mat3<S> G = Mat3<S>::Zero();       // sum_k eta_dot_k D_k
+  Vec3<S> c_rate = Vec3<S>::Zero();  // S1 eta_dot
   for (int k = 0; k < n; ++k) {
     const Mat3<S> Dk = rates.template middleCols<3>(3 * k);
     G += eta_dot[k] * Dk;
     c_rate += eta_dot[k] * modal_first_moment.col(k);
-    momentum += eta_dot[k] * mass.template block<6, 1>(0, 6 + k);
-    // Eq. (9) without its last term, which the double loop below subtracts.
     out[6 + k] = -(Dk.trace() * omega2 - omega.dot(Dk * omega) + modal_first_moment.col(k).dot(v_cross_omega));
   }
-  Vec3<S> coupling_rate = Vec3<S>::Zero();  // sum_k eta_dot_k Q_k eta_dot
   for (int k = 0; k < n; ++k) {
-    for (int l = 0; l < n; ++l) {
-      const Vec3<S> q_kl = angular_coupling_linear.template block<3, 1>(0, k * n + l);
-      const S q_omega = q_kl.dot(omega);
-      coupling_rate += (eta_dot[k] * eta_dot[l]) * q_kl;
-      out[6 + l] += eta_dot[k] * q_omega;  // Eq. (8), modal rows: sum_k eta_dot_k Q_k' omega
-      out[6 + k] -= eta_dot[l] * q_omega;  // Eq. (9): omega' Q_k eta_dot
+    for (int l = k + 1; l < n; ++l) {
+      const S t = S(2) * angular_coupling_linear.template block<3, 1>(0, k * n + l).dot(omega);
+      out[6 + l] += eta_dot[k] * t;
+      out[6 + k] -= eta_dot[l] * t;
     }
   }
   const Mat3<S> E_rate = G + G.transpose();
   // Eq. (8), rigid rows, plus the gyroscopic term V x* (M w)_V.
-  out.template head<3>() = E_rate.trace() * omega - E_rate * omega + c_rate.cross(v) + coupling_rate;
+  out.template head<3>() = E_rate.trace() * omega - E_rate * omega + c_rate.cross(v);
   out.template segment<3>(3) = omega.cross(c_rate);
   out.template head<6>() += force_cross(V, momentum);
 }

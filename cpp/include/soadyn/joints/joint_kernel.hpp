@@ -1,7 +1,7 @@
 // Compile-time kernels for the joints robots are made of. A revolute or
 // prismatic joint whose axis is +-x, +-y or +-z of its joint frame (nearly
-// every URDF joint), and the free joint, get their pose and motion subspace
-// from dedicated code: a rotation about a coordinate axis changes two columns
+// every URDF joint), the free joint and the fixed joint get their pose and
+// motion subspace from dedicated code: a rotation about a coordinate axis changes two columns
 // of the parent rotation (12 multiplications instead of Rodrigues' formula
 // and a 3x3 product), and the subspace is a column of the body rotation.
 // Every other joint takes the general path through JointModel's variant.
@@ -17,6 +17,7 @@ enum class JointKernel : std::uint8_t {
   revolute_x, revolute_y, revolute_z,
   prismatic_x, prismatic_y, prismatic_z,
   free,
+  fixed,  // no motion: the placement alone (a flexible body clamped to its parent)
   general,
 };
 
@@ -46,6 +47,8 @@ JointKernel classify_joint(const JointModel<S>& joint, S& sign) {
     if (k >= 0) return static_cast<JointKernel>(static_cast<int>(JointKernel::prismatic_x) + k);
   } else if (std::holds_alternative<FreeJoint<S>>(joint)) {
     return JointKernel::free;
+  } else if (std::holds_alternative<FixedJoint<S>>(joint)) {
+    return JointKernel::fixed;
   }
   sign = S(1);
   return JointKernel::general;

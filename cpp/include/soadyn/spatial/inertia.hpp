@@ -6,34 +6,41 @@ namespace soadyn {
 
 // Spatial inertia about the body origin for a body of `mass` whose centre of
 // mass is `com` (body frame) and whose rotational inertia about the centre of
-// mass is `inertia_com` (body frame):
+// mass is `inertia_com` (body frame), written into I:
 //   [ Ic - m [c]x[c]x   m [c]x ]
 //   [ -m [c]x           m 1    ]
 template <class S>
-SOADYN_ALWAYS_INLINE Mat6<S> spatial_inertia(const S& mass, const Vec3<S>& com, const Mat3<S>& inertia_com) {
+SOADYN_ALWAYS_INLINE void assign_spatial_inertia(const S& mass, const Vec3<S>& com, const Mat3<S>& inertia_com,
+                                                 Mat6<S>& I) {
   const Mat3<S> cx = skew(com);
   const Vec3<S> mc = mass * com;
-  Mat6<S> I;
   // -m [c]x[c]x = m (|c|^2 1 - c c')
   I.template topLeftCorner<3, 3>() = inertia_com - mc * com.transpose();
   I.template topLeftCorner<3, 3>().diagonal().array() += mc.dot(com);
   I.template topRightCorner<3, 3>() = mass * cx;
   I.template bottomLeftCorner<3, 3>() = -mass * cx;
   I.template bottomRightCorner<3, 3>() = mass * Mat3<S>::Identity();
+}
+
+template <class S>
+Mat6<S> spatial_inertia(const S& mass, const Vec3<S>& com, const Mat3<S>& inertia_com) {
+  Mat6<S> I;
+  assign_spatial_inertia(mass, com, inertia_com, I);
   return I;
 }
 
 // The spatial inertia of a body whose frame has `pose` in a frame F, in F's
-// coordinates and about F's origin: the centre of mass and the rotational
-// inertia are carried to F (R c + t, R Ic R'), then assembled as above.
+// coordinates and about F's origin, written into I: the centre of mass and
+// the rotational inertia are carried to F (R c + t, R Ic R'), then assembled
+// as above. Written in place: the sweeps fill their Data without a 6x6 copy.
 template <class S>
-SOADYN_ALWAYS_INLINE Mat6<S> spatial_inertia_in_frame(const Transform<S>& pose, const S& mass, const Vec3<S>& com,
-                                 const Mat3<S>& inertia_com) {
+SOADYN_ALWAYS_INLINE void spatial_inertia_in_frame(const Transform<S>& pose, const S& mass, const Vec3<S>& com,
+                                                   const Mat3<S>& inertia_com, Mat6<S>& I) {
   const Mat3<S> half = pose.rotation * inertia_com;  // R Ic R' is symmetric: its lower triangle from R Ic
   Mat3<S> rotated;
   for (int c = 0; c < 3; ++c)
     for (int r = c; r < 3; ++r) rotated(r, c) = rotated(c, r) = half.row(r).dot(pose.rotation.row(c));
-  return spatial_inertia(mass, pose.apply_point(com), rotated);
+  assign_spatial_inertia(mass, pose.apply_point(com), rotated, I);
 }
 
 // Mass, centre of mass and rotational inertia about it, read back from a

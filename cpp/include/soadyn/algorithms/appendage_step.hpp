@@ -1,0 +1,109 @@
+// Articulated terms of a flexible appendage: a flexible body with no body on
+// its nodes (booms, antennas, solar arrays), for the tree-frame sweeps
+// (tree_frame_steps.hpp). Equation numbers refer to flex/modal_integrals.hpp.
+//
+// With nothing on its nodes, the modal block of the body's articulated
+// inertia is the constant M_ee, so its modal DOFs (always regular) are
+// eliminated at once, in the body frame (Jain & Rodriguez, JGCD 15(6), 1992;
+// flexible_steps.hpp):
+//   G' = M_ee^-1 M_eV,  nu = M_ee^-1 (u_e - b_e),
+//   P^ = M_VV - M_Ve G',  z^ = b_V + M_Ve nu.
+// M(eta) is never assembled. Its blocks have structure that the general
+// elimination ignores:
+//   - M_Ve = [M_we(eta); S1] with S1 constant, so G' = [Y W] with
+//     Y = M_ee^-1 M_we' (n_m x 3) and the constant W = M_ee^-1 S1';
+//   - the translational block of P^ is the constant m 1 - S1 W;
+//   - E(eta) of Eq. (3) follows from the rates D_k of Eq. (7) the bias needs
+//     anyway: E = E0 + sum_k eta_k (A_k + D_k'), since
+//     sum_k eta_k D_k' = sum_k eta_k A_k' + sum_kl eta_k eta_l B_kl.
+// Every product is a loop over modes of fixed-size 3-vector and 3x3 updates.
+#pragma once
+#include "soadyn/algorithms/flexible_steps.hpp"
+
+namespace soadyn {
+
+// Body-frame P^ and z^ of flexible appendage i, given its body-frame
+// velocity V; leaves G' in gain_transpose and nu in innovation of its
+// FlexibleBodyData (tree_modal_accelerations reads them). `v` null: zero
+// velocity with no elastic force (impulse problems), as flexible_bias_step.
+// `f_ext` as in steps.hpp.
+template <class S>
+inline void appendage_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v, const S* u,
+                           const S* f_ext, const Vec6<S>& V, Mat6<S>& P, Vec6<S>& z) {
+  const int body = static_cast<int>(i);
+  const ModalIntegrals<S>& mi = m.flexible_body(body).modal_integrals();
+  FlexibleBodyData<S>& fd = flexible_data(m, d, i);
+  const int n = mi.n_modes;
+  const auto eta = modal_coordinates(m, body, q);
+  mi.second_moment_rates(eta, fd.second_moment_rates);  // D_k, Eq. (7)
+  const auto D = [&](int k) { return fd.second_moment_rates.template middleCols<3>(3 * k); };
+  const ModeShape3<S>& S1 = mi.modal_first_moment;
+  // c(eta), E(eta) (Eqs. 2, 3), M_we(eta) = H0 + sum_k eta_k Q_k (Eq. 5).
+  Vec3<S> c = mi.first_moment;
+  Mat3<S> E = mi.second_moment;
+  auto M_we = fd.coupling.template topRows<3>();
+  M_we = mi.angular_coupling;
+  for (int k = 0; k < n; ++k) {
+    c += eta[k] * S1.col(k);
+    E += eta[k] * (mi.second_moment_linear.template middleCols<3>(3 * k) + D(k).transpose());
+    for (int l = 0; l < n; ++l) M_we.col(l) += eta[k] * mi.angular_coupling_linear.template block<3, 1>(0, k * n + l);
+  }
+  E = S(0.5) * (E + E.transpose());
+  const Mat3<S> M_ww = E.trace() * Mat3<S>::Identity() - E + mi.rotary_inertia;  // Eq. (4)
+
+  // Bias b = [b_V; b_e]: Eqs. (8), (9) and the gyroscopic term, plus K eta + C eta_dot.
+  Vec6<S>& b = d.bias_force[i];
+  VecX<S>& b_e = fd.modal_bias;
+  if (v) {
+    const auto eta_dot = modal_velocities(m, body, v);
+    const Vec3<S> omega = V.template head<3>(), vel = V.template tail<3>();
+    Vec6<S> momentum;  // (M w)_V = M_VV V + M_Ve eta_dot
+    momentum.template head<3>() = M_ww * omega + c.cross(vel);
+    momentum.template tail<3>() = mi.mass * vel - c.cross(omega);
+    for (int k = 0; k < n; ++k) {
+      momentum.template head<3>() += eta_dot[k] * M_we.col(k);
+      momentum.template tail<3>() += eta_dot[k] * S1.col(k);
+    }
+    mi.inertial_bias(eta_dot, V, momentum, fd.second_moment_rates, fd.bias);
+    b = fd.bias.template head<6>();
+    modal_bias_with_elastic_forces(m.flexible_body(body), fd.bias, eta, eta_dot, b_e);
+  } else {
+    b.setZero();
+    b_e.setZero();
+  }
+  if (f_ext) b -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
+
+  // Elimination: G' = [Y W], nu, P^ and z^.
+  const MatX<S>& M_inv = mi.modal_mass_inverse;
+  const MatX<S>& W = mi.modal_first_moment_gain;
+  MatX<S>& gain_transpose = fd.gain_transpose;
+  VecX<S>& nu = fd.innovation;
+  const S* modal_force = u + m.modal_v_index(body);
+  for (int r = 0; r < n; ++r) {
+    Vec3<S> y = Vec3<S>::Zero();
+    S x(0);
+    for (int k = 0; k < n; ++k) {
+      y += M_inv(r, k) * M_we.col(k);
+      x += M_inv(r, k) * (modal_force[k] - b_e[k]);
+    }
+    gain_transpose.template block<1, 3>(r, 0) = y.transpose();
+    gain_transpose.template block<1, 3>(r, 3) = W.template block<1, 3>(r, 0);
+    nu[r] = x;
+  }
+  Mat3<S> angular = M_ww, cross = skew(c);
+  Vec3<S> z_angular = b.template head<3>(), z_linear = b.template tail<3>();
+  for (int k = 0; k < n; ++k) {
+    const Vec3<S> m_k = M_we.col(k);
+    angular.noalias() -= m_k * gain_transpose.template block<1, 3>(k, 0);
+    cross.noalias() -= m_k * W.template block<1, 3>(k, 0);
+    z_angular += nu[k] * m_k;
+    z_linear += nu[k] * S1.col(k);
+  }
+  P.template topLeftCorner<3, 3>() = angular;
+  P.template topRightCorner<3, 3>() = cross;
+  P.template bottomLeftCorner<3, 3>() = cross.transpose();
+  P.template bottomRightCorner<3, 3>() = mi.translational_appendage_inertia;
+  z << z_angular, z_linear;
+}
+
+}  // namespace soadyn
