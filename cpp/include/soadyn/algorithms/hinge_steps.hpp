@@ -23,10 +23,11 @@ inline Vec6<S> prescribed_hinge_acceleration(const ModelTpl<S>& m, const Mat6N<S
 
 // Tip-to-base hinge step of a body with an articulated inertia (seed Eq. 28):
 // z = z_children + b + P (H*_p qdd_p + a); the regular DOFs then give P+ and
-// z+ (articulated_hinge_step) in P_plus and z_plus; a hinge with no regular
-// DOF passes P on (P_out points at articulated_inertia[i]) and z in z_plus.
-// Returns the DOF of a singular D, or -1.
-template <bool AllRegular, class S>
+// z+ (articulated_hinge_step) in P_plus (as `Mode` says: with
+// PlusMode::add, P_out is null on return) and z_plus; a hinge with no
+// regular DOF passes P on (P_out points at articulated_inertia[i]) and z in
+// z_plus. Returns the DOF of a singular D, or -1.
+template <bool AllRegular, PlusMode Mode = PlusMode::store, class S>
 inline int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u, const Mat6N<S>& s,
                         Mat6<S>& P_plus, Vec6<S>& z_plus, const Mat6<S>*& P_out) {
   const HingeModes& h = m.modes[i];
@@ -42,7 +43,7 @@ inline int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, cons
     z_plus = z;
     return -1;
   }
-  P_out = &P_plus;
+  P_out = Mode == PlusMode::store ? &P_plus : nullptr;
   const S* ui = u + m.v_index[i];
   VecN<S> eps(n_regular);
   const Mat6N<S>* Sr = &s;
@@ -57,7 +58,7 @@ inline int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, cons
   } else {
     eps = Eigen::Map<const VecN<S>>(ui, n_regular);
   }
-  const int bad = articulated_hinge_step(P, *Sr, z, eps, d.gain[i], d.innovation[i], P_plus, z_plus);
+  const int bad = articulated_hinge_step<Mode>(P, *Sr, z, eps, d.gain[i], d.innovation[i], P_plus, z_plus);
   if (bad < 0) return -1;
   return m.v_index[i] + (n_prescribed > 0 ? h.regular[bad] : bad);
 }

@@ -157,9 +157,25 @@ inline S singular_pivot_threshold(const Mat6<S>& P) {
   return S(16) * std::numeric_limits<S>::epsilon() * P.diagonal().cwiseAbs().maxCoeff();
 }
 
+// How a hinge step delivers P+: stored in `P_plus`, or added to it when
+// `P_plus` is the parent's articulated inertia in the same frame (tree
+// frames, seed Eq. 14 with phi = 1): one pass over the parent instead of a
+// copy, an update and an addition.
+enum class PlusMode { store, add };
+
+// P_plus = P - G U' (store) or P_plus += P - G U' (add).
+template <PlusMode Mode, class S, class Gain, class Product>
+SOADYN_ALWAYS_INLINE void deliver_p_plus(const Mat6<S>& P, const Gain& G, const Product& U, Mat6<S>& P_plus) {
+  if constexpr (Mode == PlusMode::store)
+    P_plus = P;
+  else
+    P_plus += P;
+  P_plus.noalias() -= G * U.transpose();
+}
+
 // articulated_hinge_step (below) for a hinge of N regular DOFs, N fixed at
 // compile time: universal (2), spherical (3) and free (6) joints.
-template <int N, class S>
+template <int N, PlusMode Mode, class S>
 inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z, VecN<S>& eps,
                                         Mat6N<S>& G, VecN<S>& nu, Mat6<S>& P_plus, Vec6<S>& z_plus,
                                         const S& threshold) {
@@ -180,8 +196,7 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
   cholesky_solve_in_place(L, solved);
   nu = solved;
   G = gain;
-  P_plus = P;
-  P_plus.noalias() -= gain * U.transpose();
+  deliver_p_plus<Mode>(P, gain, U, P_plus);
   z_plus = z;
   z_plus.noalias() += gain * e;
   return -1;
@@ -191,8 +206,9 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
 //   D = S' P S,  G = P S D^-1,  eps = T - S' z,  nu = D^-1 eps,
 //   P+ = (I - G S') P,  z+ = z + G eps.
 // `z` already holds b + children + P (S_p qdd_p + a). On entry `eps` holds
-// the regular hinge torques T. Returns the local column of a singular D, or -1.
-template <class S>
+// the regular hinge torques T. P+ goes to `P_plus` as `Mode` says. Returns
+// the local column of a singular D, or -1.
+template <PlusMode Mode = PlusMode::store, class S>
 inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z, VecN<S>& eps,
                                   Mat6N<S>& G, VecN<S>& nu, Mat6<S>& P_plus, Vec6<S>& z_plus) {
   const S threshold = singular_pivot_threshold(P);
@@ -205,15 +221,19 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     eps[0] = e;
     G.col(0) = g;
     nu[0] = e / D;
-    P_plus = P;
-    P_plus.noalias() -= g * u.transpose();
+    if constexpr (Mode == PlusMode::store) {
+      P_plus = P;
+      P_plus.noalias() -= g * u.transpose();
+    } else {  // column by column: one pass over the parent
+      for (int c = 0; c < 6; ++c) P_plus.col(c) += P.col(c) - g * u[c];
+    }
     z_plus = z + g * e;
     return -1;
   }
   switch (Sr.cols()) {  // multi-DOF hinges in fixed-size arithmetic
-    case 2: return articulated_hinge_step_fixed<2>(P, Sr, z, eps, G, nu, P_plus, z_plus, threshold);
-    case 3: return articulated_hinge_step_fixed<3>(P, Sr, z, eps, G, nu, P_plus, z_plus, threshold);
-    case 6: return articulated_hinge_step_fixed<6>(P, Sr, z, eps, G, nu, P_plus, z_plus, threshold);
+    case 2: return articulated_hinge_step_fixed<2, Mode>(P, Sr, z, eps, G, nu, P_plus, z_plus, threshold);
+    case 3: return articulated_hinge_step_fixed<3, Mode>(P, Sr, z, eps, G, nu, P_plus, z_plus, threshold);
+    case 6: return articulated_hinge_step_fixed<6, Mode>(P, Sr, z, eps, G, nu, P_plus, z_plus, threshold);
     default: break;
   }
   const Mat6N<S> U = P * Sr;  // 6 x nr
@@ -228,8 +248,7 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     nu = llt.solve(eps);
     G = llt.solve(U.transpose()).transpose();
   }
-  P_plus = P;
-  P_plus.noalias() -= G * U.transpose();
+  deliver_p_plus<Mode>(P, G, U, P_plus);
   z_plus = z;
   z_plus.noalias() += G * eps;
   return -1;

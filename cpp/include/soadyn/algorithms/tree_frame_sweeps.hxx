@@ -112,13 +112,17 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
       if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
       continue;
     }
+    constexpr bool all_regular = Modes == ModePolicy::all_regular;
     const Mat6<S>* P_out = nullptr;
-    const int bad =
-        hinge_inward<Modes == ModePolicy::all_regular>(m, d, i, u, d.tree_subspace[i], P_plus, z_plus, P_out);
+    const bool into_parent = p >= 0 && needs_articulated_inertia<Modes>(m, pp);
+    const int bad = into_parent  // seed Eq. 14 with phi = 1: P+ added to the parent's P as it is formed
+                        ? hinge_inward<all_regular, PlusMode::add>(m, d, i, u, d.tree_subspace[i],
+                                                                   d.articulated_inertia[pp], z_plus, P_out)
+                        : hinge_inward<all_regular>(m, d, i, u, d.tree_subspace[i], P_plus, z_plus, P_out);
     if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
     if (p < 0) continue;
-    if (needs_articulated_inertia<Modes>(m, pp)) {  // seed Eq. 14 with phi = 1
-      d.articulated_inertia[pp] += *P_out;
+    if (into_parent) {
+      if (P_out) d.articulated_inertia[pp] += *P_out;  // a hinge with no regular DOF passes P on
       d.articulated_bias[pp] += z_plus;
     } else {  // the parent's acceleration is already known: f = P+ alpha(parent) + z+
       d.hinge_force[pp] += z_plus;
