@@ -3,7 +3,8 @@
 // and the tree-frame sweeps (rigid models, tree_frame_sweeps.hxx): both pass
 // the hinge subspace H* in the frame their P, z and alpha are expressed in.
 // `AllRegular` treats every DOF as regular whatever the model's flags say
-// (forward dynamics).
+// (forward dynamics). Both steps are inlined into the sweeps, whatever the
+// mode: a call per body would make mixed masks dearer than all-regular.
 #pragma once
 #include "soadyn/algorithms/steps.hpp"
 
@@ -28,7 +29,7 @@ inline Vec6<S> prescribed_hinge_acceleration(const ModelTpl<S>& m, const Mat6N<S
 // regular DOF passes P on (P_out points at articulated_inertia[i]) and z in
 // z_plus. Returns the DOF of a singular D, or -1.
 template <bool AllRegular, PlusMode Mode = PlusMode::store, class S>
-inline int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u, const Mat6N<S>& s,
+SOADYN_ALWAYS_INLINE int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u, const Mat6N<S>& s,
                         Mat6<S>& P_plus, Vec6<S>& z_plus, const Mat6<S>*& P_out) {
   const HingeModes& h = m.modes[i];
   const int n_prescribed = AllRegular ? 0 : h.n_prescribed;
@@ -43,7 +44,7 @@ inline int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, cons
     z_plus = z;
     return -1;
   }
-  P_out = Mode == PlusMode::store ? &P_plus : nullptr;
+  P_out = Mode == PlusMode::store ? &P_plus : nullptr;  // add: already in the parent; none: not formed
   const S* ui = u + m.v_index[i];
   VecN<S> eps(n_regular);
   const Mat6N<S>* Sr = &s;
@@ -63,13 +64,29 @@ inline int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, cons
   return m.v_index[i] + (n_prescribed > 0 ? h.regular[bad] : bad);
 }
 
+// P+ alpha for body i after its hinge step ran with PlusMode::none, without
+// forming P+: with P+ = P - G S_r' P (seed Eq. 28; P symmetric),
+// P+ alpha = w - G (S_r' w), w = P alpha. `s` as passed to hinge_inward.
+template <bool AllRegular, class S>
+SOADYN_ALWAYS_INLINE Vec6<S> articulated_plus_times(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i,
+                                                    const Mat6N<S>& s, const Vec6<S>& alpha) {
+  const HingeModes& h = m.modes[i];
+  const int n_regular = AllRegular ? m.nv_body[i] : h.n_regular;
+  const bool gathered = !AllRegular && h.n_prescribed > 0;  // mixed hinge: regular columns only
+  Vec6<S> w;
+  w.noalias() = d.articulated_inertia[i] * alpha;
+  Vec6<S> out = w;
+  for (int k = 0; k < n_regular; ++k) out -= d.gain[i].col(k) * s.col(gathered ? h.regular[k] : k).dot(w);
+  return out;
+}
+
 // Base-to-tip hinge step (seed Eq. 29) once alpha+ (the parent's acceleration
 // in this body's frame) is known: regular qdd = nu - G* alpha+, prescribed
 // qdd copied; alpha = alpha+ + H* qdd + a; f = P alpha + z and the prescribed
 // torques T_p = H f. The hinge force f is computed only when a prescribed DOF
 // needs it or `want_force` asks for it.
 template <bool AllRegular, class S>
-inline void hinge_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u, const Vec6<S>& alpha_plus,
+SOADYN_ALWAYS_INLINE void hinge_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u, const Vec6<S>& alpha_plus,
                           const Mat6N<S>& s, bool want_force) {
   const HingeModes& h = m.modes[i];
   const int n_prescribed = AllRegular ? 0 : h.n_prescribed;

@@ -157,15 +157,17 @@ inline S singular_pivot_threshold(const Mat6<S>& P) {
   return S(16) * std::numeric_limits<S>::epsilon() * P.diagonal().cwiseAbs().maxCoeff();
 }
 
-// How a hinge step delivers P+: stored in `P_plus`, or added to it when
+// How a hinge step delivers P+: stored in `P_plus`; added to it when
 // `P_plus` is the parent's articulated inertia in the same frame (tree
 // frames, seed Eq. 14 with phi = 1): one pass over the parent instead of a
-// copy, an update and an addition.
-enum class PlusMode { store, add };
+// copy, an update and an addition; or not at all, when only P+ times a known
+// acceleration is needed (articulated_plus_times, hinge_steps.hpp).
+enum class PlusMode { store, add, none };
 
-// P_plus = P - G U' (store) or P_plus += P - G U' (add).
+// P_plus = P - G U' (store), P_plus += P - G U' (add), nothing (none).
 template <PlusMode Mode, class S, class Gain, class Product>
 SOADYN_ALWAYS_INLINE void deliver_p_plus(const Mat6<S>& P, const Gain& G, const Product& U, Mat6<S>& P_plus) {
+  if constexpr (Mode == PlusMode::none) return;
   if constexpr (Mode == PlusMode::store)
     P_plus = P;
   else
@@ -224,7 +226,7 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     if constexpr (Mode == PlusMode::store) {
       P_plus = P;
       P_plus.noalias() -= g * u.transpose();
-    } else {  // column by column: one pass over the parent
+    } else if constexpr (Mode == PlusMode::add) {  // column by column: one pass over the parent
       for (int c = 0; c < 6; ++c) P_plus.col(c) += P.col(c) - g * u[c];
     }
     z_plus = z + g * e;

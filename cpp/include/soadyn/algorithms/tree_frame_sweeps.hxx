@@ -95,7 +95,7 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
       d.hinge_force[i].noalias() += d.articulated_inertia[i] * d.acceleration[i];
     }
   }
-  Mat6<S> P_plus;
+  Mat6<S> never_formed;  // P+ is added to the parent as it is formed, or only applied (articulated_plus_times)
   Vec6<S> z_plus;
   for (std::size_t i = n; i-- > 0;) {  // tip to base (seed Eq. 28)
     const int p = m.parent[i];
@@ -118,7 +118,8 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
     const int bad = into_parent  // seed Eq. 14 with phi = 1: P+ added to the parent's P as it is formed
                         ? hinge_inward<all_regular, PlusMode::add>(m, d, i, u, d.tree_subspace[i],
                                                                    d.articulated_inertia[pp], z_plus, P_out)
-                        : hinge_inward<all_regular>(m, d, i, u, d.tree_subspace[i], P_plus, z_plus, P_out);
+                        : hinge_inward<all_regular, PlusMode::none>(m, d, i, u, d.tree_subspace[i], never_formed,
+                                                                    z_plus, P_out);
     if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
     if (p < 0) continue;
     if (into_parent) {
@@ -126,7 +127,10 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
       d.articulated_bias[pp] += z_plus;
     } else {  // the parent's acceleration is already known: f = P+ alpha(parent) + z+
       d.hinge_force[pp] += z_plus;
-      d.hinge_force[pp].noalias() += *P_out * d.acceleration[pp];
+      if (P_out)
+        d.hinge_force[pp].noalias() += *P_out * d.acceleration[pp];
+      else
+        d.hinge_force[pp] += articulated_plus_times<all_regular>(m, d, i, d.tree_subspace[i], d.acceleration[pp]);
     }
   }
   for (std::size_t i = 0; i < n; ++i) {  // base to tip (seed Eq. 29)
