@@ -25,7 +25,7 @@ inline Vec6<S> prescribed_hinge_acceleration(const ModelTpl<S>& m, const Mat6N<S
 // Tip-to-base hinge step of a body with an articulated inertia (seed Eq. 28):
 // z = z_children + b + P (H*_p qdd_p + a); the regular DOFs then give P+ and
 // z+ (articulated_hinge_step) in P_plus (as `Mode` says: with
-// PlusMode::add, P_out is null on return) and z_plus; a hinge with no
+// PlusMode::add or none, P_out is null on return) and z_plus; a hinge with no
 // regular DOF passes P on (P_out points at articulated_inertia[i]) and z in
 // z_plus. Returns the DOF of a singular D, or -1.
 template <bool AllRegular, PlusMode Mode = PlusMode::store, class S>

@@ -164,15 +164,16 @@ inline S singular_pivot_threshold(const Mat6<S>& P) {
 // acceleration is needed (articulated_plus_times, hinge_steps.hpp).
 enum class PlusMode { store, add, none };
 
-// P_plus = P - G U' (store), P_plus += P - G U' (add), nothing (none).
+// P_plus = P - G U' (store), P_plus += P - G U' column by column in one
+// pass (add), or nothing (none).
 template <PlusMode Mode, class S, class Gain, class Product>
 SOADYN_ALWAYS_INLINE void deliver_p_plus(const Mat6<S>& P, const Gain& G, const Product& U, Mat6<S>& P_plus) {
-  if constexpr (Mode == PlusMode::none) return;
-  if constexpr (Mode == PlusMode::store)
+  if constexpr (Mode == PlusMode::store) {
     P_plus = P;
-  else
-    P_plus += P;
-  P_plus.noalias() -= G * U.transpose();
+    P_plus.noalias() -= G * U.transpose();
+  } else if constexpr (Mode == PlusMode::add) {
+    for (int c = 0; c < 6; ++c) P_plus.col(c) += P.col(c) - G * U.row(c).transpose();
+  }
 }
 
 // articulated_hinge_step (below) for a hinge of N regular DOFs, N fixed at
@@ -223,12 +224,7 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     eps[0] = e;
     G.col(0) = g;
     nu[0] = e / D;
-    if constexpr (Mode == PlusMode::store) {
-      P_plus = P;
-      P_plus.noalias() -= g * u.transpose();
-    } else if constexpr (Mode == PlusMode::add) {  // column by column: one pass over the parent
-      for (int c = 0; c < 6; ++c) P_plus.col(c) += P.col(c) - g * u[c];
-    }
+    deliver_p_plus<Mode>(P, g, u, P_plus);
     z_plus = z + g * e;
     return -1;
   }
