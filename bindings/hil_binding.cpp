@@ -46,13 +46,15 @@ py::array_t<double> to_numpy(const std::vector<double>& x, std::int64_t rows, in
 
 std::unique_ptr<HilSession> make_session(soadyn::Simulator& sim, double rate_hz, std::int64_t steps,
                                          std::optional<int> udp_port, int udp_destination_port,
-                                         bool as_fast_as_possible, std::int64_t record_every, double spin_us) {
+                                         bool as_fast_as_possible, std::int64_t record_every, double spin_us,
+                                         int fifo_priority, int cpu, bool lock_memory) {
   auto session = std::make_unique<HilSession>();
   try {
     const auto& m = sim.model();
     if (udp_port) session->link = std::make_unique<soadyn::UdpLink>(m.nq, m.nv, *udp_port, udp_destination_port);
     session->runner = std::make_unique<soadyn::HilRunner>(sim, rate_hz, steps, session->link.get());
     session->runner->record_state_every(record_every);
+    session->runner->set_realtime(soadyn::RealtimeRequest{fifo_priority, cpu, lock_memory});
   } catch (const std::invalid_argument& e) {
     throw py::value_error(e.what());
   }
@@ -92,6 +94,14 @@ void bind_hil(py::module_& mod) {
       .def_readonly("failed_step", &Summary::failed_step)
       .def_readonly("stopped", &Summary::stopped)
       .def_readonly("as_fast_as_possible", &Summary::as_fast_as_possible)
+      .def_property_readonly("realtime", [](const Summary& s) {  // asked and granted, errno of each refusal
+        const soadyn::RealtimeRequest& r = s.realtime_request;
+        const soadyn::RealtimeOutcome& o = s.realtime;
+        return py::dict(py::arg("fifo_priority") = r.fifo_priority, py::arg("fifo_granted") = o.fifo_granted,
+                        py::arg("fifo_errno") = o.fifo_errno, py::arg("cpu") = r.cpu,
+                        py::arg("cpu_granted") = o.cpu_granted, py::arg("cpu_errno") = o.cpu_errno,
+                        py::arg("lock_memory") = r.lock_memory, py::arg("memory_locked") = o.memory_locked,
+                        py::arg("lock_errno") = o.lock_errno); })
       .def_property_readonly("status", [](const Summary& s) { return soadyn::status_message(s.status.code); })
       .def_property_readonly("failed_dof", [](const Summary& s) { return s.status.index; });
 
@@ -100,6 +110,7 @@ void bind_hil(py::module_& mod) {
       .def(py::init(&make_session), py::arg("sim"), py::arg("rate_hz"), py::arg("steps"),
            py::arg("udp_port") = py::none(), py::arg("udp_destination_port") = 0,
            py::arg("as_fast_as_possible") = false, py::arg("record_every") = 0, py::arg("spin_us") = 0.0,
+           py::arg("fifo_priority") = 0, py::arg("cpu") = -1, py::arg("lock_memory") = false,
            py::keep_alive<1, 2>())  // the simulator outlives the runner
       .def("run", &run, "Run the loop (GIL released); the outcome is in summary().")
       .def("request_stop", [](HilSession& s) { s.runner->request_stop(); }, "Ask a running loop to stop (thread-safe).")

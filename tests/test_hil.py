@@ -1,8 +1,10 @@
 """HIL runner: fixed-rate stepping, the UDP packet link (with a controller in
 another process), malformed packets, failures and stop requests, and the
 `soadyn hil` command. Timings are reported, never asserted."""
+import errno
 import json
 import math
+import os
 import socket
 import subprocess
 import sys
@@ -16,7 +18,7 @@ import pytest
 import soadyn
 from hil_pd_controller import HEADER, command_packet, parse_sensor
 from soadyn import Simulator, cli, scenes
-from soadyn.hil import HilRunner, parse_event, run_hil
+from soadyn.hil import HilRunner, format_table, parse_event, run_hil
 
 CONTROLLER = Path(__file__).with_name("hil_pd_controller.py")
 TIMEOUT = 120  # seconds for anything that waits on another thread or process
@@ -194,6 +196,81 @@ def test_bad_runner_arguments():
     for spin in (-1.0, 10000.0, math.nan):  # the period at 100 Hz is 10000 us
         with pytest.raises(ValueError, match="spin_us"):
             run_hil(sim, 100.0, 0.1, progress=False, spin_us=spin)
+
+
+def fifo_permitted() -> bool:
+    """Whether this process may use SCHED_FIFO (asked of the kernel directly, then undone)."""
+    before, param = os.sched_getscheduler(0), os.sched_getparam(0)
+    try:
+        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(1))
+    except PermissionError:
+        return False
+    os.sched_setscheduler(0, before, param)
+    return True
+
+
+def test_realtime_scheduling_holds_during_the_loop_and_is_undone_after():
+    _, sim = swinging_chain(dt=1 / 200)
+    cpu = max(os.sched_getaffinity(0))
+    runner = HilRunner(sim, 200.0, 60, fifo_priority=7, cpu=cpu, lock_memory=True)
+    seen = {}
+
+    def work():
+        seen["thread"] = threading.get_native_id()
+        seen["policy"], seen["affinity"] = os.sched_getscheduler(0), os.sched_getaffinity(0)
+        runner.run()
+        seen["policy after"], seen["affinity after"] = os.sched_getscheduler(0), os.sched_getaffinity(0)
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    deadline = time.monotonic() + TIMEOUT
+    while runner.steps_done < 5 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    during = os.sched_getscheduler(seen["thread"]), os.sched_getparam(seen["thread"]).sched_priority
+    affinity_during = os.sched_getaffinity(seen["thread"])
+    worker.join(TIMEOUT)
+    s = runner.summary()
+    assert s.steps == 60 and s.status == "ok"
+    granted = s.realtime
+    assert granted["fifo_priority"] == 7 and granted["cpu"] == cpu and granted["lock_memory"]
+    if fifo_permitted():
+        assert granted["fifo_granted"] and granted["fifo_errno"] == 0
+        assert during == (os.SCHED_FIFO, 7)
+    else:
+        assert not granted["fifo_granted"] and granted["fifo_errno"] == errno.EPERM
+        assert during[0] == seen["policy"]
+    assert granted["cpu_granted"] and affinity_during == {cpu}
+    assert granted["memory_locked"] or granted["lock_errno"] in (errno.EPERM, errno.ENOMEM)
+    assert seen["policy after"] == seen["policy"] and seen["affinity after"] == seen["affinity"]
+
+
+def test_report_says_what_scheduling_the_run_got():
+    _, sim = swinging_chain(dt=1 / 200)
+    report = run_hil(sim, 200.0, 0.05, progress=False, fifo_priority=3, cpu=0)
+    assert_consistent(report, 10)
+    s = report.scheduling
+    assert s["fifo_granted"] == fifo_permitted() and s["cpu_granted"] and not s["memory_locked"]
+    assert s["fifo_refused"] is None if s["fifo_granted"] else s["fifo_refused"] == os.strerror(errno.EPERM)
+    line = format_table(report).splitlines()[2]
+    assert line.startswith("scheduling") and "SCHED_FIFO 3" in line and "on CPU 0" in line
+    assert json.loads(report.to_json())["scheduling"] == s
+    _, sim = swinging_chain(dt=1 / 200)
+    plain = run_hil(sim, 200.0, 0.02, progress=False)
+    assert "default" in format_table(plain) and not plain.scheduling["fifo_granted"]
+
+
+@pytest.mark.parametrize("kwargs, culprit", [
+    ({"fifo_priority": 100}, "priority 100"), ({"fifo_priority": -1}, "priority -1"),
+    ({"cpu": -2}, "CPU -2"), ({"cpu": 4096}, "CPU 4096"),
+])
+def test_bad_realtime_requests_name_the_field(kwargs, culprit):
+    _, sim = swinging_chain(1)
+    with pytest.raises(ValueError, match=culprit):
+        HilRunner(sim, 100.0, 10, **kwargs)
+    with pytest.raises(SystemExit) as exit_info:
+        flag, value = next(iter(kwargs.items()))
+        cli.main(["hil", "--duration", "0.01", "--no-progress", "--" + flag.replace("_", "-"), str(value)])
+    assert exit_info.value.code == 2
 
 
 def test_cli_end_to_end_with_report_and_plot(tmp_path):

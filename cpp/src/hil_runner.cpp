@@ -88,6 +88,7 @@ void HilRunner::reset() {
   status_ = Status{};
   failed_step_ = -1;
   stopped_ = false;
+  realtime_outcome_ = RealtimeOutcome{};
   recorded_rows_ = 0;
   steps_done_.store(0, std::memory_order_relaxed);
   deadline_misses_.store(0, std::memory_order_relaxed);
@@ -102,6 +103,8 @@ Status HilRunner::run() {
   reset();
   record_state();
   [[maybe_unused]] TightTimerSlack slack;
+  const RealtimeScope realtime(realtime_request_);
+  realtime_outcome_ = realtime.outcome();
   start_ns_ = now_ns();
   for (std::int64_t k = 0; k < steps_; ++k) {
     if (stop_requested_.load(std::memory_order_relaxed)) {
@@ -186,6 +189,8 @@ HilSummary HilRunner::summary() const {
   s.failed_step = failed_step_;
   s.stopped = stopped_;
   s.as_fast_as_possible = as_fast_as_possible_;
+  s.realtime_request = realtime_request_;
+  s.realtime = realtime_outcome_;
   return s;
 }
 

@@ -69,6 +69,12 @@ def add_hil_parser(sub) -> argparse.ArgumentParser:
     hil.add_argument("--spin-us", type=float, default=0.0, metavar="US",
                      help="busy-wait the last US microseconds before each step instead of sleeping "
                           "(warm core, steadier step times; costs that share of a core)")
+    hil.add_argument("--fifo-priority", type=int, default=0, metavar="1-99",
+                     help="run the loop under SCHED_FIFO at this priority (needs CAP_SYS_NICE or an rtprio "
+                          "limit; refused requests are reported, not fatal)")
+    hil.add_argument("--cpu", type=int, default=-1, metavar="K", help="pin the loop's thread to CPU K")
+    hil.add_argument("--lock-memory", action="store_true",
+                     help="lock the process's memory (mlockall) while the loop runs")
     return hil
 
 
@@ -95,9 +101,10 @@ def run_hil_command(args, parser) -> int:
     try:
         report = hil.run_hil(sim, args.rate, args.duration, udp_port=args.udp, progress=not args.no_progress,
                              realtime=not args.as_fast_as_possible, udp_destination_port=args.udp_peer,
-                             spin_us=args.spin_us)
-    except ValueError as error:
-        parser.error(f"argument --spin-us: {error}")
+                             spin_us=args.spin_us, fifo_priority=args.fifo_priority, cpu=args.cpu,
+                             lock_memory=args.lock_memory)
+    except ValueError as error:  # spin, priority or CPU out of range: the message names it
+        parser.error(str(error))
     except RuntimeError as error:  # the UDP port could not be bound
         parser.exit(1, f"soadyn hil: {error}\n")
     print(hil.format_table(report))

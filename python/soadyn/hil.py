@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import re
 import threading
 from dataclasses import dataclass, field
@@ -52,6 +53,7 @@ class HilReport:
     interrupted: bool
     energy: dict
     momentum: dict
+    scheduling: dict  # real-time scheduling asked for and granted (format_scheduling)
     dof_names: list = field(repr=False)
     compute_ns: np.ndarray = field(repr=False)
     lateness_ns: np.ndarray = field(repr=False)
@@ -67,7 +69,7 @@ class HilReport:
         """The summary as JSON-ready data (no per-step arrays)."""
         keys = ["rate_hz", "realtime", "requested_steps", "steps", "deadline_misses", "compute_us", "lateness_us",
                 "packets", "wall_seconds", "sim_time", "status", "failed_step", "failed_dof", "interrupted",
-                "energy", "momentum"]
+                "energy", "momentum", "scheduling"]
         return {k: getattr(self, k) for k in keys}
 
     def to_json(self, indent: int | None = 2) -> str:
@@ -125,7 +127,8 @@ def scene_simulator(scene: str, rate: float, integrator: str = "rk4", events=())
 
 
 def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None = None, progress: bool = True,
-            realtime: bool = True, udp_destination_port: int = 0, spin_us: float = 0.0) -> HilReport:
+            realtime: bool = True, udp_destination_port: int = 0, spin_us: float = 0.0, fifo_priority: int = 0,
+            cpu: int = -1, lock_memory: bool = False) -> HilReport:
     """Run `sim` for `duration` simulated seconds, one step per 1/rate wall seconds.
 
     The simulation is real time when sim.dt == 1/rate. `udp_port` (None: no
@@ -135,7 +138,11 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
     misses). Ctrl-C stops the loop and returns the report so far
     (`interrupted`). `spin_us` > 0 busy-waits that long before each deadline
     instead of sleeping (a warm core: lower and steadier step times, at the
-    cost of that share of a core). A failing step (singular articulated inertia, NaN) stops
+    cost of that share of a core). `fifo_priority` (1-99) runs the loop's
+    thread under SCHED_FIFO, `cpu` pins it to that CPU and `lock_memory`
+    locks the process's pages (mlockall), all for the loop's duration only; a
+    request the kernel refuses (no privilege) does not stop the run, and the
+    report's `scheduling` says what was granted. A failing step (singular articulated inertia, NaN) stops
     the run; the report's `status`, `failed_step` and `failed_dof` say why.
     Do not use `sim` from another thread while this runs.
     """
@@ -149,7 +156,8 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
     energy0, momentum0 = _energy(sim), _momentum(sim)
     runner = HilRunner(sim, float(rate), steps, udp_port=udp_port, udp_destination_port=udp_destination_port,
                        as_fast_as_possible=not realtime, record_every=max(1, math.ceil(steps / RECORDED_SAMPLES)),
-                       spin_us=float(spin_us))
+                       spin_us=float(spin_us), fifo_priority=int(fifo_priority), cpu=int(cpu),
+                       lock_memory=bool(lock_memory))
     interrupted = _run_with_progress(runner, steps, progress, sim.dt)
     return _report(sim, runner, rate, realtime, interrupted, energy0, momentum0)
 
@@ -224,7 +232,33 @@ def _report(sim, runner, rate, realtime, interrupted, energy0, momentum0) -> Hil
         failed_dof=dof_names[s.failed_dof] if failed and 0 <= s.failed_dof < len(dof_names) else None,
         interrupted=interrupted,
         energy={"start": energy0, "end": _energy(sim)}, momentum={"start": momentum0, "end": _momentum(sim)},
+        scheduling=_scheduling(s.realtime),
         dof_names=list(dof_names), compute_ns=runner.compute_ns, lateness_ns=runner.lateness_ns, t=t, q=q, v=v)
+
+
+def _scheduling(granted: dict) -> dict:
+    """The runner's real-time outcome with each refusal's errno as text (None: granted or not asked)."""
+    out = {}
+    for key, asked, ok, errno in (("fifo", granted["fifo_priority"] > 0, "fifo_granted", "fifo_errno"),
+                                  ("cpu", granted["cpu"] >= 0, "cpu_granted", "cpu_errno"),
+                                  ("lock", granted["lock_memory"], "memory_locked", "lock_errno")):
+        out[ok] = granted[ok]
+        out[f"{key}_refused"] = os.strerror(granted[errno]) if asked and not granted[ok] else None
+    return {"fifo_priority": granted["fifo_priority"], "cpu": granted["cpu"], "lock_memory": granted["lock_memory"],
+            **out}
+
+
+def format_scheduling(s: dict) -> str:
+    """One line: what real-time scheduling the loop asked for and got."""
+    parts = []
+    if s["fifo_priority"] > 0:
+        parts.append(f"SCHED_FIFO {s['fifo_priority']}" if s["fifo_granted"]
+                     else f"SCHED_FIFO {s['fifo_priority']} refused ({s['fifo_refused']})")
+    if s["cpu"] >= 0:
+        parts.append(f"on CPU {s['cpu']}" if s["cpu_granted"] else f"CPU {s['cpu']} refused ({s['cpu_refused']})")
+    if s["lock_memory"]:
+        parts.append("memory locked" if s["memory_locked"] else f"memory lock refused ({s['lock_refused']})")
+    return ", ".join(parts) if parts else "default (no real-time priority, pinning or memory lock asked for)"
 
 
 def format_table(r: HilReport) -> str:
@@ -236,6 +270,7 @@ def format_table(r: HilReport) -> str:
         f"steps            {r.steps} of {r.requested_steps} at {r.rate_hz:g} Hz ({mode}), "
         f"{r.sim_time:.3f} s simulated in {r.wall_seconds:.3f} s",
         f"deadline misses  {r.deadline_misses}",
+        f"scheduling       {format_scheduling(r.scheduling)}",
         f"compute   us     p50 {c['p50']:8.1f}   p99 {c['p99']:8.1f}   p99.9 {c['p999']:8.1f}   max {c['max']:8.1f}",
         f"lateness  us     p50 {lat['p50']:8.1f}   p99 {lat['p99']:8.1f}   max {lat['max']:8.1f}",
         f"packets          received {p['received']}, dropped {p['dropped']}, sent {p['sent']}",

@@ -1,12 +1,15 @@
 // The simulator's step never touches the heap: 10^5 steps of each built-in
 // scene with every integrator's fixed-step loop, scheduled lock/release and
 // prescribe events firing throughout, and immediate lock/release calls, with
-// every allocation of the process counted (allocation_counter.cpp). Zero
-// allocations, zero frees and every Status ok are required.
+// every allocation of the process counted (allocation_counter.cpp); then the
+// HIL loop (HilRunner::run) over cassini, paced and as fast as possible, with
+// real-time scheduling asked for (granted or not). Zero allocations, zero
+// frees and every Status ok are required.
 #include <cstdio>
 #include <string>
 #include "allocation_counter.hpp"
 #include "soadyn/scenes.hpp"
+#include "soadyn/sim/hil_runner.hpp"
 
 using namespace soadyn_test;
 
@@ -42,6 +45,29 @@ AllocationCounts run_armed(soadyn::Simulator& sim, const char* dof_name, long& f
   return disarm_counter();
 }
 
+// HilRunner::run with counting armed: `steps` steps of cassini at 10 kHz
+// (paced, spinning the last 50 us) or as fast as possible, recording every
+// 10th state, SCHED_FIFO, CPU pinning and memory locking requested.
+bool hil_run_allocates_nothing(bool as_fast_as_possible, long steps) {
+  soadyn::Simulator sim(soadyn::cassini_model<double>(), 1e-4, soadyn::Integrator::rk4);
+  soadyn::drive_cassini(sim);
+  soadyn::HilRunner runner(sim, 1e4, steps);
+  runner.record_state_every(10);
+  runner.set_as_fast_as_possible(as_fast_as_possible);
+  runner.set_spin_ns(50000);
+  runner.set_realtime(soadyn::RealtimeRequest{1, 0, true});
+  arm_counter();
+  const soadyn::Status status = runner.run();
+  const AllocationCounts counts = disarm_counter();
+  const soadyn::RealtimeOutcome& rt = runner.summary().realtime;
+  std::printf("hil runner (%s): %ld steps, %ld allocations, %ld frees, status %s; SCHED_FIFO %s, CPU %s, memory %s\n",
+              as_fast_as_possible ? "as fast as possible" : "paced", static_cast<long>(runner.steps_done()),
+              counts.allocations(), counts.frees, status.ok() ? "ok" : "failed",
+              rt.fifo_granted ? "granted" : "refused", rt.cpu_granted ? "pinned" : "refused",
+              rt.memory_locked ? "locked" : "not locked");
+  return counts.allocations() == 0 && counts.frees == 0 && status.ok() && runner.steps_done() == steps;
+}
+
 }  // namespace
 
 int main(int argc, char**) {
@@ -75,6 +101,7 @@ int main(int argc, char**) {
       pass = pass && counts.allocations() == 0 && counts.frees == 0 && failed == 0 && lost >= 0;
     }
   }
+  for (const bool fast : {false, true}) pass = hil_run_allocates_nothing(fast, 20000) && pass;
   std::printf("test_sim_no_allocation: %s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;
 }

@@ -20,6 +20,11 @@
 // as-fast-as-possible mode it never sleeps, lateness is 0 and no step is a
 // miss.
 //
+// Real-time scheduling (optional, set_realtime): run() applies SCHED_FIFO,
+// CPU pinning and memory locking to its thread before the loop and undoes
+// them after it (sim/realtime_scheduling.hpp); the summary says what the
+// kernel granted.
+//
 // Memory policy: the constructor and record_state_every() allocate every
 // buffer; run() allocates nothing, takes no lock, never throws and makes no
 // blocking call besides the sleep. A step whose Status is not ok stops the
@@ -31,6 +36,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "soadyn/sim/realtime_scheduling.hpp"
 #include "soadyn/sim/simulator.hpp"
 #include "soadyn/sim/udp_link.hpp"
 #include "soadyn/status.hpp"
@@ -49,6 +55,8 @@ struct HilSummary {
   std::int64_t failed_step = -1;  // the step index the status came from
   bool stopped = false;           // request_stop() ended the run early
   bool as_fast_as_possible = false;
+  RealtimeRequest realtime_request;  // what set_realtime asked for
+  RealtimeOutcome realtime;          // what the kernel granted during the last run
 };
 
 class HilRunner {
@@ -62,6 +70,12 @@ class HilRunner {
   void set_as_fast_as_possible(bool on) { as_fast_as_possible_ = on; }
   // Busy-wait the last `ns` nanoseconds before each deadline (0: sleep all the way).
   void set_spin_ns(std::int64_t ns) { spin_ns_ = ns > 0 ? ns : 0; }
+  // Real-time scheduling of the thread that calls run(), for the loop's
+  // duration. Throws std::invalid_argument naming a bad field.
+  void set_realtime(const RealtimeRequest& request) {
+    request.validate();
+    realtime_request_ = request;
+  }
   // Records time, q and v at the start and after every `every` steps
   // (0: no recording). Allocates the buffers.
   void record_state_every(std::int64_t every);
@@ -102,6 +116,8 @@ class HilRunner {
   std::int64_t steps_;
   bool as_fast_as_possible_ = false;
   std::int64_t spin_ns_ = 0;
+  RealtimeRequest realtime_request_;
+  RealtimeOutcome realtime_outcome_;
   std::int64_t start_ns_ = 0, end_ns_ = 0;
   std::vector<std::int64_t> compute_ns_, lateness_ns_;
   std::int64_t record_every_ = 0, recorded_rows_ = 0;
