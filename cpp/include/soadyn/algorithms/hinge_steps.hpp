@@ -22,6 +22,40 @@ inline Vec6<S> prescribed_hinge_acceleration(const ModelTpl<S>& m, const Mat6N<S
   return a;
 }
 
+// Tip-to-base step of a hinge with no regular DOF (seed Eq. 28, Lemma 8):
+// z+ = z = z_children + b + P (H* qdd + a) and P+ = P, passed on by pointer
+// (P_out points at articulated_inertia[i]). 36 multiplications.
+template <class S>
+SOADYN_ALWAYS_INLINE void prescribed_hinge_inward(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i, const S* u,
+                                                  const Mat6N<S>& s, Vec6<S>& z_plus, const Mat6<S>*& P_out) {
+  const Vec6<S> hinge_acc = d.coriolis[i] + subspace_times(s, u + m.v_index[i]);
+  z_plus = d.articulated_bias[i];
+  z_plus.noalias() += d.articulated_inertia[i] * hinge_acc;
+  P_out = &d.articulated_inertia[i];
+}
+
+// Base-to-tip step of a hinge with no regular DOF (seed Eq. 29) once alpha+
+// is known: qdd = the given accelerations, alpha = alpha+ + H* qdd + a,
+// f = P alpha + z and T = H f. 36 + 6 n multiplications (none for a hinge
+// without DOFs unless `want_force`).
+template <class S>
+SOADYN_ALWAYS_INLINE void prescribed_hinge_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
+                                                   const Vec6<S>& alpha_plus, const Mat6N<S>& s, bool want_force) {
+  const int vi = m.v_index[i];
+  const S* given = u + vi;
+  d.acceleration[i] = alpha_plus + d.coriolis[i];
+  if (s.cols() > 0)
+    d.acceleration[i] += subspace_times(s, given);
+  else if (!want_force)
+    return;
+  d.hinge_force[i] = d.articulated_bias[i];
+  d.hinge_force[i].noalias() += d.articulated_inertia[i] * d.acceleration[i];
+  for (Eigen::Index k = 0; k < s.cols(); ++k) {
+    d.qdd[vi + k] = given[k];
+    d.tau[vi + k] = s.col(k).dot(d.hinge_force[i]);
+  }
+}
+
 // Tip-to-base hinge step of a body with an articulated inertia (seed Eq. 28):
 // z = z_children + b + P (H*_p qdd_p + a); the regular DOFs then give P+ and
 // z+ (articulated_hinge_step) in P_plus (as `Mode` says: with
@@ -35,15 +69,14 @@ SOADYN_ALWAYS_INLINE int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::
   const int n_prescribed = AllRegular ? 0 : h.n_prescribed;
   const int n_regular = AllRegular ? m.nv_body[i] : h.n_regular;
   const Mat6<S>& P = d.articulated_inertia[i];
+  if (n_regular == 0) {
+    prescribed_hinge_inward(m, d, i, u, s, z_plus, P_out);
+    return -1;
+  }
   Vec6<S> hinge_acc = d.coriolis[i];
   if (n_prescribed > 0) hinge_acc += prescribed_hinge_acceleration(m, s, i, u);
   Vec6<S> z = d.articulated_bias[i];
   z.noalias() += P * hinge_acc;
-  if (n_regular == 0) {
-    P_out = &P;
-    z_plus = z;
-    return -1;
-  }
   P_out = Mode == PlusMode::store ? &P_plus : nullptr;  // add: already in the parent; none: not formed
   const S* ui = u + m.v_index[i];
   VecN<S> eps(n_regular);
@@ -90,6 +123,7 @@ SOADYN_ALWAYS_INLINE void hinge_outward(const ModelTpl<S>& m, DataTpl<S>& d, std
                           const Mat6N<S>& s, bool want_force) {
   const HingeModes& h = m.modes[i];
   const int n_prescribed = AllRegular ? 0 : h.n_prescribed;
+  if (!AllRegular && h.n_regular == 0) return prescribed_hinge_outward(m, d, i, u, alpha_plus, s, want_force);
   const int vi = m.v_index[i], ni = m.nv_body[i];
   S* qdd = d.qdd.data() + vi;
   S* tau = d.tau.data() + vi;

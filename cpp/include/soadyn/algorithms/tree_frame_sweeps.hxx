@@ -63,10 +63,31 @@ inline bool needs_articulated_inertia(const ModelTpl<S>& m, std::size_t i) {
   return m.modes[i].needs_articulated_inertia;
 }
 
+// Whether body i's hinge has no prescribed DOF: its steps then run the
+// articulated-body code with the DOF count fixed by the joint (no gather of
+// regular columns, no mode branches), as forward dynamics does.
+template <ModePolicy Modes, class S>
+inline bool regular_hinge(const ModelTpl<S>& m, std::size_t i) {
+  return Modes == ModePolicy::all_regular || m.modes[i].n_prescribed == 0;
+}
+
 template <ModePolicy Modes, class S>
 inline bool is_regular_free_root(const ModelTpl<S>& m, std::size_t i) {
-  return m.parent[i] < 0 && m.joint_kernel[i] == JointKernel::free &&
-         (Modes == ModePolicy::all_regular || m.modes[i].n_prescribed == 0);
+  return m.parent[i] < 0 && m.joint_kernel[i] == JointKernel::free && regular_hinge<Modes>(m, i);
+}
+
+// The tree-frame hinge step of body i (seed Eq. 28): P+ added to the parent's
+// P as it is formed when the parent has one (Eq. 14 with phi = 1), else not
+// formed at all (`never_formed`).
+template <bool AllRegular, class S>
+SOADYN_ALWAYS_INLINE int tree_hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
+                                           bool into_parent, Mat6<S>& never_formed, Vec6<S>& z_plus,
+                                           const Mat6<S>*& P_out) {
+  if (into_parent)
+    return hinge_inward<AllRegular, PlusMode::add>(m, d, i, u, d.tree_subspace[i],
+                                                   d.articulated_inertia[static_cast<std::size_t>(m.parent[i])],
+                                                   z_plus, P_out);
+  return hinge_inward<AllRegular, PlusMode::none>(m, d, i, u, d.tree_subspace[i], never_formed, z_plus, P_out);
 }
 
 // The three sweeps in tree frames. `v` null means zero velocity; `want_force`
@@ -112,14 +133,11 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
       if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
       continue;
     }
-    constexpr bool all_regular = Modes == ModePolicy::all_regular;
     const Mat6<S>* P_out = nullptr;
     const bool into_parent = p >= 0 && needs_articulated_inertia<Modes>(m, pp);
-    const int bad = into_parent  // seed Eq. 14 with phi = 1: P+ added to the parent's P as it is formed
-                        ? hinge_inward<all_regular, PlusMode::add>(m, d, i, u, d.tree_subspace[i],
-                                                                   d.articulated_inertia[pp], z_plus, P_out)
-                        : hinge_inward<all_regular, PlusMode::none>(m, d, i, u, d.tree_subspace[i], never_formed,
-                                                                    z_plus, P_out);
+    const bool regular = regular_hinge<Modes>(m, i);
+    const int bad = regular ? tree_hinge_inward<true>(m, d, i, u, into_parent, never_formed, z_plus, P_out)
+                            : tree_hinge_inward<false>(m, d, i, u, into_parent, never_formed, z_plus, P_out);
     if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
     if (p < 0) continue;
     if (into_parent) {
@@ -130,15 +148,18 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
       if (P_out)
         d.hinge_force[pp].noalias() += *P_out * d.acceleration[pp];
       else
-        d.hinge_force[pp] += articulated_plus_times<all_regular>(m, d, i, d.tree_subspace[i], d.acceleration[pp]);
+        d.hinge_force[pp] += regular ? articulated_plus_times<true>(m, d, i, d.tree_subspace[i], d.acceleration[pp])
+                                     : articulated_plus_times<false>(m, d, i, d.tree_subspace[i], d.acceleration[pp]);
     }
   }
   for (std::size_t i = 0; i < n; ++i) {  // base to tip (seed Eq. 29)
     if (!needs_articulated_inertia<Modes>(m, i)) continue;
     if (is_regular_free_root<Modes>(m, i))
       free_root_outward(m, d, i, u, world_acc, want_force);
-    else
-      hinge_outward<Modes == ModePolicy::all_regular>(m, d, i, u, parent_acc(i), d.tree_subspace[i], want_force);
+    else if (regular_hinge<Modes>(m, i))
+      hinge_outward<true>(m, d, i, u, parent_acc(i), d.tree_subspace[i], want_force);
+    else  // some DOF prescribed
+      hinge_outward<false>(m, d, i, u, parent_acc(i), d.tree_subspace[i], want_force);
     if constexpr (Flex)
       if (m.is_flexible(static_cast<int>(i))) tree_modal_accelerations(m, d, i, u);
   }
