@@ -156,3 +156,19 @@ def test_bad_gravity(model):
         model.gravity = [0, 0, np.nan]
     with pytest.raises(ValueError, match="gravity has shape"):
         model.gravity = [0, 0]
+
+
+def test_overflowing_prescribed_torque_names_its_dof():
+    """A drive whose torque overflows while every acceleration stays finite (the driven turntable is a
+    Newton-Euler root beside a regular pendulum): the error names the driven DOF."""
+    m = soadyn.Model()
+    m.add_body("turntable", None, soadyn.Joint.revolute([0, 0, 1]), mass=1.0, inertia=[1e10, 1e10, 1e10])
+    m.add_body("pendulum", None, soadyn.Joint.revolute([1, 0, 0]), mass=1.0, com=[0, 0, -0.5],
+               inertia=[0.1, 0.1, 0.1])
+    m.set_prescribed("turntable")
+    q, v = soadyn.neutral_configuration(m), np.zeros(m.nv)
+    with pytest.raises(soadyn.DynamicsError, match="the result for DOF 'turntable' is not finite"):
+        soadyn.hybrid_dynamics(m, q, v, np.array([1e300, 0.0]))
+    # A moderate drive: the torque is the turntable's axial inertia times its acceleration.
+    qdd, tau = soadyn.hybrid_dynamics(m, q, v, np.array([2.0, 0.0]))
+    assert qdd[0] == 2.0 and tau[0] == pytest.approx(2e10, rel=1e-12) and np.isfinite(qdd[1])

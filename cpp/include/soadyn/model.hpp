@@ -136,6 +136,12 @@ class ModelTpl {
   std::vector<std::uint8_t> prescribed;
   std::vector<std::uint8_t> modal_dof;  // 1 for modal coordinates
   int n_prescribed = 0;  // how many DOFs are prescribed
+  // The first n_prescribed entries: the prescribed DOFs in increasing order
+  // (sized nv when DOFs are added, rewritten in place when a flag flips).
+  std::vector<int> prescribed_dofs;
+  // True when some body needs no articulated inertia (HingeModes): the root
+  // region of a fixed-base tree whose hinges are all prescribed.
+  bool has_newton_euler_region = false;
 
   std::vector<Frame<S>> frames;
   Vec3<S> gravity;

@@ -266,6 +266,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
     dof_names.push_back(new_dofs[static_cast<std::size_t>(k)]);
     dof_body.push_back(index);
     prescribed.push_back(0);
+    prescribed_dofs.push_back(0);
     modal_dof.push_back(k >= jv ? 1 : 0);
   }
   nq += jq + nm;
@@ -294,13 +295,16 @@ void ModelTpl<S>::refresh_body_modes(int body) {
 template <class S>
 void ModelTpl<S>::refresh_modes() {
   n_prescribed = 0;
-  for (const std::uint8_t p : prescribed) n_prescribed += p;
+  for (std::size_t d = 0; d < prescribed.size(); ++d)
+    if (prescribed[d]) prescribed_dofs[static_cast<std::size_t>(n_prescribed++)] = static_cast<int>(d);
+  has_newton_euler_region = false;
   for (int i = 0; i < nbodies(); ++i) {
     const int p = parent[static_cast<std::size_t>(i)];
     HingeModes& h = modes[static_cast<std::size_t>(i)];
     // Modal DOFs are regular: a flexible body always needs one.
     h.needs_articulated_inertia = h.n_regular > 0 || flexible_index[static_cast<std::size_t>(i)] >= 0 ||
                                   (p >= 0 && modes[static_cast<std::size_t>(p)].needs_articulated_inertia);
+    has_newton_euler_region = has_newton_euler_region || !h.needs_articulated_inertia;
   }
 }
 

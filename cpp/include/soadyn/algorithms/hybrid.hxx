@@ -82,7 +82,18 @@ Status hybrid_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v
     if (m.modes[i].needs_articulated_inertia)
       articulated_body_outward(m, d, i, up, world_acc, outputs.hinge_forces);
   const Status s = check_finite(d.qdd);
-  return s.ok() ? check_finite(d.tau) : s;
+  return s.ok() ? check_prescribed_finite(m, d.tau) : s;
+}
+
+// The tree-frame sweeps under the model's flags; a model whose every body has
+// an articulated inertia (a regular hinge at each root) runs the variant
+// without the Newton-Euler branches.
+template <bool Flex, class S>
+Status flagged_tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u,
+                                 const S* f_ext, const Vec6<S>& world_acc, bool want_force) {
+  if (m.has_newton_euler_region)
+    return tree_frame_sweeps<ModePolicy::model_flags, Flex>(m, d, q, v, u, f_ext, world_acc, want_force);
+  return tree_frame_sweeps<ModePolicy::model_flags_articulated, Flex>(m, d, q, v, u, f_ext, world_acc, want_force);
 }
 
 }  // namespace detail
@@ -101,24 +112,22 @@ Status hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>
     d.qdd = u;
     return check_finite(d.tau);
   }
-  constexpr auto flags = detail::ModePolicy::model_flags;
   if (!m.has_flexible_bodies())
-    return detail::tree_frame_sweeps<flags, false>(m, d, q.data(), velocities_unless_at_rest(m, v), u.data(), f_ext,
-                                                   world_acceleration(m), outputs.hinge_forces);
+    return detail::flagged_tree_frame_sweeps<false>(m, d, q.data(), velocities_unless_at_rest(m, v), u.data(), f_ext,
+                                                    world_acceleration(m), outputs.hinge_forces);
   if (!m.has_node_attachments())
-    return detail::tree_frame_sweeps<flags, true>(m, d, q.data(), v.data(), u.data(), f_ext, world_acceleration(m),
-                                                  outputs.hinge_forces);
+    return detail::flagged_tree_frame_sweeps<true>(m, d, q.data(), v.data(), u.data(), f_ext, world_acceleration(m),
+                                                   outputs.hinge_forces);
   return detail::hybrid_sweeps(m, d, q.data(), v.data(), u, f_ext, world_acceleration(m), outputs);
 }
 
 template <class S>
 Status hybrid_impulse(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& u) {
-  constexpr auto flags = detail::ModePolicy::model_flags;
   const Vec6<S> no_gravity = Vec6<S>::Zero();
   if (!m.has_flexible_bodies())
-    return detail::tree_frame_sweeps<flags, false, S>(m, d, q.data(), nullptr, u.data(), nullptr, no_gravity, false);
+    return detail::flagged_tree_frame_sweeps<false, S>(m, d, q.data(), nullptr, u.data(), nullptr, no_gravity, false);
   if (!m.has_node_attachments())
-    return detail::tree_frame_sweeps<flags, true, S>(m, d, q.data(), nullptr, u.data(), nullptr, no_gravity, false);
+    return detail::flagged_tree_frame_sweeps<true, S>(m, d, q.data(), nullptr, u.data(), nullptr, no_gravity, false);
   return detail::hybrid_sweeps<S>(m, d, q.data(), nullptr, u, nullptr, no_gravity, DynamicsOutputs{});
 }
 

@@ -268,4 +268,16 @@ inline Status check_finite(const VecX<S>& x) {
   return Status{};
 }
 
+// check_finite of the hybrid torques once the accelerations are finite: a
+// regular DOF's torque is its given input, and a non-finite input gives a
+// non-finite acceleration of that DOF, so only prescribed DOFs can fail here.
+template <class S>
+inline Status check_prescribed_finite(const ModelTpl<S>& m, const VecX<S>& tau) {
+  for (int k = 0; k < m.n_prescribed; ++k) {
+    const int dof = m.prescribed_dofs[static_cast<std::size_t>(k)];
+    if (!std::isfinite(static_cast<double>(tau[dof]))) return Status{StatusCode::non_finite_result, dof};
+  }
+  return Status{};
+}
+
 }  // namespace soadyn

@@ -54,12 +54,15 @@ inline void hinge_forces_to_body_frames(DataTpl<S>& d) {
   for (std::size_t i = 0; i < d.hinge_force.size(); ++i) d.hinge_force[i] = d.tree_pose[i].force_to_child(d.hinge_force[i]);
 }
 
-// Whose flags the sweeps follow.
-enum class ModePolicy { model_flags, all_regular };
+// Whose flags the sweeps follow: the model's (bodies without an articulated
+// inertia handled as in RNEA), the model's when every body has one (a regular
+// hinge at every root: no Newton-Euler branches compiled in), or none (every
+// DOF regular: forward dynamics).
+enum class ModePolicy { model_flags, model_flags_articulated, all_regular };
 
 template <ModePolicy Modes, class S>
 inline bool needs_articulated_inertia(const ModelTpl<S>& m, std::size_t i) {
-  if constexpr (Modes == ModePolicy::all_regular) return true;
+  if constexpr (Modes != ModePolicy::model_flags) return true;
   return m.modes[i].needs_articulated_inertia;
 }
 
@@ -166,7 +169,7 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
   if (want_force) hinge_forces_to_body_frames(d);
   const Status s = check_finite(d.qdd);
   if constexpr (Modes == ModePolicy::all_regular) return s;  // tau is the given torque
-  return s.ok() ? check_finite(d.tau) : s;
+  return s.ok() ? check_prescribed_finite(m, d.tau) : s;
 }
 
 }  // namespace detail
