@@ -39,8 +39,10 @@ struct RealtimeOutcome {
 };
 
 // Applies a request to the calling thread on construction and restores the
-// thread's previous policy, priority and affinity (and unlocks memory it
-// locked) on destruction. Never throws.
+// thread's previous policy, priority and affinity on destruction. Memory it
+// locked is unlocked with munlockall, which also unlocks pages the process
+// had locked itself before: a caller that locks its own memory should do so
+// for the whole process and not ask the loop to. Never throws.
 class RealtimeScope {
  public:
   explicit RealtimeScope(const RealtimeRequest& request);
