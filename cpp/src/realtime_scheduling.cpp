@@ -2,7 +2,6 @@
 #include "soadyn/sim/realtime_scheduling.hpp"
 
 #include <cerrno>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -29,7 +28,8 @@ void RealtimeRequest::validate() const {
 }
 
 #ifdef __linux__
-static_assert(sizeof(cpu_set_t) <= 128, "the saved affinity must hold a cpu_set_t");
+static_assert(sizeof(cpu_set_t) <= 128 && alignof(cpu_set_t) <= alignof(unsigned long),
+              "the saved affinity must hold a cpu_set_t");
 
 RealtimeScope::RealtimeScope(const RealtimeRequest& request) {
   const pthread_t self = pthread_self();

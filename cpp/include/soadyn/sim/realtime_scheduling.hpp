@@ -54,7 +54,9 @@ class RealtimeScope {
  private:
   RealtimeOutcome outcome_;
   int previous_policy_ = 0, previous_priority_ = 0;
-  unsigned char previous_affinity_[128] = {};  // a cpu_set_t (1024 CPUs), kept opaque here
+  // The thread's cpu_set_t (1024 CPUs; an array of unsigned long), kept
+  // opaque so this header includes no system header.
+  alignas(unsigned long) unsigned char previous_affinity_[128] = {};
 };
 
 }  // namespace soadyn
