@@ -8,7 +8,10 @@
 //   - arithmetic: eight independent multiply-add chains in registers, no
 //     memory traffic, sized to the median of the identical dynamics.
 // The workloads take turns in blocks of 500 periods, so phases of the
-// machine's speed hit them alike. Output: a markdown table on stdout.
+// machine's speed hit them alike. Then a census of the interruptions the
+// thread suffers: for five seconds it only reads the clock, and every gap of
+// 10 us or more between two readings is a time it did not run. Output:
+// markdown tables on stdout.
 //
 // Usage: bench_step_spread [periods per workload]   (default 10000)
 #include <algorithm>
@@ -64,6 +67,36 @@ void paced(Workload& w, int periods) {
   }
 }
 
+// Gaps of at least 10 us between consecutive clock readings over `seconds`.
+std::vector<double> interruption_census(double seconds) {
+  std::vector<double> gaps;
+  gaps.reserve(200000);
+  const Clock::time_point start = Clock::now();
+  Clock::time_point previous = start;
+  while (previous - start < std::chrono::duration<double>(seconds)) {
+    const Clock::time_point now = Clock::now();
+    const double gap = std::chrono::duration<double, std::micro>(now - previous).count();
+    if (gap >= 10.0) gaps.push_back(gap);
+    previous = now;
+  }
+  return gaps;
+}
+
+void print_census(const std::vector<double>& gaps, double seconds, double step_p50_us) {
+  const double edges[] = {10, 20, 50, 100, 1e300};
+  std::printf("\n| interruptions per second | 10-20 us | 20-50 us | 50-100 us | >= 100 us | all |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|\n| thread reading the clock, %.0f s |", seconds);
+  for (int b = 0; b < 4; ++b) {
+    const auto n = std::count_if(gaps.begin(), gaps.end(), [&](double g) { return g >= edges[b] && g < edges[b + 1]; });
+    std::printf(" %.0f |", static_cast<double>(n) / seconds);
+  }
+  std::printf(" %.0f |\n", static_cast<double>(gaps.size()) / seconds);
+  const auto long_ones = std::count_if(gaps.begin(), gaps.end(), [](double g) { return g >= 20.0; });
+  std::printf("\nA step of the cassini median (%.1f us) overlaps an interruption of 20 us or more\n"
+              "with probability about %.2f %% (rate x duration); p99.9 looks at the worst 0.1 %%.\n",
+              step_p50_us, 100.0 * static_cast<double>(long_ones) / seconds * step_p50_us * 1e-6);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -115,5 +148,7 @@ int main(int argc, char** argv) {
     std::printf("| %s | %.1f | %.1f | %.1f | %.1f | %.2f |\n", w.label.c_str(), p50, percentile(w.microseconds, 0.99),
                 p999, percentile(w.microseconds, 1.0), p999 / p50);
   }
+  const double census_seconds = 5.0;
+  print_census(interruption_census(census_seconds), census_seconds, percentile(workloads[0].microseconds, 0.5));
   return 0;
 }

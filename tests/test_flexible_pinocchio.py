@@ -87,7 +87,7 @@ class FlexSpec:
 NODE_PLAN = ("", "t", "r", "tr", "tr", "", "t", "r")
 
 
-def random_flexible(rng: np.random.Generator, damping: bool) -> FlexSpec:
+def random_flexible(rng: np.random.Generator, damping: bool, modal: bool = False) -> FlexSpec:
     plan = list(NODE_PLAN)
     rng.shuffle(plan)
     n_nodes = len(plan)
@@ -100,7 +100,10 @@ def random_flexible(rng: np.random.Generator, damping: bool) -> FlexSpec:
     A = rng.normal(size=(n, n))
     K = A @ A.T + 5.0 * np.eye(n) * rng.uniform(1.0, 4.0)
     C = None
-    if damping:
+    if modal:  # uncoupled modes with modal damping: diagonal K and C
+        K = np.diag(rng.uniform(5.0, 20.0, size=n))
+        C = np.diag(rng.uniform(0.05, 0.5, size=n))
+    elif damping:
         B = rng.normal(size=(n, n - 2))  # rank-deficient: positive semidefinite
         C = 0.2 * B @ B.T
     pick = lambda kinds: int(rng.choice([j for j, k in enumerate(plan) if k in kinds]))
@@ -120,7 +123,8 @@ class Part:
     flexible: FlexSpec | None = None
 
 
-# name, parent, joint kind, body kind ('rigid' | 'flexible' | 'flexible-damped').
+# name, parent, joint kind, body kind ('rigid' | 'flexible' | 'flexible-damped' |
+# 'flexible-modal': diagonal K and C).
 LAYOUT_PARTS = {
     # Free-floating rigid root carrying flexible bodies, with children on moved and unmoved
     # nodes and on the flexible body's reference frame.
@@ -143,7 +147,7 @@ LAYOUT_PARTS = {
         ("f2", "f1:b", "fixed", "flexible-damped"),
         ("c2", "f2:a", "prismatic", "rigid"),
         ("c3", "f1", "revolute", "rigid"),
-        ("f3", "f2:c", "revolute", "flexible"),
+        ("f3", "f2:c", "revolute", "flexible-modal"),
         ("c4", "c1", "revolute", "rigid"),
         ("c5", "f3:a", "revolute", "rigid"),
         ("c6", "f1:c", "revolute", "rigid"),
@@ -162,7 +166,7 @@ LAYOUT_PARTS = {
     "appendages": [
         ("b0", None, "free", "rigid"),
         ("f1", "b0", "fixed", "flexible-damped"),
-        ("f2", "b0", "revolute", "flexible"),
+        ("f2", "b0", "revolute", "flexible-modal"),
         ("c1", "f2", "prismatic", "rigid"),
         ("c2", "b0", "revolute", "rigid"),
         ("f3", "c2", "prismatic", "flexible-damped"),
@@ -182,7 +186,8 @@ def random_parts(layout: str, seed: int) -> list[Part]:
                               inertia=random_inertia(rng) * rng.uniform(0.3, 1.0)))
         else:
             parts.append(Part(name, parent, joint, placement,
-                              flexible=random_flexible(rng, damping=body == "flexible-damped")))
+                              flexible=random_flexible(rng, damping=body == "flexible-damped",
+                                                       modal=body == "flexible-modal")))
     return parts
 
 
@@ -428,15 +433,21 @@ def report_errors():
 parametrize_cases = pytest.mark.parametrize("layout,seed,state", CASES, ids=CASE_IDS)
 
 
+# Bodies with uncoupled, modally damped modes (the diagonal elastic forces): one on a
+# node of a clamped body, one appendage.
+MODAL_BODIES = {layout: {name for name, _, _, body in parts if body == "flexible-modal"}
+                for layout, parts in LAYOUT_PARTS.items()}
+
 # ---------------------------------------------------------------------------
 # Tests
 # ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("layout,seed", MODELS, ids=[f"{l}-seed{s}" for l, s in MODELS])
 def test_trees_cover_the_flexible_features(layout, seed):
-    """Translational and rotational modes, nodes with both, unmoved nodes, coupled K,
-    children on moved and unmoved nodes and on reference frames, and the same number of
-    DOFs, coordinates and total mass in both models."""
+    """Translational and rotational modes, nodes with both, unmoved nodes, coupled K
+    (diagonal K and C on the modal bodies), children on moved and unmoved nodes and on
+    reference frames, and the same number of DOFs, coordinates and total mass in both
+    models."""
     parts, m, model, tree, ids, mapping = built(layout, seed)
     assert model.nv == m.nv and model.nq == m.nq
     flexible = [p for p in parts if p.flexible is not None]
@@ -448,7 +459,12 @@ def test_trees_cover_the_flexible_features(layout, seed):
         moved = {j for j, _, _ in body.modes}
         assert any(set(body.node_modes(j)) == {"t", "r"} for j in moved)
         assert len(moved) < len(body.masses)
-        assert np.abs(body.K - np.diag(np.diag(body.K))).max() > 0.1
+        coupling = np.abs(body.K - np.diag(np.diag(body.K))).max()
+        damping_coupling = 0.0 if body.C is None else np.abs(body.C - np.diag(np.diag(body.C))).max()
+        if p.name in MODAL_BODIES[layout]:
+            assert coupling == 0.0 and damping_coupling == 0.0 and np.all(np.diag(body.C) > 0)
+        else:
+            assert coupling > 0.1
         assert np.all(np.linalg.eigvalsh(body.K) > 0)
         np.testing.assert_array_equal(body.soadyn_body().mode_shapes, body.mode_shapes())
     on_node = [p for p in parts if p.parent is not None and ":" in p.parent]

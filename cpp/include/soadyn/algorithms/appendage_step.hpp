@@ -36,18 +36,22 @@ inline void appendage_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, c
   const int n = mi.n_modes;
   const auto eta = modal_coordinates(m, body, q);
   mi.second_moment_rates(eta, fd.second_moment_rates);  // D_k, Eq. (7)
-  const auto D = [&](int k) { return fd.second_moment_rates.template middleCols<3>(3 * k); };
+  const auto D = [&](int k) { return Eigen::Map<const Mat3<S>>(fd.second_moment_rates.data() + 9 * k); };
+  const auto A = [&](int k) { return Eigen::Map<const Mat3<S>>(mi.second_moment_linear.data() + 9 * k); };
   const ModeShape3<S>& S1 = mi.modal_first_moment;
   // c(eta), E(eta) (Eqs. 2, 3), M_we(eta) = H0 + sum_k eta_k Q_k (Eq. 5).
   Vec3<S> c = mi.first_moment;
   Mat3<S> E = mi.second_moment;
-  auto M_we = fd.coupling.template topRows<3>();
-  M_we = mi.angular_coupling;
   for (int k = 0; k < n; ++k) {
     c += eta[k] * S1.col(k);
-    E += eta[k] * (mi.second_moment_linear.template middleCols<3>(3 * k) + D(k).transpose());
-    for (int l = 0; l < n; ++l) M_we.col(l) += eta[k] * mi.angular_coupling_linear.template block<3, 1>(0, k * n + l);
+    E += eta[k] * (A(k) + D(k).transpose());
   }
+  // M_we flattened: Q_k = angular_coupling_linear's columns k n_m .. k n_m +
+  // n_m - 1 are 3 n_m contiguous values, so vec(M_we) = vec(H0) + [vec(Q_0)
+  // ... vec(Q_n-1)] eta, one matrix-vector product. It is kept, 3 x n_m
+  // contiguous, in the storage of the body's coupling block (6 x n_m).
+  Eigen::Map<Eigen::Matrix<S, 3, Eigen::Dynamic>> M_we(fd.coupling.data(), 3, n);
+  affine_columns(mi.angular_coupling.data(), mi.angular_coupling_linear.data(), 3 * n, n, eta.data(), M_we.data());
   E = S(0.5) * (E + E.transpose());
   const Mat3<S> M_ww = E.trace() * Mat3<S>::Identity() - E + mi.rotary_inertia;  // Eq. (4)
 

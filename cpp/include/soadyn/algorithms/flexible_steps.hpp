@@ -101,6 +101,10 @@ inline void modal_bias_with_elastic_forces(const FlexibleBodyTpl<S>& body, const
   const MatX<S>& K = body.stiffness();
   const MatX<S>& C = body.damping();
   for (int k = 0; k < n; ++k) modal_bias[k] = bias[6 + k];
+  if (body.diagonal_elastic_forces()) {
+    for (int k = 0; k < n; ++k) modal_bias[k] += K(k, k) * eta[k] + C(k, k) * eta_dot[k];
+    return;
+  }
   for (int l = 0; l < n; ++l)
     for (int k = 0; k < n; ++k) modal_bias[k] += K(k, l) * eta[l] + C(k, l) * eta_dot[l];
 }

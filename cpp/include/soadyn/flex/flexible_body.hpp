@@ -78,6 +78,9 @@ class FlexibleBodyTpl {
   const FlexibleNode<S>& node(int j) const { return description_.nodes[static_cast<std::size_t>(j)]; }
   const MatX<S>& stiffness() const { return description_.stiffness; }
   const MatX<S>& damping() const { return description_.damping; }
+  // Whether K and C are both diagonal (modal damping of uncoupled modes, as
+  // most modal models have): the elastic forces then cost n_m, not n_m^2.
+  bool diagonal_elastic_forces() const { return diagonal_elastic_forces_; }
   const std::map<std::string, int>& attachments() const { return description_.attachments; }
   // Node index of the attachment `name`, -1 when absent.
   int attachment_node(const std::string& name) const;
@@ -134,6 +137,7 @@ class FlexibleBodyTpl {
  private:
   FlexibleBodyDescription<S> description_;
   ModalIntegrals<S> integrals_;
+  bool diagonal_elastic_forces_ = false;
 };
 
 using FlexibleBody = FlexibleBodyTpl<double>;

@@ -176,6 +176,8 @@ FlexibleBodyTpl<S>::FlexibleBodyTpl(FlexibleBodyDescription<S> description)
   description_.validate();
   flex_detail::symmetrize(description_);
   integrals_ = ModalIntegrals<S>::from_nodes(description_.nodes, n_modes());
+  const auto diagonal = [](const MatX<S>& x) { return x.isDiagonal(S(0)); };
+  diagonal_elastic_forces_ = diagonal(description_.stiffness) && diagonal(description_.damping);
 }
 
 template <class S>

@@ -57,6 +57,16 @@
 
 namespace soadyn {
 
+// out = base + M x for a column-major rows x cols matrix M, all in
+// contiguous memory (flattened modal invariants). No allocation. out may not
+// overlap base, M or x.
+template <class S>
+inline void affine_columns(const S* base, const S* M, Eigen::Index rows, Eigen::Index cols, const S* x, S* out) {
+  Eigen::Map<VecX<S>> result(out, rows);
+  result = Eigen::Map<const VecX<S>>(base, rows);
+  result.noalias() += Eigen::Map<const MatX<S>>(M, rows, cols) * Eigen::Map<const VecX<S>>(x, cols);
+}
+
 template <class S>
 struct ModalIntegrals {
   int n_modes = 0;
@@ -86,14 +96,15 @@ struct ModalIntegrals {
   // the recursion calls this with a block of its preallocated Data.
   void augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<MatX<S>> out) const;
 
-  // out = [D_0 ... D_{n_m-1}] of Eq. (7), 3 x 3n_m. No allocation.
-  void second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<MatX<S>> out) const;
+  // out = [D_0 ... D_{n_m-1}] of Eq. (7); `out` must already be 3 x 3n_m.
+  // No allocation.
+  void second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, MatX<S>& out) const;
 
   // out (6 + n_m) = dM/dt w + [V x* (M w)_V; 0] - [0; dT/deta], Eqs. (7)-(9),
   // given `momentum` = (M w)_V = M_VV V + M_Ve eta_dot and `rates` = Eq. (7)
   // at eta. No allocation.
   void inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, const Vec6<S>& V, const Vec6<S>& momentum,
-                     const Eigen::Ref<const MatX<S>>& rates, Eigen::Ref<VecX<S>> out) const;
+                     const MatX<S>& rates, Eigen::Ref<VecX<S>> out) const;
 };
 
 // M_ee of Eq. (6) straight from the nodes (also used to validate them).

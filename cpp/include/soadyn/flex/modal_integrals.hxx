@@ -122,23 +122,18 @@ void ModalIntegrals<S>::augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& e
 }
 
 template <class S>
-void ModalIntegrals<S>::second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<MatX<S>> out) const {
-  // D_k = A_k + sum_l eta_l B_lk = A_k + (sum_l eta_l B_kl)': the B_kl of one
-  // k are n_m contiguous 3x3 blocks, summed as fixed-size 9-vectors.
-  const int n = n_modes;
-  using Vec9 = Eigen::Matrix<S, 9, 1>;
-  for (int k = 0; k < n; ++k) {
-    Vec9 sum = Vec9::Zero();
-    for (int l = 0; l < n; ++l) sum += eta[l] * Eigen::Map<const Vec9>(second_moment_quadratic.data() + 9 * (k * n + l));
-    out.template middleCols<3>(3 * k) =
-        second_moment_linear.template middleCols<3>(3 * k) + Eigen::Map<const Mat3<S>>(sum.data()).transpose();
-  }
+void ModalIntegrals<S>::second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, MatX<S>& out) const {
+  // D_k = A_k + (sum_l eta_l B_kl)' = A_k + sum_l eta_l B_lk (B_kl' = B_lk).
+  // The B_lk of one l are n_m contiguous 3x3 blocks (column-major), so with
+  // every D_k flattened into one 9 n_m-vector, [D_0 ... D_{n_m-1}] =
+  // [A_0 ... A_{n_m-1}] + B eta for the 9 n_m x n_m matrix B whose column l
+  // is [B_l0 ... B_l,n_m-1]: one matrix-vector product on stored memory.
+  affine_columns(second_moment_linear.data(), second_moment_quadratic.data(), 9 * n_modes, n_modes, eta.data(), out.data());
 }
 
 template <class S>
 void ModalIntegrals<S>::inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, const Vec6<S>& V,
-                                      const Vec6<S>& momentum, const Eigen::Ref<const MatX<S>>& rates,
-                                      Eigen::Ref<VecX<S>> out) const {
+                                      const Vec6<S>& momentum, const MatX<S>& rates, Eigen::Ref<VecX<S>> out) const {
   // Q_k e_l = sum_j m_j (Phi_t,j e_k) x (Phi_t,j e_l) = -Q_l e_k, so the term
   // sum_k eta_dot_k Q_k eta_dot of Eq. (8) vanishes, and the modal rows'
   // sum_k eta_dot_k Q_k' omega (Eq. 8) - omega' Q_m eta_dot (Eq. 9) are
@@ -150,7 +145,7 @@ void ModalIntegrals<S>::inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, 
   Mat3<S> G = Mat3<S>::Zero();       // sum_k eta_dot_k D_k
   Vec3<S> c_rate = Vec3<S>::Zero();  // S1 eta_dot
   for (int k = 0; k < n; ++k) {
-    const Mat3<S> Dk = rates.template middleCols<3>(3 * k);
+    const Eigen::Map<const Mat3<S>> Dk(rates.data() + 9 * k);  // rates is 3 x 3n_m, contiguous
     G += eta_dot[k] * Dk;
     c_rate += eta_dot[k] * modal_first_moment.col(k);
     out[6 + k] = -(Dk.trace() * omega2 - omega.dot(Dk * omega) + modal_first_moment.col(k).dot(v_cross_omega));

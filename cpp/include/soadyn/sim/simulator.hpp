@@ -102,6 +102,9 @@ class SimulatorTpl {
   VecX<S> source_offset_, held_position_;
   std::vector<bool> scalar_coordinate_;
   std::vector<int> coordinate_of_;
+  // Bodies whose joint's chart is not q = q0 + xi with dxi/dt = v (planar,
+  // spherical, free): the only ones retract and chart_rates visit.
+  std::vector<int> curved_chart_bodies_;
   std::vector<MotionSource<S>> sources_;
   std::vector<Event<S>> events_;
   std::size_t event_capacity_;

@@ -49,6 +49,7 @@ SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integra
   for (int b = 0; b < model_.nbodies(); ++b) {
     const std::size_t bi = static_cast<std::size_t>(b);
     const bool scalar = joint_has_scalar_coordinates(model_.joints[bi]);
+    if (!scalar) curved_chart_bodies_.push_back(b);
     for (int k = 0; k < model_.nv_body[bi]; ++k) {
       const std::size_t dof = static_cast<std::size_t>(model_.v_index[bi] + k);
       scalar_coordinate_[dof] = scalar;
@@ -208,13 +209,14 @@ Status SimulatorTpl<S>::fire_due_events() {
 // u: torque of regular DOFs, acceleration of driven ones; qdd out.
 template <class S>
 Status SimulatorTpl<S>::evaluate(S t, const VecX<S>& q, const VecX<S>& v, VecX<S>& qdd) {
-  for (int dof = 0; dof < model_.nv; ++dof) {
-    const std::size_t d = static_cast<std::size_t>(dof);
-    switch (drive_[d]) {
-      case Drive::regular: u_[dof] = inputs_[dof]; break;
-      case Drive::held: u_[dof] = S(0); break;
-      case Drive::sourced: u_[dof] = sample_source(sources_[static_cast<std::size_t>(source_of_[d])], t).acceleration; break;
-    }
+  // Regular DOFs take their inputs; the prescribed ones (a DOF is prescribed
+  // in the model exactly when it is held or sourced) are then overwritten.
+  u_ = inputs_;
+  for (int k = 0; k < model_.n_prescribed; ++k) {
+    const std::size_t d = static_cast<std::size_t>(model_.prescribed_dofs[static_cast<std::size_t>(k)]);
+    u_[static_cast<Eigen::Index>(d)] = drive_[d] == Drive::held
+                                          ? S(0)
+                                          : sample_source(sources_[static_cast<std::size_t>(source_of_[d])], t).acceleration;
   }
   const Status s = hybrid_dynamics<S>(model_, data_, q, v, u_);
   qdd = data_.qdd;
@@ -223,21 +225,24 @@ Status SimulatorTpl<S>::evaluate(S t, const VecX<S>& q, const VecX<S>& v, VecX<S
 
 template <class S>
 void SimulatorTpl<S>::chart_rates(const VecX<S>& q, const VecX<S>& xi, const VecX<S>& v, VecX<S>& rate) const {
-  for (std::size_t b = 0; b < static_cast<std::size_t>(model_.nbodies()); ++b) {
-    const int iv = model_.v_index[b];
-    chart_rate(model_.joints[b], q.data() + model_.q_index[b], xi.data() + iv, v.data() + iv, rate.data() + iv);
-    const int mv = model_.modal_v_index(static_cast<int>(b));
-    rate.segment(mv, model_.n_modes[b]) = v.segment(mv, model_.n_modes[b]);  // modal coordinates: a flat chart
+  rate = v;  // scalar joints and modal coordinates: dxi/dt = v
+  for (const int b : curved_chart_bodies_) {
+    const std::size_t bi = static_cast<std::size_t>(b);
+    const int iv = model_.v_index[bi];
+    chart_rate(model_.joints[bi], q.data() + model_.q_index[bi], xi.data() + iv, v.data() + iv, rate.data() + iv);
   }
 }
 
 template <class S>
 void SimulatorTpl<S>::retract(const VecX<S>& xi, VecX<S>& q) const {
-  for (std::size_t b = 0; b < static_cast<std::size_t>(model_.nbodies()); ++b) {
-    chart_retract(model_.joints[b], q0_.data() + model_.q_index[b], xi.data() + model_.v_index[b],
-                  q.data() + model_.q_index[b]);
-    const int mq = model_.modal_q_index(static_cast<int>(b)), mv = model_.modal_v_index(static_cast<int>(b));
-    q.segment(mq, model_.n_modes[b]) = q0_.segment(mq, model_.n_modes[b]) + xi.segment(mv, model_.n_modes[b]);
+  for (std::size_t dof = 0; dof < coordinate_of_.size(); ++dof) {  // flat charts: q = q0 + xi
+    const int coordinate = coordinate_of_[dof];
+    if (coordinate >= 0) q[coordinate] = q0_[coordinate] + xi[static_cast<Eigen::Index>(dof)];
+  }
+  for (const int b : curved_chart_bodies_) {
+    const std::size_t bi = static_cast<std::size_t>(b);
+    chart_retract(model_.joints[bi], q0_.data() + model_.q_index[bi], xi.data() + model_.v_index[bi],
+                  q.data() + model_.q_index[bi]);
   }
 }
 
@@ -258,7 +263,10 @@ Status SimulatorTpl<S>::runge_kutta(int stages, const S* a, const S* b, const S*
       xi_ += w * k_xi_[static_cast<std::size_t>(j)];
       vs_ += w * k_v_[static_cast<std::size_t>(j)];
     }
-    retract(xi_, qs_);
+    if (s == 0)
+      qs_ = q0_;  // xi = 0: the chart's centre
+    else
+      retract(xi_, qs_);
     const Status st = evaluate(time_ + c[s] * h, qs_, vs_, k_v_[static_cast<std::size_t>(s)]);
     if (!st.ok()) return st;
     if (s == 0) forces_ = data_.tau;
