@@ -46,6 +46,16 @@ class BodySpec:
     inertia: np.ndarray  # 3x3 about the COM, body frame
 
 
+def coordinate_axes_pair(i: int) -> tuple[np.ndarray, np.ndarray]:
+    """Two orthogonal signed coordinate axes, varied with i: universal joints of
+    even seeds take them (the axis-aligned kernel), odd seeds random axes."""
+    k = i % 3
+    a1, a2 = np.zeros(3), np.zeros(3)
+    a1[k] = 1.0 if (i // 3) % 2 == 0 else -1.0
+    a2[(k + 1 + i % 2) % 3] = -1.0 if (i // 2) % 2 == 0 else 1.0
+    return a1, a2
+
+
 def random_specs(seed: int, floating: bool) -> list[BodySpec]:
     """12-20 bodies in depth-first order with every joint kind present.
 
@@ -70,6 +80,8 @@ def random_specs(seed: int, floating: bool) -> list[BodySpec]:
             parent = 0  # a single floating base carries everything
         a1 = random_unit(rng)
         a2 = np.cross(a1, random_unit(rng))
+        if kind == "universal" and seed % 2 == 0:
+            a1, a2 = coordinate_axes_pair(i)
         specs.append(BodySpec(
             name=f"b{i}", parent=parent, kind=kind,
             axis=a1, axis2=a2 / np.linalg.norm(a2), pitch=float(rng.uniform(-0.3, 0.3)),
@@ -255,6 +267,9 @@ parametrize_cases = pytest.mark.parametrize("seed,floating", CASES, ids=CASE_IDS
 def test_tree_covers_every_joint_kind(seed, floating):
     c = make_case(seed, floating)
     assert set(c.m.joint_types) == set(JOINT_KINDS)
+    universal_axes = [np.concatenate([s.axis, s.axis2]) for s in c.specs if s.kind == "universal"]
+    aligned = [np.count_nonzero(axes) == 2 for axes in universal_axes]
+    assert all(aligned) if seed % 2 == 0 else not any(aligned)
     assert 12 <= c.m.nbodies <= 20
     assert (c.m.parents[0] == -1) and (not floating or c.m.parents.count(-1) == 1)
 

@@ -65,6 +65,40 @@ inline Vec6<S> general_joint_tree_step(const ModelTpl<S>& m, DataTpl<S>& d, std:
   return pose.motion_to_parent(d.joint_bias[i]);
 }
 
+// Universal joint (joints/joint.hpp): rotation R1 about a1, then R2 about a2.
+// In the tree frame its axes are w1 = R_base a1 and w2 = R_base R1 a2 = R a2,
+// both through the body origin t, so H* = [w1 w2; t x w1  t x w2]. The body-
+// frame velocity product (qd1 qd2) (R2' a1) x a2 is, carried by R,
+// (qd1 qd2) w1 x w2 (R2 a2 = a2, R1 a1 = a1): the bias [c; t x c].
+template <class S>
+inline Vec6<S> universal_tree_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const Transform<S>& base,
+                                   const S* q, const S* v, bool root) {
+  const UniversalJoint<S>& joint = *std::get_if<UniversalJoint<S>>(&m.joints[i]);
+  const S* qi = q + m.q_index[i];
+  Transform<S>& pose = d.tree_pose[i];
+  S sign1, sign2;
+  const int k1 = coordinate_axis(joint.axis1, sign1), k2 = coordinate_axis(joint.axis2, sign2);
+  if (k1 >= 0 && k2 >= 0) {  // both axes along coordinate axes: two column rotations
+    Transform<S> first;
+    rotate_about_coordinate_axis(k1, base, sign1 * qi[0], first);
+    rotate_about_coordinate_axis(k2, first, sign2 * qi[1], pose);
+  } else {
+    pose.rotation.noalias() =
+        base.rotation * (axis_angle_rotation(joint.axis1, qi[0]) * axis_angle_rotation(joint.axis2, qi[1]));
+  }
+  pose.translation = root ? Vec3<S>::Zero() : base.translation;
+  const Vec3<S> w1 = base.rotation * joint.axis1, w2 = pose.rotation * joint.axis2;
+  Mat6N<S>& s = d.tree_subspace[i];
+  s.col(0) << w1, pose.translation.cross(w1);
+  s.col(1) << w2, pose.translation.cross(w2);
+  if (!v) return Vec6<S>::Zero();
+  const S* vi = v + m.v_index[i];
+  const Vec3<S> c = (vi[0] * vi[1]) * w1.cross(w2);
+  Vec6<S> bias;
+  bias << c, pose.translation.cross(c);
+  return bias;
+}
+
 }  // namespace detail
 
 // Pose of body i in its tree frame and its motion subspace there; returns the
@@ -109,6 +143,7 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
     case JointKernel::fixed:
       pose = base;
       return Vec6<S>::Zero();
+    case JointKernel::universal: return detail::universal_tree_step(m, d, i, base, q, v, root);
     default: return detail::general_joint_tree_step(m, d, i, base, q, v, root);
   }
   // the revolute kernels

@@ -4,6 +4,9 @@
 // motion subspace from dedicated code: a rotation about a coordinate axis changes two columns
 // of the parent rotation (12 multiplications instead of Rodrigues' formula
 // and a 3x3 product), and the subspace is a column of the body rotation.
+// The universal joint has a tree-frame kernel too (algorithms/
+// tree_frame_steps.hpp): its subspace and velocity product are read off the
+// two axes in the tree frame, with no body-frame subspace to carry over.
 // Every other joint takes the general path through JointModel's variant.
 // The model classifies each joint once, when the body is added; the sweeps
 // switch on the kernel once per body.
@@ -18,6 +21,7 @@ enum class JointKernel : std::uint8_t {
   prismatic_x, prismatic_y, prismatic_z,
   free,
   fixed,  // no motion: the placement alone (a flexible body clamped to its parent)
+  universal,  // tree frames only; body-frame steps take the general path
   general,
 };
 
@@ -49,6 +53,8 @@ JointKernel classify_joint(const JointModel<S>& joint, S& sign) {
     return JointKernel::free;
   } else if (std::holds_alternative<FixedJoint<S>>(joint)) {
     return JointKernel::fixed;
+  } else if (std::holds_alternative<UniversalJoint<S>>(joint)) {
+    return JointKernel::universal;
   }
   sign = S(1);
   return JointKernel::general;
@@ -66,6 +72,16 @@ inline void rotate_about_coordinate_axis(const Transform<S>& base, const S& angl
   pose.rotation.col(Axis) = base.rotation.col(Axis);
   pose.rotation.col(a1) = c * base.rotation.col(a1) + s * base.rotation.col(a2);
   pose.rotation.col(a2) = c * base.rotation.col(a2) - s * base.rotation.col(a1);
+}
+
+// pose = base * Rot(e_axis, angle) for a run-time axis 0, 1 or 2.
+template <class S>
+inline void rotate_about_coordinate_axis(int axis, const Transform<S>& base, const S& angle, Transform<S>& pose) {
+  switch (axis) {
+    case 0: rotate_about_coordinate_axis<0>(base, angle, pose); return;
+    case 1: rotate_about_coordinate_axis<1>(base, angle, pose); return;
+    default: rotate_about_coordinate_axis<2>(base, angle, pose); return;
+  }
 }
 
 }  // namespace soadyn
