@@ -88,6 +88,7 @@ class SimulatorTpl {
   Status fire_due_events();
   void check_dof(int dof) const;
   void check_drivable(int dof) const;  // check_dof, and not a modal DOF
+  void check_sourceable(int dof) const;  // check_drivable, and a scalar coordinate (coordinate_of_ >= 0)
 
   ModelTpl<S> model_;
   DataTpl<S> data_;
@@ -100,7 +101,6 @@ class SimulatorTpl {
   std::vector<Drive> drive_;
   std::vector<int> source_of_;
   VecX<S> source_offset_, held_position_;
-  std::vector<bool> scalar_coordinate_;
   std::vector<int> coordinate_of_;
   // Bodies whose joint's chart is not q = q0 + xi with dxi/dt = v (planar,
   // spherical, free): the only ones retract and chart_rates visit.

@@ -44,7 +44,6 @@ SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integra
   k_v_.assign(7, VecX<S>::Zero(nv));
   drive_.assign(static_cast<std::size_t>(nv), Drive::regular);
   source_of_.assign(static_cast<std::size_t>(nv), -1);
-  scalar_coordinate_.assign(static_cast<std::size_t>(nv), false);
   coordinate_of_.assign(static_cast<std::size_t>(nv), -1);
   for (int b = 0; b < model_.nbodies(); ++b) {
     const std::size_t bi = static_cast<std::size_t>(b);
@@ -52,12 +51,10 @@ SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integra
     if (!scalar) curved_chart_bodies_.push_back(b);
     for (int k = 0; k < model_.nv_body[bi]; ++k) {
       const std::size_t dof = static_cast<std::size_t>(model_.v_index[bi] + k);
-      scalar_coordinate_[dof] = scalar;
       coordinate_of_[dof] = scalar ? model_.q_index[bi] + k : -1;
     }
     for (int k = 0; k < model_.n_modes[bi]; ++k) {  // modal coordinates: q' = v
       const std::size_t dof = static_cast<std::size_t>(model_.modal_v_index(b) + k);
-      scalar_coordinate_[dof] = true;
       coordinate_of_[dof] = model_.modal_q_index(b) + k;
     }
   }
@@ -106,12 +103,17 @@ void SimulatorTpl<S>::set_input(int dof, S torque) {
 }
 
 template <class S>
-void SimulatorTpl<S>::prescribe(int dof, MotionSource<S> source) {
+void SimulatorTpl<S>::check_sourceable(int dof) const {
   check_drivable(dof);
-  if (!scalar_coordinate_[static_cast<std::size_t>(dof)])
+  if (coordinate_of_[static_cast<std::size_t>(dof)] < 0)
     throw std::invalid_argument("DOF '" + model_.dof_names[static_cast<std::size_t>(dof)] +
                                 "' has no scalar coordinate (planar, spherical or free joint): it can be locked or "
                                 "released, not given a motion source");
+}
+
+template <class S>
+void SimulatorTpl<S>::prescribe(int dof, MotionSource<S> source) {
+  check_sourceable(dof);
   sources_.push_back(std::move(source));
   const Status s = switch_mode(dof, Drive::sourced, static_cast<int>(sources_.size()) - 1, true);
   if (!s.ok()) throw std::runtime_error(std::string("prescribe: ") + status_message(s.code));
@@ -133,10 +135,7 @@ int SimulatorTpl<S>::schedule(S time, EventKind kind, int dof) {
 
 template <class S>
 int SimulatorTpl<S>::schedule_prescribe(S time, int dof, MotionSource<S> source) {
-  check_drivable(dof);
-  if (!scalar_coordinate_[static_cast<std::size_t>(dof)])
-    throw std::invalid_argument("DOF '" + model_.dof_names[static_cast<std::size_t>(dof)] +
-                                "' has no scalar coordinate: it cannot be given a motion source");
+  check_sourceable(dof);
   sources_.push_back(std::move(source));
   const int index = schedule(time, EventKind::lock, dof);
   events_[static_cast<std::size_t>(index)].kind = EventKind::prescribe;
