@@ -215,6 +215,43 @@ def beam_pendulum(EI, flexible=True):
     return m
 
 
+def _appendage_on_a_hinge(stiffness, damping):
+    """A revolute root carrying, on its frame, a flexible appendage whose modes
+    have the given K and C (the tree-frame sweeps)."""
+    rng = np.random.default_rng(7)
+    n_nodes = 5
+    positions = np.column_stack([np.linspace(0.2, 1.0, n_nodes), np.zeros(n_nodes), np.zeros(n_nodes)])
+    shapes = rng.normal(scale=0.2, size=(n_nodes, 6, stiffness.shape[0]))
+    body = FlexibleBody(positions, np.full(n_nodes, 0.5), np.tile(0.01 * np.eye(3), (n_nodes, 1, 1)), shapes,
+                        stiffness, damping)
+    m = soadyn.Model()
+    m.add_body("hub", None, soadyn.Joint.revolute([0.0, 0.0, 1.0]), None, 2.0, (0.1, 0.0, 0.0), (0.1, 0.1, 0.2))
+    m.add_flexible_body("panel", "hub", body)
+    return m
+
+
+@pytest.mark.parametrize("matrix", ["stiffness", "damping"])
+def test_a_small_modal_coupling_reaches_the_accelerations(matrix):
+    """Diagonal K and C take the O(n_m) elastic forces; a coupling of 1e-8 of
+    sqrt(K_kk K_ll) (far above rounding) must not be mistaken for one: the
+    accelerations then move by exactly -M^-1 dK eta (or -M^-1 dC eta_dot)."""
+    K, C = np.diag([40.0, 90.0, 250.0]), np.diag([0.3, 0.5, 0.9])
+    coupled = {"stiffness": K.copy(), "damping": C.copy()}
+    extra = 1e-8 * np.sqrt(coupled[matrix][0, 0] * coupled[matrix][2, 2])
+    coupled[matrix][0, 2] = coupled[matrix][2, 0] = extra
+    m, m_coupled = _appendage_on_a_hinge(K, C), _appendage_on_a_hinge(coupled["stiffness"], coupled["damping"])
+    q = np.array([0.4, 0.2, -0.3, 0.25])
+    v = np.array([0.7, -1.5, 2.0, 1.2])
+    tau = np.array([0.3, 0.0, 0.0, 0.0])
+    delta = soadyn.forward_dynamics(m_coupled, q, v, tau) - soadyn.forward_dynamics(m, q, v, tau)
+    modal_rate = q[1:] if matrix == "stiffness" else v[1:]
+    force_change = np.zeros(4)
+    force_change[1:] = -(coupled[matrix] - (K if matrix == "stiffness" else C)) @ modal_rate
+    expected = np.linalg.solve(soadyn.mass_matrix(m, q), force_change)
+    assert np.abs(expected).max() > 1e-9
+    np.testing.assert_allclose(delta, expected, rtol=1e-5, atol=1e-6 * np.abs(expected).max())
+
+
 def test_stiff_limit_reproduces_the_rigid_pendulum():
     rigid = beam_pendulum(1.0, flexible=False)
     mass, com, inertia = lumped_rigid_inertia(FlexibleBody.cantilever_beam(1.0, 1.0, 2.0, 2, n_nodes=40))

@@ -78,8 +78,9 @@ class FlexibleBodyTpl {
   const FlexibleNode<S>& node(int j) const { return description_.nodes[static_cast<std::size_t>(j)]; }
   const MatX<S>& stiffness() const { return description_.stiffness; }
   const MatX<S>& damping() const { return description_.damping; }
-  // Whether K and C are both diagonal (modal damping of uncoupled modes, as
-  // most modal models have): the elastic forces then cost n_m, not n_m^2.
+  // Whether K and C are both diagonal to within rounding (modal damping of
+  // uncoupled modes, as most modal models have; flexible_body.hxx): the
+  // elastic forces then cost n_m, not n_m^2.
   bool diagonal_elastic_forces() const { return diagonal_elastic_forces_; }
   const std::map<std::string, int>& attachments() const { return description_.attachments; }
   // Node index of the attachment `name`, -1 when absent.
