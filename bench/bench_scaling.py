@@ -2,8 +2,10 @@
 10, 100 and 1000 bodies (every DOF regular, every DOF prescribed, half the DOFs prescribed).
 
 Timed in C++ (soadyn._soadyn._time_cpp over 64 random states). The machine's speed drifts,
-so the sizes are timed in rounds, each round timing the three sizes of a row back to back,
-and the table gives the median over rounds.
+so the sizes are timed in rounds, each round timing the three sizes of a row back to back.
+The table gives each size's median over rounds, and the flatness as the median over rounds
+of the ratio within a round (max / min time per body): the sizes of one round see the same
+machine, as the peer ratios of bench_robots.py do.
 The target: time per body flat within 15 % across the sizes. Writes
 bench/results/scaling.md and bench/results/scaling.png. Usage: python bench/bench_scaling.py
 """
@@ -32,7 +34,7 @@ def models(n):
     yield "random revolute tree", random_tree(7, n, kinds=("revolute",), floating=False)[0]
 
 
-ROUNDS = 11
+ROUNDS = 21
 
 
 def timing_cases(model, n):
@@ -62,13 +64,17 @@ def main() -> int:
     results = {}  # (kind, mode) -> [median us per body for each size]
     for (kind, mode, n), ts in samples.items():
         results.setdefault((kind, mode), []).append(float(np.median(ts)))
+    flatness = {row: float(np.median([max(per_size) / min(per_size) for per_size in
+                                      zip(*(samples[row + (n,)] for n in SIZES))])) for row in results}
     lines = ["# Linear scaling: C++ time per body (us) of hybrid_dynamics", "",
              "| model | DOF modes | " + " | ".join(f"{n} bodies" for n in SIZES) + " | max / min (target <= 1.15) |",
              "|---|---|" + "---:|" * (len(SIZES) + 1)]
     for (kind, mode), ts in results.items():
-        lines.append(f"| {kind} | {mode} | " + " | ".join(f"{t:.3f}" for t in ts) + f" | **{max(ts) / min(ts):.2f}** |")
-    lines += ["", f"Median over {ROUNDS} rounds (each round times the sizes of a row back to back; per entry the median of 3 repetitions "
-              "over 64 random states, one C++ loop), on a shared machine.",
+        lines.append(f"| {kind} | {mode} | " + " | ".join(f"{t:.3f}" for t in ts)
+                     + f" | **{flatness[(kind, mode)]:.2f}** |")
+    lines += ["", f"Times: medians over {ROUNDS} rounds (each round times the sizes of a row back to back; per entry the "
+              "median of 3 repetitions over 64 random states, one C++ loop), on a shared machine. max / min: the "
+              "median over rounds of the ratio within a round, whose sizes saw the same machine.",
               "With a random half of the DOFs prescribed, the share of bodies whose whole root path is prescribed "
               "(handled like RNEA) shrinks as trees grow deeper, so that row's cost per body rises towards the "
               "all-regular cost: a property of the mask, not of the scaling.",

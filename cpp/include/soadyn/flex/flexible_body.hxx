@@ -176,8 +176,8 @@ namespace flex_detail {
 // rounding: |x_kl| <= 64 eps sqrt(x_kk x_ll) for k != l (|x_kl| / sqrt(x_kk
 // x_ll) is at most 1 for such a matrix). Modal stiffness and damping from a
 // quadrature or an eigensolver carry couplings of a few eps there (the
-// cantilever beam's K: 5e-16); dropping them changes each elastic force by
-// at most 64 eps relative.
+// cantilever beam's K: 5e-16); dropping one changes the elastic force on
+// mode k by at most 64 eps sqrt(x_kk x_ll) |eta_l|.
 template <class S>
 bool uncoupled_at_rounding_level(const MatX<S>& x) {
   using std::abs;
