@@ -6,15 +6,11 @@
 
 #include "arrays.hpp"
 #include "dynamics_calls.hpp"
+#include "errors.hpp"
 #include "model_handle.hpp"
 #include "soadyn/soadyn.hpp"
 
 namespace soadyn_py {
-
-// Raised when the dynamics cannot be solved at the given state.
-struct DynamicsError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 namespace {
 
@@ -42,30 +38,24 @@ const double* f_ext_arg(const ModelHandle& h, py::handle f, py::object& keep) {
   return data;
 }
 
-void raise_on(const soadyn::Status& s, const soadyn::Model& m) {
-  if (s.ok()) return;
-  const std::string dof = s.index >= 0 ? m.dof_names[static_cast<std::size_t>(s.index)] : "?";
-  if (s.code == soadyn::StatusCode::singular_articulated_inertia)
-    throw DynamicsError("the articulated inertia D of regular DOF '" + dof +
-                        "' is singular: nothing with mass or inertia moves with this DOF");
-  throw DynamicsError("the result for DOF '" + dof + "' is not finite");
-}
-
 py::array_t<double> vector_out(py::ssize_t n) { return fresh_array(n); }
 
 py::array_t<double> wrench_out(const ModelHandle& h) { return fresh_array(h.model.nbodies(), 6); }
 
 // The checked (q, v, x, f_ext) of a dynamics call; x is tau, qdd or u.
+// (The model's version is read first: converting an argument may run Python
+// code, and so let another thread change the model.)
 struct StateArgs {
+  std::uint64_t model_version;
   Array q, v, x;
   py::object f;
   const double* f_ext = nullptr;
   StateArgs(const ModelHandle& h, py::handle q_in, py::handle v_in, py::handle x_in, const char* x_name,
             py::handle f_in)
-      : q(q_arg(h, q_in)), v(v_arg(h, v_in, "v")), x(v_arg(h, x_in, x_name)) {
+      : model_version(h.model.version), q(q_arg(h, q_in)), v(v_arg(h, v_in, "v")), x(v_arg(h, x_in, x_name)) {
     f_ext = f_ext_arg(h, f_in, f);
   }
-  StateBuffers buffers() const { return {q.data(), v.data(), x.data(), f_ext}; }
+  StateBuffers buffers() const { return {q.data(), v.data(), x.data(), f_ext, model_version}; }
 };
 
 }  // namespace
@@ -78,7 +68,7 @@ void bind_algorithms(py::module_& mod) {
       [](ModelHandle& h, py::handle q, py::handle v, py::handle tau, py::handle f_ext) {
         const StateArgs a(h, q, v, tau, "tau", f_ext);
         auto out = vector_out(h.model.nv);
-        raise_on(forward_dynamics_into(h, a.buffers(), out.mutable_data()), h.model);
+        raise_on(forward_dynamics_into(h, a.buffers(), out.mutable_data()), h.model, "forward_dynamics");
         return out;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("tau"), py::arg("f_ext") = py::none(),
@@ -90,7 +80,7 @@ void bind_algorithms(py::module_& mod) {
       [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext) {
         const StateArgs a(h, q, v, qdd, "qdd", f_ext);
         auto out = vector_out(h.model.nv);
-        inverse_dynamics_into(h, a.buffers(), out.mutable_data(), nullptr);
+        raise_on(inverse_dynamics_into(h, a.buffers(), out.mutable_data(), nullptr), h.model, "inverse_dynamics");
         return out;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("qdd"), py::arg("f_ext") = py::none(),
@@ -100,7 +90,8 @@ void bind_algorithms(py::module_& mod) {
       [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext) {
         const StateArgs a(h, q, v, qdd, "qdd", f_ext);
         auto out = wrench_out(h);
-        inverse_dynamics_into(h, a.buffers(), nullptr, out.mutable_data());
+        inverse_dynamics_into(h, a.buffers(), nullptr, out.mutable_data());  // its torques are not returned
+        refuse_non_finite("joint_wrenches", "joint wrench", out.data(), h.model.body_names.size(), 6, h.model.body_names);
         return out;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("qdd"), py::arg("f_ext") = py::none(),
@@ -118,7 +109,9 @@ void bind_algorithms(py::module_& mod) {
           wo = wa.mutable_data();
           w = std::move(wa);
         }
-        raise_on(hybrid_dynamics_into(h, a.buffers(), qdd.mutable_data(), tau.mutable_data(), wo), h.model);
+        raise_on(hybrid_dynamics_into(h, a.buffers(), qdd.mutable_data(), tau.mutable_data(), wo), h.model,
+                 "hybrid_dynamics");
+        if (wo) refuse_non_finite("hybrid_dynamics", "joint wrench", wo, h.model.body_names.size(), 6, h.model.body_names);
         if (wrenches) return py::make_tuple(qdd, tau, w);
         return py::make_tuple(qdd, tau);
       },
@@ -130,36 +123,44 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("mass_matrix",
       [](ModelHandle& h, py::handle q) {
+        const std::uint64_t version = h.model.version;
         const Array qa = q_arg(h, q);
         auto out = fresh_array(h.model.nv, h.model.nv);
         double* o = out.mutable_data();
-        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-          soadyn::mass_matrix<double>(m, d, Map(qa.data(), m.nq));
+        soadyn::Status status;
+        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          status = soadyn::mass_matrix<double>(m, d, Map(qa.data(), m.nq));
           Eigen::Map<Eigen::MatrixXd>(o, m.nv, m.nv) = d.mass_matrix;  // symmetric: layout does not matter
         });
+        raise_on(status, h.model, "mass_matrix");
         return out;
       },
       py::arg("model"), py::arg("q"), "Joint-space mass matrix M(q), (nv, nv) (composite-rigid-body algorithm).");
 
   mod.def("bias_forces",
       [](ModelHandle& h, py::handle q, py::handle v) {
+        const std::uint64_t version = h.model.version;
         const Array qa = q_arg(h, q), va = v_arg(h, v, "v");
         auto out = vector_out(h.model.nv);
         double* o = out.mutable_data();
-        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-          soadyn::bias_forces<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv));
+        soadyn::Status status;
+        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          status = soadyn::bias_forces<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv));
           Eigen::Map<Eigen::VectorXd>(o, m.nv) = d.tau;
         });
+        raise_on(status, h.model, "bias_forces");
         return out;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), "h(q, v): Coriolis, centrifugal and gravity generalized forces.");
 
   mod.def("kinetic_energy",
       [](ModelHandle& h, py::handle q, py::handle v) {
+        const std::uint64_t version = h.model.version;
         const Array qa = q_arg(h, q), va = v_arg(h, v, "v");
         double e = 0;
-        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
           e = soadyn::kinetic_energy<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv));
+          if (!std::isfinite(e)) raise_non_finite_total("kinetic_energy", m, d, true);
         });
         return e;
       },
@@ -167,10 +168,12 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("potential_energy",
       [](ModelHandle& h, py::handle q) {
+        const std::uint64_t version = h.model.version;
         const Array qa = q_arg(h, q);
         double e = 0;
-        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
           e = soadyn::potential_energy<double>(m, d, Map(qa.data(), m.nq));
+          if (!std::isfinite(e)) raise_non_finite_total("potential_energy", m, d, false);
         });
         return e;
       },
@@ -178,10 +181,12 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("momentum",
       [](ModelHandle& h, py::handle q, py::handle v) {
+        const std::uint64_t version = h.model.version;
         const Array qa = q_arg(h, q), va = v_arg(h, v, "v");
         Eigen::Matrix<double, 6, 1> p;
-        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
           p = soadyn::momentum<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv));
+          if (!p.allFinite()) raise_non_finite_total("momentum", m, d, true);
         });
         return Eigen::VectorXd(p);
       },
@@ -190,10 +195,12 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("center_of_mass",
       [](ModelHandle& h, py::handle q) {
+        const std::uint64_t version = h.model.version;
         const Array qa = q_arg(h, q);
         Eigen::Vector3d c;
-        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
           c = soadyn::center_of_mass<double>(m, d, Map(qa.data(), m.nq));
+          if (!c.allFinite()) raise_non_finite_total("center_of_mass", m, d, false);
         });
         return c;
       },
@@ -201,6 +208,7 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("forward_kinematics",
       [](ModelHandle& h, py::handle q, py::handle v) -> py::object {
+        const std::uint64_t version = h.model.version;
         const Array qa = q_arg(h, q);
         const bool with_v = !v.is_none();
         const Array va = with_v ? v_arg(h, v, "v") : Array();
@@ -208,7 +216,7 @@ void bind_algorithms(py::module_& mod) {
         py::array_t<double> poses({n, py::ssize_t(4), py::ssize_t(4)});
         py::array_t<double> vel = with_v ? py::array_t<double>({n, py::ssize_t(6)}) : py::array_t<double>();
         double *po = poses.mutable_data(), *vo = with_v ? vel.mutable_data() : nullptr;
-        run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
           soadyn::forward_kinematics<double>(m, d, qa.data(), with_v ? va.data() : nullptr);
           for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
             Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> T(po + 16 * i);
@@ -218,6 +226,8 @@ void bind_algorithms(py::module_& mod) {
             if (vo) Eigen::Map<soadyn::Vec6<double>>(vo + 6 * i) = d.velocity[i];
           }
         });
+        refuse_non_finite("forward_kinematics", "pose", po, static_cast<std::size_t>(n), 16, h.model.body_names);
+        if (vo) refuse_non_finite("forward_kinematics", "velocity", vo, static_cast<std::size_t>(n), 6, h.model.body_names);
         if (with_v) return py::make_tuple(poses, vel);
         return py::make_tuple(poses, py::none());
       },
@@ -231,6 +241,8 @@ void bind_algorithms(py::module_& mod) {
         if (!std::isfinite(dt)) throw py::value_error("dt is not finite");
         Eigen::VectorXd out(h.model.nq);
         soadyn::integrate<double>(h.model, Map(qa.data(), h.model.nq), Map(va.data(), h.model.nv), dt, out);
+        refuse_non_finite("integrate", "coordinate", out.data(), static_cast<std::size_t>(h.model.nq), 1,
+                          h.model.coordinate_names);
         return out;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("dt"),

@@ -17,25 +17,27 @@ void copy_wrenches(const soadyn::Data& d, double* out) {
 
 soadyn::Status forward_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd) {
   soadyn::Status status;
-  run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+  run_locked(h, s.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
     status = soadyn::forward_dynamics<double>(m, d, Map(s.q, m.nq), Map(s.v, m.nv), Map(s.x, m.nv), s.f_ext);
     VectorOut(qdd, m.nv) = d.qdd;
   });
   return status;
 }
 
-void inverse_dynamics_into(ModelHandle& h, const StateBuffers& s, double* tau, double* wrenches) {
-  run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
-    soadyn::inverse_dynamics<double>(m, d, Map(s.q, m.nq), Map(s.v, m.nv), Map(s.x, m.nv), s.f_ext);
+soadyn::Status inverse_dynamics_into(ModelHandle& h, const StateBuffers& s, double* tau, double* wrenches) {
+  soadyn::Status status;
+  run_locked(h, s.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
+    status = soadyn::inverse_dynamics<double>(m, d, Map(s.q, m.nq), Map(s.v, m.nv), Map(s.x, m.nv), s.f_ext);
     if (tau) VectorOut(tau, m.nv) = d.tau;
     if (wrenches) copy_wrenches(d, wrenches);
   });
+  return status;
 }
 
 soadyn::Status hybrid_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd, double* tau,
                                     double* wrenches) {
   soadyn::Status status;
-  run_locked(h, [&](const soadyn::Model& m, soadyn::Data& d) {
+  run_locked(h, s.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
     status = soadyn::hybrid_dynamics<double>(m, d, Map(s.q, m.nq), Map(s.v, m.nv), Map(s.x, m.nv), s.f_ext,
                                              soadyn::DynamicsOutputs{wrenches != nullptr});
     VectorOut(qdd, m.nv) = d.qdd;

@@ -12,18 +12,20 @@ constexpr double kQuaternionTolerance = 1e-6;
 
 // Checked inputs: q (nq), v (nv), x = tau, qdd or u (nv), f_ext (nbodies x 6,
 // row-major) or nullptr.
+// `model_version`: the model's version when they were checked (model_handle.hpp).
 struct StateBuffers {
   const double* q;
   const double* v;
   const double* x;
   const double* f_ext;
+  std::uint64_t model_version;
 };
 
 // qdd = forward dynamics (every DOF regular).
 soadyn::Status forward_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd);
 
 // tau = inverse dynamics; wrenches (nbodies x 6) when not nullptr.
-void inverse_dynamics_into(ModelHandle& h, const StateBuffers& s, double* tau, double* wrenches);
+soadyn::Status inverse_dynamics_into(ModelHandle& h, const StateBuffers& s, double* tau, double* wrenches);
 
 // (qdd, tau) = hybrid dynamics under the model's prescribed flags; the joint
 // wrenches (nbodies x 6) when `wrenches` is not nullptr.

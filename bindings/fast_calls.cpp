@@ -63,6 +63,7 @@ struct FastArgs {
     handle = model_handle(args[0]);
     if (!handle) return false;
     const soadyn::Model& m = handle->model;
+    state.model_version = m.version;
     state.q = finite_vector(args[1], m.nq);
     state.v = finite_vector(args[2], m.nv);
     state.x = finite_vector(args[3], m.nv);
@@ -90,7 +91,7 @@ PyObject* fast_result(const FastArgs& a) {
     if constexpr (kind == Call::forward) {
       if (!forward_dynamics_into(*a.handle, a.state, out.mutable_data()).ok()) return nullptr;
     } else {
-      inverse_dynamics_into(*a.handle, a.state, out.mutable_data(), nullptr);
+      if (!inverse_dynamics_into(*a.handle, a.state, out.mutable_data(), nullptr).ok()) return nullptr;
     }
     return out.release().ptr();
   }

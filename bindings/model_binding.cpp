@@ -94,6 +94,7 @@ void bind_model(py::module_& mod) {
              soadyn::Transform<double> X;
              X.rotation = R;
              X.translation = p;
+             const auto lock = h.lock_for_change();
              return h.model.add_body(name, parent, joint.joint, X, mass, com, inertia, joint.name);
            })
       .def("_add_flexible_body",
@@ -102,17 +103,18 @@ void bind_model(py::module_& mod) {
              soadyn::Transform<double> X;
              X.rotation = R;
              X.translation = p;
+             const auto lock = h.lock_for_change();
              return h.model.add_flexible_body(name, parent, joint.joint, X, body, joint.name);
            })
       .def("_set_prescribed_indices",
            [](ModelHandle& h, const std::vector<int>& dofs, bool flag) {
-             std::lock_guard<std::mutex> lock(h.mutex);
+             const auto lock = h.lock_for_change();
              for (int d : dofs) refuse_modal(h.model, d, flag);
              for (int d : dofs) h.model.set_prescribed(d, flag);
            })
       .def("_set_prescribed_mask",
            [](ModelHandle& h, const std::vector<bool>& mask) {
-             std::lock_guard<std::mutex> lock(h.mutex);
+             const auto lock = h.lock_for_change();
              for (int d = 0; d < h.model.nv; ++d) refuse_modal(h.model, d, mask[static_cast<std::size_t>(d)]);
              for (int d = 0; d < h.model.nv; ++d) h.model.set_prescribed(d, mask[static_cast<std::size_t>(d)]);
            })
@@ -120,17 +122,25 @@ void bind_model(py::module_& mod) {
            "Index of the named body, or -1.")
       .def("dof_index", [](const ModelHandle& h, const std::string& n) { return h.model.dof_index(n); },
            "Velocity index of the named DOF, or -1.")
-      .def("_load_cassini", [](ModelHandle& h) { h.model = soadyn::cassini_model<double>(); })
+      .def("_load_cassini", [](ModelHandle& h) {
+        soadyn::Model scene = soadyn::cassini_model<double>();
+        const auto lock = h.lock_for_change();
+        h.replace_model(std::move(scene));
+      })
       .def("_load_pendulum_chain", [](ModelHandle& h, int links, double length, double mass) {
+        soadyn::Model scene;
         try {
-          h.model = soadyn::pendulum_chain_model<double>(links, length, mass);
+          scene = soadyn::pendulum_chain_model<double>(links, length, mass);
         } catch (const std::invalid_argument& e) {
           throw py::value_error(e.what());
         }
+        const auto lock = h.lock_for_change();
+        h.replace_model(std::move(scene));
       })
       .def("_copy_from", [](ModelHandle& h, const ModelHandle& other) {
-        h.model = other.model;
-        h.data.reset();
+        soadyn::Model copy = other.model;  // read under the GIL: no change can run (model_handle.hpp)
+        const auto lock = h.lock_for_change();
+        h.replace_model(std::move(copy));
       })
       .def_property_readonly("nq", [](const ModelHandle& h) { return h.model.nq; })
       .def_property_readonly("nv", [](const ModelHandle& h) { return h.model.nv; })
@@ -168,7 +178,7 @@ void bind_model(py::module_& mod) {
           "gravity", [](const ModelHandle& h) { return Eigen::Vector3d(h.model.gravity); },
           [](ModelHandle& h, py::handle g) {
             const Array a = checked_vector(g, "gravity", {"x", "y", "z"});
-            std::lock_guard<std::mutex> lock(h.mutex);
+            const auto lock = h.lock_for_change();
             h.model.gravity = Eigen::Map<const Eigen::Vector3d>(a.data());
           },
           "Gravity in the world frame (default (0, 0, -9.81)).");

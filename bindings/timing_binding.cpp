@@ -47,11 +47,13 @@ void bind_timing(py::module_& mod) {
       [](ModelHandle& h, const std::string& algorithm, const Array& q, const Array& v, const Array& u, int calls,
          int repetitions) {
         const soadyn::Model& m = h.model;
+        const std::uint64_t version = m.version;
         const std::vector<Vector> qs = rows(q, m.nq, "q"), vs = rows(v, m.nv, "v"), us = rows(u, m.nv, "u");
         if (calls < 1 || repetitions < 1) throw py::value_error("calls and repetitions must be positive");
         const int n = static_cast<int>(qs.size());
         py::gil_scoped_release release;
         std::lock_guard<std::mutex> lock(h.mutex);
+        refuse_changed_model(h, version);
         soadyn::Data& d = h.scratch();
         std::function<void(int)> call;
         if (algorithm == "hybrid")

@@ -51,6 +51,17 @@ def _vector3(x, what: str, body: str) -> np.ndarray:
     return a
 
 
+def _refuse_ambiguous_indices(indices: np.ndarray, nv: int) -> None:
+    """Integer DOF indices for set_prescribed: refuse repeats, and nv zeros and
+    ones, which may as well be a mask written with integers."""
+    if indices.size == nv and np.isin(indices, (0, 1)).all():
+        raise ValueError(f"set_prescribed: an integer array of {nv} zeros and ones is ambiguous (a mask or DOF "
+                         "indices?): pass a bool mask (np.asarray(mask, dtype=bool)) or DOF names")
+    values, counts = np.unique(indices, return_counts=True)
+    if (counts > 1).any():
+        raise ValueError(f"set_prescribed: DOF index {int(values[counts > 1][0])} is given more than once")
+
+
 class Model(_Model):
     """A rigid multibody tree.
 
@@ -143,13 +154,17 @@ class Model(_Model):
         indices, or lists of them change only those DOFs. Changing flags
         allocates nothing and needs no re-initialisation.
         """
+        if not isinstance(flag, (bool, np.bool_)):
+            raise TypeError(f"set_prescribed: flag must be True or False, got {flag!r}")
         arr = np.asarray(mask_or_names) if not isinstance(mask_or_names, str) else None
         if arr is not None and arr.dtype == bool:
             if arr.shape != (self.nv,):
                 raise ValueError(f"prescribed mask has shape {arr.shape}, expected ({self.nv},)")
             self._set_prescribed_mask([bool(x) == bool(flag) for x in arr])
-        else:
-            self._set_prescribed_indices(self._dof_indices(mask_or_names), bool(flag))
+            return
+        if arr is not None and arr.dtype.kind in "iu" and arr.ndim == 1:
+            _refuse_ambiguous_indices(arr, self.nv)
+        self._set_prescribed_indices(self._dof_indices(mask_or_names), bool(flag))
 
     def set_regular(self, names) -> None:
         """Mark the named DOFs regular (torque given)."""

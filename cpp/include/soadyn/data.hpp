@@ -71,7 +71,7 @@ struct DataTpl {
   // body frame, also in this body's frame (flexible_steps.hpp).
   aligned_vector<Mat6X<S>> attachment_subspace;
   aligned_vector<Vec6<S>> attachment_bias;
-  VecX<S> unit_acceleration;  // mass-matrix columns of flexible models
+  VecX<S> unit_acceleration;  // mass-matrix columns (flexible models, bodies beyond tree-frame reach)
 
   // Outputs.
   VecX<S> qdd;          // generalized accelerations (nv)

@@ -46,7 +46,7 @@ DataTpl<S>::DataTpl(const ModelTpl<S>& model) : model_version(model.version) {
   attachment_bias.assign(n, Vec6<S>::Zero());
   for (std::size_t i = 0; i < n; ++i)
     if (model.attachment_node[i] >= 0) attachment_subspace[i].setZero(6, model.n_modes[static_cast<std::size_t>(model.parent[i])]);
-  if (model.has_flexible_bodies()) unit_acceleration.setZero(model.nv);
+  if (model.has_flexible_bodies() || model.reach_checks_needed) unit_acceleration.setZero(model.nv);
   qdd.setZero(model.nv);
   tau.setZero(model.nv);
   mass_matrix.setZero(model.nv, model.nv);

@@ -143,6 +143,13 @@ class ModelTpl {
   // region of a fixed-base tree whose hinges are all prescribed.
   bool has_newton_euler_region = false;
 
+  // Tree frames' precision (tree_frame_reach.hxx): per body, the squared
+  // distance from its tree origin within which the rigid sweeps may use tree
+  // frames, and whether its distance can exceed it (then checked per call).
+  std::vector<S> tree_frame_reach_squared;
+  std::vector<std::uint8_t> check_tree_frame_reach;
+  bool reach_checks_needed = false;
+
   std::vector<Frame<S>> frames;
   Vec3<S> gravity;
   // Incremented by every structural change (Data must then be rebuilt).
@@ -151,6 +158,7 @@ class ModelTpl {
  private:
   void refresh_modes();
   void refresh_body_modes(int body);
+  void refresh_tree_frame_reach();
   // add_body / add_flexible_body after the parent is resolved; `flexible`
   // null for a rigid body.
   int add_resolved(const std::string& name, int parent_body, int node, const JointModel<S>& joint,

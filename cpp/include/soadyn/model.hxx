@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 #include "soadyn/model.hpp"
+#include "soadyn/tree_frame_reach.hxx"
 #include "soadyn/validation.hpp"
 
 namespace soadyn {
@@ -221,6 +222,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
     }
     frame_lookup_[name] = static_cast<int>(frames.size());
     frames.push_back(Frame<S>{name, parent_body, X, -1});
+    refresh_tree_frame_reach();
     ++version;
     return -1;
   }
@@ -275,6 +277,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
   modes.emplace_back();
   refresh_body_modes(index);
   refresh_modes();
+  refresh_tree_frame_reach();
   ++version;
   return index;
 }

@@ -57,12 +57,15 @@ template <class S>
 Status forward_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                         const ConstVecRef<S>& tau, const S* f_ext) {
   constexpr auto all_regular = detail::ModePolicy::all_regular;
-  if (!m.has_flexible_bodies())
-    return detail::tree_frame_sweeps<all_regular, false>(m, d, q.data(), velocities_unless_at_rest(m, v), tau.data(),
-                                                         f_ext, world_acceleration(m), false);
-  if (!m.has_node_attachments())
-    return detail::tree_frame_sweeps<all_regular, true>(m, d, q.data(), v.data(), tau.data(), f_ext,
-                                                        world_acceleration(m), false);
+  if (!m.has_node_attachments()) {
+    const Status s =
+        m.has_flexible_bodies()
+            ? detail::tree_frame_sweeps<all_regular, true>(m, d, q.data(), v.data(), tau.data(), f_ext,
+                                                           world_acceleration(m), false)
+            : detail::tree_frame_sweeps<all_regular, false>(m, d, q.data(), velocities_unless_at_rest(m, v),
+                                                            tau.data(), f_ext, world_acceleration(m), false);
+    if (s.code != StatusCode::beyond_tree_frame_reach) return s;
+  }
   return detail::articulated_body_sweeps(m, d, q.data(), v.data(), tau, f_ext);
 }
 

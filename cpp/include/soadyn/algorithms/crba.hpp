@@ -4,8 +4,9 @@
 
 namespace soadyn {
 
-// data.mass_matrix = M(q), both triangles filled.
+// data.mass_matrix = M(q), both triangles filled. Returns non_finite_result
+// naming the first DOF (column) with a non-finite entry.
 template <class S>
-void mass_matrix(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q);
+Status mass_matrix(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q);
 
 }  // namespace soadyn

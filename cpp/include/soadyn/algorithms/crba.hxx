@@ -11,11 +11,14 @@ namespace detail {
 // (tree_frame_steps.hpp): composite inertias add without a congruence, and
 // a column block F = Ic(i) H*(i) needs no transform on its way to the root,
 // M(j, i) = H(j) F for every ancestor j.
+// Returns false, having formed no M, when a body lies beyond its tree-frame
+// reach (tree_frame_reach.hxx).
 template <class S>
-void composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
+bool composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   for (std::size_t i = 0; i < n; ++i) {
     tree_joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
+    if (beyond_tree_frame_reach(m, d, i)) return false;
     spatial_inertia_in_frame(d.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i], d.articulated_inertia[i]);
   }
   for (std::size_t i = n; i-- > 0;) {  // upper triangle: M(j, i) for j = i and every ancestor (v_index[j] <= v_index[i])
@@ -33,6 +36,7 @@ void composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef
     if (p >= 0) d.articulated_inertia[static_cast<std::size_t>(p)] += d.articulated_inertia[i];
   }
   d.mass_matrix.template triangularView<Eigen::StrictlyLower>() = d.mass_matrix.transpose();
+  return true;
 }
 
 // Models with flexible bodies: column k of M is the generalized force of a
@@ -56,11 +60,12 @@ void mass_matrix_by_columns(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
 }  // namespace detail
 
 template <class S>
-void mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
-  if (m.has_flexible_bodies())
-    detail::mass_matrix_by_columns(m, d, q);
-  else
-    detail::composite_rigid_body(m, d, q);
+Status mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
+  // Models with flexible bodies, or with a body beyond its tree-frame reach: by columns, in body frames.
+  if (m.has_flexible_bodies() || !detail::composite_rigid_body(m, d, q)) detail::mass_matrix_by_columns(m, d, q);
+  for (Eigen::Index c = 0; c < m.nv; ++c)
+    if (!d.mass_matrix.col(c).allFinite()) return Status{StatusCode::non_finite_result, static_cast<int>(c)};
+  return Status{};
 }
 
 }  // namespace soadyn

@@ -112,22 +112,28 @@ Status hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>
     d.qdd = u;
     return check_finite(d.tau);
   }
-  if (!m.has_flexible_bodies())
-    return detail::flagged_tree_frame_sweeps<false>(m, d, q.data(), velocities_unless_at_rest(m, v), u.data(), f_ext,
-                                                    world_acceleration(m), outputs.hinge_forces);
-  if (!m.has_node_attachments())
-    return detail::flagged_tree_frame_sweeps<true>(m, d, q.data(), v.data(), u.data(), f_ext, world_acceleration(m),
-                                                   outputs.hinge_forces);
+  if (!m.has_node_attachments()) {
+    const Status s =
+        m.has_flexible_bodies()
+            ? detail::flagged_tree_frame_sweeps<true>(m, d, q.data(), v.data(), u.data(), f_ext, world_acceleration(m),
+                                                      outputs.hinge_forces)
+            : detail::flagged_tree_frame_sweeps<false>(m, d, q.data(), velocities_unless_at_rest(m, v), u.data(),
+                                                       f_ext, world_acceleration(m), outputs.hinge_forces);
+    if (s.code != StatusCode::beyond_tree_frame_reach) return s;
+  }
   return detail::hybrid_sweeps(m, d, q.data(), v.data(), u, f_ext, world_acceleration(m), outputs);
 }
 
 template <class S>
 Status hybrid_impulse(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& u) {
   const Vec6<S> no_gravity = Vec6<S>::Zero();
-  if (!m.has_flexible_bodies())
-    return detail::flagged_tree_frame_sweeps<false, S>(m, d, q.data(), nullptr, u.data(), nullptr, no_gravity, false);
-  if (!m.has_node_attachments())
-    return detail::flagged_tree_frame_sweeps<true, S>(m, d, q.data(), nullptr, u.data(), nullptr, no_gravity, false);
+  if (!m.has_node_attachments()) {
+    const Status s =
+        m.has_flexible_bodies()
+            ? detail::flagged_tree_frame_sweeps<true, S>(m, d, q.data(), nullptr, u.data(), nullptr, no_gravity, false)
+            : detail::flagged_tree_frame_sweeps<false, S>(m, d, q.data(), nullptr, u.data(), nullptr, no_gravity, false);
+    if (s.code != StatusCode::beyond_tree_frame_reach) return s;
+  }
   return detail::hybrid_sweeps<S>(m, d, q.data(), nullptr, u, nullptr, no_gravity, DynamicsOutputs{});
 }
 

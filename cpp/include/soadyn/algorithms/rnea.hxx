@@ -43,14 +43,16 @@ void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* 
 }  // namespace detail
 
 template <class S>
-void inverse_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                      const ConstVecRef<S>& qdd, const S* f_ext) {
+Status inverse_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                        const ConstVecRef<S>& qdd, const S* f_ext) {
   detail::rnea(m, d, q.data(), velocities_unless_at_rest(m, v), qdd.data(), f_ext);
+  return check_finite(d.tau);
 }
 
 template <class S>
-void bias_forces(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
+Status bias_forces(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
   detail::rnea<S>(m, d, q.data(), v.data(), nullptr, nullptr);
+  return check_finite(d.tau);
 }
 
 }  // namespace soadyn

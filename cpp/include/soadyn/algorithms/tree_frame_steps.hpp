@@ -169,6 +169,14 @@ SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d
   d.coriolis[i] = motion_cross(d.velocity[i], joint_velocity) + joint_rate;
 }
 
+// Whether body i sits beyond the distance from its tree origin at which tree
+// frames keep their precision (tree_frame_reach.hxx); checked only for
+// bodies whose geometry does not bound that distance below the reach.
+template <class S>
+SOADYN_ALWAYS_INLINE bool beyond_tree_frame_reach(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i) {
+  return m.check_tree_frame_reach[i] && d.tree_pose[i].translation.squaredNorm() > m.tree_frame_reach_squared[i];
+}
+
 // Body terms of rigid body i in its tree frame: M(i) into
 // articulated_inertia[i] (the start of P) and b(i) = V x* (M V) - f_ext into
 // bias_force[i] and articulated_bias[i]; `f_ext` as in steps.hpp.

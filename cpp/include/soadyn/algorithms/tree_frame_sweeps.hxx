@@ -94,7 +94,9 @@ SOADYN_ALWAYS_INLINE int tree_hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, 
 }
 
 // The three sweeps in tree frames. `v` null means zero velocity; `want_force`
-// also leaves every hinge force in data.hinge_force (body frame).
+// also leaves every hinge force in data.hinge_force (body frame). Returns
+// beyond_tree_frame_reach, having changed no output, when a body lies too far
+// from its tree origin for tree frames (the caller then uses body frames).
 template <ModePolicy Modes, bool Flex, class S>
 Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u, const S* f_ext,
                          const Vec6<S>& world_acc, bool want_force) {
@@ -105,6 +107,7 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
   };
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, M, b (seed Eq. 1); all-prescribed regions' accelerations
     tree_velocity_step(m, d, i, q, v);
+    if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
     if constexpr (Flex) {
       if (m.is_flexible(static_cast<int>(i))) {  // modal DOFs always regular: P^ and z^ at once
         tree_flexible_body_step(m, d, i, q, v, u, f_ext);

@@ -1,0 +1,34 @@
+// The errors the bindings raise for results that cannot be computed. Each
+// names the DOF, coordinate or body at fault (never a silent NaN).
+#pragma once
+#include <pybind11/pybind11.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+#include "soadyn/data.hpp"
+#include "soadyn/status.hpp"
+
+namespace soadyn_py {
+
+// soadyn.DynamicsError (an ArithmeticError): the dynamics have no finite
+// solution at the given state.
+struct DynamicsError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Raises DynamicsError for a failed Status of the call `what`, naming the DOF.
+void raise_on(const soadyn::Status& s, const soadyn::Model& m, const char* what);
+
+// Raises DynamicsError naming the first of `items` items (`stride` values
+// each, named by `names`) of `x` with a value that is not finite.
+void refuse_non_finite(const char* what, const char* quantity, const double* x, std::size_t items, std::size_t stride,
+                       const std::vector<std::string>& names);
+
+// Raises DynamicsError for a model-wide total (energy, momentum, centre of
+// mass) that is not finite, naming the first body whose pose, velocity or
+// share of the total is not finite, from what forward_kinematics left in `d`.
+[[noreturn]] void raise_non_finite_total(const char* what, const soadyn::Model& m, const soadyn::Data& d,
+                                         bool with_velocity);
+
+}  // namespace soadyn_py
