@@ -97,7 +97,9 @@ void bind_model(py::module_& mod) {
              return h.model.add_body(name, parent, joint.joint, X, mass, com, inertia, joint.name,
                                      accept_nonphysical_inertia ? soadyn::InertiaPolicy::accept_nonphysical
                                                                 : soadyn::InertiaPolicy::require_physical);
-           })
+           },
+           py::arg("name"), py::arg("parent"), py::arg("joint"), py::arg("R"), py::arg("p"), py::arg("mass"),
+           py::arg("com"), py::arg("inertia"), py::arg("accept_nonphysical_inertia") = false)
       .def("_add_flexible_body",
            [](ModelHandle& h, const std::string& name, const std::string& parent, const JointSpec& joint,
               const Eigen::Matrix3d& R, const Eigen::Vector3d& p, const soadyn::FlexibleBody& body) {

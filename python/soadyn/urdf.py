@@ -181,7 +181,7 @@ class _Loader:
             return 0.0, np.zeros(3), np.zeros((3, 3))
         mass, moment = minimal_inertial(self.robot.links.values())
         warnings.warn(f"{where}: a moving link has no <inertial>, nor has any link welded to it: given mass "
-                      f"{mass:.3g} and principal moments {moment:.3g}", UrdfRepairWarning, stacklevel=5)
+                      f"{mass:.3g} and principal moments {moment:.3g}", UrdfRepairWarning, stacklevel=6)
         return mass, np.zeros(3), moment * np.eye(3)
 
     def add_body(self, link: str, parent, joint: Joint, placement, mass, com, inertia, where: str):
@@ -202,7 +202,7 @@ class _Loader:
             mass = minimal_inertial(self.robot.links.values())[0]
         warnings.warn(f"{where}: non-physical inertia repaired: principal moments "
                       f"{np.array2string(before, precision=6)} -> {np.array2string(after, precision=6)}, "
-                      f"mass {mass:.6g}", UrdfRepairWarning, stacklevel=5)
+                      f"mass {mass:.6g}", UrdfRepairWarning, stacklevel=6)
         self.call(where, link, parent, joint, placement, mass=mass, com=com, inertia=fixed)
 
     def call(self, where: str, link: str, parent, joint: Joint, placement, **inertial):
