@@ -90,13 +90,17 @@ void bind_model(py::module_& mod) {
       .def("_add_body",
            [](ModelHandle& h, const std::string& name, const std::string& parent, const JointSpec& joint,
               const Eigen::Matrix3d& R, const Eigen::Vector3d& p, double mass, const Eigen::Vector3d& com,
-              const Eigen::Matrix3d& inertia) {
+              const Eigen::Matrix3d& inertia, bool accept_nonphysical_inertia) {
              soadyn::Transform<double> X;
              X.rotation = R;
              X.translation = p;
              const auto lock = h.lock_for_change();
-             return h.model.add_body(name, parent, joint.joint, X, mass, com, inertia, joint.name);
-           })
+             return h.model.add_body(name, parent, joint.joint, X, mass, com, inertia, joint.name,
+                                     accept_nonphysical_inertia ? soadyn::InertiaPolicy::accept_nonphysical
+                                                                : soadyn::InertiaPolicy::require_physical);
+           },
+           py::arg("name"), py::arg("parent"), py::arg("joint"), py::arg("R"), py::arg("p"), py::arg("mass"),
+           py::arg("com"), py::arg("inertia"), py::arg("accept_nonphysical_inertia") = false)
       .def("_add_flexible_body",
            [](ModelHandle& h, const std::string& name, const std::string& parent, const JointSpec& joint,
               const Eigen::Matrix3d& R, const Eigen::Vector3d& p, const soadyn::FlexibleBody& body) {
@@ -182,6 +186,8 @@ void bind_model(py::module_& mod) {
             h.model.gravity = Eigen::Map<const Eigen::Vector3d>(a.data());
           },
           "Gravity in the world frame (default (0, 0, -9.81)).");
+
+  py::register_exception<soadyn::NonphysicalInertiaError>(mod, "NonphysicalInertiaError", PyExc_ValueError);
 }
 
 }  // namespace soadyn_py

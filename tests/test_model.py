@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 
 import soadyn
+from flexible_trees import random_flexible_body
 from trees import random_rotation, random_state, random_tree
 
 
@@ -149,3 +150,81 @@ def test_welded_parts_need_only_leave_the_body_physical():
         m.add_body("slab", "link", soadyn.Joint.fixed(), mass=0.01, inertia=[0.0, 0.0, 1.0])
     assert m.frame_names == ["sliver"]  # the refused weld left the body unchanged
     assert m.masses == [pytest.approx(2.01)]
+
+
+def test_spatial_inertia_must_be_finite_at_build_time():
+    """mass * com overflows long before mass or com: refused when added, naming the body, not reported later as singular."""
+    m = soadyn.Model()
+    m.add_body("link", None, soadyn.Joint.revolute([0, 0, 1]), mass=1.0, inertia=[1, 1, 1])
+    with pytest.raises(ValueError, match="body 'far': spatial inertia about the body frame origin is not finite"):
+        m.add_body("far", "link", soadyn.Joint.revolute([0, 1, 0]), mass=1.0, com=[1e200, 0, 0], inertia=[1, 1, 1])
+    with pytest.raises(ValueError, match="body 'heavy': spatial inertia .* is not finite"):
+        m.add_body("heavy", "link", soadyn.Joint.revolute([0, 1, 0]), mass=1e300, com=[1e10, 0, 0], inertia=[1, 1, 1])
+    with pytest.raises(ValueError, match="body 'far_weld': spatial inertia .* is not finite"):
+        m.add_body("far_weld", "link", soadyn.Joint.fixed(), mass=1.0, com=[0, 1e200, 0])
+    with pytest.raises(ValueError, match="body 'link' with 'overflow' welded to it: spatial inertia .* is not finite"):
+        m.add_body("overflow", "link", soadyn.Joint.fixed(), placement=[1e160, 0, 0], mass=1e10)
+    assert (m.nbodies, m.frame_names, m.masses) == (1, [], [1.0])  # nothing of the refused bodies remains
+    np.testing.assert_allclose(soadyn.forward_dynamics(m, [0.0], [0.0], [1.0]), [1.0])
+
+
+def test_accept_nonphysical_inertia_is_an_explicit_opt_in():
+    m = soadyn.Model()
+    with pytest.raises(soadyn.NonphysicalInertiaError, match="body 'rod': principal moments .* triangle inequality"):
+        m.add_body("rod", None, soadyn.Joint.revolute([0, 0, 1]), mass=1.0, inertia=[1, 0.1, 0.1])
+    assert issubclass(soadyn.NonphysicalInertiaError, ValueError)
+    assert m.add_body("rod", None, soadyn.Joint.revolute([0, 0, 1]), mass=1.0, inertia=[1, 0.1, 0.1],
+                      accept_nonphysical_inertia=True) == 0
+    # a weld into the accepted body needs the opt-in too: the merged body is checked again
+    with pytest.raises(soadyn.NonphysicalInertiaError, match="body 'rod' with 'tag' welded to it"):
+        m.add_body("tag", "rod", soadyn.Joint.fixed(), mass=0.01)
+    m.add_body("tag", "rod", soadyn.Joint.fixed(), mass=0.01, accept_nonphysical_inertia=True)
+    # the opt-in covers physics only: finite and non-negative stay required
+    for bad, message in ((dict(mass=-1.0), "mass -1 is negative"), (dict(com=[1e200, 0, 0]), "not finite")):
+        args = dict(mass=1.0, inertia=[1, 0.1, 0.1], accept_nonphysical_inertia=True) | bad
+        with pytest.raises(ValueError, match=f"body 'x': .*{message}"):
+            m.add_body("x", "rod", soadyn.Joint.revolute([1, 0, 0]), **args)
+    assert m.nbodies == 1 and m.masses == [pytest.approx(1.01)]
+
+
+class _NotANumber:
+    pass
+
+
+@pytest.mark.parametrize("argument, value", [
+    ("mass", "1.0"), ("mass", 1 + 0j), ("mass", [1.0]), ("mass", None), ("mass", True), ("mass", np.array([1.0, 2.0])),
+    ("com", [1 + 1j, 0, 0]), ("com", ["1", "0", "0"]), ("com", "100"), ("com", [None, 0, 0]), ("com", [True, False, True]),
+    ("inertia", np.ones(3, dtype=complex)), ("inertia", ["1", "1", "1"]), ("inertia", _NotANumber()),
+    ("placement", np.eye(4, dtype=complex)), ("placement", "0 0 1"), ("placement", (np.eye(3), ["0", "0", "1"])),
+    ("placement", ([[1, 0, 0], [0, 1, 0], [0, 0, "1"]], None)), ("placement", [[1, 2], [3]]),
+    ("parent", 1.5), ("parent", True), ("parent", ["base"]),
+    ("joint", "revolute"), ("name", 7), ("name", None), ("accept_nonphysical_inertia", "yes"),
+])
+def test_add_body_argument_of_the_wrong_type_is_a_type_error(argument, value):
+    """numpy would read '1.0' as a number and drop an imaginary part: every wrong type is refused by name."""
+    m = soadyn.Model()
+    m.add_body("base", None, soadyn.Joint.revolute([0, 0, 1]), mass=1.0, inertia=[1, 1, 1])
+    args = dict(name="arm", parent="base", joint=soadyn.Joint.revolute([0, 1, 0]), mass=1.0, com=[0, 0, 0.1],
+                inertia=[1, 1, 1])
+    args[argument] = value
+    body = "arm" if argument != "name" else ""
+    pattern = f"body '{body}': {argument}" if argument not in ("name",) else "body name must be a str"
+    if argument == "accept_nonphysical_inertia":
+        pattern = "body 'arm': accept_nonphysical_inertia must be a bool"
+    with pytest.raises(TypeError, match=pattern):
+        m.add_body(args.pop("name"), args.pop("parent"), args.pop("joint"), **args)
+    assert m.nbodies == 1 and m.frame_names == []
+
+
+@pytest.mark.parametrize("argument, value", [
+    ("name", 3), ("body", "beam"), ("joint", "fixed"), ("placement", [1j, 0, 0]), ("parent", 2.0),
+])
+def test_add_flexible_body_argument_of_the_wrong_type_is_a_type_error(argument, value):
+    m = soadyn.Model()
+    args = dict(name="beam", parent=None, body=random_flexible_body(np.random.default_rng(0)), joint=None,
+                placement=None)
+    args[argument] = value
+    pattern = "body name must be a str" if argument == "name" else f"body 'beam': {argument}"
+    with pytest.raises(TypeError, match=pattern):
+        m.add_flexible_body(**args)
+    assert m.nbodies == 0

@@ -61,7 +61,8 @@ def test_planar_joint_moves_in_the_plane_normal_to_its_axis(tmp_path):
 @pytest.mark.parametrize(
     "elements, message",
     [
-        ((link("base"), "<link name='arm'/>", joint("j", "base", "arm")), "link 'arm': a moving link has no <inertial>"),
+        ((link("base"), "<link name='arm'/>", joint("j", "base", "arm")),
+         r"link 'arm' \(joint 'j'\): a moving link has no <inertial>.*inertia='repair'"),
         ((link("base"), link("arm", mass=-1.0), joint("j", "base", "arm")), "link 'arm'.*mass -1 is negative"),
         ((link("base"), link("arm", ixx=1.0, iyy=0.1, izz=0.1), joint("j", "base", "arm")),
          "link 'arm'.*triangle inequality"),
@@ -69,23 +70,81 @@ def test_planar_joint_moves_in_the_plane_normal_to_its_axis(tmp_path):
         ((link("base"), link("arm"), joint("j", "shoulder", "arm")), "joint 'j': parent link 'shoulder' does not exist"),
         ((link("base"), link("a"), link("b"), joint("j1", "base", "a"), joint("j2", "a", "b"), joint("j3", "b", "a")),
          "link 'a' has two parent joints .*kinematic loops"),
-        ((link("a"), link("b"), joint("j1", "a", "b"), joint("j2", "b", "a")), "no root .*kinematic loop"),
+        ((link("a"), link("b"), joint("j1", "a", "b"), joint("j2", "b", "a")), "found none.*kinematic loop"),
         ((link("base"), link("arm"), joint("j", "base", "arm", kind="ball")), "joint 'j': unsupported joint type 'ball'"),
         ((link("base"), link("arm"), joint("j", "base", "arm", axis="0 0 0")), "joint 'j': axis .* is zero"),
         ((link("base"), link("other")), "exactly one root link"),
         ((link("base"), link("base")), "link 'base' is defined twice"),
+        ((link("base"), link("arm"), joint("j", "base", "arm"), joint("j", "arm", "base")), "joint 'j' is defined twice"),
+        ((link("base"), link("arm"), joint("j", "base", "arm", axis="0 1")),
+         r"joint 'j': <axis xyz='0 1'> has 2 numbers, expected 3"),
+        ((link("base"), link("arm"), joint("j", "base", "arm", xyz="1")), r"joint 'j': <origin xyz='1'> has 1 numbers"),
+        ((link("base"), link("arm"), joint("j", "base", "arm", rpy="0 0 0 1")), r"joint 'j': <origin rpy='0 0 0 1'>"),
+        ((link("base"), link("arm"), joint("j", "base", "arm", axis="nan 0 1")), r"joint 'j': <axis xyz='nan 0 1'> is not finite"),
+        ((link("base"), link("arm", mass="abc"), joint("j", "base", "arm")), r"link 'arm': <mass value='abc'> is not a number"),
+        ((link("base"), link("arm", com="0 0 1e999"), joint("j", "base", "arm")), r"link 'arm' <inertial>: <origin xyz='0 0 1e999'> is not finite"),
+        ((link("base"), "<link name='arm'><inertial><mass value='1'/></inertial></link>", joint("j", "base", "arm")),
+         r"link 'arm' <inertial>: <inertia> is missing"),
+        ((link("base"), "<link name='arm'><inertial><inertia ixx='1' iyy='1' izz='1' ixy='0' ixz='0'/><mass value='1'/></inertial></link>",
+          joint("j", "base", "arm")), r"link 'arm': <inertia> has no 'iyz' attribute"),
+        ((link("base"), "<link/>"), r"link number 2: <link> has no name"),
+        ((link("base"), link("arm"), "<joint name='j' type='revolute'><child link='arm'/></joint>"), r"joint 'j': <parent> is missing"),
+        ((link("base"), link("arm"), "<joint name='j'><parent link='base'/><child link='arm'/></joint>"), r"joint 'j': <joint> has no 'type' attribute"),
+        ((link("base"), link("arm"), "<joint type='fixed'><parent link='base'/><child link='arm'/></joint>"), r"joint number 1: <joint> has no name"),
+        ((), r"the robot has no <link>"),
     ],
 )
 def test_bad_urdf_names_the_element(tmp_path, elements, message):
-    with pytest.raises(soadyn.UrdfError, match=message):
-        soadyn.load_urdf(write(tmp_path, *elements))
-
-
-def test_malformed_xml(tmp_path):
-    path = tmp_path / "broken.urdf"
-    path.write_text("<robot name='r'><link name='a'></robot>")
-    with pytest.raises(soadyn.UrdfError, match="malformed URDF"):
+    """Every refusal is a UrdfError naming the file and the element at fault."""
+    path = write(tmp_path, *elements)
+    with pytest.raises(soadyn.UrdfError, match=message) as error:
         soadyn.load_urdf(path)
+    assert str(path) in str(error.value)
+
+
+def test_world_root_with_two_welded_links(tmp_path):
+    """Fixed base: links welded to the ground are frames; floating: the base would be ambiguous."""
+    path = write(tmp_path, link("world"), link("a"), link("b"), joint("j1", "world", "a", kind="fixed"),
+                 joint("j2", "world", "b", kind="fixed"), link("c"), joint("j3", "b", "c"))
+    m = soadyn.load_urdf(path)
+    assert m.frame_names == ["a", "b"] and m.dof_names == ["j3"]
+    with pytest.raises(soadyn.UrdfError, match="floating_base=True needs the 'world' link to have a single fixed joint"):
+        soadyn.load_urdf(path, floating_base=True)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("<robot name='r'><link name='a'></robot>", "malformed URDF"),
+    ("<foo/>", r"the root element is <foo>, not <robot>"),
+    ("", "malformed URDF"),
+    ("<robot/>", "the robot has no <link>"),
+])
+def test_malformed_xml(tmp_path, text, message):
+    path = tmp_path / "broken.urdf"
+    path.write_text(text)
+    with pytest.raises(soadyn.UrdfError, match=message):
+        soadyn.load_urdf(path)
+
+
+def test_long_chains_load_without_recursion(tmp_path):
+    """1500 fixed links under a link without <inertial>, and 1500 moving links: no RecursionError."""
+    n = 1500
+    welded = ["<link name='l0'/>"] + [link(f"w{k}", mass=0.0, ixx=0, iyy=0, izz=0) for k in range(n)] + [link("tip")]
+    welded += [joint("j0", "l0", "w0", kind="fixed")] + [joint(f"f{k}", f"w{k}", f"w{k + 1}", kind="fixed")
+                                                          for k in range(n - 1)]
+    welded += [joint("last", f"w{n - 1}", "tip", kind="fixed")]
+    m = soadyn.load_urdf(write(tmp_path, *welded, name="welded.urdf"), floating_base=True)
+    assert m.nbodies == 1 and m.masses == [pytest.approx(1.0)] and len(m.frame_names) == n + 1
+    chain = [link("l0")] + [link(f"l{k + 1}") for k in range(n)] + [joint(f"j{k}", f"l{k}", f"l{k + 1}") for k in range(n)]
+    m = soadyn.load_urdf(write(tmp_path, *chain, name="chain.urdf"))
+    assert m.nv == n and m.dof_names[-1] == f"j{n - 1}"
+
+
+def test_load_urdf_arguments_are_checked(tmp_path):
+    path = write(tmp_path, link("base"), link("arm"), joint("j", "base", "arm"))
+    with pytest.raises(ValueError, match=r"inertia must be one of \('strict', 'repair', 'accept'\), got 'lax'"):
+        soadyn.load_urdf(path, inertia="lax")
+    with pytest.raises(TypeError, match="floating_base must be a bool, got str"):
+        soadyn.load_urdf(path, floating_base="yes")
 
 
 def test_missing_file(tmp_path):

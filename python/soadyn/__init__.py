@@ -10,6 +10,7 @@ from ._soadyn import (
     DynamicsError,
     FlexibleBody,
     Joint,
+    NonphysicalInertiaError,
     bias_forces,
     center_of_mass,
     forward_dynamics,
@@ -33,7 +34,7 @@ from .urdf import UrdfError, load_urdf
 __version__ = "0.1.0"
 
 __all__ = [
-    "Model", "Joint", "DynamicsError", "QUATERNION_TOLERANCE", "load_urdf", "UrdfError",
+    "Model", "Joint", "DynamicsError", "NonphysicalInertiaError", "QUATERNION_TOLERANCE", "load_urdf", "UrdfError",
     "Simulator", "Trajectory", "MotionSource",
     "FlexibleBody", "natural_frequencies", "stiffness_matrix",
     "forward_dynamics", "inverse_dynamics", "hybrid_dynamics", "mass_matrix", "bias_forces",

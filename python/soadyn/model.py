@@ -1,15 +1,43 @@
 """Model: the multibody tree, with Python argument handling on top of the C++ core."""
 from __future__ import annotations
 
+import numbers
 from typing import Iterable, Union
 
 import numpy as np
 
-from ._soadyn import FlexibleBody, Joint, _Model
+from ._soadyn import FlexibleBody, Joint, NonphysicalInertiaError, _Model
 
-__all__ = ["Model", "Joint"]
+__all__ = ["Model", "Joint", "NonphysicalInertiaError"]
 
 Placement = Union[None, tuple, np.ndarray]
+
+
+def _real_array(x, what: str, body: str) -> np.ndarray:
+    """`x` as a float array; TypeError naming the argument and the body unless it holds real numbers.
+
+    numpy would read a string ('1.5') as a number and drop a complex number's
+    imaginary part: both are refused, as are booleans and None.
+    """
+    if isinstance(x, (str, bytes)):
+        raise TypeError(f"body '{body}': {what} must be real numbers, got {type(x).__name__}")
+    try:
+        a = np.asarray(x)
+    except (TypeError, ValueError) as exc:  # ragged nesting
+        raise TypeError(f"body '{body}': {what} must be real numbers, got {type(x).__name__}") from exc
+    if a.dtype.kind not in "iuf":
+        raise TypeError(f"body '{body}': {what} must be real numbers, got {a.dtype} "
+                        f"({type(x).__name__})")
+    return a.astype(float)
+
+
+def _real_scalar(x, what: str, body: str) -> float:
+    if isinstance(x, (bool, np.bool_)) or not isinstance(x, (numbers.Real, np.ndarray)):
+        raise TypeError(f"body '{body}': {what} must be a real number, got {type(x).__name__}")
+    a = _real_array(x, what, body)
+    if a.shape != ():
+        raise TypeError(f"body '{body}': {what} must be a real number, got an array of shape {a.shape}")
+    return float(a)
 
 
 def _placement(placement: Placement, body: str):
@@ -18,10 +46,10 @@ def _placement(placement: Placement, body: str):
         return np.eye(3), np.zeros(3)
     if isinstance(placement, tuple) and len(placement) == 2:
         R, p = placement
-        R = np.eye(3) if R is None else np.asarray(R, dtype=float)
-        p = np.zeros(3) if p is None else np.asarray(p, dtype=float)
+        R = np.eye(3) if R is None else _real_array(R, "placement rotation", body)
+        p = np.zeros(3) if p is None else _real_array(p, "placement translation", body)
     else:
-        T = np.asarray(placement, dtype=float)
+        T = _real_array(placement, "placement", body)
         if T.shape == (4, 4):
             R, p = T[:3, :3], T[:3, 3]
         elif T.shape == (3,):
@@ -36,7 +64,7 @@ def _placement(placement: Placement, body: str):
 
 def _inertia(inertia, body: str) -> np.ndarray:
     """A 3x3 matrix or the 3 principal moments (diagonal)."""
-    I = np.asarray(inertia, dtype=float)
+    I = _real_array(inertia, "inertia", body)
     if I.shape == (3,):
         return np.diag(I)
     if I.shape != (3, 3):
@@ -45,7 +73,7 @@ def _inertia(inertia, body: str) -> np.ndarray:
 
 
 def _vector3(x, what: str, body: str) -> np.ndarray:
-    a = np.asarray(x, dtype=float)
+    a = _real_array(x, what, body)
     if a.shape != (3,):
         raise ValueError(f"body '{body}': {what} must have 3 components, got shape {a.shape}")
     return a
@@ -62,6 +90,12 @@ def _refuse_ambiguous_indices(indices: np.ndarray, nv: int) -> None:
         raise ValueError(f"set_prescribed: DOF index {int(values[counts > 1][0])} is given more than once")
 
 
+def _body_name(name) -> str:
+    if not isinstance(name, str):
+        raise TypeError(f"body name must be a str, got {type(name).__name__} ({name!r})")
+    return name
+
+
 class Model(_Model):
     """A rigid multibody tree.
 
@@ -72,19 +106,27 @@ class Model(_Model):
     """
 
     def add_body(self, name: str, parent, joint: Joint, placement: Placement = None, mass: float = 0.0,
-                 com=(0.0, 0.0, 0.0), inertia=np.zeros(3)) -> int:
+                 com=(0.0, 0.0, 0.0), inertia=(0.0, 0.0, 0.0), *, accept_nonphysical_inertia: bool = False) -> int:
         """Add a body and return its index (-1 for a fixed joint, whose body is merged into the parent).
 
         parent: None or -1 for the world, or a body (or frame) name or index.
         placement: the joint frame in the parent's frame, as (R, p), a 4x4 matrix or a translation.
         mass, com (body frame), inertia about the centre of mass in the body frame (3x3 or principal moments).
+        The spatial inertia (mass, mass * com, inertia about the frame origin) must be finite, and the
+        body (with what is welded to it) physical: NonphysicalInertiaError otherwise, unless
+        accept_nonphysical_inertia=True opts out of the physical tests (never of the finite one).
+        An argument of the wrong type (a string mass, a complex com) raises TypeError naming it.
         """
+        name = _body_name(name)
         if not isinstance(joint, Joint):
             raise TypeError(f"body '{name}': joint must be a soadyn.Joint, got {type(joint).__name__}")
+        if not isinstance(accept_nonphysical_inertia, (bool, np.bool_)):
+            raise TypeError(f"body '{name}': accept_nonphysical_inertia must be a bool, "
+                            f"got {type(accept_nonphysical_inertia).__name__}")
         parent_name = self._parent_name(parent, name)
         R, p = _placement(placement, name)
-        return self._add_body(str(name), parent_name, joint, R, p, float(mass), _vector3(com, "com", name),
-                              _inertia(inertia, name))
+        return self._add_body(name, parent_name, joint, R, p, _real_scalar(mass, "mass", name),
+                              _vector3(com, "com", name), _inertia(inertia, name), bool(accept_nonphysical_inertia))
 
     def add_flexible_body(self, name: str, parent, body: FlexibleBody, joint: Joint | None = None,
                           placement: Placement = None) -> int:
@@ -97,17 +139,20 @@ class Model(_Model):
         joint's DOFs; they are always regular. Each attachment node becomes a
         frame '<name>:<attachment>' that add_body accepts as a parent.
         """
+        name = _body_name(name)
         if not isinstance(body, FlexibleBody):
             raise TypeError(f"body '{name}': body must be a soadyn.FlexibleBody, got {type(body).__name__}")
         joint = Joint.fixed() if joint is None else joint
         if not isinstance(joint, Joint):
             raise TypeError(f"body '{name}': joint must be a soadyn.Joint, got {type(joint).__name__}")
         R, p = _placement(placement, name)
-        return self._add_flexible_body(str(name), self._parent_name(parent, name), joint, R, p, body)
+        return self._add_flexible_body(name, self._parent_name(parent, name), joint, R, p, body)
 
     def _parent_name(self, parent, name: str) -> str:
         if parent is None:
             return ""
+        if isinstance(parent, (bool, np.bool_)):
+            raise TypeError(f"body '{name}': parent must be None, a name or an index, got bool")
         if isinstance(parent, (int, np.integer)):
             if parent == -1:
                 return ""
@@ -119,7 +164,7 @@ class Model(_Model):
             if parent == "":
                 raise ValueError(f"body '{name}': parent name is empty (use None for the world)")
             return parent
-        raise TypeError(f"body '{name}': parent must be None, a name or an index")
+        raise TypeError(f"body '{name}': parent must be None, a name or an index, got {type(parent).__name__}")
 
     def _dof_indices(self, selection) -> list[int]:
         """DOF indices of a name, index, or iterable of them. A joint name selects all its DOFs."""

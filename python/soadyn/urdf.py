@@ -1,55 +1,56 @@
-"""URDF loading, on top of the yourdfpy parser (no XML is parsed here).
+"""URDF loading: the links and joints read by urdf_reader become a Model.
 
 Decisions:
-- Links are added depth-first from the root, so the model's body order is a
-  depth-first order (the one Pinocchio needs too).
+- Links are added depth-first from the root, children in file order, so the
+  model's body order is a depth-first order (the one Pinocchio needs too).
+  Every traversal is iterative: a chain of any length loads.
 - revolute and continuous joints become one-coordinate revolute DOFs named
   after the joint (a continuous joint's angle is a plain real number);
   prismatic likewise; floating becomes a free joint; planar becomes a planar
-  joint in the plane normal to its axis; fixed joints merge the child link into
-  its parent exactly (the link name stays usable as a frame).
+  joint in the plane normal to its axis; fixed joints weld the child link to
+  its parent (the link name stays usable as a frame).
 - floating_base=True adds a free joint named 'root_joint' between the world
-  and the root link; otherwise the root link is welded to the world.
+  and the root link; otherwise the root link is welded to the world. A root
+  link named 'world' is the ground itself (with floating_base=True its single
+  fixed joint is replaced by the free joint).
 - Dynamics parameters that are not rigid-body dynamics (damping, friction,
-  limits, mimic) are not modelled.
-- A link without <inertial> has no mass. A moving link must have mass
-  somewhere: an <inertial> on it or on a link welded to it (ANYmal's 'base'
-  carries its mass on the welded 'base_inertia'); otherwise loading fails.
-- package_dirs is accepted for compatibility; meshes are never loaded.
+  limits, mimic) are not modelled. package_dirs is accepted for
+  compatibility; meshes are never loaded.
+
+Inertia (the README's "URDF inertia policy"): a body of the model is a moving
+link together with every link welded to it through fixed joints; their
+inertias are merged first and the body is checked once, merged. The
+`inertia` argument decides what happens to a body that is not physical:
+"strict" (default) refuses it, naming the link and the option to use;
+"repair" makes the smallest change that makes it physical
+(urdf_inertia.repaired_inertia) and warns (UrdfRepairWarning) naming the
+link; "accept" keeps the file's numbers (Model.add_body's explicit
+accept_nonphysical_inertia opt-in). A moving body none of whose links has an
+<inertial> is refused by "strict", given urdf_inertia.minimal_inertial by
+"repair" and left massless by "accept". Links welded to the world never
+move: their inertia is not used.
 """
 from __future__ import annotations
 
 import os
+import warnings
+from dataclasses import dataclass, field
 from pathlib import Path
-from xml.etree import ElementTree
 
 import numpy as np
 
-from ._soadyn import Joint
+from ._soadyn import Joint, NonphysicalInertiaError
 from .model import Model
+from .urdf_inertia import merge_parts, minimal_inertial, repaired_inertia
+from .urdf_reader import UrdfError, UrdfJoint, UrdfRobot, read_urdf
 
-__all__ = ["load_urdf", "UrdfError"]
+__all__ = ["load_urdf", "UrdfError", "UrdfRepairWarning", "INERTIA_POLICIES"]
+
+INERTIA_POLICIES = ("strict", "repair", "accept")
 
 
-class UrdfError(ValueError):
-    """A URDF that cannot become a model; the message names the element."""
-
-
-def _parse(path: Path):
-    try:  # yourdfpy's parser recovers from broken XML; a URDF must be well formed
-        ElementTree.parse(path)
-    except ElementTree.ParseError as exc:
-        raise UrdfError(f"malformed URDF '{path}': {exc}") from exc
-    try:
-        import yourdfpy
-    except ImportError as exc:  # pragma: no cover - the dependency is declared
-        raise ImportError("load_urdf needs the 'yourdfpy' package (pip install soadyn[urdf])") from exc
-    try:
-        urdf = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False,
-                                  build_collision_scene_graph=False, load_collision_meshes=False)
-    except Exception as exc:  # yourdfpy raises lxml and its own errors for malformed files
-        raise UrdfError(f"malformed URDF '{path}': {exc}") from exc
-    return urdf.robot
+class UrdfRepairWarning(UserWarning):
+    """load_urdf(..., inertia='repair') changed a link's inertia; the message names the link."""
 
 
 def _frame_with_z(axis: np.ndarray) -> np.ndarray:
@@ -61,123 +62,202 @@ def _frame_with_z(axis: np.ndarray) -> np.ndarray:
     return np.column_stack([x, np.cross(z, x), z])
 
 
-def _axis(joint) -> np.ndarray:
-    axis = np.array([1.0, 0, 0]) if joint.axis is None else np.asarray(joint.axis, dtype=float)
-    if not np.all(np.isfinite(axis)) or np.linalg.norm(axis) == 0:
-        raise UrdfError(f"joint '{joint.name}': axis {axis} is zero or not finite")
-    return axis / np.linalg.norm(axis)
-
-
-def _joint(joint):
-    """The soadyn joint for a URDF joint, and the rotation from the link frame to the body frame."""
-    kind = joint.type
-    if kind in ("revolute", "continuous"):
-        return Joint.revolute(_axis(joint), name=joint.name), np.eye(3)
-    if kind == "prismatic":
-        return Joint.prismatic(_axis(joint), name=joint.name), np.eye(3)
-    if kind == "fixed":
-        return Joint.fixed(name=joint.name), np.eye(3)
-    if kind == "floating":
+def _joint(joint: UrdfJoint):
+    """The soadyn joint for a moving URDF joint, and the rotation from the link frame to the body frame."""
+    if joint.type in ("revolute", "continuous"):
+        return Joint.revolute(joint.axis, name=joint.name), np.eye(3)
+    if joint.type == "prismatic":
+        return Joint.prismatic(joint.axis, name=joint.name), np.eye(3)
+    if joint.type == "floating":
         return Joint.free(name=joint.name), np.eye(3)
-    if kind == "planar":  # our planar joint moves in its frame's x-y plane: turn z onto the axis
-        R = _frame_with_z(_axis(joint))
-        return Joint.planar(name=joint.name), R
-    raise UrdfError(f"joint '{joint.name}': unsupported joint type '{kind}'")
+    # planar: our planar joint moves in its frame's x-y plane: turn z onto the axis
+    return Joint.planar(name=joint.name), _frame_with_z(joint.axis).T
 
 
-def _has_welded_inertial(name: str, links, children) -> bool:
-    """Whether the link or a link welded to it (through fixed joints) has an <inertial>."""
-    if links[name].inertial is not None and links[name].inertial.mass is not None:
-        return True
-    return any(_has_welded_inertial(j.child, links, children) for j in children[name] if j.type == "fixed")
+@dataclass
+class _Topology:
+    children: dict  # link name -> its child joints, in file order
+    parent_joint: dict  # link name -> the joint whose child it is
+    root: str
 
 
-def _mass_properties(link, link_to_body: np.ndarray):
-    """(mass, com, inertia about the com) in the body frame; zero without an <inertial>."""
-    inertial = link.inertial
-    if inertial is None or inertial.mass is None:
-        return 0.0, np.zeros(3), np.zeros((3, 3))
-    origin = np.eye(4) if inertial.origin is None else np.asarray(inertial.origin, dtype=float)
-    inertia = np.zeros((3, 3)) if inertial.inertia is None else np.asarray(inertial.inertia, dtype=float)
-    R = link_to_body @ origin[:3, :3]
-    return float(inertial.mass), link_to_body @ origin[:3, 3], R @ inertia @ R.T
-
-
-def _topology(robot):
+def _topology(robot: UrdfRobot) -> _Topology:
     """Children lists and the root link; refuses unknown links, loops and forests by name."""
-    links = {}
-    for link in robot.links:
-        if link.name in links:
-            raise UrdfError(f"link '{link.name}' is defined twice")
-        links[link.name] = link
-    children: dict[str, list] = {name: [] for name in links}
-    parent_of: dict[str, str] = {}
+    where = f"URDF '{robot.path}'"
+    children: dict[str, list] = {name: [] for name in robot.links}
+    parent_joint: dict[str, UrdfJoint] = {}
     for joint in robot.joints:
         for role in ("parent", "child"):
-            if getattr(joint, role) not in links:
-                raise UrdfError(f"joint '{joint.name}': {role} link '{getattr(joint, role)}' does not exist")
-        if joint.child in parent_of:
-            raise UrdfError(f"link '{joint.child}' has two parent joints ('{parent_of[joint.child]}' and "
-                            f"'{joint.name}'): kinematic loops are not supported")
-        parent_of[joint.child] = joint.name
+            if getattr(joint, role) not in robot.links:
+                raise UrdfError(f"{where}: joint '{joint.name}': {role} link '{getattr(joint, role)}' does not exist")
+        if joint.child in parent_joint:
+            raise UrdfError(f"{where}: link '{joint.child}' has two parent joints ('{parent_joint[joint.child].name}' "
+                            f"and '{joint.name}'): kinematic loops are not supported")
+        parent_joint[joint.child] = joint
         children[joint.parent].append(joint)
-    roots = [name for name in links if name not in parent_of]
+    roots = [name for name in robot.links if name not in parent_joint]
     if len(roots) != 1:
-        raise UrdfError(f"the URDF must have exactly one root link, found {roots or 'no root (a kinematic loop)'}")
-    return links, children, roots[0]
+        found = roots if roots else "none: every link has a parent joint (a kinematic loop)"
+        raise UrdfError(f"{where}: the URDF must have exactly one root link, found {found}")
+    reached, stack = {roots[0]}, [roots[0]]
+    while stack:
+        for joint in children[stack.pop()]:
+            reached.add(joint.child)
+            stack.append(joint.child)
+    if len(reached) != len(robot.links):
+        unreached = [name for name in robot.links if name not in reached]
+        raise UrdfError(f"{where}: links not connected to the root '{roots[0]}' (a kinematic loop): {unreached}")
+    return _Topology(children, parent_joint, roots[0])
 
 
-def _add_base(model: Model, links, children, root: str, floating_base: bool) -> list:
-    """Adds the base body; returns the joints to add next, as (joint, parent link-to-body rotation).
+@dataclass
+class _Group:
+    """A moving link and the links welded to it: one body of the model."""
+    link: str
+    welds: list = field(default_factory=list)  # fixed joints inside the group, parents first
+    exits: list = field(default_factory=list)  # (moving joint, parent link-to-body rotation), depth-first order
+    poses: dict = field(default_factory=dict)  # link name -> (R, p) of the link frame in the body frame
 
-    A root link named 'world' is the ground itself. With floating_base=True
-    its single fixed joint is replaced by the free root joint.
+
+def _group(topology: _Topology, link: str, link_to_body: np.ndarray) -> _Group:
+    """The links welded to `link`, depth-first in file order, with their poses in the body frame."""
+    group = _Group(link, poses={link: (link_to_body, np.zeros(3))})
+    stack = [(joint, link_to_body) for joint in reversed(topology.children[link])]
+    while stack:
+        joint, parent_to_body = stack.pop()
+        if joint.type != "fixed":
+            group.exits.append((joint, parent_to_body))
+            continue
+        R, p = group.poses[joint.parent]
+        group.poses[joint.child] = (R @ joint.rotation, R @ joint.translation + p)
+        group.welds.append(joint)
+        # a welded link is a frame: its children are placed in its own frame
+        stack.extend((child, np.eye(3)) for child in reversed(topology.children[joint.child]))
+    return group
+
+
+class _Loader:
+    def __init__(self, robot: UrdfRobot, policy: str):
+        self.robot, self.policy = robot, policy
+        self.topology = _topology(robot)
+        self.model = Model()
+        self.accept = policy == "accept"
+
+    def where(self, link: str, joint: str) -> str:
+        return f"URDF '{self.robot.path}': link '{link}' (joint '{joint}')"
+
+    def merged(self, group: _Group):
+        """(mass, com, inertia about the com) of the group in the body frame, and whether any link has <inertial>."""
+        parts = []
+        for name, (R, p) in group.poses.items():
+            inertial = self.robot.links[name].inertial
+            if inertial is not None:
+                parts.append((inertial.mass, R @ inertial.com + p, R @ inertial.inertia @ R.T))
+        return merge_parts(parts), bool(parts)
+
+    def add_group(self, group: _Group, parent, joint: Joint, joint_name: str, placement, moving: bool):
+        where = self.where(group.link, joint_name)
+        if moving:
+            (mass, com, inertia), has_inertial = self.merged(group)
+            if not has_inertial:
+                mass, com, inertia = self.without_inertial(where)
+            self.add_body(group.link, parent, joint, placement, mass, com, inertia, where)
+        else:  # welded to the world: never moves, its inertia is not used
+            self.call(where, group.link, parent, joint, placement)
+        self.add_welds(group)
+
+    def add_welds(self, group: _Group):
+        """The welded links of the group as massless frames (their inertia is already in the body)."""
+        for weld in group.welds:
+            self.call(self.where(weld.child, weld.name), weld.child, weld.parent, Joint.fixed(name=weld.name),
+                      (weld.rotation, weld.translation))
+
+    def without_inertial(self, where: str):
+        hint = ("load_urdf(..., inertia='repair') gives it a minimal mass and inertia, inertia='accept' "
+                "keeps it massless")
+        if self.policy == "strict":
+            raise UrdfError(f"{where}: a moving link has no <inertial>, nor has any link welded to it; {hint}")
+        if self.policy == "accept":
+            return 0.0, np.zeros(3), np.zeros((3, 3))
+        mass, moment = minimal_inertial(self.robot.links.values())
+        warnings.warn(f"{where}: a moving link has no <inertial>, nor has any link welded to it: given mass "
+                      f"{mass:.3g} and principal moments {moment:.3g}", UrdfRepairWarning, stacklevel=6)
+        return mass, np.zeros(3), moment * np.eye(3)
+
+    def add_body(self, link: str, parent, joint: Joint, placement, mass, com, inertia, where: str):
+        """A moving body with its merged inertia, under the inertia policy."""
+        try:
+            self.model.add_body(link, parent, joint, placement=placement, mass=mass, com=com, inertia=inertia,
+                                accept_nonphysical_inertia=self.accept)
+            return
+        except NonphysicalInertiaError as exc:
+            if self.policy == "strict":
+                raise UrdfError(f"{where}: {exc} (every link welded to it merged); load_urdf(..., "
+                                f"inertia='repair') makes the smallest change that makes it physical, "
+                                f"inertia='accept' keeps the file's values") from exc
+        except ValueError as exc:
+            raise UrdfError(f"{where}: {exc}") from exc
+        fixed, before, after = repaired_inertia(inertia)
+        if mass == 0:  # inertia without mass
+            mass = minimal_inertial(self.robot.links.values())[0]
+        warnings.warn(f"{where}: non-physical inertia repaired: principal moments "
+                      f"{np.array2string(before, precision=6)} -> {np.array2string(after, precision=6)}, "
+                      f"mass {mass:.6g}", UrdfRepairWarning, stacklevel=6)
+        self.call(where, link, parent, joint, placement, mass=mass, com=com, inertia=fixed)
+
+    def call(self, where: str, link: str, parent, joint: Joint, placement, **inertial):
+        """model.add_body, its ValueError turned into a UrdfError naming the file, link and joint."""
+        try:
+            self.model.add_body(link, parent, joint, placement=placement, accept_nonphysical_inertia=self.accept,
+                                **inertial)
+        except ValueError as exc:
+            raise UrdfError(f"{where}: {exc}") from exc
+
+    def load(self, floating_base: bool) -> Model:
+        root, topology = self.topology.root, self.topology
+        if root == "world" and not floating_base:  # the ground itself: its welded links are frames of the world
+            world = _group(topology, root, np.eye(3))
+            self.add_welds(world)
+            return self.add_moving(world.exits)
+        base, placement = root, None
+        if root == "world":
+            todo = topology.children[root]
+            if len(todo) != 1 or todo[0].type != "fixed":
+                raise UrdfError(f"URDF '{self.robot.path}': floating_base=True needs the 'world' link to have a "
+                                f"single fixed joint to the base")
+            base, placement = todo[0].child, (todo[0].rotation, todo[0].translation)
+        root_joint = Joint.free(name="root_joint") if floating_base else Joint.fixed(name="root_joint")
+        group = _group(topology, base, np.eye(3))
+        self.add_group(group, None, root_joint, "root_joint", placement, moving=floating_base)
+        return self.add_moving(group.exits)
+
+    def add_moving(self, exits) -> Model:
+        stack = list(reversed(exits))
+        while stack:
+            joint, parent_to_body = stack.pop()
+            soadyn_joint, link_to_body = _joint(joint)
+            placement = (parent_to_body @ joint.rotation @ link_to_body.T, parent_to_body @ joint.translation)
+            group = _group(self.topology, joint.child, link_to_body)
+            self.add_group(group, joint.parent, soadyn_joint, joint.name, placement, moving=True)
+            stack.extend(reversed(group.exits))
+        return self.model
+
+
+def load_urdf(path, floating_base: bool = False, package_dirs=None, inertia: str = "strict") -> Model:
+    """A Model from a URDF file (see the module documentation for the mapping).
+
+    inertia: "strict" (default) refuses a body that is not physical once its
+    welded links are merged; "repair" makes the smallest change that makes it
+    physical and warns (UrdfRepairWarning) naming the link; "accept" keeps
+    the file's values (the dynamics may then be singular). Every failure to
+    read or build the model is a UrdfError naming the file and the element.
     """
-    base, placement, todo = root, None, children[root]
-    if root == "world":
-        if not floating_base:
-            return [(joint, np.eye(3)) for joint in reversed(todo)]
-        if len(todo) != 1 or todo[0].type != "fixed":
-            raise UrdfError("floating_base=True needs the 'world' link to have a single fixed joint to the base")
-        weld = todo[0]
-        origin = np.eye(4) if weld.origin is None else np.asarray(weld.origin, dtype=float)
-        base, todo, placement = weld.child, children[weld.child], (origin[:3, :3], origin[:3, 3])
-    root_joint = Joint.free(name="root_joint") if floating_base else Joint.fixed(name="root_joint")
-    if floating_base and not _has_welded_inertial(base, links, children):
-        raise UrdfError(f"link '{base}': a moving link has no <inertial> (nor has any link welded to it)")
-    mass, com, inertia = _mass_properties(links[base], np.eye(3))
-    model.add_body(base, None, root_joint, placement=placement, mass=mass, com=com, inertia=inertia)
-    return [(joint, np.eye(3)) for joint in reversed(todo)]
-
-
-def load_urdf(path, floating_base: bool = False, package_dirs=None) -> Model:
-    """A Model from a URDF file (see the module documentation for the mapping)."""
     del package_dirs  # meshes are never loaded
+    if not isinstance(inertia, str) or inertia not in INERTIA_POLICIES:
+        raise ValueError(f"inertia must be one of {INERTIA_POLICIES}, got {inertia!r}")
+    if not isinstance(floating_base, (bool, np.bool_)):
+        raise TypeError(f"floating_base must be a bool, got {type(floating_base).__name__}")
     path = Path(os.fspath(path))
     if not path.is_file():
         raise FileNotFoundError(f"URDF file '{path}' does not exist")
-    links, children, root = _topology(_parse(path))
-    model = Model()
-    stack = _add_base(model, links, children, root, floating_base)
-    visited = {root} | {joint.parent for joint, _ in stack}
-    while stack:
-        joint, parent_link_to_body = stack.pop()
-        if joint.child in visited:  # pragma: no cover - _topology already refuses loops
-            raise UrdfError(f"joint '{joint.name}' closes a kinematic loop")
-        visited.add(joint.child)
-        soadyn_joint, joint_to_link = _joint(joint)
-        origin = np.eye(4) if joint.origin is None else np.asarray(joint.origin, dtype=float)
-        placement = (parent_link_to_body @ origin[:3, :3] @ joint_to_link, parent_link_to_body @ origin[:3, 3])
-        link_to_body = joint_to_link.T
-        if joint.type != "fixed" and not _has_welded_inertial(joint.child, links, children):
-            raise UrdfError(f"link '{joint.child}': a moving link has no <inertial> (nor has any link welded to it)")
-        mass, com, inertia = _mass_properties(links[joint.child], link_to_body)
-        try:
-            model.add_body(joint.child, joint.parent, soadyn_joint, placement=placement, mass=mass, com=com,
-                           inertia=inertia)
-        except ValueError as exc:
-            raise UrdfError(f"link '{joint.child}' (joint '{joint.name}'): {exc}") from exc
-        stack.extend((child, link_to_body) for child in reversed(children[joint.child]))
-    if visited != set(links):
-        raise UrdfError(f"links not connected to the root '{root}': {sorted(set(links) - visited)}")
-    return model
+    return _Loader(read_urdf(path), inertia).load(bool(floating_base))

@@ -18,6 +18,7 @@
 // to, and its name stays usable as a parent (a "frame").
 #pragma once
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include "soadyn/flex/flexible_body.hpp"
@@ -36,6 +37,23 @@ struct Frame {
   int body = -1;
   Transform<S> placement;  // frame in the body frame
   int node = -1;
+};
+
+// What add_body requires of a body's inertia. Every body's spatial inertia
+// (mass, mass * com, inertia about the frame origin) must be finite, its mass
+// non-negative and its inertia symmetric, always. require_physical (the
+// default) also requires a rigid body that can exist: inertia about the centre
+// of mass positive semidefinite, principal moments obeying the triangle
+// inequality, no inertia without mass, each within a rounding tolerance
+// relative to the inertia's scale (see check_physical_inertia in model.hxx).
+// accept_nonphysical skips these physical tests, as an explicit opt-in for
+// data the user knows to be wrong (the dynamics may then be singular).
+enum class InertiaPolicy { require_physical, accept_nonphysical };
+
+// Thrown when a body (or a body with parts welded to it) has a finite but
+// physically impossible inertia under InertiaPolicy::require_physical.
+struct NonphysicalInertiaError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
 };
 
 // Per-body view of the DOF flags, derived from the per-DOF flags.
@@ -59,15 +77,17 @@ class ModelTpl {
   // for the world) through `joint` placed at `placement` in the parent's
   // frame. `inertia_com` is about the centre of mass, in the body frame.
   // `joint_name` defaults to the body name. Returns the body index, or -1 for
-  // a fixed joint (the body becomes a frame). Throws std::invalid_argument
-  // naming the body or joint at fault.
+  // a fixed joint (the body becomes a frame, its inertia merged into the
+  // parent's, which must then pass `policy`). Throws std::invalid_argument
+  // naming the body or joint at fault (NonphysicalInertiaError for an
+  // impossible inertia).
   int add_body(const std::string& name, const std::string& parent, const JointModel<S>& joint,
                const Transform<S>& placement, S mass, const Vec3<S>& com, const Mat3<S>& inertia_com,
-               const std::string& joint_name = "");
+               const std::string& joint_name = "", InertiaPolicy policy = InertiaPolicy::require_physical);
   // Same with the parent given by body index (-1: the world).
   int add_body(const std::string& name, int parent, const JointModel<S>& joint,
                const Transform<S>& placement, S mass, const Vec3<S>& com, const Mat3<S>& inertia_com,
-               const std::string& joint_name = "");
+               const std::string& joint_name = "", InertiaPolicy policy = InertiaPolicy::require_physical);
   // Adds a flexible body: its reference frame is the joint frame (as for a
   // rigid body), its mass is the flexible body's nodes, and its modal
   // coordinates follow the joint's DOFs. A fixed joint clamps it to the
@@ -163,7 +183,7 @@ class ModelTpl {
   // null for a rigid body.
   int add_resolved(const std::string& name, int parent_body, int node, const JointModel<S>& joint,
                    const Transform<S>& placement, S mass, const Vec3<S>& com, const Mat3<S>& inertia_com,
-                   const std::string& joint_name, const FlexibleBodyTpl<S>* flexible);
+                   const std::string& joint_name, const FlexibleBodyTpl<S>* flexible, InertiaPolicy policy);
   std::unordered_map<std::string, int> body_lookup_, dof_lookup_, frame_lookup_;
 };
 

@@ -1,6 +1,7 @@
 // Model construction and validation (templated implementation of model.hpp).
 #pragma once
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -77,23 +78,45 @@ void check_mass_parameters(S mass, const Vec3<S>& com, const Mat3<S>& I, const s
   if ((I - I.transpose()).cwiseAbs().maxCoeff() > tol) fail("body '" + body + "': inertia is not symmetric");
 }
 
+// The scale of a body's rotational inertia: the largest entry of the inertia
+// about the centre of mass or of the parallel-axis term m |c|^2 that turns it
+// into the inertia about the frame origin. Rounding in either (a merge of
+// welded parts works about the origin) is relative to this scale, so the
+// physical tests below allow sqrt(eps) of it: a point mass printed with a
+// product of inertia of 1e-20 is a point mass.
+template <class S>
+S inertia_scale(S mass, const Vec3<S>& com, const Mat3<S>& I) {
+  return std::max({I.cwiseAbs().maxCoeff(), mass * com.squaredNorm(), S(std::numeric_limits<S>::min())});
+}
+
 // A physical rigid body: inertia about the centre of mass positive
 // semidefinite and obeying the triangle inequality of principal moments, no
-// inertia without mass. Semidefinite inertias (point masses, thin rods) are
-// physical and accepted. Required of every body of the tree; a part welded
+// inertia without mass, each up to rounding (inertia_scale). Semidefinite
+// inertias (point masses, thin rods) are physical and accepted. Required of
+// every body of the tree under InertiaPolicy::require_physical; a part welded
 // to a body by a fixed joint only has to leave that body physical (CAD
 // exports split bodies into pieces that are not bodies on their own).
 template <class S>
-void check_physical_inertia(S mass, const Mat3<S>& I, const std::string& who) {
-  const S tol = model_tolerance<S>() * std::max(I.cwiseAbs().maxCoeff(), S(std::numeric_limits<S>::min()));
+void check_physical_inertia(S mass, const Vec3<S>& com, const Mat3<S>& I, const std::string& who) {
+  const S tol = model_tolerance<S>() * inertia_scale(mass, com, I);
   const Vec3<S> m = Eigen::SelfAdjointEigenSolver<Mat3<S>>(I, Eigen::EigenvaluesOnly).eigenvalues();
   if (m.minCoeff() < -tol)
-    fail(who + ": inertia is not positive semidefinite (principal moment " + str(m.minCoeff()) + ")");
+    throw NonphysicalInertiaError(who + ": inertia is not positive semidefinite (principal moment " +
+                                  str(m.minCoeff()) + ")");
   for (int k = 0; k < 3; ++k)
     if (m[k] > m[(k + 1) % 3] + m[(k + 2) % 3] + tol)
-      fail(who + ": principal moments " + str(m[0]) + ", " + str(m[1]) + ", " + str(m[2]) +
-           " violate the triangle inequality");
-  if (mass == S(0) && m.maxCoeff() > tol) fail(who + ": massless body with nonzero inertia");
+      throw NonphysicalInertiaError(who + ": principal moments " + str(m[0]) + ", " + str(m[1]) + ", " +
+                                    str(m[2]) + " violate the triangle inequality");
+  if (mass == S(0) && m.maxCoeff() > tol) throw NonphysicalInertiaError(who + ": massless body with nonzero inertia");
+}
+
+// The spatial inertia about the frame origin (seed M(k)) must be finite:
+// mass * com and mass * |com|^2 overflow long before mass or com do.
+template <class S>
+void check_finite_spatial_inertia(const Mat6<S>& M, const std::string& who) {
+  if (!M.allFinite())
+    fail(who + ": spatial inertia about the body frame origin is not finite (mass * com or mass * |com|^2 "
+               "overflows)");
 }
 
 }  // namespace detail
@@ -120,10 +143,11 @@ int ModelTpl<S>::frame_index(const std::string& name) const {
 template <class S>
 int ModelTpl<S>::add_body(const std::string& name, const std::string& parent_name, const JointModel<S>& joint,
                           const Transform<S>& X, S m, const Vec3<S>& c, const Mat3<S>& I,
-                          const std::string& joint_name) {
-  if (parent_name.empty() || parent_name == "world") return add_body(name, -1, joint, X, m, c, I, joint_name);
+                          const std::string& joint_name, InertiaPolicy policy) {
+  if (parent_name.empty() || parent_name == "world")
+    return add_body(name, -1, joint, X, m, c, I, joint_name, policy);
   const int b = body_index(parent_name);
-  if (b >= 0) return add_body(name, b, joint, X, m, c, I, joint_name);
+  if (b >= 0) return add_body(name, b, joint, X, m, c, I, joint_name, policy);
   const int f = frame_index(parent_name);
   if (f < 0) detail::fail("body '" + name + "': parent '" + parent_name + "' does not exist");
   const Frame<S> frame = frames[static_cast<std::size_t>(f)];
@@ -132,19 +156,20 @@ int ModelTpl<S>::add_body(const std::string& name, const std::string& parent_nam
       detail::fail("body '" + name + "': cannot be welded to flexible body '" +
                    body_names[static_cast<std::size_t>(frame.body)] + "'; give its mass to a node instead");
     detail::check_placement(X, name);
-    return add_resolved(name, frame.body, frame.node, joint, frame.placement * X, m, c, I, joint_name, nullptr);
+    return add_resolved(name, frame.body, frame.node, joint, frame.placement * X, m, c, I, joint_name, nullptr,
+                        policy);
   }
-  return add_body(name, frame.body, joint, frame.placement * X, m, c, I, joint_name);
+  return add_body(name, frame.body, joint, frame.placement * X, m, c, I, joint_name, policy);
 }
 
 template <class S>
 int ModelTpl<S>::add_body(const std::string& name, int parent_body, const JointModel<S>& joint,
                           const Transform<S>& X, S m, const Vec3<S>& c, const Mat3<S>& I,
-                          const std::string& joint_name) {
+                          const std::string& joint_name, InertiaPolicy policy) {
   if (joint_is_fixed(joint) && parent_body >= 0 && parent_body < nbodies() && is_flexible(parent_body))
     detail::fail("body '" + name + "': cannot be welded to flexible body '" +
                  body_names[static_cast<std::size_t>(parent_body)] + "'; give its mass to a node instead");
-  return add_resolved(name, parent_body, -1, joint, X, m, c, I, joint_name, nullptr);
+  return add_resolved(name, parent_body, -1, joint, X, m, c, I, joint_name, nullptr, policy);
 }
 
 template <class S>
@@ -176,7 +201,8 @@ int ModelTpl<S>::add_flexible_body(const std::string& name, const std::string& p
   const Mat3<S> inertia_origin = mi.second_moment.trace() * Mat3<S>::Identity() - mi.second_moment + mi.rotary_inertia;
   const Mat3<S> inertia_com = inertia_origin - mi.mass * (com.squaredNorm() * Mat3<S>::Identity() - com * com.transpose());
   const int index = add_resolved(name, parent_body, node, joint, placement, mi.mass, com,
-                                 S(0.5) * (inertia_com + inertia_com.transpose()), joint_name, &body);
+                                 S(0.5) * (inertia_com + inertia_com.transpose()), joint_name, &body,
+                                 InertiaPolicy::require_physical);
   for (const auto& [attachment, j] : body.attachments()) {
     frame_lookup_[name + ":" + attachment] = static_cast<int>(frames.size());
     frames.push_back(Frame<S>{name + ":" + attachment, index, Transform<S>::Identity(), j});
@@ -187,7 +213,8 @@ int ModelTpl<S>::add_flexible_body(const std::string& name, const std::string& p
 template <class S>
 int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node, const JointModel<S>& joint_in,
                               const Transform<S>& X, S m, const Vec3<S>& c, const Mat3<S>& I,
-                              const std::string& joint_name_in, const FlexibleBodyTpl<S>* flexible) {
+                              const std::string& joint_name_in, const FlexibleBodyTpl<S>* flexible,
+                              InertiaPolicy policy) {
   if (name.empty()) detail::fail("body name is empty");
   if (name == "world") detail::fail("body name 'world' is reserved for the ground");
   if (body_index(name) >= 0 || frame_index(name) >= 0) detail::fail("duplicate body name '" + name + "'");
@@ -202,8 +229,10 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
   detail::check_joint(joint, jname);
   detail::check_placement(X, name);
   detail::check_mass_parameters(m, c, I, name);
-  if (!welded) detail::check_physical_inertia(m, I, "body '" + name + "'");
+  const bool physical = policy == InertiaPolicy::require_physical;
+  if (!welded && physical) detail::check_physical_inertia(m, c, I, "body '" + name + "'");
   const Mat6<S> body_inertia = spatial_inertia(m, c, I);
+  detail::check_finite_spatial_inertia(body_inertia, "body '" + name + "'");
 
   if (welded) {  // weld: merge into the parent, keep the name as a frame
     if (parent_body >= 0) {
@@ -213,8 +242,11 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
       Vec3<S> merged_com;
       Mat3<S> merged_inertia_com;
       decompose_spatial_inertia(merged, merged_mass, merged_com, merged_inertia_com);
-      detail::check_physical_inertia(merged_mass, merged_inertia_com,
-                                     "body '" + body_names[p] + "' with '" + name + "' welded to it");
+      const std::string who = "body '" + body_names[p] + "' with '" + name + "' welded to it";
+      detail::check_finite_spatial_inertia(merged, who);
+      if (!merged_com.allFinite() || !merged_inertia_com.allFinite())
+        detail::fail(who + ": centre of mass or inertia is not finite (a nearly massless merge)");
+      if (physical) detail::check_physical_inertia(merged_mass, merged_com, merged_inertia_com, who);
       inertia[p] = merged;
       mass[p] = merged_mass;
       com[p] = merged_com;
