@@ -9,6 +9,8 @@ enum class StatusCode {
   non_finite_result,             // an output came out NaN or infinite
   invalid_dof,                   // a DOF index out of range (index: the DOF)
   step_size_underflow,           // the adaptive integrator could not meet its tolerance
+  non_finite_source,             // a motion source returned a non-finite value (index: its DOF)
+  substep_limit,                 // the adaptive integrator used up its sub-steps in one step
 };
 
 inline const char* status_message(StatusCode code) {
@@ -18,6 +20,8 @@ inline const char* status_message(StatusCode code) {
     case StatusCode::non_finite_result: return "non-finite result";
     case StatusCode::invalid_dof: return "invalid DOF";
     case StatusCode::step_size_underflow: return "step size underflow";
+    case StatusCode::non_finite_source: return "motion source returned a non-finite value";
+    case StatusCode::substep_limit: return "sub-step limit reached";
   }
   return "unknown";
 }
