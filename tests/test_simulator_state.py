@@ -7,13 +7,7 @@ import pytest
 
 import soadyn
 from soadyn import DynamicsError, MotionSource, Simulator, scenes
-
-
-def tumbling_body():
-    m = soadyn.Model()
-    m.add_body("body", None, soadyn.Joint.free(), mass=2.0, com=[0.1, 0, 0], inertia=[1.0, 2.0, 2.5])
-    m.gravity = [0, 0, 0]
-    return m
+from test_simulator import tumbling_body
 
 
 def ghost_arm():
