@@ -1,16 +1,25 @@
 // Simulator and motion sources. DOF names are resolved in python/soadyn/simulator.py.
+//
+// Every call on a simulator holds its lock (simulator_handle.hpp), so calls
+// from several Python threads run one after another. Errors, one type per
+// cause: a bad argument is ValueError or TypeError; a dynamics failure (a
+// failing Status, from a step, a run, a lock or a setup call) is
+// DynamicsError naming the DOF, chained to the exception a Python motion
+// source raised when that was the cause; a full event queue or a re-entrant
+// call is RuntimeError.
 #include <pybind11/eigen.h>
-#include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+#include <limits>
 #include "arrays.hpp"
 #include "model_handle.hpp"
+#include "simulator_handle.hpp"
 #include "soadyn/scenes.hpp"
-#include "soadyn/sim/simulator.hpp"
 
 namespace soadyn_py {
 
-using Sim = soadyn::Simulator;
+using Sim = SimulatorHandle;
 
 // A motion source as a Python object (a struct, so pybind11 does not turn the
 // variant into its alternatives).
@@ -19,6 +28,101 @@ struct Source {
 };
 
 namespace {
+
+PyObject* dynamics_error_type = nullptr;  // soadyn._soadyn.DynamicsError, set by bind_simulator
+
+// The exception the last Python motion source raised on this thread, not yet
+// reported (an owned reference, or null).
+thread_local PyObject* pending_source_error = nullptr;
+
+// Call with the GIL held.
+void forget_source_error() { Py_CLEAR(pending_source_error); }
+
+py::object take_source_error() { return py::reinterpret_steal<py::object>(std::exchange(pending_source_error, nullptr)); }
+
+// A Python callable fn(t) -> (q, v, a) as a C++ source. The C++ step must not
+// throw: an exception (or a result that is not three numbers) is kept for the
+// binding to report, and the sample comes back NaN, which the step turns into
+// a Status naming the DOF. Copies and destruction take the GIL.
+struct PythonSource {
+  py::object fn;
+
+  explicit PythonSource(py::object f) : fn(std::move(f)) {}
+  PythonSource(const PythonSource& other) {
+    py::gil_scoped_acquire gil;
+    fn = other.fn;
+  }
+  PythonSource& operator=(const PythonSource&) = delete;
+  ~PythonSource() {
+    py::gil_scoped_acquire gil;
+    fn = py::object();
+  }
+
+  soadyn::MotionSample<double> operator()(double t) const {
+    py::gil_scoped_acquire gil;
+    try {
+      const auto r = fn(t).cast<std::tuple<double, double, double>>();
+      return {std::get<0>(r), std::get<1>(r), std::get<2>(r)};
+    } catch (py::error_already_set& e) {
+      remember(e.value());
+    } catch (const py::cast_error&) {
+      remember(py::reinterpret_borrow<py::object>(PyExc_TypeError)(
+          "a motion source function must return three numbers (q, v, a)"));
+    }
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    return {nan, nan, nan};
+  }
+
+  static void remember(const py::object& error) {
+    forget_source_error();
+    pending_source_error = error.inc_ref().ptr();
+  }
+};
+
+// A DynamicsError carrying `message`, caused by the pending source error if any.
+py::object dynamics_error(const std::string& message) {
+  py::object error = py::reinterpret_borrow<py::object>(dynamics_error_type)(message);
+  py::object cause = take_source_error();
+  if (cause) PyException_SetCause(error.ptr(), cause.release().ptr());  // steals the reference
+  return error;
+}
+
+[[noreturn]] void raise(const py::object& error) {
+  PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(error.ptr())), error.ptr());
+  throw py::error_already_set();
+}
+
+void raise_on(const soadyn::Status& s, const Sim& sim) {
+  if (s.ok()) return;
+  if (s.code == soadyn::StatusCode::invalid_dof) throw py::value_error(sim.describe(s));
+  raise(dynamics_error(sim.describe(s)));
+}
+
+// A setup call under the simulator's lock: C++ exceptions as Python's.
+template <class Fn>
+auto locked_setup(Sim& sim, Fn&& fn) {
+  SimulatorLock lock(sim);
+  forget_source_error();
+  try {
+    return fn();
+  } catch (const soadyn::SimulationError& e) {
+    raise(dynamics_error(e.what()));
+  } catch (const std::length_error& e) {  // the event queue is full
+    throw std::runtime_error(e.what());
+  }
+}
+
+// A read under the simulator's lock.
+template <class Fn>
+auto locked_read(Sim& sim, Fn&& fn) {
+  SimulatorLock lock(sim);
+  return fn();
+}
+
+double finite(double x, const char* what) {
+  if (!std::isfinite(x)) throw py::value_error(std::string(what) + " is not finite");
+  return x;
+}
 
 soadyn::Integrator integrator_from(const std::string& name) {
   if (name == "euler" || name == "semi-implicit-euler") return soadyn::Integrator::semi_implicit_euler;
@@ -36,22 +140,38 @@ const char* integrator_name(soadyn::Integrator i) {
   return "?";
 }
 
-void raise_on(const soadyn::Status& s, const Sim& sim) {
-  if (s.ok()) return;
-  std::string where = s.index >= 0 && s.index < sim.model().nv
-                          ? " (DOF '" + sim.model().dof_names[static_cast<std::size_t>(s.index)] + "')"
-                          : "";
-  throw py::value_error(std::string(soadyn::status_message(s.code)) + where + " at t = " + std::to_string(sim.time()));
+// `steps` steps under the lock, the GIL released; returns (t, q, v, tau,
+// steps done, DynamicsError or None). Row 0 is the state before the run.
+py::tuple run(Sim& s, long steps) {
+  if (steps < 0) throw py::value_error("steps must be >= 0");
+  SimulatorLock lock(s);
+  forget_source_error();
+  const int nq = s.model().nq, nv = s.model().nv;
+  py::array_t<double> t = fresh_array(steps + 1), q = fresh_array(steps + 1, nq), v = fresh_array(steps + 1, nv),
+                      tau = fresh_array(steps, nv);
+  double *tp = t.mutable_data(), *qp = q.mutable_data(), *vp = v.mutable_data(), *fp = tau.mutable_data();
+  tp[0] = s.time();
+  Eigen::Map<Eigen::VectorXd>(qp, nq) = s.q();
+  Eigen::Map<Eigen::VectorXd>(vp, nv) = s.v();
+  soadyn::Status st;
+  long done = 0;
+  {
+    py::gil_scoped_release release;
+    for (; done < steps; ++done) {
+      st = s.step();
+      if (!st.ok()) break;
+      const long row = done + 1;
+      tp[row] = s.time();
+      Eigen::Map<Eigen::VectorXd>(qp + row * nq, nq) = s.q();
+      Eigen::Map<Eigen::VectorXd>(vp + row * nv, nv) = s.v();
+      Eigen::Map<Eigen::VectorXd>(fp + done * nv, nv) = s.forces();
+    }
+  }
+  const py::object error = st.ok() ? py::none() : dynamics_error("simulation stopped: " + s.describe(st));
+  return py::make_tuple(t, q, v, tau, done, error);
 }
 
-double finite(double x, const char* what) {
-  if (!std::isfinite(x)) throw py::value_error(std::string(what) + " is not finite");
-  return x;
-}
-
-}  // namespace
-
-void bind_simulator(py::module_& mod) {
+void bind_sources(py::module_& mod) {
   py::class_<Source>(mod, "MotionSource", "Position, velocity and acceleration of one DOF as functions of time.")
       .def_static("constant_acceleration", [](double a, double v0, double q0, double t0) {
             return Source{soadyn::ConstantAcceleration<double>{finite(t0, "t0"), finite(q0, "q0"), finite(v0, "v0"), finite(a, "a")}}; },
@@ -69,7 +189,7 @@ void bind_simulator(py::module_& mod) {
             return Source{p}; },
           py::arg("coefficients"), py::arg("t0") = 0.0, "q(t) = sum c_k (t - t0)^k, constant term first.")
       .def_static("cycloidal", [](double q0, double q1, double t0, double duration) {
-            if (!(duration > 0)) throw py::value_error("cycloidal duration must be positive");
+            if (!(finite(duration, "cycloidal duration") > 0)) throw py::value_error("cycloidal duration must be positive");
             return Source{soadyn::Cycloidal<double>{finite(t0, "t0"), duration, finite(q0, "q0"), finite(q1, "q1")}}; },
           py::arg("q0"), py::arg("q1"), py::arg("t0"), py::arg("duration"),
           "Rest-to-rest cycloidal motion from q0 to q1 (seed 001 Eq. 34).")
@@ -82,98 +202,105 @@ void bind_simulator(py::module_& mod) {
               throw py::value_error(e.what());
             } },
           py::arg("times"), py::arg("values"), "Natural cubic spline through the table (held outside it).")
-      .def_static("function", [](const std::function<std::tuple<double, double, double>(double)>& f) {
-            return Source{soadyn::CallbackSource<double>{[f](double t) {
-              const auto r = f(t);
-              return soadyn::MotionSample<double>{std::get<0>(r), std::get<1>(r), std::get<2>(r)};
-            }}}; },
-          py::arg("fn"), "fn(t) -> (q, v, a): a Python callable (not real-time).")
+      .def_static("function", [](py::function f) { return Source{soadyn::CallbackSource<double>{PythonSource(f)}}; },
+          py::arg("fn"),
+          "fn(t) -> (q, v, a): a Python callable (not real-time). If it raises or returns a non-finite value, "
+          "the step stops with DynamicsError naming the DOF (chained to the exception raised).")
       .def("sample", [](const Source& s, double t) {
+            forget_source_error();
             const auto m = soadyn::sample_source(s.source, t);
+            if (py::object error = take_source_error()) raise(error);
             return py::make_tuple(m.position, m.velocity, m.acceleration); },
           py::arg("t"), "(q, v, a) at time t.");
+}
 
-  py::class_<Sim>(mod, "_Simulator")
+}  // namespace
+
+void bind_simulator(py::module_& mod) {
+  dynamics_error_type = py::object(mod.attr("DynamicsError")).release().ptr();  // registered by bind_algorithms
+  bind_sources(mod);
+
+  // The C++ simulator, for the bindings that take one (HilRunner).
+  py::class_<soadyn::Simulator>(mod, "_SimulatorCore");
+  py::class_<Sim, soadyn::Simulator>(mod, "_Simulator")
       .def(py::init([](ModelHandle& h, double dt, const std::string& integrator, int capacity) {
              std::lock_guard<std::mutex> lock(h.mutex);
-             try {
-               return std::make_unique<Sim>(h.model, dt, integrator_from(integrator), capacity);
-             } catch (const std::invalid_argument& e) {
-               throw py::value_error(e.what());
-             }
+             return std::make_unique<Sim>(h.model, dt, integrator_from(integrator), capacity);
            }),
            py::arg("model"), py::arg("dt"), py::arg("integrator") = "rk4", py::arg("event_capacity") = 64)
       .def("_set_state", [](Sim& s, py::handle q, py::handle v, double t) {
              const auto& m = s.model();
              const Array qa = checked_vector(q, "q", m.coordinate_names), va = checked_vector(v, "v", m.dof_names);
-             s.set_state(Eigen::Map<const Eigen::VectorXd>(qa.data(), m.nq), Eigen::Map<const Eigen::VectorXd>(va.data(), m.nv),
-                         finite(t, "t"));
+             locked_setup(s, [&] {
+               s.set_state(Eigen::Map<const Eigen::VectorXd>(qa.data(), m.nq),
+                           Eigen::Map<const Eigen::VectorXd>(va.data(), m.nv), finite(t, "t"));
+             });
            })
-      .def("_set_input", [](Sim& s, int dof, double tau) { s.set_input(dof, finite(tau, "input")); })
-      .def("_prescribe", [](Sim& s, int dof, const Source& src) { s.prescribe(dof, src.source); })
+      .def("_set_input", [](Sim& s, int dof, double tau) {
+             finite(tau, "input");
+             locked_setup(s, [&] { s.set_input(dof, tau); }); })
+      .def("_prescribe", [](Sim& s, int dof, const Source& src) { locked_setup(s, [&] { s.prescribe(dof, src.source); }); })
       .def("_schedule", [](Sim& s, double t, const std::string& kind, int dof) {
-             if (kind == "lock") return s.schedule(finite(t, "time"), soadyn::EventKind::lock, dof);
-             if (kind == "release") return s.schedule(finite(t, "time"), soadyn::EventKind::release, dof);
-             throw py::value_error("unknown event '" + kind + "' (lock, release, or prescribe with a source)");
+             finite(t, "time");
+             soadyn::EventKind k = soadyn::EventKind::lock;
+             if (kind == "release") k = soadyn::EventKind::release;
+             else if (kind != "lock")
+               throw py::value_error("unknown event '" + kind + "' (lock, release, or prescribe with a source)");
+             return locked_setup(s, [&] { return s.schedule(t, k, dof); });
            })
       .def("_schedule_prescribe", [](Sim& s, double t, int dof, const Source& src) {
-             return s.schedule_prescribe(finite(t, "time"), dof, src.source); })
-      .def("_drive_cassini", [](Sim& s) { soadyn::drive_cassini(s); })
-      .def("_lock", [](Sim& s, int dof) { raise_on(s.lock(dof), s); })
-      .def("_release", [](Sim& s, int dof) { raise_on(s.release(dof), s); })
+             finite(t, "time");
+             return locked_setup(s, [&] { return s.schedule_prescribe(t, dof, src.source); }); })
+      .def("_drive_cassini", [](Sim& s) { locked_setup(s, [&] { soadyn::drive_cassini<double>(s); }); })
+      .def("_lock", [](Sim& s, int dof) { locked_setup(s, [&] { raise_on(s.lock(dof), s); }); })
+      .def("_release", [](Sim& s, int dof) { locked_setup(s, [&] { raise_on(s.release(dof), s); }); })
       .def("step", [](Sim& s) {
+             SimulatorLock lock(s);
+             forget_source_error();
              soadyn::Status st;
              {
                py::gil_scoped_release release;
                st = s.step();
              }
              raise_on(st, s); },
-           "Advance one step.")
-      .def("_run", [](Sim& s, long steps, py::array_t<double> t, py::array_t<double> q, py::array_t<double> v,
-                      py::array_t<double> tau) {
-             // Records rows 1..steps; row 0 is the caller's. Returns (steps done, message).
-             double *tp = t.mutable_data(), *qp = q.mutable_data(), *vp = v.mutable_data(), *fp = tau.mutable_data();
-             const int nq = s.model().nq, nv = s.model().nv;
-             soadyn::Status st;
-             long done = 0;
-             {
-               py::gil_scoped_release release;
-               for (; done < steps; ++done) {
-                 st = s.step();
-                 if (!st.ok()) break;
-                 const long row = done + 1;
-                 tp[row] = s.time();
-                 Eigen::Map<Eigen::VectorXd>(qp + row * nq, nq) = s.q();
-                 Eigen::Map<Eigen::VectorXd>(vp + row * nv, nv) = s.v();
-                 Eigen::Map<Eigen::VectorXd>(fp + done * nv, nv) = s.forces();
-               }
-             }
-             std::string message;
-             if (!st.ok()) {
-               try {
-                 raise_on(st, s);
-               } catch (const py::value_error& e) {
-                 message = e.what();
-               }
-             }
-             return py::make_tuple(done, message);
-           })
-      .def_property_readonly("q", [](const Sim& s) { return Eigen::VectorXd(s.q()); })
-      .def_property_readonly("v", [](const Sim& s) { return Eigen::VectorXd(s.v()); })
-      .def_property_readonly("inputs", [](const Sim& s) { return Eigen::VectorXd(s.inputs()); })
-      .def_property_readonly("forces", [](const Sim& s) { return Eigen::VectorXd(s.forces()); },
+           "Advance one step; on failure raises DynamicsError and leaves the state as before the step.")
+      .def("_run", &run, py::arg("steps"))
+      .def_property_readonly("q", [](Sim& s) { return locked_read(s, [&] { return Eigen::VectorXd(s.q()); }); })
+      .def_property_readonly("v", [](Sim& s) { return locked_read(s, [&] { return Eigen::VectorXd(s.v()); }); })
+      .def_property_readonly("inputs", [](Sim& s) { return locked_read(s, [&] { return Eigen::VectorXd(s.inputs()); }); })
+      .def_property_readonly("forces", [](Sim& s) { return locked_read(s, [&] { return Eigen::VectorXd(s.forces()); }); },
                              "Generalized forces at the start of the last step (drive torques on prescribed DOFs).")
-      .def_property_readonly("time", &Sim::time)
+      .def_property_readonly("time", [](Sim& s) { return locked_read(s, [&] { return s.time(); }); })
       .def_property_readonly("dt", &Sim::dt)
       .def_property_readonly("integrator", [](const Sim& s) { return std::string(integrator_name(s.integrator())); })
-      .def_property_readonly("energy_lost", &Sim::energy_lost, "Kinetic energy removed by lock impulses so far.")
-      .def_property_readonly("prescribed", [](const Sim& s) {
-        py::array_t<bool> mask(s.model().nv);
-        for (int k = 0; k < s.model().nv; ++k) mask.mutable_at(k) = s.model().is_prescribed(k);
-        return mask; })
+      .def_property_readonly("energy_lost", [](Sim& s) { return locked_read(s, [&] { return s.energy_lost(); }); },
+                             "Kinetic energy removed by lock impulses so far.")
+      .def_property_readonly("steps_taken", [](Sim& s) { return locked_read(s, [&] { return s.steps_taken(); }); },
+                             "Steps completed since construction (a failed step does not count).")
+      .def_property_readonly("pending_events", [](Sim& s) { return locked_read(s, [&] { return s.pending_events(); }); })
+      .def_property_readonly("event_capacity", &Sim::event_capacity, "Most events that can be pending at once.")
+      .def_property_readonly("last_substeps", [](Sim& s) { return locked_read(s, [&] { return s.last_substeps(); }); },
+                             "dopri5: sub-step attempts of the last step.")
+      .def_property_readonly("prescribed", [](Sim& s) {
+        return locked_read(s, [&] {
+          py::array_t<bool> mask(s.model().nv);
+          for (int k = 0; k < s.model().nv; ++k) mask.mutable_at(k) = s.model().is_prescribed(k);
+          return mask;
+        }); })
       .def_property_readonly("_dof_names", [](const Sim& s) { return s.model().dof_names; })
-      .def_readwrite("rtol", &Sim::rtol)
-      .def_readwrite("atol", &Sim::atol);
+      .def_property("rtol", [](Sim& s) { return locked_read(s, [&] { return s.rtol; }); },
+          [](Sim& s, double x) {
+            if (!(finite(x, "rtol") >= 0)) throw py::value_error("rtol must be >= 0");
+            locked_read(s, [&] { s.rtol = x; }); })
+      .def_property("atol", [](Sim& s) { return locked_read(s, [&] { return s.atol; }); },
+          [](Sim& s, double x) {
+            if (!(finite(x, "atol") > 0)) throw py::value_error("atol must be > 0");
+            locked_read(s, [&] { s.atol = x; }); })
+      .def_property("max_substeps", [](Sim& s) { return locked_read(s, [&] { return s.max_substeps; }); },
+          [](Sim& s, int n) {
+            if (n < 1) throw py::value_error("max_substeps must be >= 1");
+            locked_read(s, [&] { s.max_substeps = n; }); },
+          "dopri5: sub-step attempts allowed in one step; beyond it the step fails (DynamicsError).");
 }
 
 }  // namespace soadyn_py

@@ -1,13 +1,22 @@
 """Simulator: fixed-step simulation with motion sources and run-time events."""
 from __future__ import annotations
 
+import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
 from ._soadyn import DynamicsError, MotionSource, _Simulator
 
-__all__ = ["Simulator", "Trajectory", "MotionSource"]
+__all__ = ["Simulator", "Trajectory", "MotionSource", "STEP_TOLERANCE"]
+
+# run(duration) accepts a duration whose step count duration / dt is this
+# close to a whole number (absorbs the rounding of decimal durations such as
+# 0.3 / 0.1 = 2.9999999999999996) and refuses any other.
+STEP_TOLERANCE = 1e-6
+# run() records every step: a bound on one call's step count (its arrays).
+MAX_RUN_STEPS = 10**9
 
 
 @dataclass
@@ -27,6 +36,9 @@ class Simulator(_Simulator):
     DOFs the model marks prescribed start locked (zero velocity). DOFs are
     given by name or index; a joint name selects all of its DOFs for
     lock/release.
+
+    Thread-safe: calls from several threads run one after another (each
+    holds the simulator's lock; run() holds it for the whole run).
     """
 
     def __init__(self, model, dt: float, integrator: str = "rk4", event_capacity: int = 64):
@@ -81,23 +93,36 @@ class Simulator(_Simulator):
         for k in self._dofs(dof):
             self._schedule(t, kind, k)
 
-    def run(self, duration: float) -> Trajectory:
-        """Run for `duration` seconds in C++ with the GIL released; returns the trajectory.
+    def steps_in(self, duration: float) -> int:
+        """The number of steps of dt in `duration` seconds; refuses a duration
+        that is not a whole number of steps (within STEP_TOLERANCE of a step)."""
+        if isinstance(duration, bool) or not isinstance(duration, numbers.Real):
+            raise TypeError(f"duration must be a real number of seconds, got {type(duration).__name__}")
+        d = float(duration)
+        if not math.isfinite(d) or d < 0:
+            raise ValueError(f"duration must be a finite number of seconds >= 0, got {duration!r}")
+        exact = d / self.dt
+        steps = round(exact)
+        if abs(exact - steps) > STEP_TOLERANCE:
+            raise ValueError(f"duration {d!r} s is {exact:.9g} steps of dt = {self.dt!r} s, not a whole number: "
+                             f"give a multiple of dt (within {STEP_TOLERANCE:g} of a step), e.g. "
+                             f"{math.floor(exact) * self.dt!r} or {math.ceil(exact) * self.dt!r}")
+        if steps > MAX_RUN_STEPS:
+            raise ValueError(f"duration {d!r} s is {steps} steps: run() records every step, at most "
+                             f"{MAX_RUN_STEPS} per call; run in pieces")
+        return steps
 
-        A failure (singular articulated inertia, NaN state) stops the run and
-        raises DynamicsError; the exception's `trajectory` holds the steps done.
+    def run(self, duration: float) -> Trajectory:
+        """Run for `duration` seconds (a whole number of steps) in C++ with the GIL released; returns the trajectory.
+
+        A failure (singular articulated inertia, non-finite state, a motion
+        source failing, dopri5's sub-step limit) stops the run and raises
+        DynamicsError; the exception's `trajectory` holds the steps done and
+        the simulator is left after the last step done.
         """
-        steps = int(round(duration / self.dt))
-        if steps < 0 or not np.isfinite(duration):
-            raise ValueError(f"duration must be a non-negative number, got {duration}")
-        nq, nv = len(self.q), len(self.v)
-        t, q, v = np.empty(steps + 1), np.empty((steps + 1, nq)), np.empty((steps + 1, nv))
-        tau = np.empty((steps, nv))
-        t[0], q[0], v[0] = self.time, self.q, self.v
-        done, message = self._run(steps, t, q, v, tau)
+        t, q, v, tau, done, error = self._run(self.steps_in(duration))
         trajectory = Trajectory(t[:done + 1], q[:done + 1], v[:done + 1], tau[:done])
-        if message:
-            error = DynamicsError(f"simulation stopped: {message}")
+        if error is not None:
             error.trajectory = trajectory
             raise error
         return trajectory

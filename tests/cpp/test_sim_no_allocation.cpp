@@ -1,10 +1,12 @@
 // The simulator's step never touches the heap: 10^5 steps of each built-in
 // scene with every integrator's fixed-step loop, scheduled lock/release and
 // prescribe events firing throughout, and immediate lock/release calls, with
-// every allocation of the process counted (allocation_counter.cpp); then the
-// HIL loop (HilRunner::run) over cassini, paced and as fast as possible, with
+// every allocation of the process counted (allocation_counter.cpp); then
+// the failures a step reports (a source returning NaN, dopri5 at its sub-step
+// bound) and a queue of 10^5 pending events; then the HIL loop (HilRunner::run) over cassini, paced and as fast as possible, with
 // real-time scheduling asked for (granted or not). Zero allocations, zero
 // frees and every Status ok are required.
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include "allocation_counter.hpp"
@@ -68,6 +70,42 @@ bool hil_run_allocates_nothing(bool as_fast_as_possible, long steps) {
   return counts.allocations() == 0 && counts.frees == 0 && status.ok() && runner.steps_done() == steps;
 }
 
+// Failures are Statuses and cost no allocation either: a C++ source that
+// turns NaN (each later step fails and restores the state), dopri5 at its
+// sub-step bound, and steps past a queue of 10^5 pending events.
+bool failures_and_full_queues_allocate_nothing() {
+  using soadyn::Integrator;
+  using soadyn::StatusCode;
+  soadyn::Simulator sourced(soadyn::pendulum_chain_model<double>(4), 1e-3, Integrator::rk4, 0);
+  sourced.prescribe(1, soadyn::CallbackSource<double>{[](double t) {
+                      return soadyn::MotionSample<double>{t < 0.0105 ? 0.1 * t : NAN, 0.1, 0.0};
+                    }});
+  soadyn::Simulator bounded(soadyn::pendulum_chain_model<double>(5), 0.5, Integrator::dopri5, 0);
+  bounded.rtol = 1e-13;
+  bounded.atol = 1e-15;
+  bounded.max_substeps = 10;
+  bounded.set_state(Eigen::VectorXd::Constant(5, 0.4), Eigen::VectorXd::Zero(5));
+  constexpr long kFuture = 100000;
+  soadyn::Simulator queued(soadyn::pendulum_chain_model<double>(4), 1e-3, Integrator::rk4, kFuture);
+  for (long k = 0; k < kFuture; ++k) queued.schedule(10.0 + 1e-3 * static_cast<double>(k), soadyn::EventKind::lock, 2);
+  long source_failures = 0, bound_failures = 0, failed = 0;
+  arm_counter();
+  for (int k = 0; k < 1000; ++k) {
+    const soadyn::Status s = sourced.step();
+    source_failures += s.code == StatusCode::non_finite_source && s.index == 1;
+  }
+  for (int k = 0; k < 20; ++k) bound_failures += bounded.step().code == StatusCode::substep_limit;
+  for (int k = 0; k < 5000; ++k) failed += !queued.step().ok();
+  const AllocationCounts counts = disarm_counter();
+  const bool restored = sourced.steps_taken() == 10 && sourced.q().allFinite() && bounded.time() == 0.0;
+  std::printf("failures: %ld source and %ld sub-step-bound statuses, %ld failed steps past %ld pending events, "
+              "%ld allocations, %ld frees, state %s\n",
+              source_failures, bound_failures, failed, static_cast<long>(queued.pending_events()),
+              counts.allocations(), counts.frees, restored ? "restored" : "NOT restored");
+  return counts.allocations() == 0 && counts.frees == 0 && source_failures == 990 && bound_failures == 20 &&
+         failed == 0 && queued.pending_events() == static_cast<std::size_t>(kFuture) && restored;
+}
+
 }  // namespace
 
 int main(int argc, char**) {
@@ -101,6 +139,7 @@ int main(int argc, char**) {
       pass = pass && counts.allocations() == 0 && counts.frees == 0 && failed == 0 && lost >= 0;
     }
   }
+  pass = failures_and_full_queues_allocate_nothing() && pass;
   for (const bool fast : {false, true}) pass = hil_run_allocates_nothing(fast, 20000) && pass;
   std::printf("test_sim_no_allocation: %s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;

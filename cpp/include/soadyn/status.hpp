@@ -9,6 +9,8 @@ enum class StatusCode {
   non_finite_result,             // an output came out NaN or infinite
   invalid_dof,                   // a DOF index out of range (index: the DOF)
   step_size_underflow,           // the adaptive integrator could not meet its tolerance
+  non_finite_source,             // a motion source returned a non-finite value (index: its DOF)
+  substep_limit,                 // the adaptive integrator used up its sub-steps in one step
   // Internal to the dynamics dispatch, never returned by a public algorithm:
   // a body lies beyond its tree-frame reach (tree_frame_reach.hxx), so the
   // call is redone in body frames (index: the body).
@@ -22,6 +24,8 @@ inline const char* status_message(StatusCode code) {
     case StatusCode::non_finite_result: return "non-finite result";
     case StatusCode::invalid_dof: return "invalid DOF";
     case StatusCode::step_size_underflow: return "step size underflow";
+    case StatusCode::non_finite_source: return "motion source returned a non-finite value";
+    case StatusCode::substep_limit: return "sub-step limit reached";
     case StatusCode::beyond_tree_frame_reach: return "beyond tree-frame reach";
   }
   return "unknown";

@@ -3,12 +3,22 @@
 // velocity control, actuator lock-up faults).
 //
 // Memory policy: everything is allocated by the constructor, by prescribe()
-// (which stores the source) and by schedule() (which stores the event, up to
-// the capacity given at construction). step() and the events it fires
-// allocate nothing, take no lock, do no I/O and never throw; failures come
-// back as a Status and stop the run.
+// (which stores the source) and by schedule() (which stores the event in a
+// queue whose capacity is fixed at construction). step() and the events it
+// fires allocate nothing, take no lock, do no I/O and never throw; failures
+// come back as a Status and leave the state as it was before the step.
+//
+// Setup calls (set_state, set_input, prescribe, schedule) validate their
+// arguments and give the strong guarantee: when they throw, the simulator is
+// unchanged. std::invalid_argument names the argument at fault;
+// SimulationError carries the Status of a dynamics failure (a singular
+// impulse, a motion source returning a non-finite value).
+//
+// Threads: a simulator is not safe to use from two threads at once; the
+// Python binding serialises its calls (bindings/simulator_handle.hpp).
 #pragma once
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include "soadyn/algorithms/hybrid.hpp"
 #include "soadyn/sim/motion_source.hpp"
@@ -16,7 +26,9 @@
 namespace soadyn {
 
 enum class Integrator {
-  semi_implicit_euler,  // velocity first, then position with the new velocity (symplectic)
+  // Velocity first, then position with the new velocity. Symplectic only
+  // when the mass matrix does not depend on q (README: its energy drift).
+  semi_implicit_euler,
   rk4,                  // classical Runge-Kutta, 4th order, on the joint manifolds
   dopri5,               // Dormand-Prince 5(4) with error control; sub-steps inside each step
 };
@@ -28,8 +40,15 @@ struct Event {
   S time = S(0);
   EventKind kind = EventKind::lock;
   int dof = -1;
-  int source = -1;  // index into the simulator's stored sources (prescribe)
-  bool fired = false;
+  int source = -1;             // index into the simulator's stored sources (prescribe)
+  std::int64_t sequence = 0;  // scheduling order: events due at the same time fire in it
+};
+
+// A dynamics failure met by a setup call (not real-time); what() names the
+// DOF at fault (SimulatorTpl::describe).
+struct SimulationError : std::runtime_error {
+  SimulationError(const Status& s, const std::string& message) : std::runtime_error(message), status(s) {}
+  Status status;
 };
 
 template <class S>
@@ -40,24 +59,41 @@ class SimulatorTpl {
   // until given a source. `event_capacity` bounds schedule().
   SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integrator = Integrator::rk4, int event_capacity = 64);
 
-  // Setup (not real-time): state, inputs, sources, events. Throw std::invalid_argument naming the DOF.
+  // Setup (not real-time): state, inputs, sources, events. Throw
+  // std::invalid_argument naming the item at fault, or SimulationError;
+  // either way the simulator is unchanged.
+  // set_state: q, v and time finite, every quaternion of unit norm within
+  // quaternion_tolerance() (kept as given, not renormalised), every
+  // source's sample at `time` finite.
   void set_state(const ConstVecRef<S>& q, const ConstVecRef<S>& v, S time = S(0));
   void set_input(int dof, S torque);  // torque of a regular DOF (kept until changed)
   // Prescribes the DOF's motion from now on. The source's position is taken
   // relative to the DOF's position now (positions stay continuous); a
   // velocity jump to the source's is applied as an impulse, as for lock().
   void prescribe(int dof, MotionSource<S> source);
-  // Schedules an event at `time` (fires at the first step starting at or
-  // after it); returns its index. lock: prescribe zero motion, applying the
-  // generalized impulse that stops the hinge (momentum conserved, energy can
-  // only drop); release: back to regular, q and v continuous.
-  int schedule(S time, EventKind kind, int dof);
-  int schedule_prescribe(S time, int dof, MotionSource<S> source);
+  // Schedules an event at `time` (finite; fires at the first step starting
+  // at or after it, at the next step if it is already past); returns its
+  // sequence number. lock: prescribe zero motion, applying the generalized
+  // impulse that stops the hinge (momentum conserved, energy can only drop);
+  // release: back to regular, q and v continuous. Pending events wait in a
+  // binary heap ordered by (time, sequence): a step with none due costs one
+  // comparison. At most event_capacity() events are pending at once; a
+  // schedule() beyond that throws std::length_error.
+  std::int64_t schedule(S time, EventKind kind, int dof);
+  std::int64_t schedule_prescribe(S time, int dof, MotionSource<S> source);
 
-  // Real-time: immediate events and the step.
+  // Real-time: immediate events and the step. A failed call changes
+  // nothing: lock/release leave the DOF's mode and the velocities as they
+  // were; a failed step leaves q, v, time, forces and steps_taken as they
+  // were after the events due at its start (each event applies whole or
+  // not at all; a failing event stays pending).
   Status lock(int dof);
   Status release(int dof);
   Status step();
+
+  // A Status as a sentence naming the DOF and the time (allocates; not real-time).
+  std::string describe(const Status& s) const;
+  static S quaternion_tolerance();
 
   const ModelTpl<S>& model() const { return model_; }
   DataTpl<S>& data() { return data_; }
@@ -73,19 +109,30 @@ class SimulatorTpl {
   // Kinetic energy removed by lock impulses so far (>= 0).
   S energy_lost() const { return energy_lost_; }
   std::int64_t steps_taken() const { return steps_; }
+  std::size_t pending_events() const { return events_.size(); }
+  std::size_t event_capacity() const { return event_capacity_; }
+  // Sub-step attempts (accepted and rejected) of dopri5's last step.
+  int last_substeps() const { return last_substeps_; }
   // Accuracy of the adaptive integrator (relative and absolute per component).
   S rtol = S(1e-10), atol = S(1e-12);
+  // dopri5: attempts allowed in one step before it stops with
+  // StatusCode::substep_limit (a bound on the step's run time).
+  int max_substeps = 1000;
 
  private:
   enum class Drive : std::uint8_t { regular, held, sourced };
+  Status advance();
   Status evaluate(S t, const VecX<S>& q, const VecX<S>& v, VecX<S>& qdd);
   void chart_rates(const VecX<S>& q, const VecX<S>& xi, const VecX<S>& v, VecX<S>& rate) const;
   void retract(const VecX<S>& xi, VecX<S>& q) const;
   Status runge_kutta(int stages, const S* a, const S* b, const S* c, S h, const S* b_error, S* error_norm);
   Status adaptive_step();
-  void apply_sources(S t);
+  Status apply_sources(S t);
+  Status check_state_finite() const;
   Status switch_mode(int dof, Drive drive, int source, bool impulse);
   Status fire_due_events();
+  Status fire(const Event<S>& e);
+  void check_event_room() const;
   void check_dof(int dof) const;
   void check_drivable(int dof) const;  // check_dof, and not a modal DOF
   void check_sourceable(int dof) const;  // check_drivable, and a scalar coordinate (coordinate_of_ >= 0)
@@ -102,14 +149,20 @@ class SimulatorTpl {
   std::vector<int> source_of_;
   VecX<S> source_offset_, held_position_;
   std::vector<int> coordinate_of_;
+  std::vector<int> dof_of_coordinate_;  // the DOF of each coordinate (a quaternion: its joint's first DOF)
   // Bodies whose joint's chart is not q = q0 + xi with dxi/dt = v (planar,
   // spherical, free): the only ones retract and chart_rates visit.
   std::vector<int> curved_chart_bodies_;
   std::vector<MotionSource<S>> sources_;
-  std::vector<Event<S>> events_;
+  std::vector<Event<S>> events_;  // binary heap, earliest (time, sequence) first; capacity reserved
   std::size_t event_capacity_;
+  std::int64_t events_scheduled_ = 0;
+  int last_substeps_ = 0;
   // Runge-Kutta scratch: stage rates of xi and v, base configuration.
   VecX<S> q0_, v0_, xi_, vs_, qs_, xi_err_, v_err_, q_save_, v_save_;
+  // The state at the start of a step (restored when it fails), and the
+  // sources' samples set_state checks before it commits.
+  VecX<S> step_q_, step_v_, step_forces_, sampled_position_, sampled_velocity_;
   std::vector<VecX<S>> k_xi_, k_v_;
 };
 

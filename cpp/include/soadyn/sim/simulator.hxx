@@ -1,5 +1,7 @@
 #pragma once
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include "soadyn/algorithms/configuration.hpp"
 #include "soadyn/algorithms/energy.hpp"
@@ -37,18 +39,22 @@ SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integra
   q_.resize(nq);
   neutral_configuration<S>(model_, q_);
   for (VecX<S>* x : {&v_, &inputs_, &forces_, &u_, &source_offset_, &held_position_, &xi_, &vs_, &xi_err_, &v_err_,
-                     &v0_, &v_save_})
+                     &v0_, &v_save_, &step_v_, &step_forces_, &sampled_position_, &sampled_velocity_})
     x->setZero(nv);
-  for (VecX<S>* x : {&q0_, &qs_, &q_save_}) x->setZero(nq);
+  for (VecX<S>* x : {&q0_, &qs_, &q_save_, &step_q_}) x->setZero(nq);
   k_xi_.assign(7, VecX<S>::Zero(nv));
   k_v_.assign(7, VecX<S>::Zero(nv));
   drive_.assign(static_cast<std::size_t>(nv), Drive::regular);
   source_of_.assign(static_cast<std::size_t>(nv), -1);
   coordinate_of_.assign(static_cast<std::size_t>(nv), -1);
+  dof_of_coordinate_.assign(static_cast<std::size_t>(nq), -1);
   for (int b = 0; b < model_.nbodies(); ++b) {
     const std::size_t bi = static_cast<std::size_t>(b);
     const bool scalar = joint_has_scalar_coordinates(model_.joints[bi]);
     if (!scalar) curved_chart_bodies_.push_back(b);
+    for (int k = 0; k < model_.nq_body[bi]; ++k)  // a curved joint's coordinates: its DOFs in order, then its first
+      dof_of_coordinate_[static_cast<std::size_t>(model_.q_index[bi] + k)] =
+          model_.v_index[bi] + std::min(k, std::max(model_.nv_body[bi] - 1, 0));
     for (int k = 0; k < model_.nv_body[bi]; ++k) {
       const std::size_t dof = static_cast<std::size_t>(model_.v_index[bi] + k);
       coordinate_of_[dof] = scalar ? model_.q_index[bi] + k : -1;
@@ -56,6 +62,7 @@ SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integra
     for (int k = 0; k < model_.n_modes[bi]; ++k) {  // modal coordinates: q' = v
       const std::size_t dof = static_cast<std::size_t>(model_.modal_v_index(b) + k);
       coordinate_of_[dof] = model_.modal_q_index(b) + k;
+      dof_of_coordinate_[static_cast<std::size_t>(model_.modal_q_index(b) + k)] = static_cast<int>(dof);
     }
   }
   for (int dof = 0; dof < nv; ++dof)
@@ -78,24 +85,69 @@ void SimulatorTpl<S>::check_drivable(int dof) const {
 }
 
 template <class S>
+S SimulatorTpl<S>::quaternion_tolerance() {
+  return std::max(S(1e-6), S(64) * std::numeric_limits<S>::epsilon());
+}
+
+namespace detail {
+template <class S>
+bool finite(S x) {
+  return std::isfinite(static_cast<double>(x));
+}
+template <class S>
+bool finite(const MotionSample<S>& m) {
+  return finite(m.position) && finite(m.velocity) && finite(m.acceleration);
+}
+}  // namespace detail
+
+template <class S>
 void SimulatorTpl<S>::set_state(const ConstVecRef<S>& q, const ConstVecRef<S>& v, S time) {
-  if (q.size() != model_.nq || v.size() != model_.nv) throw std::invalid_argument("state has the wrong size");
+  if (q.size() != model_.nq || v.size() != model_.nv)
+    throw std::invalid_argument("state has the wrong size: q needs " + std::to_string(model_.nq) + " entries and v " +
+                                std::to_string(model_.nv));
+  if (!detail::finite(time)) throw std::invalid_argument("state time is not finite");
+  for (Eigen::Index k = 0; k < q.size(); ++k)
+    if (!detail::finite(q[k]))
+      throw std::invalid_argument("q['" + model_.coordinate_names[static_cast<std::size_t>(k)] + "'] is not finite");
+  for (Eigen::Index k = 0; k < v.size(); ++k)
+    if (!detail::finite(v[k]))
+      throw std::invalid_argument("v['" + model_.dof_names[static_cast<std::size_t>(k)] + "'] is not finite");
+  S norm(0);
+  const int body = first_non_unit_quaternion<S>(model_, q, quaternion_tolerance(), &norm);
+  if (body >= 0)
+    throw std::invalid_argument("the quaternion of joint '" + model_.joint_names[static_cast<std::size_t>(body)] +
+                                "' has norm " + std::to_string(static_cast<double>(norm)) +
+                                ", not 1 (tolerance " + std::to_string(static_cast<double>(quaternion_tolerance())) +
+                                ")");
+  for (int dof = 0; dof < model_.nv; ++dof) {  // every source at the new time, before anything changes
+    const std::size_t d = static_cast<std::size_t>(dof);
+    if (drive_[d] != Drive::sourced) continue;
+    const MotionSample<S> s = sample_source(sources_[static_cast<std::size_t>(source_of_[d])], time);
+    if (!detail::finite(s)) {
+      const Status status{StatusCode::non_finite_source, dof};
+      throw SimulationError(status, "set_state: " + describe(status));
+    }
+    sampled_position_[dof] = s.position;
+    sampled_velocity_[dof] = s.velocity;
+  }
   q_ = q;
   v_ = v;
   time_ = time;
+  adaptive_h_ = dt_;
   for (int dof = 0; dof < model_.nv; ++dof) {  // held DOFs hold where they are put, at rest
     const std::size_t d = static_cast<std::size_t>(dof);
     if (drive_[d] == Drive::held) {
       v_[dof] = S(0);
       if (coordinate_of_[d] >= 0) held_position_[dof] = q_[coordinate_of_[d]];
-    } else if (drive_[d] == Drive::sourced && coordinate_of_[d] >= 0) {
-      const MotionSample<S> s = sample_source(sources_[static_cast<std::size_t>(source_of_[d])], time_);
-      source_offset_[dof] = q_[coordinate_of_[d]] - s.position;
-      v_[dof] = s.velocity;
+    } else if (drive_[d] == Drive::sourced) {
+      source_offset_[dof] = q_[coordinate_of_[d]] - sampled_position_[dof];
+      v_[dof] = sampled_velocity_[dof];
     }
   }
 }
 
+// No finiteness check here: the HIL loop calls this in real time (it must
+// not throw); a non-finite input stops the next step with a Status naming the DOF.
 template <class S>
 void SimulatorTpl<S>::set_input(int dof, S torque) {
   check_dof(dof);
@@ -116,31 +168,58 @@ void SimulatorTpl<S>::prescribe(int dof, MotionSource<S> source) {
   check_sourceable(dof);
   sources_.push_back(std::move(source));
   const Status s = switch_mode(dof, Drive::sourced, static_cast<int>(sources_.size()) - 1, true);
-  if (!s.ok()) throw std::runtime_error(std::string("prescribe: ") + status_message(s.code));
+  if (!s.ok()) {
+    sources_.pop_back();  // switch_mode changed nothing
+    throw SimulationError(s, "prescribe: " + describe(s));
+  }
 }
 
 template <class S>
-int SimulatorTpl<S>::schedule(S time, EventKind kind, int dof) {
+void SimulatorTpl<S>::check_event_room() const {
+  if (events_.size() >= event_capacity_)
+    throw std::length_error("the event queue is full: " + std::to_string(events_.size()) +
+                            " events are pending, the capacity set at construction (event_capacity)");
+}
+
+namespace detail {
+// The heap's order: `a` fires after `b`.
+template <class S>
+bool fires_after(const Event<S>& a, const Event<S>& b) {
+  return a.time > b.time || (a.time == b.time && a.sequence > b.sequence);
+}
+}  // namespace detail
+
+template <class S>
+std::int64_t SimulatorTpl<S>::schedule(S time, EventKind kind, int dof) {
   check_drivable(dof);
   if (kind == EventKind::prescribe) throw std::invalid_argument("use schedule_prescribe for prescribe events");
-  if (events_.size() >= event_capacity_) throw std::invalid_argument("event capacity exhausted");
+  if (!detail::finite(time)) throw std::invalid_argument("event time is not finite");
+  check_event_room();
   Event<S> e;
   e.time = time;
   e.kind = kind;
   e.dof = dof;
-  auto at = events_.begin();
-  while (at != events_.end() && at->time <= time) ++at;  // keep time order (stable)
-  return static_cast<int>(events_.insert(at, e) - events_.begin());
+  e.sequence = events_scheduled_++;
+  events_.push_back(e);  // within the reserved capacity: no allocation
+  std::push_heap(events_.begin(), events_.end(), detail::fires_after<S>);
+  return e.sequence;
 }
 
 template <class S>
-int SimulatorTpl<S>::schedule_prescribe(S time, int dof, MotionSource<S> source) {
+std::int64_t SimulatorTpl<S>::schedule_prescribe(S time, int dof, MotionSource<S> source) {
   check_sourceable(dof);
+  if (!detail::finite(time)) throw std::invalid_argument("event time is not finite");
+  check_event_room();
   sources_.push_back(std::move(source));
-  const int index = schedule(time, EventKind::lock, dof);
-  events_[static_cast<std::size_t>(index)].kind = EventKind::prescribe;
-  events_[static_cast<std::size_t>(index)].source = static_cast<int>(sources_.size()) - 1;
-  return index;
+  Event<S> e;
+  e.time = time;
+  e.kind = EventKind::prescribe;
+  e.dof = dof;
+  e.source = static_cast<int>(sources_.size()) - 1;
+  e.sequence = events_scheduled_++;
+  events_.push_back(e);
+  std::push_heap(events_.begin(), events_.end(), detail::fires_after<S>);
+  return e.sequence;
 }
 
 template <class S>
@@ -158,49 +237,65 @@ Status SimulatorTpl<S>::release(int dof) {
 // Switches a DOF's drive. Becoming driven at a velocity other than its own is
 // an impact: the hybrid algorithm in impulse form gives the velocity jumps of
 // every DOF when the switching DOF's jump is prescribed, the other driven
-// DOFs keep theirs, and the regular DOFs receive no impulse.
+// DOFs keep theirs, and the regular DOFs receive no impulse. All or nothing:
+// on failure the DOF's mode and every velocity are as before.
 template <class S>
 Status SimulatorTpl<S>::switch_mode(int dof, Drive drive, int source, bool impulse) {
   const std::size_t d = static_cast<std::size_t>(dof);
   const int coordinate = coordinate_of_[d];
+  S target_velocity(0), anchor(0);  // anchor: the source's offset or the held position
+  if (drive == Drive::sourced) {
+    const MotionSample<S> s = sample_source(sources_[static_cast<std::size_t>(source)], time_);
+    if (!detail::finite(s)) return Status{StatusCode::non_finite_source, dof};
+    target_velocity = s.velocity;
+    if (coordinate >= 0) anchor = q_[coordinate] - s.position;
+  } else if (drive == Drive::held && coordinate >= 0) {
+    anchor = q_[coordinate];
+  }
+  const Drive previous_drive = drive_[d];
+  const int previous_source = source_of_[d];
   drive_[d] = drive;
   source_of_[d] = source;
   model_.set_prescribed(dof, drive != Drive::regular);
-  if (drive == Drive::regular) return Status{};
-  S target_velocity(0);
-  if (drive == Drive::sourced) {
-    const MotionSample<S> s = sample_source(sources_[static_cast<std::size_t>(source)], time_);
-    target_velocity = s.velocity;
-    if (coordinate >= 0) source_offset_[dof] = q_[coordinate] - s.position;
-  } else if (coordinate >= 0) {
-    held_position_[dof] = q_[coordinate];
+  if (drive != Drive::regular && impulse && target_velocity != v_[dof]) {
+    // Only a lock's energy change is recorded (see below): skip the sweep otherwise.
+    const S energy_before = drive == Drive::held ? kinetic_energy<S>(model_, data_, q_, v_) : S(0);
+    u_.setZero();
+    u_[dof] = target_velocity - v_[dof];
+    const Status s = hybrid_impulse<S>(model_, data_, q_, u_);
+    if (!s.ok()) {
+      drive_[d] = previous_drive;
+      source_of_[d] = previous_source;
+      model_.set_prescribed(dof, previous_drive != Drive::regular);
+      return s;
+    }
+    v_ += data_.qdd;
+    v_[dof] = target_velocity;  // exact, not up to round-off
+    // A lock is a plastic impact and only loses energy; a source's velocity
+    // jump is work done by the drive, not counted as lost.
+    if (drive == Drive::held) energy_lost_ += energy_before - kinetic_energy<S>(model_, data_, q_, v_);
   }
-  if (!impulse || target_velocity == v_[dof]) return Status{};
-  // Only a lock's energy change is recorded (see below): skip the sweep otherwise.
-  const S energy_before = drive == Drive::held ? kinetic_energy<S>(model_, data_, q_, v_) : S(0);
-  u_.setZero();
-  u_[dof] = target_velocity - v_[dof];
-  const Status s = hybrid_impulse<S>(model_, data_, q_, u_);
-  if (!s.ok()) return s;
-  v_ += data_.qdd;
-  v_[dof] = target_velocity;  // exact, not up to round-off
-  // A lock is a plastic impact and only loses energy; a source's velocity
-  // jump is work done by the drive, not counted as lost.
-  if (drive == Drive::held) energy_lost_ += energy_before - kinetic_energy<S>(model_, data_, q_, v_);
+  if (drive == Drive::sourced && coordinate >= 0) source_offset_[dof] = anchor;
+  if (drive == Drive::held && coordinate >= 0) held_position_[dof] = anchor;
   return Status{};
 }
 
 template <class S>
+Status SimulatorTpl<S>::fire(const Event<S>& e) {
+  if (e.kind == EventKind::lock) return lock(e.dof);
+  if (e.kind == EventKind::release) return release(e.dof);
+  return switch_mode(e.dof, Drive::sourced, e.source, true);
+}
+
+// O(1) when nothing is due (one look at the heap's top); O(log n) per event fired.
+template <class S>
 Status SimulatorTpl<S>::fire_due_events() {
   const S due = time_ + S(1e-9) * dt_;
-  for (Event<S>& e : events_) {
-    if (e.fired || e.time > due) continue;
-    e.fired = true;
-    Status s;
-    if (e.kind == EventKind::lock) s = lock(e.dof);
-    else if (e.kind == EventKind::release) s = release(e.dof);
-    else s = switch_mode(e.dof, Drive::sourced, e.source, true);
-    if (!s.ok()) return s;
+  while (!events_.empty() && events_.front().time <= due) {
+    const Status s = fire(events_.front());
+    if (!s.ok()) return s;  // not applied: it stays pending
+    std::pop_heap(events_.begin(), events_.end(), detail::fires_after<S>);
+    events_.pop_back();
   }
   return Status{};
 }
@@ -213,9 +308,12 @@ Status SimulatorTpl<S>::evaluate(S t, const VecX<S>& q, const VecX<S>& v, VecX<S
   u_ = inputs_;
   for (int k = 0; k < model_.n_prescribed; ++k) {
     const std::size_t d = static_cast<std::size_t>(model_.prescribed_dofs[static_cast<std::size_t>(k)]);
-    u_[static_cast<Eigen::Index>(d)] = drive_[d] == Drive::held
-                                          ? S(0)
-                                          : sample_source(sources_[static_cast<std::size_t>(source_of_[d])], t).acceleration;
+    S acceleration(0);
+    if (drive_[d] == Drive::sourced) {
+      acceleration = sample_source(sources_[static_cast<std::size_t>(source_of_[d])], t).acceleration;
+      if (!detail::finite(acceleration)) return Status{StatusCode::non_finite_source, static_cast<int>(d)};
+    }
+    u_[static_cast<Eigen::Index>(d)] = acceleration;
   }
   const Status s = hybrid_dynamics<S>(model_, data_, q, v, u_);
   qdd = data_.qdd;
@@ -305,19 +403,22 @@ Status SimulatorTpl<S>::adaptive_step() {
   for (int k = 0; k < 49; ++k) a[k] = S(tableau::dp_a[k]);
   for (int k = 0; k < 7; ++k) b[k] = S(tableau::dp_b[k]), e[k] = S(tableau::dp_e[k]), c[k] = S(tableau::dp_c[k]);
   const S end = time_ + dt_;
-  int attempts = 0;
+  last_substeps_ = 0;
   while (time_ < end - S(1e-12) * dt_) {
-    if (++attempts > 100000) return Status{StatusCode::step_size_underflow, -1};
+    if (last_substeps_ >= max_substeps) return Status{StatusCode::substep_limit, -1};
+    ++last_substeps_;
     const S h = std::min(adaptive_h_, end - time_);
     q_save_ = q_;
     v_save_ = v_;
     S err(0);
     const Status s = runge_kutta(7, a, b, c, h, e, &err);
     if (!s.ok()) return s;
-    const S factor = std::clamp(S(0.9) * pow(std::max(err, S(1e-10)), S(-0.2)), S(0.2), S(5));
+    const S factor = detail::finite(err) ? std::clamp(S(0.9) * pow(std::max(err, S(1e-10)), S(-0.2)), S(0.2), S(5))
+                                         : S(0.2);
     if (err <= S(1)) {
       time_ += h;
-      apply_sources(time_);
+      const Status sourced = apply_sources(time_);
+      if (!sourced.ok()) return sourced;
       if (h == adaptive_h_ || factor < S(1)) adaptive_h_ = h * factor;
     } else {
       q_ = q_save_;
@@ -333,7 +434,7 @@ Status SimulatorTpl<S>::adaptive_step() {
 // Driven DOFs follow their drive exactly: positions and velocities are set,
 // not left to the integrated accelerations.
 template <class S>
-void SimulatorTpl<S>::apply_sources(S t) {
+Status SimulatorTpl<S>::apply_sources(S t) {
   for (int dof = 0; dof < model_.nv; ++dof) {
     const std::size_t d = static_cast<std::size_t>(dof);
     const int coordinate = coordinate_of_[d];
@@ -342,16 +443,28 @@ void SimulatorTpl<S>::apply_sources(S t) {
       if (coordinate >= 0) q_[coordinate] = held_position_[dof];
     } else if (drive_[d] == Drive::sourced) {
       const MotionSample<S> s = sample_source(sources_[static_cast<std::size_t>(source_of_[d])], t);
+      if (!detail::finite(s.position) || !detail::finite(s.velocity)) return Status{StatusCode::non_finite_source, dof};
       v_[dof] = s.velocity;
       q_[coordinate] = source_offset_[dof] + s.position;
     }
   }
+  return Status{};
 }
 
 template <class S>
-Status SimulatorTpl<S>::step() {
-  Status s = fire_due_events();
-  if (!s.ok()) return s;
+Status SimulatorTpl<S>::check_state_finite() const {
+  for (Eigen::Index k = 0; k < v_.size(); ++k)
+    if (!detail::finite(v_[k])) return Status{StatusCode::non_finite_result, static_cast<int>(k)};
+  for (Eigen::Index k = 0; k < q_.size(); ++k)
+    if (!detail::finite(q_[k]))
+      return Status{StatusCode::non_finite_result, dof_of_coordinate_[static_cast<std::size_t>(k)]};
+  return Status{};
+}
+
+// The integration of one step from the state after the due events.
+template <class S>
+Status SimulatorTpl<S>::advance() {
+  Status s;
   switch (integrator_) {
     case Integrator::semi_implicit_euler:
       q0_ = q_;
@@ -379,11 +492,39 @@ Status SimulatorTpl<S>::step() {
       if (!s.ok()) return s;
       break;
   }
-  apply_sources(time_);
+  s = apply_sources(time_);
+  if (!s.ok()) return s;
+  return check_state_finite();
+}
+
+template <class S>
+Status SimulatorTpl<S>::step() {
+  Status s = fire_due_events();
+  if (!s.ok()) return s;
+  step_q_ = q_;
+  step_v_ = v_;
+  step_forces_ = forces_;
+  const S step_time = time_, step_h = adaptive_h_;
+  s = advance();
+  if (!s.ok()) {
+    q_ = step_q_;
+    v_ = step_v_;
+    forces_ = step_forces_;
+    time_ = step_time;
+    adaptive_h_ = step_h;
+    return s;
+  }
   ++steps_;
-  for (Eigen::Index k = 0; k < v_.size(); ++k)
-    if (!std::isfinite(static_cast<double>(v_[k]))) return Status{StatusCode::non_finite_result, static_cast<int>(k)};
   return Status{};
+}
+
+template <class S>
+std::string SimulatorTpl<S>::describe(const Status& s) const {
+  std::string text = status_message(s.code);
+  if (s.index >= 0 && s.index < model_.nv) text += " (DOF '" + model_.dof_names[static_cast<std::size_t>(s.index)] + "')";
+  if (s.code == StatusCode::substep_limit)
+    text += " (dopri5: " + std::to_string(max_substeps) + " sub-step attempts in one step, max_substeps)";
+  return text + " at t = " + std::to_string(static_cast<double>(time_));
 }
 
 }  // namespace soadyn

@@ -1,0 +1,50 @@
+// The Python-side Simulator: a soadyn::Simulator with the lock that
+// serialises the calls Python makes on it from any number of threads.
+//
+// Lock order: the simulator's lock before the GIL. A thread that must wait
+// for the lock waits with the GIL released, so the thread holding the lock can
+// always take the GIL (a Python motion source does, inside a step). A thread
+// that already holds the lock (a motion source calling its own simulator) is
+// refused with RuntimeError instead of deadlocking. Taking the lock allocates
+// nothing; the C++ step itself takes no lock.
+#pragma once
+#include <pybind11/pybind11.h>
+
+#include <atomic>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include "soadyn/sim/simulator.hpp"
+
+namespace soadyn_py {
+
+struct SimulatorHandle : soadyn::Simulator {
+  using soadyn::Simulator::Simulator;
+  std::mutex mutex;
+  std::atomic<std::thread::id> holder{};  // the thread holding `mutex`, if any
+};
+
+// Holds a SimulatorHandle's lock for a scope. Construct with the GIL held.
+class SimulatorLock {
+ public:
+  explicit SimulatorLock(SimulatorHandle& sim) : sim_(sim) {
+    if (sim_.holder.load() == std::this_thread::get_id())
+      throw std::runtime_error("the simulator is in use by this thread (a motion source cannot call its own simulator)");
+    if (!sim_.mutex.try_lock()) {
+      pybind11::gil_scoped_release release;  // wait without the GIL
+      sim_.mutex.lock();
+    }
+    sim_.holder.store(std::this_thread::get_id());
+  }
+  ~SimulatorLock() {
+    sim_.holder.store(std::thread::id());
+    sim_.mutex.unlock();
+  }
+  SimulatorLock(const SimulatorLock&) = delete;
+  SimulatorLock& operator=(const SimulatorLock&) = delete;
+
+ private:
+  SimulatorHandle& sim_;
+};
+
+}  // namespace soadyn_py
