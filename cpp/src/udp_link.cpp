@@ -4,8 +4,10 @@
 #include <arpa/inet.h>
 #include <fcntl.h>
 #include <sys/socket.h>
-#include <sys/uio.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <linux/sock_diag.h>  // SK_MEMINFO_DROPS
+#endif
 
 #include <cerrno>
 #include <cmath>
@@ -89,9 +91,10 @@ UdpLink::UdpLink(int nq, int nv, int port, int destination_port, int command_por
   const int flags = ::fcntl(socket_, F_GETFL, 0);
   if (flags < 0 || ::fcntl(socket_, F_SETFL, flags | O_NONBLOCK) < 0)
     fail(socket_, "cannot make the socket non-blocking");
-#ifdef SO_RXQ_OVFL
-  const int on = 1;  // the kernel attaches its count of dropped datagrams to each one read
-  kernel_drops_counted_ = ::setsockopt(socket_, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on) == 0;
+#ifdef SO_MEMINFO
+  std::uint32_t info[SK_MEMINFO_VARS];
+  socklen_t info_length = sizeof info;
+  kernel_drops_counted_ = ::getsockopt(socket_, SOL_SOCKET, SO_MEMINFO, info, &info_length) == 0;
 #endif
   sockaddr_in address = loopback_address(port);
   socklen_t length = sizeof address;
@@ -151,31 +154,29 @@ bool UdpLink::poll() {
 }
 
 long UdpLink::receive_one(sockaddr_in& sender) {
-  iovec data{receive_buffer_.data(), receive_buffer_.size()};
-  msghdr message{};
-  message.msg_name = &sender;
-  message.msg_namelen = sizeof sender;
-  message.msg_iov = &data;
-  message.msg_iovlen = 1;
-  message.msg_control = control_buffer_;
-  message.msg_controllen = sizeof control_buffer_;
   for (;;) {
-    const ssize_t size = ::recvmsg(socket_, &message, MSG_DONTWAIT);
+    socklen_t sender_length = sizeof sender;
+    const ssize_t size = ::recvfrom(socket_, receive_buffer_.data(), receive_buffer_.size(), MSG_DONTWAIT,
+                                    reinterpret_cast<sockaddr*>(&sender), &sender_length);
     // ECONNREFUSED reports (once) that an earlier sensor packet found no
     // listener; keep reading. EAGAIN means drained; on any other error try
     // again at the next step.
     if (size < 0 && (errno == EINTR || errno == ECONNREFUSED)) continue;
-    if (size < 0) return -1;
-#ifdef SO_RXQ_OVFL
-    for (cmsghdr* c = CMSG_FIRSTHDR(&message); c; c = CMSG_NXTHDR(&message, c))
-      if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) {
-        std::uint32_t drops;  // the socket's drop count since it was opened (wraps at 2^32)
-        std::memcpy(&drops, CMSG_DATA(c), sizeof drops);
-        kernel_drops_.store(drops, std::memory_order_relaxed);
-      }
-#endif
-    return static_cast<long>(size);
+    return size < 0 ? -1 : static_cast<long>(size);
   }
+}
+
+std::uint64_t UdpLink::kernel_drops() const {
+#ifdef SO_MEMINFO
+  // The socket's drop count now (SK_MEMINFO_DROPS). SO_RXQ_OVFL would stamp
+  // each datagram with the count at the time it was queued, and so miss the
+  // drops after the last datagram read.
+  std::uint32_t info[SK_MEMINFO_VARS] = {};
+  socklen_t length = sizeof info;
+  if (::getsockopt(socket_, SOL_SOCKET, SO_MEMINFO, info, &length) == 0 && length > SK_MEMINFO_DROPS * sizeof info[0])
+    return info[SK_MEMINFO_DROPS];
+#endif
+  return 0;
 }
 
 bool UdpLink::datagram_pending() {

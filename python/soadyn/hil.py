@@ -324,7 +324,7 @@ def _report(sim, runner, rate, realtime, interrupted, exception, energy0, moment
 
 
 def _packets(s) -> dict:
-    """The link's counters (all 0 without UDP); kernel_drops is None where SO_RXQ_OVFL is not available."""
+    """The link's counters (all 0 without UDP); kernel_drops is None where SO_MEMINFO is not available."""
     return {"received": s.packets_received, "dropped": s.packets_dropped, "sent": s.packets_sent,
             "rejected_sender": s.packets_rejected_sender, "stale": s.packets_stale,
             "kernel_drops": s.kernel_drops if s.kernel_drops_counted or not s.max_packets_per_step else None,

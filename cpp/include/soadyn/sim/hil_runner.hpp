@@ -67,7 +67,7 @@ struct HilSummary {
   // failed sends, steps that left datagrams waiting (the per-step read bound).
   std::uint64_t packets_received = 0, packets_dropped = 0, packets_sent = 0, packets_rejected_sender = 0,
                 packets_stale = 0, kernel_drops = 0, send_failures = 0, steps_left_pending = 0;
-  bool kernel_drops_counted = false;  // SO_RXQ_OVFL available
+  bool kernel_drops_counted = false;  // SO_MEMINFO available
   int max_packets_per_step = 0;       // the read bound (0: no link)
   // The command limits: commands clamped (and per DOF) or rejected.
   std::uint64_t commands_saturated = 0, commands_rejected = 0;

@@ -42,10 +42,12 @@
 //
 // One poll() reads at most max_packets_per_poll datagrams (default 16), so a
 // flood costs each step a bounded time; polls that leave datagrams waiting are
-// counted (polls_left_pending). Datagrams the kernel discarded because the
-// receive buffer was full are counted from SO_RXQ_OVFL (Linux), as of the
-// last datagram read. Sensor packets that the socket refused (sendto failed)
-// are counted in send_failures.
+// counted (polls_left_pending). Datagrams the kernel discarded at this socket
+// (receive buffer full) are read from the kernel's count (SO_MEMINFO, Linux;
+// kernel_drops_counted() says whether it is available); datagrams lost before
+// any socket (the per-CPU input backlog) are counted system-wide only, in
+// /proc/net/softnet_stat. Sensor packets that the socket refused (sendto
+// failed) are counted in send_failures.
 //
 // Memory and blocking policy: the socket and both packet buffers are created
 // by the constructor (which throws std::runtime_error on failure, and
@@ -116,15 +118,14 @@ class UdpLink {
   std::uint64_t packets_sent() const { return sent_.load(std::memory_order_relaxed); }
   std::uint64_t packets_rejected_sender() const { return rejected_sender_.load(std::memory_order_relaxed); }
   std::uint64_t packets_stale() const { return stale_.load(std::memory_order_relaxed); }
-  std::uint64_t kernel_drops() const { return kernel_drops_.load(std::memory_order_relaxed); }
-  bool kernel_drops_counted() const { return kernel_drops_counted_; }  // SO_RXQ_OVFL granted
+  std::uint64_t kernel_drops() const;  // since the link was opened (a getsockopt call)
+  bool kernel_drops_counted() const { return kernel_drops_counted_; }  // SO_MEMINFO available
   std::uint64_t send_failures() const { return send_failures_.load(std::memory_order_relaxed); }
   std::uint64_t polls_left_pending() const { return polls_left_pending_.load(std::memory_order_relaxed); }
 
  private:
   enum class Verdict { accepted, malformed, stale };
-  // Reads one datagram into receive_buffer_ (and the kernel's drop count);
-  // returns its size, or -1 when none is pending.
+  // Reads one datagram into receive_buffer_; returns its size, or -1 when none is pending.
   long receive_one(sockaddr_in& sender);
   bool from_accepted_sender(const sockaddr_in& sender) const;
   // Validates the datagram in receive_buffer_ and copies its torques into
@@ -145,10 +146,9 @@ class UdpLink {
   Eigen::VectorXd command_;
   // One byte larger than a command so that oversized datagrams are seen.
   std::vector<unsigned char> receive_buffer_, send_buffer_;
-  alignas(8) unsigned char control_buffer_[64] = {};  // ancillary data (the SO_RXQ_OVFL count)
   std::atomic<bool> release_requested_{false};
-  std::atomic<std::uint64_t> received_{0}, dropped_{0}, sent_{0}, rejected_sender_{0}, stale_{0}, kernel_drops_{0},
-      send_failures_{0}, polls_left_pending_{0};
+  std::atomic<std::uint64_t> received_{0}, dropped_{0}, sent_{0}, rejected_sender_{0}, stale_{0}, send_failures_{0},
+      polls_left_pending_{0};
 };
 
 }  // namespace soadyn
