@@ -106,7 +106,6 @@ void HilRunner::reset() {
   status_ = Status{};
   failed_step_ = exception_step_ = -1;
   out_of_range_dof_ = -1;
-  limits_.reset_counts();
   stopped_ = false;
   realtime_outcome_ = RealtimeOutcome{};
   recorded_rows_ = 0;

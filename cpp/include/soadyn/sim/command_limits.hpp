@@ -110,11 +110,6 @@ class CommandLimits {
     return Verdict::saturated;
   }
 
-  void reset_counts() {
-    saturated_.store(0, std::memory_order_relaxed);
-    rejected_.store(0, std::memory_order_relaxed);
-    std::fill(saturated_per_dof_.begin(), saturated_per_dof_.end(), 0);
-  }
   // Thread-safe: commands with at least one value clamped; commands rejected.
   std::uint64_t saturated() const { return saturated_.load(std::memory_order_relaxed); }
   std::uint64_t rejected() const { return rejected_.load(std::memory_order_relaxed); }

@@ -62,7 +62,8 @@ struct HilSummary {
   double compute_p50_us = 0, compute_p99_us = 0, compute_p999_us = 0, compute_max_us = 0;
   double lateness_p50_us = 0, lateness_p99_us = 0, lateness_max_us = 0;
   double wall_seconds = 0;  // wall-clock time of the loop
-  // The link's counters (udp_link.hpp): accepted commands, malformed, sensor
+  // Counters accumulate over the runner's (and the link's) life, across
+  // runs. The link's counters (udp_link.hpp): accepted commands, malformed, sensor
   // packets sent, from another sender, stale sequence, dropped by the kernel,
   // failed sends, steps that left datagrams waiting (the per-step read bound).
   std::uint64_t packets_received = 0, packets_dropped = 0, packets_sent = 0, packets_rejected_sender = 0,
