@@ -222,6 +222,8 @@ def run_check(args, parser) -> int:
         rows = cross_check(args.urdf, floating_base=args.floating, states=args.states, seed=args.seed)
     except (OSError, ValueError, ImportError) as error:  # unreadable or bad URDF (UrdfError), or a missing oracle
         parser.exit(2, f"soadyn check: error: {args.urdf}: {one_line(error)}\n")
+    except Exception as error:  # noqa: BLE001 - a model one of the libraries cannot compute: one line, exit 1
+        parser.exit(1, f"soadyn check: error: {args.urdf}: {type(error).__name__}: {one_line(error)}\n")
     print(f"{args.urdf} ({'floating' if args.floating else 'fixed'} base), {args.states} random states")
     print(format_table(rows, args.tolerance))
     return 0 if all(r.max_relative <= args.tolerance for r in rows) else 1

@@ -301,6 +301,8 @@ def _percentiles(s, prefix: str, names) -> dict:
 
 def _report(sim, runner, rate, realtime, interrupted, exception, energy0, momentum0, report_errors) -> HilReport:
     s = runner.summary()
+    if exception is not None and s.exception_step < 0:  # not raised by a step (a misuse of the runner): not a result
+        raise exception
     t, q, v = runner.trajectory()
     failed = s.status != "ok"
     dof_names = list(sim._dof_names)

@@ -146,8 +146,10 @@ bool hil_link_allocates_nothing(soadyn::CommandPolicy policy) {
   malformed[0] = 'X';
   const std::vector<unsigned char> flood = command_packet(kFlood, nv, 0.0);
   for (std::uint32_t k = 0; k < kFlood; ++k) controller.send(flood, link.port());  // more than the buffer holds
-  std::atomic<bool> go{false};
-  std::thread sender([&] {  // allocates nothing once started
+  std::atomic<bool> go{false}, release{false};
+  // Allocates nothing once started; it ends only after the counter is
+  // disarmed, since std::thread frees its state when its function returns.
+  std::thread sender([&] {
     while (!go.load()) {
     }
     for (std::uint32_t k = 0; k < kCommands; ++k) {
@@ -158,11 +160,13 @@ bool hil_link_allocates_nothing(soadyn::CommandPolicy policy) {
       if (k % 17 == 0) controller.send(malformed, link.port());
       ::usleep(200);
     }
+    while (!release.load()) ::usleep(1000);
   });
   arm_counter();
   go.store(true);
   const soadyn::Status status = runner.run();
   const AllocationCounts counts = disarm_counter();
+  release.store(true);
   sender.join();
   const soadyn::HilSummary s = runner.summary();
   const bool clamp = policy == soadyn::CommandPolicy::clamp;
