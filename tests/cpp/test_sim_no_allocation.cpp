@@ -7,9 +7,9 @@
 // UDP link under hostile traffic (udp_link.hpp, command_limits.hpp): a flood
 // queued before the run (kernel drops, the per-step read bound) and, during
 // it, valid commands mixed with 1e30 torques (clamped or rejected), commands
-// from another socket, stale sequence numbers and malformed datagrams. Zero
-// allocations, zero frees, every Status ok and every counter seen moving are
-// required.
+// from another socket, stale sequence numbers and malformed datagrams; and
+// the stop policy ending the run at the first 1e30 command. Zero allocations,
+// zero frees, every Status ok and every counter seen moving are required.
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -170,6 +170,14 @@ bool hil_link_allocates_nothing(soadyn::CommandPolicy policy) {
   sender.join();
   const soadyn::HilSummary s = runner.summary();
   const bool clamp = policy == soadyn::CommandPolicy::clamp;
+  const bool finite = sim.q().allFinite() && sim.v().allFinite();
+  if (policy == soadyn::CommandPolicy::stop) {  // the first 1e30 command ends the run, naming DOF 0
+    std::printf("hil runner over UDP (stop): %ld allocations, %ld frees, stopped at step %ld of %ld by DOF %d\n",
+                counts.allocations(), counts.frees, static_cast<long>(s.failed_step), kSteps,
+                s.command_out_of_range_dof);
+    return counts.allocations() == 0 && counts.frees == 0 && status.ok() && s.command_out_of_range_dof == 0 &&
+           s.failed_step == s.steps && s.steps < kSteps && finite;
+  }
   std::printf("hil runner over UDP (%s): %ld steps, %ld allocations, %ld frees, status %s; received %lu, malformed "
               "%lu, other sender %lu, stale %lu, kernel drops %lu, steps at the read bound %lu, saturated %lu, "
               "rejected %lu, sent %lu, send failures %lu\n",
@@ -180,7 +188,6 @@ bool hil_link_allocates_nothing(soadyn::CommandPolicy policy) {
               static_cast<unsigned long>(s.steps_left_pending), static_cast<unsigned long>(s.commands_saturated),
               static_cast<unsigned long>(s.commands_rejected), static_cast<unsigned long>(s.packets_sent),
               static_cast<unsigned long>(s.send_failures));
-  const bool finite = sim.q().allFinite() && sim.v().allFinite();
   return counts.allocations() == 0 && counts.frees == 0 && status.ok() && s.steps == kSteps && finite &&
          s.packets_received > 0 && s.packets_dropped > 0 && s.packets_rejected_sender > 0 && s.packets_stale > 0 &&
          s.kernel_drops > 0 && s.steps_left_pending > 0 && (clamp ? s.commands_saturated : s.commands_rejected) > 0 &&
@@ -221,7 +228,7 @@ int main(int argc, char**) {
     }
   }
   for (const bool fast : {false, true}) pass = hil_run_allocates_nothing(fast, 20000) && pass;
-  for (const auto policy : {soadyn::CommandPolicy::clamp, soadyn::CommandPolicy::reject})
+  for (const auto policy : {soadyn::CommandPolicy::clamp, soadyn::CommandPolicy::reject, soadyn::CommandPolicy::stop})
     pass = hil_link_allocates_nothing(policy) && pass;
   std::printf("test_sim_no_allocation: %s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;
