@@ -1,6 +1,7 @@
 // The HIL runner: a HilRunner and its optional UdpLink, run with the GIL
 // released. The progress display and the report live in python/soadyn/hil.py.
 #include <cmath>
+#include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -44,17 +45,31 @@ py::array_t<double> to_numpy(const std::vector<double>& x, std::int64_t rows, in
   return out;
 }
 
+soadyn::CommandPolicy policy_from(const std::string& name) {
+  for (auto p : {soadyn::CommandPolicy::clamp, soadyn::CommandPolicy::reject, soadyn::CommandPolicy::stop})
+    if (name == soadyn::command_policy_name(p)) return p;
+  throw py::value_error("command_policy '" + name + "': choose 'clamp', 'reject' or 'stop'");
+}
+
 std::unique_ptr<HilSession> make_session(soadyn::Simulator& sim, double rate_hz, std::int64_t steps,
                                          std::optional<int> udp_port, int udp_destination_port,
                                          bool as_fast_as_possible, std::int64_t record_every, double spin_us,
-                                         int fifo_priority, int cpu, bool lock_memory) {
+                                         int fifo_priority, int cpu, bool lock_memory,
+                                         std::optional<Eigen::VectorXd> command_limits,
+                                         const std::string& command_policy, int udp_command_port,
+                                         int max_packets_per_step) {
   auto session = std::make_unique<HilSession>();
   try {
     const auto& m = sim.model();
-    if (udp_port) session->link = std::make_unique<soadyn::UdpLink>(m.nq, m.nv, *udp_port, udp_destination_port);
+    if (udp_port) {
+      session->link = std::make_unique<soadyn::UdpLink>(m.nq, m.nv, *udp_port, udp_destination_port, udp_command_port);
+      session->link->set_max_packets_per_poll(max_packets_per_step);
+    }
     session->runner = std::make_unique<soadyn::HilRunner>(sim, rate_hz, steps, session->link.get());
     session->runner->record_state_every(record_every);
     session->runner->set_realtime(soadyn::RealtimeRequest{fifo_priority, cpu, lock_memory});
+    if (command_limits) session->runner->set_command_limits(*command_limits);
+    session->runner->set_command_policy(policy_from(command_policy));
   } catch (const std::invalid_argument& e) {
     throw py::value_error(e.what());
   }
@@ -63,13 +78,19 @@ std::unique_ptr<HilSession> make_session(soadyn::Simulator& sim, double rate_hz,
   return session;
 }
 
+// Clears `running` on every way out of run().
+struct RunningFlag {
+  std::atomic<bool>& running;
+  ~RunningFlag() { running.store(false); }
+};
+
 void run(HilSession& s) {
   if (s.running.exchange(true)) throw std::runtime_error("run: the HIL runner is already running");
-  {
-    py::gil_scoped_release release;
-    s.runner->run();  // never throws
-  }
-  s.running.store(false);
+  const RunningFlag flag{s.running};
+  py::gil_scoped_release release;
+  // Throws only what a callback motion source (a Python function) raised in
+  // a step; the runner has then recorded the step (summary().exception_step).
+  s.runner->run();
 }
 
 }  // namespace
@@ -91,6 +112,19 @@ void bind_hil(py::module_& mod) {
       .def_readonly("packets_received", &Summary::packets_received)
       .def_readonly("packets_dropped", &Summary::packets_dropped)
       .def_readonly("packets_sent", &Summary::packets_sent)
+      .def_readonly("packets_rejected_sender", &Summary::packets_rejected_sender)
+      .def_readonly("packets_stale", &Summary::packets_stale)
+      .def_readonly("kernel_drops", &Summary::kernel_drops)
+      .def_readonly("kernel_drops_counted", &Summary::kernel_drops_counted)
+      .def_readonly("send_failures", &Summary::send_failures)
+      .def_readonly("steps_left_pending", &Summary::steps_left_pending)
+      .def_readonly("max_packets_per_step", &Summary::max_packets_per_step)
+      .def_readonly("commands_saturated", &Summary::commands_saturated)
+      .def_readonly("commands_rejected", &Summary::commands_rejected)
+      .def_readonly("saturated_per_dof", &Summary::saturated_per_dof)
+      .def_property_readonly("command_policy", [](const Summary& s) { return soadyn::command_policy_name(s.command_policy); })
+      .def_readonly("command_out_of_range_dof", &Summary::command_out_of_range_dof)
+      .def_readonly("exception_step", &Summary::exception_step)
       .def_readonly("failed_step", &Summary::failed_step)
       .def_readonly("stopped", &Summary::stopped)
       .def_readonly("as_fast_as_possible", &Summary::as_fast_as_possible)
@@ -102,8 +136,12 @@ void bind_hil(py::module_& mod) {
                         py::arg("cpu_granted") = o.cpu_granted, py::arg("cpu_errno") = o.cpu_errno,
                         py::arg("lock_memory") = r.lock_memory, py::arg("memory_locked") = o.memory_locked,
                         py::arg("lock_errno") = o.lock_errno); })
-      .def_property_readonly("status", [](const Summary& s) { return soadyn::status_message(s.status.code); })
-      .def_property_readonly("failed_dof", [](const Summary& s) { return s.status.index; });
+      .def_property_readonly("status", [](const Summary& s) {
+             if (s.exception_step >= 0) return "exception in a step";
+             if (s.command_out_of_range_dof >= 0) return "command out of range";
+             return soadyn::status_message(s.status.code); })
+      .def_property_readonly("failed_dof", [](const Summary& s) {
+             return s.command_out_of_range_dof >= 0 ? s.command_out_of_range_dof : s.status.index; });
 
   py::class_<HilSession>(mod, "HilRunner",
                          "Fixed-rate loop over a Simulator with optional UDP I/O (see soadyn.hil.run_hil).")
@@ -111,9 +149,25 @@ void bind_hil(py::module_& mod) {
            py::arg("udp_port") = py::none(), py::arg("udp_destination_port") = 0,
            py::arg("as_fast_as_possible") = false, py::arg("record_every") = 0, py::arg("spin_us") = 0.0,
            py::arg("fifo_priority") = 0, py::arg("cpu") = -1, py::arg("lock_memory") = false,
+           py::arg("command_limits") = py::none(), py::arg("command_policy") = "clamp",
+           py::arg("udp_command_port") = -1, py::arg("max_packets_per_step") = 16,
            py::keep_alive<1, 2>())  // the simulator outlives the runner
-      .def("run", &run, "Run the loop (GIL released); the outcome is in summary().")
+      .def("run", &run, "Run the loop (GIL released); the outcome is in summary(). An exception raised by a "
+                        "Python motion source ends the run and propagates; summary() still holds the run.")
       .def("request_stop", [](HilSession& s) { s.runner->request_stop(); }, "Ask a running loop to stop (thread-safe).")
+      .def("release_peer", [](HilSession& s) { if (s.link) s.link->release_peer(); },
+           "Forget the latched command sender: the next valid command's sender becomes the peer (thread-safe).")
+      .def_property("command_limits", [](const HilSession& s) { return s.runner->command_limits().limits(); },
+           [](HilSession& s, const Eigen::VectorXd& limits) {
+             s.check_idle("command_limits");
+             try {
+               s.runner->set_command_limits(limits);
+             } catch (const std::invalid_argument& e) {
+               throw py::value_error(e.what());
+             } },
+           "Per-DOF limits of the command values (default a * M_ii at the start; inf: none).")
+      .def_property_readonly("commands_saturated", [](const HilSession& s) { return s.runner->commands_saturated(); })
+      .def_property_readonly("commands_rejected", [](const HilSession& s) { return s.runner->commands_rejected(); })
       .def_property_readonly("steps_done", [](const HilSession& s) { return s.runner->steps_done(); })
       .def_property_readonly("deadline_misses", [](const HilSession& s) { return s.runner->deadline_misses(); })
       .def_property_readonly("packets_received", [](const HilSession& s) {

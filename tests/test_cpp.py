@@ -105,7 +105,8 @@ def test_float_agrees_with_double(cpp_tests_dir):
 
 def test_simulator_steps_allocate_nothing(cpp_tests_dir):
     """10^5 steps of each built-in scene, RK4 and semi-implicit Euler, with events firing; and the HIL loop,
-    paced and as fast as possible, with real-time scheduling requested."""
+    paced and as fast as possible, with real-time scheduling requested, and over the UDP link under hostile
+    traffic with the clamp, reject and stop policies."""
     output = run_test_executable(cpp_tests_dir, "test_sim_no_allocation")
     rows = re.findall(r"^(\S+) \((rk4|euler)\): 100000 steps, 0 allocations, 0 frees, 0 failed statuses", output,
                       re.MULTILINE)
@@ -113,6 +114,11 @@ def test_simulator_steps_allocate_nothing(cpp_tests_dir):
     hil = re.findall(r"^hil runner \((paced|as fast as possible)\): 20000 steps, 0 allocations, 0 frees, status ok;",
                      output, re.MULTILINE)
     assert sorted(hil) == ["as fast as possible", "paced"], output
+    udp = re.findall(r"^hil runner over UDP \((clamp|reject)\): 20000 steps, 0 allocations, 0 frees, status ok;",
+                     output, re.MULTILINE)
+    assert sorted(udp) == ["clamp", "reject"], output
+    assert re.search(r"^hil runner over UDP \(stop\): 0 allocations, 0 frees, stopped at step \d+ of 20000 by DOF 0$",
+                     output, re.MULTILINE), output
     assert re.search(r"^test_sim_no_allocation: PASS$", output, re.MULTILINE), output
 
 

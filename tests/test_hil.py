@@ -22,6 +22,9 @@ from soadyn.hil import HilRunner, format_table, parse_event, run_hil
 
 CONTROLLER = Path(__file__).with_name("hil_pd_controller.py")
 TIMEOUT = 120  # seconds for anything that waits on another thread or process
+PACKET_COUNTERS = {"received", "dropped", "sent", "rejected_sender", "stale", "kernel_drops", "send_failures",
+                   "steps_left_pending", "max_per_step"}
+NO_PACKETS = dict.fromkeys(PACKET_COUNTERS, 0)
 
 
 def swinging_chain(n=3, dt=1e-3):
@@ -42,12 +45,15 @@ def assert_consistent(report, steps):
     assert len(report.compute_ns) == len(report.lateness_ns) == steps
     assert c["max"] == pytest.approx(report.compute_ns.max() / 1e3)
     assert 0 <= report.deadline_misses <= steps
-    assert set(report.packets) == {"received", "dropped", "sent"}
+    assert set(report.packets) == PACKET_COUNTERS
+    assert set(report.commands) == {"policy", "saturated", "rejected", "saturated_dofs", "limits"}
+    assert list(report.commands["limits"]) == report.dof_names
     assert set(report.energy) == {"start", "end"} and len(report.momentum["end"]) == 6
     assert report.t[0] == 0.0 and report.t[-1] == pytest.approx(report.sim_time)
     assert report.q.shape[0] == report.v.shape[0] == len(report.t)
     data = json.loads(report.to_json())
-    for key in ("steps", "deadline_misses", "compute_us", "lateness_us", "packets", "energy", "momentum", "status"):
+    for key in ("steps", "deadline_misses", "compute_us", "lateness_us", "packets", "commands", "energy", "momentum",
+                "status", "error", "report_errors"):
         assert key in data
 
 
@@ -72,7 +78,7 @@ def test_real_rate_run_completes_every_step():
     assert_consistent(report, 100)
     assert report.realtime and report.sim_time == pytest.approx(0.5)
     assert report.wall_seconds > 0
-    assert report.packets == {"received": 0, "dropped": 0, "sent": 0}
+    assert report.packets == NO_PACKETS
 
 
 def test_spinning_run_keeps_the_schedule_and_the_trajectory():

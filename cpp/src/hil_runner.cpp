@@ -66,14 +66,32 @@ double percentile_us(const std::vector<std::int64_t>& sorted, double p) {
 }  // namespace
 
 HilRunner::HilRunner(Simulator& sim, double rate_hz, std::int64_t steps, UdpLink* link)
-    : sim_(sim), link_(link), rate_hz_(rate_hz), steps_(steps) {
+    : sim_(sim), link_(link), rate_hz_(rate_hz), steps_(steps), limits_(sim.model().nv),
+      applied_command_(Eigen::VectorXd::Zero(sim.model().nv)) {
   if (!(rate_hz > 0) || !std::isfinite(rate_hz)) throw std::invalid_argument("HIL rate must be a positive number");
   if (steps < 0) throw std::invalid_argument("HIL step count must be >= 0");
   if (link && (link->nq() != sim.model().nq || link->nv() != sim.model().nv))
     throw std::invalid_argument("the UDP link's nq and nv differ from the simulator's model");
   compute_ns_.assign(static_cast<std::size_t>(steps), 0);
   lateness_ns_.assign(static_cast<std::size_t>(steps), 0);
+  limits_.set_limits(default_command_limits(sim.model(), sim.q()));
 }
+
+// Finishes run()'s bookkeeping on every way out, an exception from the
+// simulator's step included (then `finished` is still false).
+class HilRunner::RunBookkeeping {
+ public:
+  explicit RunBookkeeping(HilRunner& runner) : runner_(runner) {}
+  ~RunBookkeeping() {
+    runner_.end_ns_ = now_ns();
+    runner_.stop_requested_.store(false, std::memory_order_relaxed);
+    if (!finished) runner_.exception_step_ = runner_.steps_done();
+  }
+  bool finished = false;
+
+ private:
+  HilRunner& runner_;
+};
 
 void HilRunner::record_state_every(std::int64_t every) {
   if (every < 0) throw std::invalid_argument("recording interval must be >= 0");
@@ -86,7 +104,8 @@ void HilRunner::record_state_every(std::int64_t every) {
 
 void HilRunner::reset() {
   status_ = Status{};
-  failed_step_ = -1;
+  failed_step_ = exception_step_ = -1;
+  out_of_range_dof_ = -1;
   stopped_ = false;
   realtime_outcome_ = RealtimeOutcome{};
   recorded_rows_ = 0;
@@ -105,6 +124,7 @@ Status HilRunner::run() {
   [[maybe_unused]] TightTimerSlack slack;
   const RealtimeScope realtime(realtime_request_);
   realtime_outcome_ = realtime.outcome();
+  RunBookkeeping bookkeeping(*this);
   start_ns_ = now_ns();
   for (std::int64_t k = 0; k < steps_; ++k) {
     if (stop_requested_.load(std::memory_order_relaxed)) {
@@ -118,10 +138,9 @@ Status HilRunner::run() {
       }
     }
     const std::int64_t wake = now_ns();
-    const Status s = advance(k);
+    const bool go_on = advance(k);
     const std::int64_t end = now_ns();
-    if (!s.ok()) {
-      status_ = s;
+    if (!go_on) {
       failed_step_ = k;
       break;
     }
@@ -131,29 +150,38 @@ Status HilRunner::run() {
     if (!as_fast_as_possible_ && end > deadline_ns(k + 1)) deadline_misses_.fetch_add(1, std::memory_order_relaxed);
     steps_done_.store(k + 1, std::memory_order_relaxed);
   }
-  end_ns_ = now_ns();
-  stop_requested_.store(false, std::memory_order_relaxed);
+  bookkeeping.finished = true;
   return status_;
 }
 
-Status HilRunner::advance(std::int64_t step) {
+bool HilRunner::advance(std::int64_t step) {
   if (link_) {
-    link_->poll();
+    if (link_->poll() && !take_command()) return false;
     apply_command();
   }
-  const Status s = sim_.step();
-  if (!s.ok()) return s;
+  status_ = sim_.step();
+  if (!status_.ok()) return false;
   if (link_) link_->send_state(sim_.time(), sim_.q(), sim_.v());
   if (record_every_ > 0 && (step + 1) % record_every_ == 0) record_state();
-  return s;
+  return true;
+}
+
+bool HilRunner::take_command() {
+  int dof = -1;
+  switch (limits_.judge(link_->command(), applied_command_, dof)) {
+    case CommandLimits::Verdict::within:
+    case CommandLimits::Verdict::saturated: has_applied_command_ = true; return true;
+    case CommandLimits::Verdict::rejected: return true;
+    case CommandLimits::Verdict::stop: out_of_range_dof_ = dof; return false;
+  }
+  return true;
 }
 
 void HilRunner::apply_command() {
-  if (!link_->has_command()) return;
-  const Eigen::VectorXd& torque = link_->command();
+  if (!has_applied_command_) return;
   // Applied every step, so a DOF released after the command arrived gets it too.
-  for (int dof = 0; dof < sim_.model().nv; ++dof)
-    if (!sim_.model().is_prescribed(dof)) sim_.set_input(dof, torque[dof]);  // dof is in range: never throws
+  for (int dof = 0; dof < sim_.model().nv; ++dof)  // dof is in range: never throws
+    if (!sim_.model().is_prescribed(dof)) sim_.set_input(dof, applied_command_[dof]);
 }
 
 void HilRunner::record_state() {
@@ -184,9 +212,22 @@ HilSummary HilRunner::summary() const {
     s.packets_received = link_->packets_received();
     s.packets_dropped = link_->packets_dropped();
     s.packets_sent = link_->packets_sent();
+    s.packets_rejected_sender = link_->packets_rejected_sender();
+    s.packets_stale = link_->packets_stale();
+    s.kernel_drops = link_->kernel_drops();
+    s.kernel_drops_counted = link_->kernel_drops_counted();
+    s.send_failures = link_->send_failures();
+    s.steps_left_pending = link_->polls_left_pending();
+    s.max_packets_per_step = link_->max_packets_per_poll();
   }
+  s.commands_saturated = limits_.saturated();
+  s.commands_rejected = limits_.rejected();
+  s.saturated_per_dof = limits_.saturated_per_dof();
+  s.command_policy = limits_.policy();
   s.status = status_;
   s.failed_step = failed_step_;
+  s.command_out_of_range_dof = out_of_range_dof_;
+  s.exception_step = exception_step_;
   s.stopped = stopped_;
   s.as_fast_as_possible = as_fast_as_possible_;
   s.realtime_request = realtime_request_;

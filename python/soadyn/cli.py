@@ -1,7 +1,14 @@
-"""Command line: `soadyn demo`."""
+"""Command line: `soadyn demo`, `soadyn check`, `soadyn hil`.
+
+Every bad argument ends in one line on stderr naming it (argparse's usage
+line and `error:`, exit code 2), never a traceback; a run that cannot start
+for a reason outside the arguments (a UDP port in use, missing memory) is
+one line too, exit code 1.
+"""
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 
 from . import scenes
@@ -9,8 +16,11 @@ from .demo import describe_scene, format_result, run_demo
 
 
 def main(argv: list[str] | None = None) -> int:
+    from . import __version__
+
     parser = argparse.ArgumentParser(prog="soadyn", description="O(N) hybrid multibody dynamics.")
-    sub = parser.add_subparsers(dest="command", required=True)
+    parser.add_argument("--version", action="version", version=f"soadyn {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="{demo,check,hil}")
     demo = sub.add_parser("demo", help="fly a built-in scene for a few seconds and report")
     demo.add_argument("--scene", default="cassini", choices=["cassini"], help="built-in scene (default cassini)")
     demo.add_argument("--duration", type=float, default=2.0, help="simulated seconds (default 2)")
@@ -27,14 +37,28 @@ def main(argv: list[str] | None = None) -> int:
                        help="largest accepted relative difference (default 1e-9); above it the exit code is 1")
     hil_parser = add_hil_parser(sub)
     args = parser.parse_args(argv)
+    if args.command is None:
+        parser.error("a command is required: demo, check or hil (soadyn COMMAND --help for its options)")
     if args.command == "check":
-        return run_check(args)
+        return run_check(args, check)
     if args.command == "hil":
         return run_hil_command(args, hil_parser)
-    if not (args.duration > 0 and args.dt > 0):
-        parser.error("--duration and --dt must be positive")
-    if not args.boom_duration >= 0:
-        parser.error("--boom-duration must not be negative")
+    return run_demo_command(args, demo)
+
+
+def finite(parser, option: str, value: float, least: float, inclusive: bool = False) -> None:
+    """argparse error naming `option` unless `value` is finite and above `least` (or equal, if inclusive)."""
+    if not (math.isfinite(value) and (value >= least if inclusive else value > least)):
+        bound = f">= {least:g}" if inclusive else f"> {least:g}"
+        parser.error(f"argument {option}: must be a finite number {bound}, got {value}")
+
+
+def run_demo_command(args, parser) -> int:
+    finite(parser, "--duration", args.duration, 0.0)
+    finite(parser, "--dt", args.dt, 0.0)
+    finite(parser, "--boom-duration", args.boom_duration, 0.0, inclusive=True)
+    if args.plot:
+        require_plotting(parser)
     model = scenes.SCENES[args.scene]()
     print(describe_scene(args.scene, model))
     print(format_result(run_demo(model, args.duration, args.dt)))
@@ -75,44 +99,104 @@ def add_hil_parser(sub) -> argparse.ArgumentParser:
     hil.add_argument("--cpu", type=int, default=-1, metavar="K", help="pin the loop's thread to CPU K")
     hil.add_argument("--lock-memory", action="store_true",
                      help="lock the process's memory (mlockall) while the loop runs")
+    hil.add_argument("--udp-command-port", type=int, metavar="PORT",
+                     help="accept commands only from 127.0.0.1:PORT (default: the --udp-peer port if given, else "
+                          "the first sender, latched for the run); others are counted as rejected")
+    hil.add_argument("--max-packets-per-step", type=int, default=16, metavar="N",
+                     help="read at most N datagrams per step, the rest at the next steps (default 16)")
+    hil.add_argument("--command-limit", action="append", default=[], metavar="LIMIT|DOF=LIMIT",
+                     help="largest |command| of every DOF, or of one DOF (repeatable; default 1000 M_ii per DOF, "
+                          "see the README; inf: no limit)")
+    hil.add_argument("--command-policy", default="clamp", choices=["clamp", "reject", "stop"],
+                     help="a command beyond its limit is clamped (default), rejected, or stops the run")
     return hil
+
+
+def parse_command_limits(texts: list[str], dof_names: list[str]) -> dict | None:
+    """--command-limit values as {DOF: limit} (LIMIT sets every DOF; a later value wins), or None.
+    Raises ValueError naming the text at fault."""
+    limits: dict[str, float] = {}
+    for text in texts:
+        name, _, value = text.rpartition("=")
+        try:
+            limit = float(value)
+        except ValueError:
+            raise ValueError(f"{text!r}: expected LIMIT or DOF=LIMIT with a number") from None
+        if not limit >= 0:
+            raise ValueError(f"{text!r}: a limit is >= 0 (inf: no limit)")
+        if name and name not in dof_names:
+            raise ValueError(f"{text!r}: no DOF named {name!r}")
+        limits.update({name: limit} if name else dict.fromkeys(dof_names, limit))
+    return limits or None
+
+
+def check_hil_arguments(args, parser) -> None:
+    from . import hil
+
+    finite(parser, "--rate", args.rate, 0.0)
+    finite(parser, "--duration", args.duration, 0.0, inclusive=True)
+    steps = round(args.duration * args.rate)
+    if steps > hil.MAX_STEPS:
+        parser.error(f"argument --duration: {args.duration:g} s at --rate {args.rate:g} is {steps:.3g} steps, more "
+                     f"than the {hil.MAX_STEPS:.0e} one run records (16 bytes of timings per step)")
+    for option, port in (("--udp", args.udp), ("--udp-peer", args.udp_peer), ("--udp-command-port", args.udp_command_port)):
+        if port is not None and not 0 <= port <= 65535:
+            parser.error(f"argument {option}: {port} is not a port (0..65535)")
+    if args.max_packets_per_step < 1:
+        parser.error(f"argument --max-packets-per-step: must be >= 1, got {args.max_packets_per_step}")
+    if not (math.isfinite(args.spin_us) and 0 <= args.spin_us < 1e6 / args.rate):
+        parser.error(f"argument --spin-us: must be in [0, {1e6 / args.rate:g}) (the step period), got {args.spin_us}")
 
 
 def run_hil_command(args, parser) -> int:
     from . import hil
 
-    if not (args.rate > 0 and args.duration >= 0):
-        parser.error("--rate must be positive and --duration non-negative")
-    for option, port in (("--udp", args.udp), ("--udp-peer", args.udp_peer)):
-        if port is not None and not 0 <= port <= 65535:
-            parser.error(f"{option} {port}: a port is in 0..65535")
+    check_hil_arguments(args, parser)
     try:
         events = [hil.parse_event(text) for text in args.event]
         sim = hil.scene_simulator(args.scene, args.rate, args.integrator, events)
     except ValueError as error:
         parser.error(f"argument --event: {error}")
+    try:
+        limits = parse_command_limits(args.command_limit, sim._dof_names)
+    except ValueError as error:
+        parser.error(f"argument --command-limit: {error}")
     if args.plot:
-        hil.require_matplotlib()  # fail before the run, not after it
+        require_plotting(parser)  # fail before the run, not after it
     print(describe_scene(args.scene, sim._model))
     for event in events:
         print(f"event: {event}")
-    if args.udp is not None:
-        print(f"commands on 127.0.0.1:{args.udp}")
+
+    def announce(runner) -> None:
+        if runner.udp_port is not None:
+            print(f"commands on 127.0.0.1:{runner.udp_port}", flush=True)
+
     try:
         report = hil.run_hil(sim, args.rate, args.duration, udp_port=args.udp, progress=not args.no_progress,
                              realtime=not args.as_fast_as_possible, udp_destination_port=args.udp_peer,
                              spin_us=args.spin_us, fifo_priority=args.fifo_priority, cpu=args.cpu,
-                             lock_memory=args.lock_memory)
-    except ValueError as error:  # spin, priority or CPU out of range: the message names it
+                             lock_memory=args.lock_memory, command_limits=limits,
+                             command_policy=args.command_policy, udp_command_port=args.udp_command_port,
+                             max_packets_per_step=args.max_packets_per_step, on_start=announce)
+    except ValueError as error:  # priority, CPU or a command limit out of range: the message names it
         parser.error(str(error))
-    except RuntimeError as error:  # the UDP port could not be bound
-        parser.exit(1, f"soadyn hil: {error}\n")
-    print(hil.format_table(report))
+    except (RuntimeError, MemoryError) as error:  # the UDP port could not be bound; no memory for the run
+        parser.exit(1, f"soadyn hil: {type(error).__name__ if isinstance(error, MemoryError) else 'error'}: {error}\n")
     write_hil_outputs(args, events, sim, report)
     return 0 if report.ok else 1
 
 
+def require_plotting(parser) -> None:
+    from .hil import require_matplotlib
+
+    try:
+        require_matplotlib()
+    except ImportError as error:
+        parser.error(f"argument --plot: {error}")
+
+
 def write_hil_outputs(args, events, sim, report) -> None:
+    """The report first (what was measured is kept whatever follows), then the table and the plot."""
     import json
 
     from . import hil
@@ -121,18 +205,32 @@ def write_hil_outputs(args, events, sim, report) -> None:
         summary = {"scene": args.scene, "integrator": args.integrator, "events": [str(e) for e in events],
                    **report.to_dict()}
         with open(args.report, "w") as out:
-            json.dump(summary, out, indent=2)
+            json.dump(summary, out, indent=2, allow_nan=False)
+    print(hil.format_table(report))
     if args.plot:
         hil.plot_report(report, args.plot, sim._model)
 
 
-def run_check(args) -> int:
+def run_check(args, parser) -> int:
     from .check import cross_check, format_table
 
-    rows = cross_check(args.urdf, floating_base=args.floating, states=args.states, seed=args.seed)
+    if args.states < 1:
+        parser.error(f"argument --states: must be >= 1, got {args.states}")
+    if not (math.isfinite(args.tolerance) and args.tolerance >= 0):
+        parser.error(f"argument --tolerance: must be a finite number >= 0, got {args.tolerance}")
+    try:
+        rows = cross_check(args.urdf, floating_base=args.floating, states=args.states, seed=args.seed)
+    except (OSError, ValueError, ImportError) as error:  # unreadable or bad URDF (UrdfError), or a missing oracle
+        parser.exit(2, f"soadyn check: error: {args.urdf}: {one_line(error)}\n")
+    except Exception as error:  # noqa: BLE001 - a model one of the libraries cannot compute: one line, exit 1
+        parser.exit(1, f"soadyn check: error: {args.urdf}: {type(error).__name__}: {one_line(error)}\n")
     print(f"{args.urdf} ({'floating' if args.floating else 'fixed'} base), {args.states} random states")
     print(format_table(rows, args.tolerance))
     return 0 if all(r.max_relative <= args.tolerance for r in rows) else 1
+
+
+def one_line(error: BaseException) -> str:
+    return " ".join(str(error).split()) or type(error).__name__
 
 
 if __name__ == "__main__":

@@ -26,10 +26,13 @@ from .scenes import SCENES, drive_cassini
 from .simulator import Simulator
 
 __all__ = ["HilEvent", "HilReport", "HilRunner", "format_table", "parse_event", "plot_report", "require_matplotlib",
-           "run_hil", "scene_simulator"]
+           "resolve_command_limits", "run_hil", "scene_simulator"]
 
 RECORDED_SAMPLES = 2000  # rows of state history kept for the plot
 PROGRESS_INTERVAL = 0.1  # seconds between progress-bar refreshes
+MAX_STEPS = 10**8  # one run keeps 16 bytes of timings per step: at most 1.6 GB
+COMMAND_POLICIES = ("clamp", "reject", "stop")
+MAX_PACKETS_PER_STEP = 16  # datagrams read per step at most (the rest wait for the next step)
 
 
 @dataclass
@@ -54,12 +57,16 @@ class HilReport:
     energy: dict
     momentum: dict
     scheduling: dict  # real-time scheduling asked for and granted (format_scheduling)
+    commands: dict  # command limits, policy, saturated and rejected counts
     dof_names: list = field(repr=False)
     compute_ns: np.ndarray = field(repr=False)
     lateness_ns: np.ndarray = field(repr=False)
     t: np.ndarray = field(repr=False)  # recorded times
     q: np.ndarray = field(repr=False)  # recorded configurations, one row per time
     v: np.ndarray = field(repr=False)  # recorded velocities
+    error: str | None = None  # what a step raised (status "exception in a step"), as "Type: message"
+    report_errors: list = field(default_factory=list)  # measurements that could not be made, and why
+    exception: BaseException | None = field(default=None, repr=False)  # the exception a step raised
 
     @property
     def ok(self) -> bool:
@@ -68,12 +75,23 @@ class HilReport:
     def to_dict(self) -> dict:
         """The summary as JSON-ready data (no per-step arrays)."""
         keys = ["rate_hz", "realtime", "requested_steps", "steps", "deadline_misses", "compute_us", "lateness_us",
-                "packets", "wall_seconds", "sim_time", "status", "failed_step", "failed_dof", "interrupted",
-                "energy", "momentum", "scheduling"]
-        return {k: getattr(self, k) for k in keys}
+                "packets", "commands", "wall_seconds", "sim_time", "status", "failed_step", "failed_dof", "error",
+                "interrupted", "energy", "momentum", "scheduling", "report_errors"]
+        return _finite_or_none({k: getattr(self, k) for k in keys})
 
     def to_json(self, indent: int | None = 2) -> str:
-        return json.dumps(self.to_dict(), indent=indent)
+        """Strict JSON: a non-finite number (an unlimited DOF, a NaN energy) is null."""
+        return json.dumps(self.to_dict(), indent=indent, allow_nan=False)
+
+
+def _finite_or_none(x):
+    if isinstance(x, float):
+        return x if math.isfinite(x) else None
+    if isinstance(x, dict):
+        return {k: _finite_or_none(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_finite_or_none(v) for v in x]
+    return x
 
 
 @dataclass
@@ -128,12 +146,23 @@ def scene_simulator(scene: str, rate: float, integrator: str = "rk4", events=())
 
 def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None = None, progress: bool = True,
             realtime: bool = True, udp_destination_port: int = 0, spin_us: float = 0.0, fifo_priority: int = 0,
-            cpu: int = -1, lock_memory: bool = False) -> HilReport:
+            cpu: int = -1, lock_memory: bool = False, command_limits=None, command_policy: str = "clamp",
+            udp_command_port: int | None = None, max_packets_per_step: int = MAX_PACKETS_PER_STEP,
+            on_start=None) -> HilReport:
     """Run `sim` for `duration` simulated seconds, one step per 1/rate wall seconds.
 
     The simulation is real time when sim.dt == 1/rate. `udp_port` (None: no
     UDP; 0: any free port) binds 127.0.0.1 for commands; sensor packets go
-    to `udp_destination_port` if given, else to the last command's sender.
+    to `udp_destination_port` if given, else to the command sender. Commands
+    are accepted from 127.0.0.1:`udp_command_port` only (None: the
+    destination port if given; 0 or no destination: the first valid sender,
+    latched); others are counted and ignored. At most `max_packets_per_step`
+    datagrams are read per step. `command_limits` (None: a * M_ii at the
+    start, see the README; a number for every DOF; nv numbers; or a dict
+    {DOF name: limit} over the defaults; inf: no limit) bound every command
+    value, and `command_policy` says what a value beyond its limit does:
+    'clamp' (saturate, counted per DOF), 'reject' (keep the previous command)
+    or 'stop' (end the run, status "command out of range").
     `realtime=False` runs as fast as possible (no sleeping; lateness 0, no
     misses). Ctrl-C stops the loop and returns the report so far
     (`interrupted`). `spin_us` > 0 busy-waits that long before each deadline
@@ -142,24 +171,78 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
     thread under SCHED_FIFO, `cpu` pins it to that CPU and `lock_memory`
     locks the process's pages (mlockall), all for the loop's duration only; a
     request the kernel refuses (no privilege) does not stop the run, and the
-    report's `scheduling` says what was granted. A failing step (singular articulated inertia, NaN) stops
-    the run; the report's `status`, `failed_step` and `failed_dof` say why.
+    report's `scheduling` says what was granted. A failing step (singular
+    articulated inertia, NaN) or an exception raised by a Python motion
+    source stops the run; the report's `status`, `failed_step`, `failed_dof`
+    and `error` say why (the exception itself is `report.exception`). A
+    measurement that cannot be made at the end (energy of a broken state) is
+    None, with the reason in `report_errors`. `on_start(runner)` is called
+    once the runner exists (its `udp_port` is bound), before the loop.
     Do not use `sim` from another thread while this runs.
     """
     if not (math.isfinite(rate) and rate > 0):
-        raise ValueError(f"rate must be a positive number of steps per second, got {rate}")
+        raise ValueError(f"rate must be a finite positive number of steps per second, got {rate}")
     if not (math.isfinite(duration) and duration >= 0):
-        raise ValueError(f"duration must be a non-negative number of seconds, got {duration}")
+        raise ValueError(f"duration must be a finite non-negative number of seconds, got {duration}")
     if not (math.isfinite(spin_us) and 0 <= spin_us * 1e-6 < 1.0 / rate):
         raise ValueError(f"spin_us must be in [0, {1e6 / rate:g}) (the step period), got {spin_us}")
+    if command_policy not in COMMAND_POLICIES:
+        raise ValueError(f"command_policy {command_policy!r}: choose one of {', '.join(COMMAND_POLICIES)}")
     steps = int(round(duration / sim.dt))
-    energy0, momentum0 = _energy(sim), _momentum(sim)
+    if steps > MAX_STEPS:
+        raise ValueError(f"duration {duration:g} s at dt {sim.dt:g} s is {steps:.3g} steps, more than the {MAX_STEPS:.0e} "
+                         "one run records (16 bytes of timings per step): shorten the duration or lower the rate")
+    report_errors: list[str] = []
+    energy0 = _measure(lambda: _energy(sim), "energy at start", report_errors)
+    momentum0 = _measure(lambda: _momentum(sim), "momentum at start", report_errors)
     runner = HilRunner(sim, float(rate), steps, udp_port=udp_port, udp_destination_port=udp_destination_port,
                        as_fast_as_possible=not realtime, record_every=max(1, math.ceil(steps / RECORDED_SAMPLES)),
                        spin_us=float(spin_us), fifo_priority=int(fifo_priority), cpu=int(cpu),
-                       lock_memory=bool(lock_memory))
-    interrupted = _run_with_progress(runner, steps, progress, sim.dt)
-    return _report(sim, runner, rate, realtime, interrupted, energy0, momentum0)
+                       lock_memory=bool(lock_memory), command_policy=command_policy,
+                       udp_command_port=-1 if udp_command_port is None else int(udp_command_port),
+                       max_packets_per_step=int(max_packets_per_step))
+    if command_limits is not None:
+        runner.command_limits = resolve_command_limits(command_limits, runner.command_limits, sim._dof_names)
+    if on_start is not None:
+        on_start(runner)
+    interrupted, exception = _run_with_progress(runner, steps, progress, sim.dt)
+    return _report(sim, runner, rate, realtime, interrupted, exception, energy0, momentum0, report_errors)
+
+
+def resolve_command_limits(limits, defaults, dof_names) -> np.ndarray:
+    """nv limits from a number, nv numbers, or {DOF name: limit} over `defaults`.
+    A name not in `dof_names` or a limit that is NaN or negative raises ValueError naming it."""
+    out = np.array(defaults, dtype=float)
+    if isinstance(limits, dict):
+        for name, limit in limits.items():
+            if name not in dof_names:
+                raise ValueError(f"command limit for {name!r}: no such DOF (DOFs: {', '.join(dof_names)})")
+            out[list(dof_names).index(name)] = _limit(limit, name)
+        return out
+    values = np.asarray(limits, dtype=float)
+    if values.ndim == 0:
+        return np.full(len(out), _limit(float(values), "every DOF"))
+    if values.shape != out.shape:
+        raise ValueError(f"command limits: expected {len(out)} values (one per DOF), got shape {values.shape}")
+    for name, limit in zip(dof_names, values):
+        _limit(limit, name)
+    return values
+
+
+def _limit(value, name) -> float:
+    value = float(value)
+    if not value >= 0:
+        raise ValueError(f"command limit for {name!r} must be >= 0 (inf: no limit), got {value}")
+    return value
+
+
+def _measure(fn, what: str, errors: list):
+    """fn(), or None with "what: Type: message" appended to `errors` when it raises."""
+    try:
+        return fn()
+    except Exception as error:  # noqa: BLE001 - a report keeps what could be measured
+        errors.append(f"{what}: {type(error).__name__}: {error}")
+        return None
 
 
 def _energy(sim: Simulator) -> float:
@@ -170,9 +253,9 @@ def _momentum(sim: Simulator) -> list[float]:
     return [float(x) for x in core.momentum(sim._model, sim.q, sim.v)]
 
 
-def _run_with_progress(runner, steps: int, show: bool, dt: float) -> bool:
+def _run_with_progress(runner, steps: int, show: bool, dt: float):
     """Runs the loop in a worker thread while the main thread updates a
-    progress bar; returns True when Ctrl-C stopped it."""
+    progress bar; returns (Ctrl-C stopped it, the exception a step raised or None)."""
     from tqdm import tqdm
 
     errors: list[BaseException] = []
@@ -198,9 +281,7 @@ def _run_with_progress(runner, steps: int, show: bool, dt: float) -> bool:
     finally:
         _update_progress(bar, runner, dt)
         bar.close()
-    if errors:
-        raise errors[0]
-    return interrupted
+    return interrupted, errors[0] if errors else None
 
 
 def _update_progress(bar, runner, dt: float) -> None:
@@ -209,6 +290,8 @@ def _update_progress(bar, runner, dt: float) -> None:
     postfix = {"t": f"{done * dt:.2f}s", "misses": runner.deadline_misses}
     if runner.udp_port is not None:
         postfix["rx"] = runner.packets_received
+        postfix["saturated"] = runner.commands_saturated
+        postfix["rejected"] = runner.commands_rejected
     bar.set_postfix(postfix, refresh=False)
 
 
@@ -216,24 +299,45 @@ def _percentiles(s, prefix: str, names) -> dict:
     return {name: getattr(s, f"{prefix}_{name}_us") for name in names}
 
 
-def _report(sim, runner, rate, realtime, interrupted, energy0, momentum0) -> HilReport:
+def _report(sim, runner, rate, realtime, interrupted, exception, energy0, momentum0, report_errors) -> HilReport:
     s = runner.summary()
+    if exception is not None and s.exception_step < 0:  # not raised by a step (a misuse of the runner): not a result
+        raise exception
     t, q, v = runner.trajectory()
     failed = s.status != "ok"
-    dof_names = sim._dof_names
+    dof_names = list(sim._dof_names)
+    energy1 = _measure(lambda: _energy(sim), "energy at end", report_errors)
+    momentum1 = _measure(lambda: _momentum(sim), "momentum at end", report_errors)
     return HilReport(
         rate_hz=float(rate), realtime=realtime, requested_steps=s.requested_steps, steps=s.steps,
         deadline_misses=s.deadline_misses,
         compute_us=_percentiles(s, "compute", ("p50", "p99", "p999", "max")),
         lateness_us=_percentiles(s, "lateness", ("p50", "p99", "max")),
-        packets={"received": s.packets_received, "dropped": s.packets_dropped, "sent": s.packets_sent},
+        packets=_packets(s), commands=_commands(s, runner.command_limits, dof_names),
         wall_seconds=s.wall_seconds, sim_time=float(sim.time), status=s.status,
-        failed_step=s.failed_step if failed else None,
+        failed_step=(s.exception_step if s.exception_step >= 0 else s.failed_step) if failed else None,
         failed_dof=dof_names[s.failed_dof] if failed and 0 <= s.failed_dof < len(dof_names) else None,
         interrupted=interrupted,
-        energy={"start": energy0, "end": _energy(sim)}, momentum={"start": momentum0, "end": _momentum(sim)},
+        energy={"start": energy0, "end": energy1}, momentum={"start": momentum0, "end": momentum1},
         scheduling=_scheduling(s.realtime),
-        dof_names=list(dof_names), compute_ns=runner.compute_ns, lateness_ns=runner.lateness_ns, t=t, q=q, v=v)
+        dof_names=dof_names, compute_ns=runner.compute_ns, lateness_ns=runner.lateness_ns, t=t, q=q, v=v,
+        error=f"{type(exception).__name__}: {exception}" if exception is not None else None,
+        report_errors=report_errors, exception=exception)
+
+
+def _packets(s) -> dict:
+    """The link's counters (all 0 without UDP); kernel_drops is None where SO_MEMINFO is not available."""
+    return {"received": s.packets_received, "dropped": s.packets_dropped, "sent": s.packets_sent,
+            "rejected_sender": s.packets_rejected_sender, "stale": s.packets_stale,
+            "kernel_drops": s.kernel_drops if s.kernel_drops_counted or not s.max_packets_per_step else None,
+            "send_failures": s.send_failures, "steps_left_pending": s.steps_left_pending,
+            "max_per_step": s.max_packets_per_step}
+
+
+def _commands(s, limits, dof_names) -> dict:
+    return {"policy": s.command_policy, "saturated": s.commands_saturated, "rejected": s.commands_rejected,
+            "saturated_dofs": {name: n for name, n in zip(dof_names, s.saturated_per_dof) if n},
+            "limits": dict(zip(dof_names, (float(x) for x in limits)))}
 
 
 def _scheduling(granted: dict) -> dict:
@@ -263,9 +367,13 @@ def format_scheduling(s: dict) -> str:
 
 def format_table(r: HilReport) -> str:
     """The timing table printed by `soadyn hil`."""
-    c, lat, p = r.compute_us, r.lateness_us, r.packets
+    c, lat, p, cmd = r.compute_us, r.lateness_us, r.packets, r.commands
     mode = "real time" if r.realtime else "as fast as possible"
-    dh = max(abs(a - b) for a, b in zip(r.momentum["end"], r.momentum["start"]))
+    e0, e1, h0, h1 = r.energy["start"], r.energy["end"], r.momentum["start"], r.momentum["end"]
+    energy = f"{e0:.6g} -> {e1:.6g}" if e0 is not None and e1 is not None else "not measured (see report_errors)"
+    momentum = (f"largest change {max(abs(a - b) for a, b in zip(h1, h0)):.3e}" if h0 is not None and h1 is not None
+                else "not measured (see report_errors)")
+    saturated = ", ".join(f"{name} {n}" for name, n in cmd["saturated_dofs"].items())
     lines = [
         f"steps            {r.steps} of {r.requested_steps} at {r.rate_hz:g} Hz ({mode}), "
         f"{r.sim_time:.3f} s simulated in {r.wall_seconds:.3f} s",
@@ -273,11 +381,16 @@ def format_table(r: HilReport) -> str:
         f"scheduling       {format_scheduling(r.scheduling)}",
         f"compute   us     p50 {c['p50']:8.1f}   p99 {c['p99']:8.1f}   p99.9 {c['p999']:8.1f}   max {c['max']:8.1f}",
         f"lateness  us     p50 {lat['p50']:8.1f}   p99 {lat['p99']:8.1f}   max {lat['max']:8.1f}",
-        f"packets          received {p['received']}, dropped {p['dropped']}, sent {p['sent']}",
-        f"energy    J      {r.energy['start']:.6g} -> {r.energy['end']:.6g}",
-        f"momentum         largest change {dh:.3e}",
+        f"packets          received {p['received']}, dropped {p['dropped']}, sent {p['sent']}, "
+        f"rejected sender {p['rejected_sender']}, stale {p['stale']}, kernel drops {p['kernel_drops']}, "
+        f"send failures {p['send_failures']}, steps at the read bound {p['steps_left_pending']}",
+        f"commands         policy {cmd['policy']}: saturated {cmd['saturated']}"
+        + (f" ({saturated})" if saturated else "") + f", rejected {cmd['rejected']}",
+        f"energy    J      {energy}",
+        f"momentum         {momentum}",
         f"status           {r.status}" + (f" at step {r.failed_step}" if r.failed_step is not None else "")
-        + (f" (DOF '{r.failed_dof}')" if r.failed_dof else "") + (" (interrupted)" if r.interrupted else ""),
+        + (f" (DOF '{r.failed_dof}')" if r.failed_dof else "") + (f": {r.error}" if r.error else "")
+        + (" (interrupted)" if r.interrupted else ""),
     ]
     return "\n".join(lines)
 

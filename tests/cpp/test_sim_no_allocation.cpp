@@ -3,12 +3,28 @@
 // prescribe events firing throughout, and immediate lock/release calls, with
 // every allocation of the process counted (allocation_counter.cpp); then
 // the failures a step reports (a source returning NaN, dopri5 at its sub-step
-// bound) and a queue of 10^5 pending events; then the HIL loop (HilRunner::run) over cassini, paced and as fast as possible, with
-// real-time scheduling asked for (granted or not). Zero allocations, zero
-// frees and every Status ok are required.
+// bound) and a queue of 10^5 pending events; then the HIL loop
+// (HilRunner::run) over cassini, paced and as fast as possible, with
+// real-time scheduling asked for (granted or not); then the HIL loop over the
+// UDP link under hostile traffic (udp_link.hpp, command_limits.hpp): a flood
+// queued before the run (kernel drops, the per-step read bound) and, during
+// it, valid commands mixed with 1e30 torques (clamped or rejected), commands
+// from another socket, stale sequence numbers and malformed datagrams; and
+// the stop policy ending the run at the first 1e30 command. Zero allocations,
+// zero frees, every Status ok and every counter seen moving are required.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <string>
+#include <thread>
+#include <vector>
 #include "allocation_counter.hpp"
 #include "soadyn/scenes.hpp"
 #include "soadyn/sim/hil_runner.hpp"
@@ -106,6 +122,117 @@ bool failures_and_full_queues_allocate_nothing() {
          failed == 0 && queued.pending_events() == static_cast<std::size_t>(kFuture) && restored;
 }
 
+// A loopback UDP socket on a free port, for the controller and the intruder.
+struct LoopbackSocket {
+  int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in address{};
+  LoopbackSocket() {
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t length = sizeof address;
+    ::bind(fd, reinterpret_cast<sockaddr*>(&address), length);
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length);
+  }
+  ~LoopbackSocket() { ::close(fd); }
+  int port() const { return ntohs(address.sin_port); }
+  void send(const std::vector<unsigned char>& packet, int port) const {
+    sockaddr_in to = address;
+    to.sin_port = htons(static_cast<std::uint16_t>(port));
+    ::sendto(fd, packet.data(), packet.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
+  }
+};
+
+// A command datagram (udp_link.hpp's format), built before the counter is armed.
+std::vector<unsigned char> command_packet(std::uint32_t sequence, int nv, double torque) {
+  std::vector<unsigned char> p(soadyn::udp_packet::bytes_for(static_cast<std::size_t>(nv)));
+  auto put = [&p](std::size_t at, std::uint64_t x, int bytes) {
+    for (int k = 0; k < bytes; ++k) p[at + static_cast<std::size_t>(k)] = static_cast<unsigned char>(x >> (8 * k));
+  };
+  auto put_f64 = [&put](std::size_t at, double x) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    put(at, bits, 8);
+  };
+  std::memcpy(p.data(), soadyn::udp_packet::magic, 4);
+  put(4, soadyn::udp_packet::version, 2);
+  put(6, soadyn::udp_packet::kind_command, 2);
+  put(8, sequence, 4);
+  put(12, static_cast<std::uint64_t>(nv), 4);
+  put_f64(16, 0.0);
+  for (int k = 0; k < nv; ++k) put_f64(soadyn::udp_packet::header_bytes + 8 * static_cast<std::size_t>(k), torque);
+  return p;
+}
+
+// HilRunner::run over the link with counting armed (see the file comment).
+bool hil_link_allocates_nothing(soadyn::CommandPolicy policy) {
+  constexpr long kSteps = 20000;
+  constexpr std::uint32_t kCommands = 4000, kFlood = 5000;
+  soadyn::Simulator sim(soadyn::pendulum_chain_model<double>(3), 1e-4, soadyn::Integrator::rk4);
+  const int nq = sim.model().nq, nv = sim.model().nv;
+  LoopbackSocket controller, intruder;
+  soadyn::UdpLink link(nq, nv, 0, controller.port());  // commands only from the controller
+  soadyn::HilRunner runner(sim, 1e4, kSteps, &link);
+  runner.set_command_limits(Eigen::VectorXd::Constant(nv, 2.0));
+  runner.set_command_policy(policy);
+  runner.set_spin_ns(50000);
+  std::vector<std::vector<unsigned char>> valid, huge;
+  for (std::uint32_t k = 0; k < kCommands; ++k) {
+    valid.push_back(command_packet(kFlood + 2 * k + 1, nv, 0.5));
+    huge.push_back(command_packet(kFlood + 2 * k + 2, nv, 1e30));
+  }
+  const std::vector<unsigned char> stale = command_packet(1, nv, 0.1);
+  std::vector<unsigned char> malformed = command_packet(0, nv, 0.1);
+  malformed[0] = 'X';
+  const std::vector<unsigned char> flood = command_packet(kFlood, nv, 0.0);
+  for (std::uint32_t k = 0; k < kFlood; ++k) controller.send(flood, link.port());  // more than the buffer holds
+  std::atomic<bool> go{false}, release{false};
+  // Allocates nothing once started; it ends only after the counter is
+  // disarmed, since std::thread frees its state when its function returns.
+  std::thread sender([&] {
+    while (!go.load()) {
+    }
+    for (std::uint32_t k = 0; k < kCommands; ++k) {
+      controller.send(valid[k], link.port());
+      if (k % 10 == 0) controller.send(huge[k], link.port());
+      if (k % 7 == 0) intruder.send(valid[k], link.port());
+      if (k % 13 == 0) controller.send(stale, link.port());
+      if (k % 17 == 0) controller.send(malformed, link.port());
+      ::usleep(200);
+    }
+    while (!release.load()) ::usleep(1000);
+  });
+  arm_counter();
+  go.store(true);
+  const soadyn::Status status = runner.run();
+  const AllocationCounts counts = disarm_counter();
+  release.store(true);
+  sender.join();
+  const soadyn::HilSummary s = runner.summary();
+  const bool clamp = policy == soadyn::CommandPolicy::clamp;
+  const bool finite = sim.q().allFinite() && sim.v().allFinite();
+  if (policy == soadyn::CommandPolicy::stop) {  // the first 1e30 command ends the run, naming DOF 0
+    std::printf("hil runner over UDP (stop): %ld allocations, %ld frees, stopped at step %ld of %ld by DOF %d\n",
+                counts.allocations(), counts.frees, static_cast<long>(s.failed_step), kSteps,
+                s.command_out_of_range_dof);
+    return counts.allocations() == 0 && counts.frees == 0 && status.ok() && s.command_out_of_range_dof == 0 &&
+           s.failed_step == s.steps && s.steps < kSteps && finite;
+  }
+  std::printf("hil runner over UDP (%s): %ld steps, %ld allocations, %ld frees, status %s; received %lu, malformed "
+              "%lu, other sender %lu, stale %lu, kernel drops %lu, steps at the read bound %lu, saturated %lu, "
+              "rejected %lu, sent %lu, send failures %lu\n",
+              soadyn::command_policy_name(policy), static_cast<long>(s.steps), counts.allocations(), counts.frees,
+              status.ok() ? "ok" : "failed", static_cast<unsigned long>(s.packets_received),
+              static_cast<unsigned long>(s.packets_dropped), static_cast<unsigned long>(s.packets_rejected_sender),
+              static_cast<unsigned long>(s.packets_stale), static_cast<unsigned long>(s.kernel_drops),
+              static_cast<unsigned long>(s.steps_left_pending), static_cast<unsigned long>(s.commands_saturated),
+              static_cast<unsigned long>(s.commands_rejected), static_cast<unsigned long>(s.packets_sent),
+              static_cast<unsigned long>(s.send_failures));
+  return counts.allocations() == 0 && counts.frees == 0 && status.ok() && s.steps == kSteps && finite &&
+         s.packets_received > 0 && s.packets_dropped > 0 && s.packets_rejected_sender > 0 && s.packets_stale > 0 &&
+         s.kernel_drops > 0 && s.steps_left_pending > 0 && (clamp ? s.commands_saturated : s.commands_rejected) > 0 &&
+         (clamp ? s.commands_rejected : s.commands_saturated) == 0 && s.packets_sent + s.send_failures == kSteps;
+}
+
 }  // namespace
 
 int main(int argc, char**) {
@@ -141,6 +268,8 @@ int main(int argc, char**) {
   }
   pass = failures_and_full_queues_allocate_nothing() && pass;
   for (const bool fast : {false, true}) pass = hil_run_allocates_nothing(fast, 20000) && pass;
+  for (const auto policy : {soadyn::CommandPolicy::clamp, soadyn::CommandPolicy::reject, soadyn::CommandPolicy::stop})
+    pass = hil_link_allocates_nothing(policy) && pass;
   std::printf("test_sim_no_allocation: %s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;
 }

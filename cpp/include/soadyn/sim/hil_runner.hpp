@@ -25,17 +25,29 @@
 // them after it (sim/realtime_scheduling.hpp); the summary says what the
 // kernel granted.
 //
+// Commands: each step, the latest valid command from the link is judged
+// against the command limits (sim/command_limits.hpp; default from the model
+// at the state the runner is built with) and, clamped, applied to the
+// regular DOFs until the next one; a command rejected by the policy leaves the
+// previous one applied, and the stop policy ends the run before the step
+// (summary().command_out_of_range_dof names the DOF).
+//
 // Memory policy: the constructor and record_state_every() allocate every
 // buffer; run() allocates nothing, takes no lock, never throws and makes no
 // blocking call besides the sleep. A step whose Status is not ok stops the
-// run; the status and the step index are kept. steps_done(),
-// deadline_misses() and request_stop() may be used from another thread while
-// run() is going; everything else only before or after it.
+// run; the status and the step index are kept. If the simulator's step throws
+// (only a callback motion source, such as a Python function, can), run()
+// records the step (summary().exception_step), finishes its bookkeeping and
+// lets the exception through. steps_done(), deadline_misses(),
+// commands_saturated(), commands_rejected() and request_stop() may be used
+// from another thread while run() is going; everything else only before or
+// after it.
 #pragma once
 #include <atomic>
 #include <cstdint>
 #include <vector>
 
+#include "soadyn/sim/command_limits.hpp"
 #include "soadyn/sim/realtime_scheduling.hpp"
 #include "soadyn/sim/simulator.hpp"
 #include "soadyn/sim/udp_link.hpp"
@@ -50,9 +62,22 @@ struct HilSummary {
   double compute_p50_us = 0, compute_p99_us = 0, compute_p999_us = 0, compute_max_us = 0;
   double lateness_p50_us = 0, lateness_p99_us = 0, lateness_max_us = 0;
   double wall_seconds = 0;  // wall-clock time of the loop
-  std::uint64_t packets_received = 0, packets_dropped = 0, packets_sent = 0;
+  // Counters accumulate over the runner's (and the link's) life, across
+  // runs. The link's counters (udp_link.hpp): accepted commands, malformed, sensor
+  // packets sent, from another sender, stale sequence, dropped by the kernel,
+  // failed sends, steps that left datagrams waiting (the per-step read bound).
+  std::uint64_t packets_received = 0, packets_dropped = 0, packets_sent = 0, packets_rejected_sender = 0,
+                packets_stale = 0, kernel_drops = 0, send_failures = 0, steps_left_pending = 0;
+  bool kernel_drops_counted = false;  // SO_MEMINFO available
+  int max_packets_per_step = 0;       // the read bound (0: no link)
+  // The command limits: commands clamped (and per DOF) or rejected.
+  std::uint64_t commands_saturated = 0, commands_rejected = 0;
+  std::vector<std::uint64_t> saturated_per_dof;
+  CommandPolicy command_policy = CommandPolicy::clamp;
   Status status;                  // the status of the failed step, or ok
   std::int64_t failed_step = -1;  // the step index the status came from
+  int command_out_of_range_dof = -1;  // the stop policy ended the run: the DOF at fault
+  std::int64_t exception_step = -1;   // the step whose simulator step threw
   bool stopped = false;           // request_stop() ended the run early
   bool as_fast_as_possible = false;
   RealtimeRequest realtime_request;  // what set_realtime asked for
@@ -76,6 +101,12 @@ class HilRunner {
     request.validate();
     realtime_request_ = request;
   }
+  // Limits of the commands from the link (sim/command_limits.hpp; nv
+  // values, +inf: none) and the policy beyond them. Throw
+  // std::invalid_argument naming a bad DOF.
+  void set_command_limits(const Eigen::VectorXd& limits) { limits_.set_limits(limits); }
+  void set_command_policy(CommandPolicy policy) { limits_.set_policy(policy); }
+  const CommandLimits& command_limits() const { return limits_; }
   // Records time, q and v at the start and after every `every` steps
   // (0: no recording). Allocates the buffers.
   void record_state_every(std::int64_t every);
@@ -86,6 +117,8 @@ class HilRunner {
   // Thread-safe progress and control.
   std::int64_t steps_done() const { return steps_done_.load(std::memory_order_relaxed); }
   std::int64_t deadline_misses() const { return deadline_misses_.load(std::memory_order_relaxed); }
+  std::uint64_t commands_saturated() const { return limits_.saturated(); }
+  std::uint64_t commands_rejected() const { return limits_.rejected(); }
   void request_stop() { stop_requested_.store(true, std::memory_order_relaxed); }
 
   // Results, after run(). The per-step arrays hold steps_done() valid entries.
@@ -105,9 +138,13 @@ class HilRunner {
  private:
   void reset();
   std::int64_t deadline_ns(std::int64_t step) const;
-  // One step's work after the wake-up: commands in, step, sensor state out, record.
-  Status advance(std::int64_t step);
+  // One step's work after the wake-up: commands in, step, sensor state out,
+  // record. False when the run must stop (status_ or out_of_range_dof_ say why).
+  bool advance(std::int64_t step);
+  // Judges a new command from the link; false when the stop policy applies.
+  bool take_command();
   void apply_command();
+  class RunBookkeeping;
   void record_state();
 
   Simulator& sim_;
@@ -122,8 +159,12 @@ class HilRunner {
   std::vector<std::int64_t> compute_ns_, lateness_ns_;
   std::int64_t record_every_ = 0, recorded_rows_ = 0;
   std::vector<double> recorded_time_, recorded_q_, recorded_v_;
+  CommandLimits limits_;
+  Eigen::VectorXd applied_command_;
+  bool has_applied_command_ = false;
   Status status_;
-  std::int64_t failed_step_ = -1;
+  std::int64_t failed_step_ = -1, exception_step_ = -1;
+  int out_of_range_dof_ = -1;
   std::atomic<std::int64_t> steps_done_{0}, deadline_misses_{0};
   std::atomic<bool> stop_requested_{false};
   bool stopped_ = false;
