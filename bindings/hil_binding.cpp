@@ -13,6 +13,7 @@
 #include "soadyn/sim/hil_runner.hpp"
 #include "soadyn/sim/simulator.hpp"
 #include "soadyn/sim/udp_link.hpp"
+#include "simulator_handle.hpp"
 
 namespace soadyn_py {
 
@@ -20,11 +21,24 @@ namespace py = pybind11;
 
 namespace {
 
-// The runner with the link it owns; `running` refuses a second concurrent run().
+// The runner with the link it owns; `running` refuses a second concurrent
+// run(), and run() holds the simulator's lock, so no Python thread can step,
+// prescribe or reset the simulator the loop is stepping.
 struct HilSession {
+  SimulatorHandle* sim = nullptr;
   std::unique_ptr<soadyn::UdpLink> link;
   std::unique_ptr<soadyn::HilRunner> runner;
   std::atomic<bool> running{false};
+  // The step in which a Python motion source raised in the last run, or -1
+  // (the step's Status is then a failed source; summary() reports it as an
+  // exception in that step).
+  std::int64_t source_raised_step = -1;
+
+  soadyn::HilSummary summary() const {
+    soadyn::HilSummary s = runner->summary();
+    if (source_raised_step >= 0) s.exception_step = source_raised_step;
+    return s;
+  }
 
   void check_idle(const char* what) const {
     if (running.load()) throw std::runtime_error(std::string(what) + ": the HIL runner is running");
@@ -51,7 +65,7 @@ soadyn::CommandPolicy policy_from(const std::string& name) {
   throw py::value_error("command_policy '" + name + "': choose 'clamp', 'reject' or 'stop'");
 }
 
-std::unique_ptr<HilSession> make_session(soadyn::Simulator& sim, double rate_hz, std::int64_t steps,
+std::unique_ptr<HilSession> make_session(SimulatorHandle& sim, double rate_hz, std::int64_t steps,
                                          std::optional<int> udp_port, int udp_destination_port,
                                          bool as_fast_as_possible, std::int64_t record_every, double spin_us,
                                          int fifo_priority, int cpu, bool lock_memory,
@@ -59,6 +73,7 @@ std::unique_ptr<HilSession> make_session(soadyn::Simulator& sim, double rate_hz,
                                          const std::string& command_policy, int udp_command_port,
                                          int max_packets_per_step) {
   auto session = std::make_unique<HilSession>();
+  session->sim = &sim;
   try {
     const auto& m = sim.model();
     if (udp_port) {
@@ -87,10 +102,22 @@ struct RunningFlag {
 void run(HilSession& s) {
   if (s.running.exchange(true)) throw std::runtime_error("run: the HIL runner is already running");
   const RunningFlag flag{s.running};
-  py::gil_scoped_release release;
-  // Throws only what a callback motion source (a Python function) raised in
-  // a step; the runner has then recorded the step (summary().exception_step).
-  s.runner->run();
+  const SimulatorLock simulator_in_use(*s.sim);  // taken with the GIL held (simulator_handle.hpp)
+  s.source_raised_step = -1;
+  soadyn::Status status;
+  {
+    py::gil_scoped_release release;
+    // Throws only what a C++ callback source threw in a step; the runner has
+    // then recorded the step (summary().exception_step).
+    status = s.runner->run();
+  }
+  // A Python source that raised failed its step with a Status: raise what
+  // Simulator.step would, the DynamicsError caused by that exception.
+  if (!status.ok()) {
+    s.source_raised_step = s.runner->summary().failed_step;
+    raise_if_source_raised(*s.sim, status);  // returns when no source raised
+    s.source_raised_step = -1;
+  }
 }
 
 }  // namespace
@@ -153,7 +180,8 @@ void bind_hil(py::module_& mod) {
            py::arg("udp_command_port") = -1, py::arg("max_packets_per_step") = 16,
            py::keep_alive<1, 2>())  // the simulator outlives the runner
       .def("run", &run, "Run the loop (GIL released); the outcome is in summary(). An exception raised by a "
-                        "Python motion source ends the run and propagates; summary() still holds the run.")
+                        "Python motion source ends the run: run() raises the DynamicsError naming its DOF, caused by that exception, "
+                        "as Simulator.step does; summary() still holds the run.")
       .def("request_stop", [](HilSession& s) { s.runner->request_stop(); }, "Ask a running loop to stop (thread-safe).")
       .def("release_peer", [](HilSession& s) { if (s.link) s.link->release_peer(); },
            "Forget the latched command sender: the next valid command's sender becomes the peer (thread-safe).")
@@ -176,7 +204,7 @@ void bind_hil(py::module_& mod) {
              return s.link ? py::object(py::int_(s.link->port())) : py::object(py::none()); })
       .def("summary", [](const HilSession& s) {
              s.check_idle("summary");
-             return s.runner->summary(); })
+             return s.summary(); })
       .def_property_readonly("compute_ns", [](const HilSession& s) {
              s.check_idle("compute_ns");
              return to_numpy(s.runner->compute_ns(), s.runner->steps_done()); })

@@ -92,6 +92,15 @@ py::object dynamics_error(const std::string& message) {
   throw py::error_already_set();
 }
 
+}  // namespace
+
+void raise_if_source_raised(const SimulatorHandle& sim, const soadyn::Status& s) {
+  if (s.ok() || !pending_source_error) return;
+  raise(dynamics_error(sim.describe(s)));
+}
+
+namespace {
+
 void raise_on(const soadyn::Status& s, const Sim& sim) {
   if (s.ok()) return;
   if (s.code == soadyn::StatusCode::invalid_dof) throw py::value_error(sim.describe(s));

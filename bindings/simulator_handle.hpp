@@ -47,4 +47,11 @@ class SimulatorLock {
   SimulatorHandle& sim_;
 };
 
+// Call with the GIL held, after a step or a loop of steps ran on this
+// thread and returned `s`: when a Python motion source raised during it,
+// raises the DynamicsError naming the DOF with that exception as its cause
+// (the error Simulator.step raises); otherwise returns. Defined in
+// simulator_binding.cpp.
+void raise_if_source_raised(const SimulatorHandle& sim, const soadyn::Status& s);
+
 }  // namespace soadyn_py

@@ -299,6 +299,13 @@ def _percentiles(s, prefix: str, names) -> dict:
     return {name: getattr(s, f"{prefix}_{name}_us") for name in names}
 
 
+def _describe(exception: BaseException) -> str:
+    """'Type: message', followed by the exception that caused it (a motion source's)."""
+    text = f"{type(exception).__name__}: {exception}"
+    cause = exception.__cause__
+    return text if cause is None else f"{text} (caused by {type(cause).__name__}: {cause})"
+
+
 def _report(sim, runner, rate, realtime, interrupted, exception, energy0, momentum0, report_errors) -> HilReport:
     s = runner.summary()
     if exception is not None and s.exception_step < 0:  # not raised by a step (a misuse of the runner): not a result
@@ -321,7 +328,7 @@ def _report(sim, runner, rate, realtime, interrupted, exception, energy0, moment
         energy={"start": energy0, "end": energy1}, momentum={"start": momentum0, "end": momentum1},
         scheduling=_scheduling(s.realtime),
         dof_names=dof_names, compute_ns=runner.compute_ns, lateness_ns=runner.lateness_ns, t=t, q=q, v=v,
-        error=f"{type(exception).__name__}: {exception}" if exception is not None else None,
+        error=_describe(exception) if exception is not None else None,
         report_errors=report_errors, exception=exception)
 
 

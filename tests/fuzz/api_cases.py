@@ -108,8 +108,9 @@ def call(rng: np.random.Generator, m: soadyn.Model):
     if rng.uniform() < 0.1:
         q = hostile_vector(rng, m.nq)
     v, x = hostile_vector(rng, m.nv), hostile_vector(rng, m.nv)
-    if rng.uniform() < 0.2:
-        v = np.asarray(v, dtype=float) * 1e150 if np.asarray(v).dtype.kind == "f" else v
+    if rng.uniform() < 0.2 and isinstance(v, np.ndarray) and v.dtype.kind == "f":
+        with np.errstate(over="ignore"):
+            v = v * 1e150
     f_ext = None
     if rng.uniform() < 0.3:
         f_ext = hostile_vector(rng, 6 * m.nbodies)
