@@ -31,7 +31,7 @@ def vector(rng: np.random.Generator) -> str:
 
 
 def inertial(rng: np.random.Generator) -> str:
-    if rng.uniform() < 0.2:
+    if rng.uniform() < 0.05:
         return ""
     a, b = rng.uniform(0.01, 1.0, 2)
     c = rng.uniform(abs(a - b), a + b)
@@ -80,7 +80,7 @@ def file_bytes(rng: np.random.Generator) -> bytes:
     if r < 0.2:
         return "".join(rng.choice(URDF_CHARACTERS, int(rng.integers(0, 300)))).encode()
     text = tree(rng)
-    return (mutate(rng, text) if rng.uniform() < 0.8 else text).encode("utf-8", "surrogatepass")
+    return (mutate(rng, text) if rng.uniform() < 0.6 else text).encode("utf-8", "surrogatepass")
 
 
 def run_case(seed: int) -> str:
