@@ -33,9 +33,9 @@ def vector(rng: np.random.Generator) -> str:
 def inertial(rng: np.random.Generator) -> str:
     if rng.uniform() < 0.05:
         return ""
-    a, b = rng.uniform(0.01, 1.0, 2)
-    c = rng.uniform(abs(a - b), a + b)
-    return (f"<inertial><origin xyz='{vector(rng)}' rpy='{vector(rng)}'/><mass value='{rng.uniform(0.1, 10)!r}'/>"
+    a, b = (float(x) for x in rng.uniform(0.01, 1.0, 2))
+    c = float(rng.uniform(abs(a - b), a + b))
+    return (f"<inertial><origin xyz='{vector(rng)}' rpy='{vector(rng)}'/><mass value='{float(rng.uniform(0.1, 10))!r}'/>"
             f"<inertia ixx='{a!r}' iyy='{b!r}' izz='{c!r}' ixy='0' ixz='0' iyz='0'/></inertial>")
 
 
