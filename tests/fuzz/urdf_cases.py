@@ -15,6 +15,7 @@ import math
 import os
 import tempfile
 import warnings
+from typing import Any, Callable, Sequence
 from xml.etree import ElementTree
 
 import numpy as np
@@ -51,17 +52,19 @@ def tree(rng: np.random.Generator) -> str:
     return "<robot name='fuzz'>" + "".join(parts) + "</robot>"
 
 
-def mutate(rng: np.random.Generator, text: str) -> str:
+def mutate(text: str, pick: Callable[[Sequence], Any]) -> str:
+    """One to three mutations of a valid file; `pick` chooses an item of a
+    sequence (from a seeded generator here, from hypothesis in
+    tests/test_urdf_fuzz.py)."""
     root = ElementTree.fromstring(text)
-    for _ in range(int(rng.integers(1, 4))):
-        elements = list(root.iter())
-        element = elements[rng.integers(len(elements))]
-        action = ["value", "value", "drop_attribute", "drop", "duplicate", "rename"][rng.integers(6)]
+    for _ in range(pick([1, 2, 3])):
+        element = pick(list(root.iter()))
+        action = pick(["value", "value", "drop_attribute", "drop", "duplicate", "rename"])
         keys = sorted(element.attrib)
         if action == "value" and keys:
-            element.set(keys[rng.integers(len(keys))], BAD_VALUES[rng.integers(len(BAD_VALUES))])
+            element.set(pick(keys), pick(BAD_VALUES))
         elif action == "drop_attribute" and keys:
-            del element.attrib[keys[rng.integers(len(keys))]]
+            del element.attrib[pick(keys)]
         elif action in ("drop", "duplicate") and element is not root:
             parent = next(p for p in root.iter() if any(child is element for child in p))
             if action == "drop":
@@ -69,7 +72,7 @@ def mutate(rng: np.random.Generator, text: str) -> str:
             else:
                 parent.append(ElementTree.fromstring(ElementTree.tostring(element)))
         elif action == "rename":
-            element.tag = ["foo", "link", "joint", "robot", "inertial", "origin"][rng.integers(6)]
+            element.tag = pick(["foo", "link", "joint", "robot", "inertial", "origin"])
     return ElementTree.tostring(root, encoding="unicode")
 
 
@@ -80,7 +83,8 @@ def file_bytes(rng: np.random.Generator) -> bytes:
     if r < 0.2:
         return "".join(rng.choice(URDF_CHARACTERS, int(rng.integers(0, 300)))).encode()
     text = tree(rng)
-    return (mutate(rng, text) if rng.uniform() < 0.6 else text).encode("utf-8", "surrogatepass")
+    pick = lambda items: items[rng.integers(len(items))]  # noqa: E731
+    return (mutate(text, pick) if rng.uniform() < 0.6 else text).encode("utf-8", "surrogatepass")
 
 
 def run_case(seed: int) -> str:
