@@ -237,8 +237,10 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("integrate",
       [](ModelHandle& h, py::handle q, py::handle v, double dt) {
+        const std::uint64_t version = h.model.version;
         const Array qa = q_arg(h, q), va = v_arg(h, v, "v");
         if (!std::isfinite(dt)) throw py::value_error("dt is not finite");
+        refuse_changed_model(h, version);  // converting v may have run Python code; from here on the GIL is held
         Eigen::VectorXd out(h.model.nq);
         soadyn::integrate<double>(h.model, Map(qa.data(), h.model.nq), Map(va.data(), h.model.nv), dt, out);
         refuse_non_finite("integrate", "coordinate", out.data(), static_cast<std::size_t>(h.model.nq), 1,

@@ -11,24 +11,19 @@ const std::string& name_of(const std::vector<std::string>& names, int k) {
   return k >= 0 && static_cast<std::size_t>(k) < names.size() ? names[static_cast<std::size_t>(k)] : unknown;
 }
 
-template <class Derived>
-bool finite(const Eigen::MatrixBase<Derived>& x) {
-  return x.allFinite();
-}
-
 // The first body whose pose, velocity, momentum or first moment of mass is
 // not finite, or -1.
 int body_at_fault(const soadyn::Model& m, const soadyn::Data& d, bool with_velocity) {
   for (int i = 0; i < m.nbodies(); ++i) {
     const auto k = static_cast<std::size_t>(i);
     const soadyn::Transform<double>& X = d.pose_in_world[k];
-    if (!finite(X.rotation) || !finite(X.translation)) return i;
-    if (!finite(Eigen::Vector3d(m.mass[k] * X.translation))) return i;
+    if (!X.rotation.allFinite() || !X.translation.allFinite()) return i;
+    if (!(m.mass[k] * X.translation).allFinite()) return i;
     if (!with_velocity) continue;
     const soadyn::Vec6<double>& V = d.velocity[k];
-    if (!finite(V)) return i;
+    if (!V.allFinite()) return i;
     const soadyn::Vec6<double> h = m.inertia[k] * V;
-    if (!finite(h) || !std::isfinite(V.dot(h)) || !finite(X.force_to_parent(h))) return i;
+    if (!h.allFinite() || !std::isfinite(V.dot(h)) || !X.force_to_parent(h).allFinite()) return i;
   }
   return -1;
 }

@@ -74,6 +74,7 @@ std::unique_ptr<HilSession> make_session(SimulatorHandle& sim, double rate_hz, s
                                          int max_packets_per_step) {
   auto session = std::make_unique<HilSession>();
   session->sim = &sim;
+  const SimulatorLock simulator_in_use(sim);  // the runner reads the simulator's model and state
   try {
     const auto& m = sim.model();
     if (udp_port) {
@@ -104,6 +105,7 @@ void run(HilSession& s) {
   const RunningFlag flag{s.running};
   const SimulatorLock simulator_in_use(*s.sim);  // taken with the GIL held (simulator_handle.hpp)
   s.source_raised_step = -1;
+  forget_pending_source_error();
   soadyn::Status status;
   {
     py::gil_scoped_release release;
@@ -114,7 +116,7 @@ void run(HilSession& s) {
   // A Python source that raised failed its step with a Status: raise what
   // Simulator.step would, the DynamicsError caused by that exception.
   if (!status.ok()) {
-    s.source_raised_step = s.runner->summary().failed_step;
+    s.source_raised_step = s.runner->failed_step();
     raise_if_source_raised(*s.sim, status);  // returns when no source raised
     s.source_raised_step = -1;
   }

@@ -35,7 +35,11 @@ py::array_t<bool> prescribed_mask(const soadyn::Model& m) {
 }
 
 // Checked before any flag changes, so a refused request changes nothing.
+// (Python checks the range first; checked again under the model's lock, since
+// another thread may have replaced the model in between.)
 void refuse_modal(const soadyn::Model& m, int dof, bool flag) {
+  if (dof < 0 || dof >= m.nv)
+    throw py::value_error("DOF index " + std::to_string(dof) + " is out of range (nv = " + std::to_string(m.nv) + ")");
   if (flag && m.is_modal(dof))
     throw py::value_error("DOF '" + m.dof_names[static_cast<std::size_t>(dof)] +
                           "' is a modal coordinate of a flexible body: modal DOFs are always regular");
@@ -119,6 +123,9 @@ void bind_model(py::module_& mod) {
       .def("_set_prescribed_mask",
            [](ModelHandle& h, const std::vector<bool>& mask) {
              const auto lock = h.lock_for_change();
+             if (mask.size() != static_cast<std::size_t>(h.model.nv))
+               throw py::value_error("prescribed mask has " + std::to_string(mask.size()) + " entries, expected " +
+                                     std::to_string(h.model.nv));
              for (int d = 0; d < h.model.nv; ++d) refuse_modal(h.model, d, mask[static_cast<std::size_t>(d)]);
              for (int d = 0; d < h.model.nv; ++d) h.model.set_prescribed(d, mask[static_cast<std::size_t>(d)]);
            })

@@ -44,6 +44,17 @@ struct ModelHandle {
     data.reset();
   }
 
+  // `mutex` for a computation; call with the GIL held, which stays held. A
+  // computation in progress is waited for with the GIL released.
+  std::unique_lock<std::mutex> lock_for_computation() {
+    std::unique_lock<std::mutex> lock(mutex, std::try_to_lock);
+    if (!lock.owns_lock()) {
+      pybind11::gil_scoped_release release;
+      lock.lock();
+    }
+    return lock;
+  }
+
   // `mutex` for a change of the model; call with the GIL held, which stays
   // held. While a computation holds the mutex, the GIL is released to wait
   // for it, and the mutex is never held while waiting for the GIL, so
@@ -81,7 +92,7 @@ inline void refuse_changed_model(const ModelHandle& h, std::uint64_t checked_ver
 template <class Fn>
 void run_locked(ModelHandle& h, std::uint64_t checked_version, Fn&& fn) {
   if (h.model.nv <= kReleaseGilAboveDofs) {
-    std::lock_guard<std::mutex> lock(h.mutex);
+    const auto lock = h.lock_for_computation();
     refuse_changed_model(h, checked_version);
     fn(h.model, h.scratch());
     return;

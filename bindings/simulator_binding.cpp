@@ -94,6 +94,8 @@ py::object dynamics_error(const std::string& message) {
 
 }  // namespace
 
+void forget_pending_source_error() { forget_source_error(); }
+
 void raise_if_source_raised(const SimulatorHandle& sim, const soadyn::Status& s) {
   if (s.ok() || !pending_source_error) return;
   raise(dynamics_error(sim.describe(s)));
@@ -233,7 +235,7 @@ void bind_simulator(py::module_& mod) {
   py::class_<soadyn::Simulator>(mod, "_SimulatorCore");
   py::class_<Sim, soadyn::Simulator>(mod, "_Simulator")
       .def(py::init([](ModelHandle& h, double dt, const std::string& integrator, int capacity) {
-             std::lock_guard<std::mutex> lock(h.mutex);
+             const auto lock = h.lock_for_computation();  // waits for a computation without the GIL
              return std::make_unique<Sim>(h.model, dt, integrator_from(integrator), capacity);
            }),
            py::arg("model"), py::arg("dt"), py::arg("integrator") = "rk4", py::arg("event_capacity") = 64)

@@ -54,4 +54,8 @@ class SimulatorLock {
 // simulator_binding.cpp.
 void raise_if_source_raised(const SimulatorHandle& sim, const soadyn::Status& s);
 
+// Forgets an exception a Python source raised earlier on this thread and
+// that was never reported; call with the GIL held before a step or loop.
+void forget_pending_source_error();
+
 }  // namespace soadyn_py

@@ -112,5 +112,8 @@ def test_udp_0_announces_the_port_it_bound(tmp_path):
         run.kill()
     assert run.returncode == 0, err
     data = json.loads(report.read_text())
-    assert data["packets"]["received"] == 1 and data["packets"]["sent"] == 100
+    # One sensor packet per step once the command has named the peer (the
+    # steps before it arrived had nobody to send to).
+    assert data["packets"]["received"] == 1 and 1 <= data["packets"]["sent"] <= 100
+    assert data["packets"]["send_failures"] == 0
     assert data["commands"]["policy"] == "clamp" and data["packets"]["max_per_step"] == 16

@@ -56,21 +56,26 @@ def test_run_hil_reports_a_raising_source():
     assert "ZeroDivisionError" in format_table(report).splitlines()[-1]
 
 
-def test_a_report_whose_end_measurements_fail_keeps_what_was_measured():
-    """The source grows the model during the run (the simulator has its own
-    copy): the model's energy and momentum can no longer be evaluated on the
-    simulator's state, and the report says so instead of being lost."""
+def test_a_report_whose_end_measurements_fail_keeps_what_was_measured(monkeypatch):
+    """The energy and momentum at the end cannot be measured (the calls that
+    measure them raise after the run): the report says so instead of being lost."""
     m = scenes.pendulum_chain(2)
     sim = Simulator(m, 1e-3, "euler")
-    grown = []
+    measured = []
 
-    def fn(t):
-        if t > 0.01 and not grown:
-            grown.append(m.add_body("extra", "link_2", soadyn.Joint.revolute([1, 0, 0]), mass=1.0,
-                                    inertia=[0.1, 0.1, 0.1]))
-        return (0.0, 0.0, 0.0)
+    def kinetic_energy(model, q, v):
+        measured.append(q)
+        if len(measured) > 1:
+            raise soadyn.DynamicsError("kinetic_energy is not finite: body 'link_2' ...")
+        return 0.0
 
-    sim.prescribe("link_1", MotionSource.function(fn))
+    def momentum(model, q, v):
+        if len(measured) > 1:
+            raise soadyn.DynamicsError("momentum is not finite: body 'link_2' ...")
+        return np.zeros(6)
+
+    monkeypatch.setattr(soadyn.hil.core, "kinetic_energy", kinetic_energy)
+    monkeypatch.setattr(soadyn.hil.core, "momentum", momentum)
     report = run_hil(sim, 1000.0, 0.05, progress=False, realtime=False)
     assert report.ok and report.steps == 50
     assert report.energy["start"] is not None and report.energy["end"] is None
@@ -80,6 +85,21 @@ def test_a_report_whose_end_measurements_fail_keeps_what_was_measured():
     assert "not measured (see report_errors)" in table
     data = json.loads(report.to_json())
     assert data["energy"]["end"] is None and len(data["report_errors"]) == 2
+
+
+def test_the_simulator_keeps_its_own_model():
+    """Changing the model after the simulator was built changes neither its
+    names nor the energies a HIL report measures."""
+    m = scenes.pendulum_chain(2)
+    sim = Simulator(m, 1e-3)
+    m.add_body("extra", "link_2", soadyn.Joint.revolute([1, 0, 0]), mass=1.0, inertia=[0.1, 0.1, 0.1])
+    m.gravity = [0.0, 0.0, 0.0]
+    sim.set_input("link_2", 0.5)
+    with pytest.raises(ValueError, match="extra"):
+        sim.set_input("extra", 0.5)
+    report = run_hil(sim, 1000.0, 0.01, progress=False, realtime=False)
+    assert report.ok and not report.report_errors
+    assert report.energy["start"] == pytest.approx(soadyn.potential_energy(scenes.pendulum_chain(2), np.zeros(2)))
 
 
 def test_non_finite_report_values_become_null_in_strict_json():

@@ -128,7 +128,7 @@ def test_a_second_socket_can_neither_command_nor_take_the_sensor_stream():
     np.testing.assert_array_equal(sim.inputs, [0.1, 0.2, 0.3])
     assert sensor_count(controller) == 21 and sensor_count(intruder) == 0
     assert s.status == "ok" and finite_state(sim)
-    # Releasing the peer lets the next valid sender in (the "option to change").
+    # Releasing the peer lets the next valid sender in.
     runner.release_peer()
     intruder.sendto(command_packet(7, 0.0, [1.5, 1.5, 1.5]), to_link)
     controller.sendto(command_packet(1, 0.0, [0.0, 0.0, 0.0]), to_link)

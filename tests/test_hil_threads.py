@@ -1,7 +1,9 @@
 """A HIL run and Python threads calling the simulator it steps: the run holds
-the simulator's lock, so other calls wait for it and no step is lost or
-interleaved with the loop's; a second run() of a running runner is refused."""
+the simulator's lock for its whole length, so another thread's call waits
+until the run has ended, and nothing interleaves with the loop's steps; a
+second run() of a running runner is refused."""
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -9,31 +11,30 @@ import pytest
 from soadyn import Simulator, scenes
 from soadyn.hil import HilRunner
 
-STEPS = 3000
+STEPS = 1000  # paced at 1 kHz: 1 s
 
 
-def test_steps_from_another_thread_wait_for_the_run_and_none_is_lost():
+def wait_for_first_step(runner, thread, timeout=30.0):
+    deadline = time.monotonic() + timeout
+    while runner.steps_done == 0:
+        assert thread.is_alive() and time.monotonic() < deadline, "the run did not start"
+        time.sleep(0.0005)
+
+
+def test_a_step_from_another_thread_waits_for_the_whole_run():
     sim = Simulator(scenes.pendulum_chain(5), 1e-3)
     sim.set_state(np.full(5, 0.3), np.zeros(5))
+    runner = HilRunner(sim, 1000.0, STEPS)
+    thread = threading.Thread(target=runner.run)
+    thread.start()
+    wait_for_first_step(runner, thread)
+    sim.step()  # started during the run: must not run before the run has ended
+    done_when_our_step_ran = runner.steps_done
+    thread.join()
+    assert done_when_our_step_ran == STEPS and runner.summary().steps == STEPS
     reference = Simulator(scenes.pendulum_chain(5), 1e-3)
     reference.set_state(np.full(5, 0.3), np.zeros(5))
-    runner = HilRunner(sim, 1000.0, STEPS, as_fast_as_possible=True)
-    started = threading.Event()
-    extra = []
-
-    def stepper():
-        started.wait()
-        for _ in range(200):
-            sim.step()
-            extra.append(sim.time)
-
-    thread = threading.Thread(target=stepper)
-    thread.start()
-    started.set()
-    runner.run()
-    thread.join()
-    assert runner.summary().steps == STEPS and len(extra) == 200
-    for _ in range(STEPS + 200):  # the same number of steps, one after another
+    for _ in range(STEPS + 1):  # the run's steps, then ours: one after another
         reference.step()
     assert sim.time == pytest.approx(reference.time, abs=1e-12)
     np.testing.assert_array_equal(sim.q, reference.q)
@@ -42,16 +43,11 @@ def test_steps_from_another_thread_wait_for_the_run_and_none_is_lost():
 
 def test_a_second_run_of_a_running_runner_is_refused():
     sim = Simulator(scenes.pendulum_chain(3), 1e-3)
-    runner = HilRunner(sim, 1000.0, 300, as_fast_as_possible=False)  # paced: 0.3 s
-    errors = []
+    runner = HilRunner(sim, 1000.0, STEPS)
     thread = threading.Thread(target=runner.run)
     thread.start()
-    while runner.steps_done == 0:
-        pass
-    try:
+    wait_for_first_step(runner, thread)
+    with pytest.raises(RuntimeError, match="already running"):
         runner.run()
-    except RuntimeError as e:
-        errors.append(str(e))
     thread.join()
-    assert errors and "already running" in errors[0]
-    assert runner.summary().steps == 300
+    assert runner.summary().steps == STEPS

@@ -2,12 +2,11 @@
 (v += dt qdd(q, v); q += dt v) on Pinocchio's ABA gives the same states and energy, and
 with a constant mass matrix (one link) the method is symplectic and its energy error stays bounded."""
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import soadyn
 from soadyn import Simulator, scenes
-
-pin = pytest.importorskip("pinocchio")
 
 
 def pinocchio_chain(n, length=0.5, mass=1.0):

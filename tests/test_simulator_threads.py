@@ -82,7 +82,7 @@ def test_prescribe_while_running_equals_the_same_calls_in_one_thread():
 
 
 def test_prescribe_and_release_of_cpp_sources_while_running():
-    """The segfault reproducer: C++ sources swapped while another thread runs."""
+    """C++ sources swapped while another thread runs (this crashed before the simulator had a lock)."""
     m = scenes.pendulum_chain(4)
     sim = Simulator(m, 1e-3, "rk4")
     sim.set_state(np.full(4, 0.3), np.zeros(4))

@@ -58,6 +58,20 @@ def test_planar_joint_moves_in_the_plane_normal_to_its_axis(tmp_path):
     assert poses[0][0, 3] == pytest.approx(0.0, abs=1e-15)  # no motion along the axis
 
 
+def test_links_welded_under_a_planar_joint_keep_their_place_in_the_link_frame(tmp_path):
+    """The planar joint's body frame is its link frame turned so z is the axis:
+    a welded link's origin (and what hangs below it) is given in the link frame."""
+    path = write(tmp_path, link("base"), link("puck", com="0 0 0"), link("tip", com="0 0 0"), link("arm"),
+                 joint("p", "base", "puck", kind="planar", axis="1 0 0", xyz="0 0 0"),
+                 joint("w", "puck", "tip", kind="fixed", xyz="0.3 0.1 0.2"),
+                 joint("r", "tip", "arm", xyz="0 0 0.5"))
+    m = soadyn.load_urdf(path)
+    poses, _ = soadyn.forward_kinematics(m, soadyn.neutral_configuration(m))
+    arm = m.body_names.index("arm")
+    np.testing.assert_allclose(poses[arm][:3, 3], [0.3, 0.1, 0.7], atol=1e-15)
+    np.testing.assert_allclose(poses[arm][:3, :3], np.eye(3), atol=1e-15)
+
+
 @pytest.mark.parametrize(
     "elements, message",
     [

@@ -123,7 +123,10 @@ void UdpLink::set_max_packets_per_poll(int n) {
 }
 
 bool UdpLink::poll() {
-  if (release_requested_.exchange(false, std::memory_order_relaxed) && !fixed_sender_) has_sender_ = has_sequence_ = false;
+  if (release_requested_.exchange(false, std::memory_order_relaxed)) {  // a restarted controller may number from 0
+    has_sequence_ = false;
+    if (!fixed_sender_) has_sender_ = false;
+  }
   bool got_command = false;
   for (int read = 0; read < max_packets_per_poll_; ++read) {
     sockaddr_in sender{};
@@ -139,7 +142,7 @@ bool UdpLink::poll() {
       continue;
     }
     received_.fetch_add(1, std::memory_order_relaxed);
-    got_command = has_command_ = true;
+    got_command = true;
     if (!has_sender_) {  // latch the first valid sender
       sender_ = sender;
       has_sender_ = true;

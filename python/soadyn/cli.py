@@ -135,7 +135,12 @@ def check_hil_arguments(args, parser) -> None:
 
     finite(parser, "--rate", args.rate, 0.0)
     finite(parser, "--duration", args.duration, 0.0, inclusive=True)
+    from .simulator import STEP_TOLERANCE
+
     steps = round(args.duration * args.rate)
+    if abs(args.duration * args.rate - steps) > STEP_TOLERANCE:
+        parser.error(f"argument --duration: {args.duration:g} s at --rate {args.rate:g} is not a whole number of "
+                     f"steps ({args.duration * args.rate:.9g})")
     if steps > hil.MAX_STEPS:
         parser.error(f"argument --duration: {args.duration:g} s at --rate {args.rate:g} is {steps:.3g} steps, more "
                      f"than the {hil.MAX_STEPS:.0e} one run records (16 bytes of timings per step)")

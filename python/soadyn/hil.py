@@ -178,7 +178,8 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
     measurement that cannot be made at the end (energy of a broken state) is
     None, with the reason in `report_errors`. `on_start(runner)` is called
     once the runner exists (its `udp_port` is bound), before the loop.
-    Do not use `sim` from another thread while this runs.
+    Another thread's calls on `sim` wait until the run ends (the runner
+    holds the simulator's lock).
     """
     if not (math.isfinite(rate) and rate > 0):
         raise ValueError(f"rate must be a finite positive number of steps per second, got {rate}")
@@ -188,10 +189,11 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
         raise ValueError(f"spin_us must be in [0, {1e6 / rate:g}) (the step period), got {spin_us}")
     if command_policy not in COMMAND_POLICIES:
         raise ValueError(f"command_policy {command_policy!r}: choose one of {', '.join(COMMAND_POLICIES)}")
-    steps = int(round(duration / sim.dt))
+    steps = round(duration / sim.dt)
     if steps > MAX_STEPS:
         raise ValueError(f"duration {duration:g} s at dt {sim.dt:g} s is {steps:.3g} steps, more than the {MAX_STEPS:.0e} "
                          "one run records (16 bytes of timings per step): shorten the duration or lower the rate")
+    steps = sim.steps_in(duration)  # a whole number of steps, as Simulator.run requires
     report_errors: list[str] = []
     energy0 = _measure(lambda: _energy(sim), "energy at start", report_errors)
     momentum0 = _measure(lambda: _momentum(sim), "momentum at start", report_errors)

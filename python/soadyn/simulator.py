@@ -42,8 +42,11 @@ class Simulator(_Simulator):
     """
 
     def __init__(self, model, dt: float, integrator: str = "rk4", event_capacity: int = 64):
-        super().__init__(model, float(dt), integrator, int(event_capacity))
-        self._model = model
+        # The simulator steps its own copy: names are resolved, and energies
+        # measured, on that copy, whatever later happens to `model`.
+        own = model.copy() if hasattr(model, "copy") else model
+        super().__init__(own, float(dt), integrator, int(event_capacity))
+        self._model = own
 
     def _dofs(self, dof) -> list[int]:
         return self._model._dof_indices(dof)

@@ -167,10 +167,11 @@ class _Loader:
         self.add_welds(group)
 
     def add_welds(self, group: _Group):
-        """The welded links of the group as massless frames (their inertia is already in the body)."""
+        """The welded links of the group as massless frames (their inertia is already in the body), each placed
+        by its pose in the body frame: the body frame is not the link frame under a planar joint."""
         for weld in group.welds:
-            self.call(self.where(weld.child, weld.name), weld.child, weld.parent, Joint.fixed(name=weld.name),
-                      (weld.rotation, weld.translation))
+            self.call(self.where(weld.child, weld.name), weld.child, group.link, Joint.fixed(name=weld.name),
+                      group.poses[weld.child])
 
     def without_inertial(self, where: str):
         hint = ("load_urdf(..., inertia='repair') gives it a minimal mass and inertia, inertia='accept' "

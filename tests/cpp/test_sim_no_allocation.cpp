@@ -11,7 +11,9 @@
 // it, valid commands mixed with 1e30 torques (clamped or rejected), commands
 // from another socket, stale sequence numbers and malformed datagrams; and
 // the stop policy ending the run at the first 1e30 command. Zero allocations,
-// zero frees, every Status ok and every counter seen moving are required.
+// zero frees, every Status ok and every counter seen moving are required
+// (but kernel drops, which depend on the host's socket buffer size: the
+// drop-counting read runs either way).
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -229,7 +231,7 @@ bool hil_link_allocates_nothing(soadyn::CommandPolicy policy) {
               static_cast<unsigned long>(s.send_failures));
   return counts.allocations() == 0 && counts.frees == 0 && status.ok() && s.steps == kSteps && finite &&
          s.packets_received > 0 && s.packets_dropped > 0 && s.packets_rejected_sender > 0 && s.packets_stale > 0 &&
-         s.kernel_drops > 0 && s.steps_left_pending > 0 && (clamp ? s.commands_saturated : s.commands_rejected) > 0 &&
+         s.steps_left_pending > 0 && (clamp ? s.commands_saturated : s.commands_rejected) > 0 &&
          (clamp ? s.commands_rejected : s.commands_saturated) == 0 && s.packets_sent + s.send_failures == kSteps;
 }
 

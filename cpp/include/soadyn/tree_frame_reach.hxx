@@ -4,10 +4,11 @@
 // The rigid sweeps carry every articulated inertia about its tree root's
 // origin (algorithms/tree_frame_steps.hpp). For a body at distance L from
 // that origin whose mass lies at an RMS radius r from its own origin, the
-// hinge inertia D = H P H* (seed Eq. 28) of a rotational DOF is about m r^2
-// but is formed from terms of size m L^2: the tree frame loses (L / r)^2 of
-// the precision. In body frames (the seed's own recursion) P is about the
-// body's origin and nothing is lost. So each body gets a reach: the distance
+// hinge inertia D = H P H* (Jain & Rodriguez, "Recursive dynamics algorithm
+// for multibody systems with prescribed motion", Eq. 28) of a rotational DOF is
+// about m r^2 but is formed from terms of size m L^2: the tree frame loses
+// (L / r)^2 of the precision. In body frames (the paper's own recursion) P
+// is about the body's origin and nothing is lost. So each body gets a reach: the distance
 // from its tree origin within which tree frames lose at most
 // kTreeFrameReachRatio^2 epsilon (about 2e-10 in double) relative to the
 // smallest body of its subtree; beyond it the dynamics run in body frames.

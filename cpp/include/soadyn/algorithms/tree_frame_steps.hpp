@@ -174,7 +174,8 @@ SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d
 // bodies whose geometry does not bound that distance below the reach.
 template <class S>
 SOADYN_ALWAYS_INLINE bool beyond_tree_frame_reach(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i) {
-  return m.check_tree_frame_reach[i] && d.tree_pose[i].translation.squaredNorm() > m.tree_frame_reach_squared[i];
+  return m.reach_checks_needed && m.check_tree_frame_reach[i] &&
+         d.tree_pose[i].translation.squaredNorm() > m.tree_frame_reach_squared[i];
 }
 
 // Body terms of rigid body i in its tree frame: M(i) into

@@ -13,11 +13,13 @@
 // range is a controller fault wherever it is).
 //
 // Default limits come from the model: |tau_i| <= a * M_ii(q), with M_ii the
-// diagonal of the joint-space mass matrix at the configuration q the run
-// starts from (the inertia moved by DOF i alone) and a =
+// diagonal of the joint-space mass matrix at the simulator's configuration q
+// when the runner is built (the inertia moved by DOF i alone) and a =
 // default_command_acceleration (1000 rad/s^2 or m/s^2 per DOF): enough to hold
 // any link longer than 1.5 cm against gravity (a uniform link needs
-// M_ii * 1.5 g / length), far below what makes a step non-finite.
+// M_ii * 1.5 g / length), far below what makes a step non-finite. A DOF
+// with no such scale (M_ii zero, as for a massless subtree, or not finite)
+// gets no default limit (inf).
 //
 // Memory policy: the constructor and set_limits allocate; judge() allocates
 // nothing and never throws. saturated() and rejected() may be read from any
@@ -57,8 +59,11 @@ constexpr double default_command_acceleration = 1000.0;
 inline Eigen::VectorXd default_command_limits(const Model& model, const Eigen::VectorXd& q,
                                               double acceleration = default_command_acceleration) {
   Data data(model);
-  mass_matrix(model, data, q);
-  return acceleration * data.mass_matrix.diagonal();
+  mass_matrix(model, data, q);  // a non-finite diagonal entry is handled below
+  Eigen::VectorXd limits = acceleration * data.mass_matrix.diagonal();
+  for (Eigen::Index k = 0; k < limits.size(); ++k)
+    if (!(limits[k] > 0.0) || !std::isfinite(limits[k])) limits[k] = std::numeric_limits<double>::infinity();
+  return limits;
 }
 
 class CommandLimits {

@@ -117,6 +117,8 @@ class HilRunner {
   // Thread-safe progress and control.
   std::int64_t steps_done() const { return steps_done_.load(std::memory_order_relaxed); }
   std::int64_t deadline_misses() const { return deadline_misses_.load(std::memory_order_relaxed); }
+  // The step the last run's failing status came from, or -1 (read after run()).
+  std::int64_t failed_step() const { return failed_step_; }
   std::uint64_t commands_saturated() const { return limits_.saturated(); }
   std::uint64_t commands_rejected() const { return limits_.rejected(); }
   void request_stop() { stop_requested_.store(true, std::memory_order_relaxed); }

@@ -96,17 +96,17 @@ class UdpLink {
   // Setup: the most datagrams one poll() reads (>= 1; throws std::invalid_argument).
   void set_max_packets_per_poll(int n);
   int max_packets_per_poll() const { return max_packets_per_poll_; }
-  // Thread-safe: forget the latched sender (and its sequence); the next
-  // valid command's sender becomes the peer. No effect with a fixed command port.
+  // Thread-safe: forget the last sequence number (a restarted controller may
+  // number from 0 again) and, without a fixed command port, the latched
+  // sender: the next valid command's sender becomes the peer (sensor packets
+  // go to the old peer until then).
   void release_peer() { release_requested_.store(true, std::memory_order_relaxed); }
-  bool fixed_command_port() const { return fixed_sender_; }
 
   // Reads up to max_packets_per_poll pending datagrams. Returns true when at
   // least one valid command arrived; command() then holds the latest.
   bool poll();
   // The latest valid command's nv torques (zeros before the first one).
   const Eigen::VectorXd& command() const { return command_; }
-  bool has_command() const { return has_command_; }
 
   // Sends one sensor packet (time, q, v). Returns false when there is no
   // peer yet or the socket refused it (counted in send_failures).
@@ -139,7 +139,7 @@ class UdpLink {
   int max_packets_per_poll_ = 16;
   sockaddr_in peer_{};     // where sensor packets go
   sockaddr_in sender_{};   // whose commands are accepted
-  bool has_peer_ = false, fixed_peer_ = false, has_command_ = false;
+  bool has_peer_ = false, fixed_peer_ = false;
   bool has_sender_ = false, fixed_sender_ = false;
   bool has_sequence_ = false, kernel_drops_counted_ = false;
   std::uint32_t last_sequence_ = 0, send_sequence_ = 0;
