@@ -57,8 +57,9 @@ struct ModelHandle {
 
   // `mutex` for a change of the model; call with the GIL held, which stays
   // held. While a computation holds the mutex, the GIL is released to wait
-  // for it, and the mutex is never held while waiting for the GIL, so
-  // neither lock can wait on the other.
+  // for it, and the mutex is taken only once the GIL is back, so the change
+  // holds both. (Every wait for `mutex` releases the GIL: a thread holding
+  // the GIL never blocks on `mutex`, so no two threads wait on each other.)
   std::unique_lock<std::mutex> lock_for_change() {
     std::unique_lock<std::mutex> lock(mutex, std::try_to_lock);
     while (!lock.owns_lock()) {
