@@ -189,6 +189,9 @@ void bind_hil(py::module_& mod) {
            "Forget the latched command sender: the next valid command's sender becomes the peer (thread-safe).")
       .def_property("command_limits", [](const HilSession& s) { return s.runner->command_limits().limits(); },
            [](HilSession& s, const Eigen::VectorXd& limits) {
+             // Under the simulator's lock, which run() holds for the whole run: a run
+             // cannot start between the idle check and the write.
+             const SimulatorLock no_run_in_between(*s.sim);
              s.check_idle("command_limits");
              try {
                s.runner->set_command_limits(limits);
