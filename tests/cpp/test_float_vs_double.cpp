@@ -130,7 +130,7 @@ int main() {
   const std::vector<JointKind> kinds = {JointKind::free,      JointKind::revolute, JointKind::prismatic,
                                         JointKind::helical,   JointKind::universal, JointKind::spherical,
                                         JointKind::revolute,  JointKind::cylindrical, JointKind::planar,
-                                        JointKind::revolute,  JointKind::translation};
+                                        JointKind::revolute};
   const soadyn_test::TreeSpec spec = soadyn_test::chain_spec(kinds, 11);
   soadyn::Model model_d = soadyn_test::build_model<double>(spec);
   soadyn::ModelF model_f = soadyn_test::build_model<float>(spec);

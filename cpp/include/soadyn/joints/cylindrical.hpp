@@ -28,6 +28,7 @@ struct CylindricalJoint {
   }
   void random(CoordinateSampler& draw, S* q) const {
     q[0] = S(draw.angle());
+    draw.skip(1);
     q[1] = S(draw.offset());
   }
   void check(const std::string& joint_name) { axis = checked_joint_axis(axis, joint_name, "axis"); }

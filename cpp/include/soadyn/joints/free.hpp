@@ -58,6 +58,7 @@ struct FreeJoint {
   }
   void fill_subspace(Mat6N<S>& s) const { s.setIdentity(); }
   void random(CoordinateSampler& draw, S* q) const {
+    draw.skip(7);
     for (int k = 0; k < 3; ++k) q[k] = S(draw.offset());
     draw.unit_quaternion(q + 3);
   }

@@ -46,11 +46,16 @@ Vec3<S> checked_joint_axis(const Vec3<S>& axis, const std::string& joint, const 
 
 // Draws of random configurations (algorithms/configuration.hxx): angles
 // uniform in [-pi, pi], offsets uniform in [-1, 1], unit quaternions uniform
-// on the sphere; deterministic for a given seed.
+// on the sphere; deterministic for a given seed. A seed gives the
+// configurations it gave before joint types had their own headers: joints
+// that then drew values they did not keep still `skip` them.
 class CoordinateSampler {
  public:
   explicit CoordinateSampler(std::uint64_t seed) : rng_(seed) {}
   double angle() { return angle_(rng_); }
+  void skip(int angles) {
+    for (int k = 0; k < angles; ++k) angle();
+  }
   double offset() { return offset_(rng_); }
   double uniform(double low, double high) { return std::uniform_real_distribution<double>(low, high)(rng_); }
   // (x, y, z, w) from a normalised 4D Gaussian.

@@ -61,9 +61,10 @@ struct PlanarJoint {
     s(2, 2) = S(1);
   }
   void random(CoordinateSampler& draw, S* q) const {
+    draw.skip(2);
+    q[2] = S(draw.angle());
     q[0] = S(draw.offset());
     q[1] = S(draw.offset());
-    q[2] = S(draw.angle());
   }
   void check(const std::string&) {}
 };

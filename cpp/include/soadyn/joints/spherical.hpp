@@ -54,7 +54,10 @@ struct SphericalJoint {
     s.setZero();
     s.template topRows<3>().setIdentity();
   }
-  void random(CoordinateSampler& draw, S* q) const { draw.unit_quaternion(q); }
+  void random(CoordinateSampler& draw, S* q) const {
+    draw.skip(4);
+    draw.unit_quaternion(q);
+  }
   void check(const std::string&) {}
 };
 
