@@ -3,6 +3,10 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <tuple>
+#include <utility>
+#include <variant>
+
 #include "arrays.hpp"
 #include "model_handle.hpp"
 #include "soadyn/flex/flexible_body.hpp"
@@ -21,11 +25,20 @@ struct JointSpec {
 
 namespace {
 
-Eigen::Vector3d axis_arg(const Eigen::Vector3d& a) { return a; }
+// Joint.<type>(parameters..., name=""): one static factory per alternative
+// of JointModel, its arguments named by the joint type's parameter_names.
+template <class J, class... P, std::size_t... I>
+void def_joint_factory(py::class_<JointSpec>& cls, std::tuple<P...>*, std::index_sequence<I...>) {
+  cls.def_static(
+      J::name, [](const P&... parameters, const std::string& name) { return JointSpec{JointModel(J{parameters...}), name}; },
+      py::arg(J::parameter_names[I])..., py::arg("name") = "", J::description);
+}
 
-template <class J, class... Args>
-JointSpec make(const std::string& name, Args... args) {
-  return JointSpec{JointModel(J{args...}), name};
+template <class... J>
+void def_joint_factories(py::class_<JointSpec>& cls, std::variant<J...>*) {
+  (def_joint_factory<J>(cls, static_cast<typename J::Parameters*>(nullptr),
+                        std::make_index_sequence<std::tuple_size_v<typename J::Parameters>>{}),
+   ...);
 }
 
 py::array_t<bool> prescribed_mask(const soadyn::Model& m) {
@@ -54,33 +67,9 @@ py::array_t<bool> modal_mask(const soadyn::Model& m) {
 }  // namespace
 
 void bind_model(py::module_& mod) {
-  py::class_<JointSpec>(mod, "Joint", "A joint type; build one with the static constructors.")
-      .def_static("revolute", [](const Eigen::Vector3d& axis, const std::string& name) {
-            return make<soadyn::RevoluteJoint<double>>(name, axis_arg(axis)); },
-          py::arg("axis"), py::arg("name") = "", "Rotation about `axis` (joint frame). One DOF.")
-      .def_static("prismatic", [](const Eigen::Vector3d& axis, const std::string& name) {
-            return make<soadyn::PrismaticJoint<double>>(name, axis_arg(axis)); },
-          py::arg("axis"), py::arg("name") = "", "Translation along `axis`. One DOF.")
-      .def_static("helical", [](const Eigen::Vector3d& axis, double pitch, const std::string& name) {
-            return make<soadyn::HelicalJoint<double>>(name, axis_arg(axis), pitch); },
-          py::arg("axis"), py::arg("pitch"), py::arg("name") = "",
-          "Screw about `axis`: `pitch` metres of travel per radian. One DOF.")
-      .def_static("universal", [](const Eigen::Vector3d& a1, const Eigen::Vector3d& a2, const std::string& name) {
-            return make<soadyn::UniversalJoint<double>>(name, axis_arg(a1), axis_arg(a2)); },
-          py::arg("axis1"), py::arg("axis2"), py::arg("name") = "",
-          "Rotation about axis1, then about axis2 of the rotated frame. DOFs '<name>:1', '<name>:2'.")
-      .def_static("cylindrical", [](const Eigen::Vector3d& axis, const std::string& name) {
-            return make<soadyn::CylindricalJoint<double>>(name, axis_arg(axis)); },
-          py::arg("axis"), py::arg("name") = "", "Rotation about and translation along `axis`: ':angle', ':offset'.")
-      .def_static("planar", [](const std::string& name) { return make<soadyn::PlanarJoint<double>>(name); },
-          py::arg("name") = "", "x-y translation and z rotation: q = (x, y, theta), v = body-frame (vx, vy, wz).")
-      .def_static("spherical", [](const std::string& name) { return make<soadyn::SphericalJoint<double>>(name); },
-          py::arg("name") = "", "Ball joint: q = quaternion (x, y, z, w), v = body-frame angular velocity.")
-      .def_static("free", [](const std::string& name) { return make<soadyn::FreeJoint<double>>(name); },
-          py::arg("name") = "",
-          "Six DOF: q = (position, quaternion x y z w), v = body-frame (angular, linear velocity of the origin).")
-      .def_static("fixed", [](const std::string& name) { return make<soadyn::FixedJoint<double>>(name); },
-          py::arg("name") = "", "Weld: the body is merged into its parent and becomes a named frame.")
+  py::class_<JointSpec> joint(mod, "Joint", "A joint type; build one with the static constructors.");
+  def_joint_factories(joint, static_cast<JointModel*>(nullptr));
+  joint
       .def_property_readonly("type", [](const JointSpec& j) { return std::string(soadyn::joint_type_name(j.joint)); })
       .def_property_readonly("nq", [](const JointSpec& j) { return soadyn::joint_nq(j.joint); })
       .def_property_readonly("nv", [](const JointSpec& j) { return soadyn::joint_nv(j.joint); })

@@ -106,13 +106,14 @@ def soadyn_joint(s: BodySpec) -> soadyn.Joint:
         "planar": J.planar,
         "spherical": J.spherical,
         "free": J.free,
+        "translation": J.translation,
     }[s.kind]()
 
 
 def pin_joint(s: BodySpec):
     """The Pinocchio joint with the same motion as soadyn's (conventions checked numerically:
     HelicalUnaligned translates pitch*q along the axis, Universal is Rot(a1,q0)*Rot(a2,q1),
-    Planar places the body at (x, y, 0) rotated by Rz(theta))."""
+    Planar places the body at (x, y, 0) rotated by Rz(theta), Translation at q with q = v)."""
     if s.kind == "cylindrical":
         # No cylindrical joint in Pinocchio: a revolute then a prismatic about the same axis
         # (they commute), giving q = v layout (angle, offset) like soadyn.
@@ -128,6 +129,7 @@ def pin_joint(s: BodySpec):
         "planar": pin.JointModelPlanar,
         "spherical": pin.JointModelSpherical,
         "free": pin.JointModelFreeFlyer,
+        "translation": pin.JointModelTranslation,
     }[s.kind]()
 
 

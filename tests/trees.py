@@ -7,7 +7,8 @@ import numpy as np
 
 import soadyn
 
-JOINT_KINDS = ("revolute", "prismatic", "helical", "universal", "cylindrical", "planar", "spherical", "free")
+JOINT_KINDS = ("revolute", "prismatic", "helical", "universal", "cylindrical", "planar", "spherical", "free",
+               "translation")
 
 
 def random_rotation(rng: np.random.Generator) -> np.ndarray:

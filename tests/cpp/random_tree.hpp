@@ -15,12 +15,12 @@
 
 namespace soadyn_test {
 
-enum class JointKind { revolute, prismatic, helical, universal, cylindrical, planar, spherical, free };
+enum class JointKind { revolute, prismatic, helical, universal, cylindrical, planar, spherical, free, translation };
 
 inline const std::vector<JointKind>& all_joint_kinds() {
   static const std::vector<JointKind> kinds = {JointKind::revolute,  JointKind::prismatic,   JointKind::helical,
                                                JointKind::universal, JointKind::cylindrical, JointKind::planar,
-                                               JointKind::spherical, JointKind::free};
+                                               JointKind::spherical, JointKind::free,      JointKind::translation};
   return kinds;
 }
 
@@ -156,6 +156,7 @@ soadyn::JointModel<S> make_joint(const BodySpec& body) {
     case JointKind::planar: return soadyn::PlanarJoint<S>{};
     case JointKind::spherical: return soadyn::SphericalJoint<S>{};
     case JointKind::free: return soadyn::FreeJoint<S>{};
+    case JointKind::translation: return soadyn::TranslationJoint<S>{};
   }
   return soadyn::FixedJoint<S>{};  // unreachable
 }

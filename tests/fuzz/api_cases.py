@@ -20,7 +20,8 @@ import soadyn
 EXPECTED_ERRORS = (ValueError, TypeError, soadyn.DynamicsError)
 
 HOSTILE_FLOATS = (0.0, -0.0, 1.0, -1.0, 1e-300, -1e-300, 1e200, -1e200, 1e308, np.nan, np.inf, -np.inf, 5e-324)
-JOINTS = ("revolute", "prismatic", "helical", "universal", "cylindrical", "planar", "spherical", "free", "fixed")
+JOINTS = ("revolute", "prismatic", "helical", "universal", "cylindrical", "planar", "spherical", "free", "fixed",
+          "translation")
 
 
 class NonFiniteResult(AssertionError):

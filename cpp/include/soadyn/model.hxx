@@ -27,37 +27,6 @@ std::string str(const S& x) {
 }
 
 template <class S>
-Vec3<S> checked_axis(const Vec3<S>& axis, const std::string& joint, const char* which) {
-  if (!axis.allFinite()) fail("joint '" + joint + "': " + which + " is not finite");
-  const S n = axis.norm();
-  if (!(n > model_tolerance<S>())) fail("joint '" + joint + "': " + which + " is zero");
-  return axis / n;
-}
-
-// Normalises the joint's axes in place; throws naming the joint when it
-// cannot be built.
-template <class S>
-void check_joint(JointModel<S>& joint, const std::string& name) {
-  std::visit(
-      [&](auto& j) {
-        using J = std::decay_t<decltype(j)>;
-        if constexpr (std::is_same_v<J, UniversalJoint<S>>) {
-          j.axis1 = checked_axis(j.axis1, name, "axis1");
-          j.axis2 = checked_axis(j.axis2, name, "axis2");
-          if (j.axis1.cross(j.axis2).norm() < model_tolerance<S>())
-            fail("joint '" + name + "': universal joint axes are parallel");
-        } else if constexpr (std::is_same_v<J, HelicalJoint<S>>) {
-          j.axis = checked_axis(j.axis, name, "axis");
-          if (!std::isfinite(static_cast<double>(j.pitch))) fail("joint '" + name + "': pitch is not finite");
-        } else if constexpr (std::is_same_v<J, RevoluteJoint<S>> || std::is_same_v<J, PrismaticJoint<S>> ||
-                             std::is_same_v<J, CylindricalJoint<S>>) {
-          j.axis = checked_axis(j.axis, name, "axis");
-        }
-      },
-      joint);
-}
-
-template <class S>
 void check_placement(const Transform<S>& X, const std::string& body) {
   if (!X.rotation.allFinite() || !X.translation.allFinite())
     fail("body '" + body + "': placement is not finite");
@@ -226,7 +195,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
     for (const auto& other : joint_names)
       if (other == jname) detail::fail("duplicate joint name '" + jname + "'");
   JointModel<S> joint = joint_in;
-  detail::check_joint(joint, jname);
+  check_joint(joint, jname);
   detail::check_placement(X, name);
   detail::check_mass_parameters(m, c, I, name);
   const bool physical = policy == InertiaPolicy::require_physical;

@@ -26,24 +26,6 @@ namespace soadyn {
 // its tree origin before the rigid sweeps leave tree frames.
 inline constexpr double kTreeFrameReachRatio = 1000.0;
 
-namespace detail {
-
-// Whether the joint moves its body's origin (so no geometric bound holds on
-// the distance from the tree origin).
-template <class S>
-bool joint_translates(const JointModel<S>& joint) {
-  return std::visit(
-      [](const auto& j) {
-        using J = std::decay_t<decltype(j)>;
-        return std::is_same_v<J, PrismaticJoint<S>> || std::is_same_v<J, HelicalJoint<S>> ||
-               std::is_same_v<J, CylindricalJoint<S>> || std::is_same_v<J, PlanarJoint<S>> ||
-               std::is_same_v<J, FreeJoint<S>>;
-      },
-      joint);
-}
-
-}  // namespace detail
-
 template <class S>
 void ModelTpl<S>::refresh_tree_frame_reach() {
   const std::size_t n = parent.size();
@@ -65,7 +47,7 @@ void ModelTpl<S>::refresh_tree_frame_reach() {
   reach_checks_needed = false;
   for (std::size_t i = 0; i < n; ++i) {
     if (parent[i] >= 0) {
-      const bool unbounded = detail::joint_translates(joints[i]) || attachment_node[i] >= 0;
+      const bool unbounded = joint_translates(joints[i]) || attachment_node[i] >= 0;
       distance_bound[i] = unbounded ? infinity
                                     : distance_bound[static_cast<std::size_t>(parent[i])] + placement[i].translation.norm();
     }

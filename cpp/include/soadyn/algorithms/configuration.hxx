@@ -1,6 +1,5 @@
 #pragma once
 #include <cmath>
-#include <random>
 #include "soadyn/algorithms/configuration.hpp"
 
 namespace soadyn {
@@ -15,24 +14,10 @@ void neutral_configuration(const ModelTpl<S>& m, VecRef<S> q) {
 
 template <class S>
 void random_configuration(const ModelTpl<S>& m, std::uint64_t seed, VecRef<S> q) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> angle(-M_PI, M_PI), offset(-1.0, 1.0), modal(-0.1, 0.1);
-  std::normal_distribution<double> gauss;
+  CoordinateSampler draw(seed);
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    S* qi = q.data() + m.q_index[i];
-    const auto& j = m.joints[i];
-    const int qo = joint_quaternion_offset(j);
-    const bool translational = std::holds_alternative<PrismaticJoint<S>>(j);
-    for (int k = 0; k < m.nq_body[i]; ++k) qi[k] = S(translational ? offset(rng) : angle(rng));
-    if (std::holds_alternative<CylindricalJoint<S>>(j)) qi[1] = S(offset(rng));
-    if (std::holds_alternative<PlanarJoint<S>>(j)) qi[0] = S(offset(rng)), qi[1] = S(offset(rng));
-    if (qo >= 0) {
-      for (int k = 0; k < qo; ++k) qi[k] = S(offset(rng));
-      double g[4], n2 = 0;
-      for (double& x : g) x = gauss(rng), n2 += x * x;
-      for (int k = 0; k < 4; ++k) qi[qo + k] = S(g[k] / std::sqrt(n2));
-    }
-    for (int k = 0; k < m.n_modes[i]; ++k) q[m.modal_q_index(static_cast<int>(i)) + k] = S(modal(rng));
+    joint_random(m.joints[i], draw, q.data() + m.q_index[i]);
+    for (int k = 0; k < m.n_modes[i]; ++k) q[m.modal_q_index(static_cast<int>(i)) + k] = S(draw.uniform(-0.1, 0.1));
   }
 }
 

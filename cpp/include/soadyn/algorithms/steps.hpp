@@ -69,24 +69,26 @@ inline void subspace_transpose_times(const Mat6N<S>& s, const Vec6<S>& f, Eigen:
 }
 
 // Joint transform, motion subspace and joint bias of body i. Axis-aligned
-// revolute and prismatic joints (joints/joint_kernel.hpp) keep the constant
-// subspace and zero bias Data was built with and only compose the placement
-// with the joint motion.
+// revolute and prismatic joints and the fixed joint (their kernels:
+// joints/revolute.hpp, prismatic.hpp, fixed.hpp) keep the constant subspace
+// and zero bias Data was built with and only compose the placement with the
+// joint motion; every other joint goes through its own calc.
 template <class S>
 inline void joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   const int iq = m.q_index[i], iv = m.v_index[i];
   Transform<S>& pose = d.pose_in_parent[i];
   const Transform<S>& placement = m.placement[i];
+  // The 1-DOF kernels' coordinate along +e_k.
+  const auto x = [&] { return q[iq] * m.axis_sign[i]; };
   switch (m.joint_kernel[i]) {
-    case JointKernel::revolute_x: rotate_about_coordinate_axis<0>(placement, q[iq] * m.axis_sign[i], pose); return;
-    case JointKernel::revolute_y: rotate_about_coordinate_axis<1>(placement, q[iq] * m.axis_sign[i], pose); return;
-    case JointKernel::revolute_z: rotate_about_coordinate_axis<2>(placement, q[iq] * m.axis_sign[i], pose); return;
+    case JointKernel::revolute_x: RevoluteJoint<S>::template aligned_pose<0>(placement, x(), pose); return;
+    case JointKernel::revolute_y: RevoluteJoint<S>::template aligned_pose<1>(placement, x(), pose); return;
+    case JointKernel::revolute_z: RevoluteJoint<S>::template aligned_pose<2>(placement, x(), pose); return;
     case JointKernel::prismatic_x:
     case JointKernel::prismatic_y:
     case JointKernel::prismatic_z: {
       const int k = static_cast<int>(m.joint_kernel[i]) - static_cast<int>(JointKernel::prismatic_x);
-      pose.rotation = placement.rotation;
-      pose.translation = placement.translation + placement.rotation.col(k) * (q[iq] * m.axis_sign[i]);
+      PrismaticJoint<S>::aligned_pose(k, placement, x(), pose);
       return;
     }
     case JointKernel::fixed: pose = placement; return;

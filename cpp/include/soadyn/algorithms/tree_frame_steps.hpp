@@ -24,31 +24,11 @@
 // plus the joint's own bias for joints whose subspace varies (universal).
 #pragma once
 #include "soadyn/algorithms/appendage_step.hpp"
-#include "soadyn/joints/joint_kernel.hpp"
+#include "soadyn/joints/joint.hpp"
 
 namespace soadyn {
 
 namespace detail {
-
-// Motion subspace of a unit-axis hinge: [w; t x w] for a rotation axis w
-// through the body origin t, [0; w] for a translation along w.
-template <class S>
-inline void rotation_subspace(const Transform<S>& pose, const Vec3<S>& w, Mat6N<S>& s) {
-  s.col(0) << w, pose.translation.cross(w);
-}
-template <class S>
-inline void translation_subspace(const Vec3<S>& w, Mat6N<S>& s) {
-  s.col(0) << Vec3<S>::Zero(), w;
-}
-
-// Free joint: H* = X(pose) (body twists to tree-frame twists).
-template <class S>
-inline void free_subspace(const Transform<S>& pose, Mat6N<S>& s) {
-  for (int c = 0; c < 3; ++c) {
-    s.col(c) << pose.rotation.col(c), pose.translation.cross(Vec3<S>(pose.rotation.col(c)));
-    s.col(c + 3) << Vec3<S>::Zero(), pose.rotation.col(c);
-  }
-}
 
 // Any joint: its body-frame pose, subspace and bias from JointModel, carried
 // to the tree frame. Returns the bias (dS/dt v) in the tree frame.
@@ -65,38 +45,13 @@ inline Vec6<S> general_joint_tree_step(const ModelTpl<S>& m, DataTpl<S>& d, std:
   return pose.motion_to_parent(d.joint_bias[i]);
 }
 
-// Universal joint (joints/joint.hpp): rotation R1 about a1, then R2 about a2.
-// In the tree frame its axes are w1 = R_base a1 and w2 = R_base R1 a2 = R a2,
-// both through the body origin t, so H* = [w1 w2; t x w1  t x w2]. The body-
-// frame velocity product (qd1 qd2) (R2' a1) x a2 is, carried by R,
-// (qd1 qd2) w1 x w2 (R2 a2 = a2, R1 a1 = a1): the bias [c; t x c].
+// Universal joint: its tree-frame kernel (joints/universal.hpp).
 template <class S>
 inline Vec6<S> universal_tree_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const Transform<S>& base,
                                    const S* q, const S* v, bool root) {
   const UniversalJoint<S>& joint = *std::get_if<UniversalJoint<S>>(&m.joints[i]);
-  const S* qi = q + m.q_index[i];
-  Transform<S>& pose = d.tree_pose[i];
-  S sign1, sign2;
-  const int k1 = coordinate_axis(joint.axis1, sign1), k2 = coordinate_axis(joint.axis2, sign2);
-  if (k1 >= 0 && k2 >= 0) {  // both axes along coordinate axes: two column rotations
-    Transform<S> first;
-    rotate_about_coordinate_axis(k1, base, sign1 * qi[0], first);
-    rotate_about_coordinate_axis(k2, first, sign2 * qi[1], pose);
-  } else {
-    pose.rotation.noalias() =
-        base.rotation * (axis_angle_rotation(joint.axis1, qi[0]) * axis_angle_rotation(joint.axis2, qi[1]));
-  }
-  pose.translation = root ? Vec3<S>::Zero() : base.translation;
-  const Vec3<S> w1 = base.rotation * joint.axis1, w2 = pose.rotation * joint.axis2;
-  Mat6N<S>& s = d.tree_subspace[i];
-  s.col(0) << w1, pose.translation.cross(w1);
-  s.col(1) << w2, pose.translation.cross(w2);
-  if (!v) return Vec6<S>::Zero();
-  const S* vi = v + m.v_index[i];
-  const Vec3<S> c = (vi[0] * vi[1]) * w1.cross(w2);
-  Vec6<S> bias;
-  bias << c, pose.translation.cross(c);
-  return bias;
+  return joint.tree_step(base, q + m.q_index[i], v ? v + m.v_index[i] : nullptr, root, d.tree_pose[i],
+                         d.tree_subspace[i]);
 }
 
 }  // namespace detail
@@ -104,6 +59,8 @@ inline Vec6<S> universal_tree_step(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
 // Pose of body i in its tree frame and its motion subspace there; returns the
 // joint's velocity-product acceleration in the tree frame (zero for every
 // joint but the universal one). A root body's tree pose has no translation.
+// The kernels' code lives with their joints (joints/revolute.hpp,
+// prismatic.hpp, free.hpp, universal.hpp).
 template <class S>
 inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   const int p = m.parent[i];
@@ -118,37 +75,21 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
   // The 1-DOF kernels' coordinate along +e_k.
   const auto x = [&] { return q[m.q_index[i]] * m.axis_sign[i]; };
   switch (m.joint_kernel[i]) {
-    case JointKernel::revolute_x: rotate_about_coordinate_axis<0>(base, x(), pose); break;
-    case JointKernel::revolute_y: rotate_about_coordinate_axis<1>(base, x(), pose); break;
-    case JointKernel::revolute_z: rotate_about_coordinate_axis<2>(base, x(), pose); break;
+    case JointKernel::revolute_x: RevoluteJoint<S>::template aligned_tree_step<0>(base, x(), m.axis_sign[i], pose, s); break;
+    case JointKernel::revolute_y: RevoluteJoint<S>::template aligned_tree_step<1>(base, x(), m.axis_sign[i], pose, s); break;
+    case JointKernel::revolute_z: RevoluteJoint<S>::template aligned_tree_step<2>(base, x(), m.axis_sign[i], pose, s); break;
     case JointKernel::prismatic_x:
     case JointKernel::prismatic_y:
     case JointKernel::prismatic_z: {
       const int k = static_cast<int>(m.joint_kernel[i]) - static_cast<int>(JointKernel::prismatic_x);
-      pose.rotation = base.rotation;
-      pose.translation = root ? Vec3<S>::Zero() : Vec3<S>(base.translation + base.rotation.col(k) * x());
-      detail::translation_subspace(Vec3<S>(pose.rotation.col(k) * m.axis_sign[i]), s);
-      return Vec6<S>::Zero();
+      PrismaticJoint<S>::aligned_tree_step(k, base, x(), m.axis_sign[i], root, pose, s);
+      break;
     }
-    case JointKernel::free: {
-      const S* qi = q + m.q_index[i];
-      Transform<S> joint_pose;
-      joint_pose.rotation = quaternion_rotation(qi + 3);
-      joint_pose.translation << qi[0], qi[1], qi[2];
-      pose = base * joint_pose;
-      if (root) pose.translation.setZero();
-      detail::free_subspace(pose, s);
-      return Vec6<S>::Zero();
-    }
-    case JointKernel::fixed:
-      pose = base;
-      return Vec6<S>::Zero();
+    case JointKernel::free: FreeJoint<S>::tree_step(base, q + m.q_index[i], root, pose, s); break;
+    case JointKernel::fixed: pose = base; break;
     case JointKernel::universal: return detail::universal_tree_step(m, d, i, base, q, v, root);
     default: return detail::general_joint_tree_step(m, d, i, base, q, v, root);
   }
-  // the revolute kernels
-  const int k = static_cast<int>(m.joint_kernel[i]) - static_cast<int>(JointKernel::revolute_x);
-  detail::rotation_subspace(pose, Vec3<S>(pose.rotation.col(k) * m.axis_sign[i]), s);
   return Vec6<S>::Zero();
 }
 

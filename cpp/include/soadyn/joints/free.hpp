@@ -1,0 +1,88 @@
+// Free joint: six DOF, q = (origin in the joint frame, unit quaternion
+// (x, y, z, w)), v = (angular velocity, linear velocity of the origin), both
+// in the body frame.
+#pragma once
+#include "soadyn/joints/spherical.hpp"
+
+namespace soadyn {
+
+// SE(3) as (position, unit quaternion) with body-frame twists. The chart
+// around q0 is p = p0 + xi_p, quat = quat0 * exp(xi_r) with
+// dxi_r/dt = Jr^-1(xi_r) w and dxi_p/dt = R(quat) u.
+template <class S>
+struct FreeSpace {
+  static constexpr int nq = 7, nv = 6;
+  static constexpr int quaternion_offset = 3;
+  static constexpr bool scalar_coordinates = false;
+  using Rotation = UnitQuaternionSpace<S>;
+
+  static void neutral(S* q) {
+    q[0] = q[1] = q[2] = S(0);
+    Rotation::neutral(q + 3);
+  }
+  // Body-frame twist (w, u) dt applied on SE(3): p += R V(phi) u dt, with
+  // V the left Jacobian of SO(3), and quat *= exp(phi).
+  static void integrate(const S* q, const S* v, const S& dt, S* out) {
+    const Vec3<S> phi = Vec3<S>(v[0], v[1], v[2]) * dt;
+    const Vec3<S> u = Vec3<S>(v[3], v[4], v[5]) * dt;
+    const Vec3<S> dp = quaternion_rotation(q + 3) * (so3_left_jacobian(phi) * u);
+    for (int i = 0; i < 3; ++i) out[i] = q[i] + dp[i];
+    Rotation::rotate(q + 3, phi, out + 3);
+  }
+  static void retract(const S* q0, const S* xi, S* q) {
+    for (int k = 0; k < 3; ++k) q[k] = q0[k] + xi[3 + k];
+    Rotation::retract(q0 + 3, xi, q + 3);
+  }
+  static void chart_rate(const S* q, const S* xi, const S* v, S* rate) {
+    Rotation::chart_rate(q + 3, xi, v, rate);
+    Eigen::Map<Vec3<S>>{rate + 3} = quaternion_rotation(q + 3) * Vec3<S>(v[3], v[4], v[5]);
+  }
+};
+
+template <class S>
+struct FreeJoint {
+  static constexpr const char* name = "free";
+  static constexpr const char* description =
+      "Six DOF: q = (position, quaternion x y z w), v = body-frame (angular, linear velocity of the origin).";
+  using Parameters = std::tuple<>;
+  static constexpr std::array<const char*, 0> parameter_names{};
+  using Space = FreeSpace<S>;
+  static constexpr int nq = Space::nq, nv = Space::nv;
+  static constexpr bool translates = true;
+  static constexpr std::array<const char*, 7> coordinate_suffixes{"px", "py", "pz", "qx", "qy", "qz", "qw"};
+  static constexpr std::array<const char*, 6> velocity_suffixes{"wx", "wy", "wz", "vx", "vy", "vz"};
+
+  void calc(const S* q, const S*, Transform<S>& pose, Mat6N<S>&, Vec6<S>&) const {
+    pose.rotation = quaternion_rotation(q + 3);
+    pose.translation << q[0], q[1], q[2];
+  }
+  void fill_subspace(Mat6N<S>& s) const { s.setIdentity(); }
+  void random(CoordinateSampler& draw, S* q) const {
+    draw.skip(7);
+    for (int k = 0; k < 3; ++k) q[k] = S(draw.offset());
+    draw.unit_quaternion(q + 3);
+  }
+  void check(const std::string&) {}
+
+  JointKernel kernel(S& sign) const {
+    sign = S(1);
+    return JointKernel::free;
+  }
+  // Tree-frame kernel (algorithms/tree_frame_steps.hpp): pose = base * joint
+  // pose (a root body's origin at the tree origin) and H* = X(pose), which
+  // carries body twists to tree-frame twists. No bias (S is constant).
+  static SOADYN_ALWAYS_INLINE void tree_step(const Transform<S>& base, const S* q, bool root, Transform<S>& pose,
+                                             Mat6N<S>& s) {
+    Transform<S> joint_pose;
+    joint_pose.rotation = quaternion_rotation(q + 3);
+    joint_pose.translation << q[0], q[1], q[2];
+    pose = base * joint_pose;
+    if (root) pose.translation.setZero();
+    for (int c = 0; c < 3; ++c) {
+      s.col(c) << pose.rotation.col(c), pose.translation.cross(Vec3<S>(pose.rotation.col(c)));
+      s.col(c + 3) << Vec3<S>::Zero(), pose.rotation.col(c);
+    }
+  }
+};
+
+}  // namespace soadyn

@@ -1,0 +1,75 @@
+// What every joint header builds on: parameter checks that name the joint,
+// the sampler of random configurations, and the kernel tags.
+//
+// A joint type is one struct (revolute.hpp, ..., translation.hpp) with
+//   name, description            type name ("revolute") and a one-line summary
+//   Parameters, parameter_names  its constructor arguments, in member order
+//   Space                        its configuration space: nq, nv, neutral,
+//                                integrate, chart retract/rate, quaternion
+//                                offset, scalar coordinates (vector_space.hpp,
+//                                or a space defined in the joint's header)
+//   nq, nv                       Space's sizes
+//   translates                   whether it can move the body origin
+//   coordinate_suffixes,         names of its coordinates and velocities
+//   velocity_suffixes            (unused for one-DOF joints)
+//   calc(q, v, pose, S, bias)    body-frame pose, motion subspace, bias S'v
+//   fill_subspace(S)             the constant part of S (once, at Data creation)
+//   random(sampler, q)           a random configuration
+//   check(joint_name)            validates and normalises the parameters
+// and optionally kernel(sign), the tag of a dedicated kernel (joint_kernel.hpp).
+// joint_types.hpp registers it in the JointModel variant; joint.hpp
+// dispatches every operation with std::visit.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include "soadyn/joints/joint_kernel.hpp"
+#include "soadyn/joints/vector_space.hpp"
+#include "soadyn/spatial/lie.hpp"
+#include "soadyn/validation.hpp"
+
+namespace soadyn {
+
+// `axis` normalised; throws naming the joint when it is not finite or zero.
+template <class S>
+Vec3<S> checked_joint_axis(const Vec3<S>& axis, const std::string& joint, const char* which) {
+  if (!axis.allFinite()) throw std::invalid_argument("joint '" + joint + "': " + which + " is not finite");
+  const S n = axis.norm();
+  if (!(n > detail::validation_tolerance<S>()))
+    throw std::invalid_argument("joint '" + joint + "': " + which + " is zero");
+  return axis / n;
+}
+
+// Draws of random configurations (algorithms/configuration.hxx): angles
+// uniform in [-pi, pi], offsets uniform in [-1, 1], unit quaternions uniform
+// on the sphere; deterministic for a given seed. A seed gives the
+// configurations it gave before joint types had their own headers: joints
+// that then drew values they did not keep still `skip` them.
+class CoordinateSampler {
+ public:
+  explicit CoordinateSampler(std::uint64_t seed) : rng_(seed) {}
+  double angle() { return angle_(rng_); }
+  void skip(int angles) {
+    for (int k = 0; k < angles; ++k) angle();
+  }
+  double offset() { return offset_(rng_); }
+  double uniform(double low, double high) { return std::uniform_real_distribution<double>(low, high)(rng_); }
+  // (x, y, z, w) from a normalised 4D Gaussian.
+  template <class S>
+  void unit_quaternion(S* q) {
+    double g[4], n2 = 0;
+    for (double& x : g) x = gauss_(rng_), n2 += x * x;
+    for (int k = 0; k < 4; ++k) q[k] = S(g[k] / std::sqrt(n2));
+  }
+
+ private:
+  std::mt19937_64 rng_;
+  std::uniform_real_distribution<double> angle_{-M_PI, M_PI}, offset_{-1.0, 1.0};
+  std::normal_distribution<double> gauss_;
+};
+
+}  // namespace soadyn
