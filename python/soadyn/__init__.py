@@ -31,7 +31,7 @@ from .model import Model
 from .simulator import MotionSource, Simulator, Trajectory
 from .urdf import UrdfError, load_urdf
 
-__version__ = "0.1.0"
+from ._version import __version__  # written by the build from pyproject.toml
 
 __all__ = [
     "Model", "Joint", "DynamicsError", "NonphysicalInertiaError", "QUATERNION_TOLERANCE", "load_urdf", "UrdfError",

@@ -1,0 +1,95 @@
+"""Runs one C++ test executable and checks its exit code and summary lines.
+
+CTest calls it (tests/cpp/CMakeLists.txt):  check_summary.py <test name> <executable>
+Exit code 0 when the executable passed and printed every expected line; otherwise the
+executable's output and the first expectation that failed, and exit code 1.
+"""
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+
+RUN_TIMEOUT = 600  # seconds
+
+
+class CheckFailed(Exception):
+    """An expectation a C++ test's output or product did not meet."""
+
+
+def require(condition: bool, what: str) -> None:
+    if not condition:
+        raise CheckFailed(what)
+
+
+def lines(pattern: str, output: str) -> list:
+    return re.findall(pattern, output, re.MULTILINE)
+
+
+def check_no_allocation(output: str) -> None:
+    # The counter proved it sees std::vector, aligned new and libc's malloc...
+    require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
+    # ...and then saw nothing during 10^5 hybrid calls with flag changes, on a rigid tree and on the
+    # same tree with flexible bodies.
+    require(bool(lines(r"^tree with flexible bodies: \d+ bodies \([1-9]\d* flexible\)", output)),
+            "a tree with flexible bodies")
+    require(len(lines(r"^calls: 100000 hybrid_dynamics, \d+ other, \d+ flag changes; failed statuses: 0$",
+                      output)) == 2, "10^5 hybrid calls without a failed status, on both models")
+    require(len(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)) == 2,
+            "zero allocations and frees, on both models")
+    require(bool(lines(r"^test_no_allocation: PASS: 100000 hybrid_dynamics calls per model$", output)),
+            "the PASS line")
+
+
+def check_float_vs_double(output: str) -> None:
+    match = re.search(r"^test_float_vs_double: PASS: max relative error (\S+) rigid, (\S+) with flexible bodies "
+                      r"\(tolerance 1e-04\), \d+ states per model, 0 failures$", output, re.MULTILINE)
+    require(match is not None, "the PASS line with both errors")
+    require(max(float(match.group(1)), float(match.group(2))) <= 1e-4, "float within 1e-4 of double")
+
+
+def check_sim_no_allocation(output: str) -> None:
+    """10^5 steps of each built-in scene, RK4 and semi-implicit Euler, with events firing; and the HIL loop,
+    paced and as fast as possible, with real-time scheduling requested, and over the UDP link under hostile
+    traffic with the clamp, reject and stop policies."""
+    rows = lines(r"^(\S+) \((rk4|euler)\): 100000 steps, 0 allocations, 0 frees, 0 failed statuses", output)
+    require(len(rows) == 4, "10^5 allocation-free steps of both scenes with both integrators")
+    hil = lines(r"^hil runner \((paced|as fast as possible)\): 20000 steps, 0 allocations, 0 frees, status ok;",
+                output)
+    require(sorted(hil) == ["as fast as possible", "paced"], "the HIL runner, paced and as fast as possible")
+    udp = lines(r"^hil runner over UDP \((clamp|reject)\): 20000 steps, 0 allocations, 0 frees, status ok;", output)
+    require(sorted(udp) == ["clamp", "reject"], "the HIL runner over UDP with the clamp and reject policies")
+    require(bool(lines(r"^hil runner over UDP \(stop\): 0 allocations, 0 frees, stopped at step \d+ of 20000 by DOF 0$",
+                       output)), "the HIL runner over UDP with the stop policy")
+    require(bool(lines(r"^test_sim_no_allocation: PASS$", output)), "the PASS line")
+
+
+CHECKS = {
+    "test_no_allocation": check_no_allocation,
+    "test_float_vs_double": check_float_vs_double,
+    "test_sim_no_allocation": check_sim_no_allocation,
+}
+
+
+def main(argv: list) -> int:
+    if len(argv) != 3 or argv[1] not in CHECKS:
+        print(f"usage: {argv[0]} {{{','.join(CHECKS)}}} <executable>", file=sys.stderr)
+        return 2
+    name, executable = argv[1], argv[2]
+    result = subprocess.run([executable], capture_output=True, text=True, timeout=RUN_TIMEOUT)
+    output = result.stdout + result.stderr
+    print(output, end="")
+    if result.returncode != 0:
+        print(f"{name} exited with {result.returncode}", file=sys.stderr)
+        return 1
+    try:
+        CHECKS[name](output)
+    except CheckFailed as missing:
+        print(f"{name}: the output lacks {missing}", file=sys.stderr)
+        return 1
+    print(f"{name}: exit code 0 and every summary line as expected")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
