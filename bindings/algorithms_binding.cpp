@@ -117,7 +117,7 @@ void bind_algorithms(py::module_& mod) {
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none(),
       py::arg("joint_wrenches") = false,
-      "Hybrid dynamics (seed Eqs. 14, 28, 29): u holds the torque of each regular DOF and the acceleration of\n"
+      "Hybrid dynamics (Jain & Rodriguez 1993, Eqs. 14, 28, 29): u holds the torque of each regular DOF and the acceleration of\n"
       "each prescribed DOF (model.prescribed). Returns fresh arrays (qdd, tau) with every DOF's acceleration\n"
       "and generalized force, plus the (nbodies, 6) joint wrenches when joint_wrenches=True.");
 

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "pybind11_private.hpp"
+
 namespace soadyn_py {
 
 Array as_float_array(py::handle obj, const char* arg) {
@@ -58,13 +60,8 @@ Array checked_vector(py::handle obj, const char* arg, const std::vector<std::str
 }
 
 py::array_t<double> fresh_array(py::ssize_t rows, py::ssize_t cols) {
-  const auto& api = py::detail::npy_api::get();
   Py_intptr_t dims[2] = {rows, cols};
-  PyObject* descr = api.PyArray_DescrFromType_(py::detail::npy_api::NPY_DOUBLE_);
-  if (!descr) throw py::error_already_set();
-  // NewFromDescr takes over the reference to descr; no strides and flags 0: C order.
-  PyObject* array = api.PyArray_NewFromDescr_(api.PyArray_Type_, descr, cols < 0 ? 1 : 2, dims, nullptr, nullptr, 0,
-                                              nullptr);
+  PyObject* array = pybind11_private::new_double_array(cols < 0 ? 1 : 2, dims);
   if (!array) throw py::error_already_set();
   return py::reinterpret_steal<py::array_t<double>>(array);
 }

@@ -11,12 +11,15 @@
 // quaternion, a singular inertia) goes to the general pybind11 function: it
 // converts, checks and raises the error that names the item at fault (a
 // failing call is thus computed twice; only failures pay). Both run the same
-// dynamics_calls.
+// dynamics_calls. The private pybind11 fields they read are reached only
+// through pybind11_private.hpp, which checks them.
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "arrays.hpp"
 #include "dynamics_calls.hpp"
+#include "pybind11_private.hpp"
 #include "soadyn/soadyn.hpp"
 
 namespace soadyn_py {
@@ -26,15 +29,13 @@ namespace {
 // Entries of an aligned, native-order, C-contiguous 1-D float64 ndarray of
 // length n whose entries are all finite; nullptr for anything else.
 const double* finite_vector(PyObject* obj, py::ssize_t n) {
-  const auto& api = py::detail::npy_api::get();
-  if (!api.PyArray_Check_(obj)) return nullptr;
-  const auto* a = py::detail::array_proxy(obj);
-  const auto* d = py::detail::array_descriptor_proxy(a->descr);
-  constexpr int layout = py::detail::npy_api::NPY_ARRAY_C_CONTIGUOUS_ | py::detail::npy_api::NPY_ARRAY_ALIGNED_;
-  if (a->nd != 1 || a->dimensions[0] != n || d->type_num != py::detail::npy_api::NPY_DOUBLE_ ||
-      d->byteorder == '>' || (a->flags & layout) != layout)
+  if (!pybind11_private::is_ndarray(obj)) return nullptr;
+  const pybind11_private::ArrayFields a = pybind11_private::array_fields(obj);
+  constexpr int layout = pybind11_private::kCContiguousAndAligned;
+  if (a.ndim != 1 || a.shape[0] != n || a.type_num != pybind11_private::kNpyDouble || a.byteorder == '>' ||
+      (a.flags & layout) != layout)
     return nullptr;
-  const auto* x = reinterpret_cast<const double*>(a->data);
+  const auto* x = reinterpret_cast<const double*>(a.data);
   for (py::ssize_t k = 0; k < n; ++k)
     if (!std::isfinite(x[k])) return nullptr;
   return x;
@@ -46,12 +47,10 @@ const double* finite_vector(PyObject* obj, py::ssize_t n) {
 PyTypeObject* model_type = nullptr;
 
 // The ModelHandle inside a Model (or a Python subclass of it), or nullptr.
+// Model is a single C++ class without multiple inheritance.
 ModelHandle* model_handle(PyObject* obj) {
   if (!PyObject_TypeCheck(obj, model_type)) return nullptr;
-  // Model is a single C++ class without multiple inheritance: its value is
-  // the instance's first.
-  auto* self = reinterpret_cast<py::detail::instance*>(obj);
-  return static_cast<ModelHandle*>(self->get_value_and_holder().value_ptr());
+  return static_cast<ModelHandle*>(pybind11_private::instance_value(obj));
 }
 
 // The model and checked state of a (model, q, v, x) call, when it has the fast shape.
@@ -132,13 +131,43 @@ void install(py::module_& mod, const char* name, const char* signature) {
   mod.attr(name) = py::reinterpret_steal<py::object>(fn);
 }
 
+// Probes of the private pybind11 uses, for tests/test_fast_calls.py: what
+// the fast entry reads from an array and from a model, to be compared with
+// numpy's own view and with pybind11's public cast.
+void add_private_api_probes(py::module_& mod) {
+  mod.attr("_pybind11_version") = std::to_string(PYBIND11_VERSION_MAJOR) + "." +
+                                  std::to_string(PYBIND11_VERSION_MINOR) + "." +
+                                  std::to_string(PYBIND11_VERSION_PATCH);
+  mod.def("_probe_array_fields", [](py::handle obj) -> py::object {
+    if (!pybind11_private::is_ndarray(obj.ptr())) return py::none();
+    const pybind11_private::ArrayFields a = pybind11_private::array_fields(obj.ptr());
+    py::list shape;
+    for (int k = 0; k < a.ndim; ++k) shape.append(a.shape[k]);
+    py::dict out;
+    out["data"] = reinterpret_cast<std::uintptr_t>(a.data);
+    out["shape"] = py::tuple(shape);
+    out["c_contiguous_and_aligned"] =
+        (a.flags & pybind11_private::kCContiguousAndAligned) == pybind11_private::kCContiguousAndAligned;
+    out["float64"] = a.type_num == pybind11_private::kNpyDouble;
+    out["big_endian"] = a.byteorder == '>';
+    return out;
+  });
+  mod.def("_probe_model_handles", [](py::handle obj) {
+    // (the fast entry's ModelHandle address, pybind11's public cast's address); 0 for no model
+    const ModelHandle* fast = model_handle(obj.ptr());
+    const ModelHandle* general = py::isinstance<ModelHandle>(obj) ? &obj.cast<const ModelHandle&>() : nullptr;
+    return py::make_tuple(reinterpret_cast<std::uintptr_t>(fast), reinterpret_cast<std::uintptr_t>(general));
+  });
+}
+
 }  // namespace
 
 void add_fast_paths(py::module_& mod) {
-  model_type = py::detail::get_type_info(typeid(ModelHandle), /*throw_if_missing=*/true)->type;
+  model_type = pybind11_private::bound_type<ModelHandle>();
   install<Call::forward>(mod, "forward_dynamics", "(model, q, v, tau, f_ext=None)");
   install<Call::inverse>(mod, "inverse_dynamics", "(model, q, v, qdd, f_ext=None)");
   install<Call::hybrid>(mod, "hybrid_dynamics", "(model, q, v, u, f_ext=None, joint_wrenches=False)");
+  add_private_api_probes(mod);
 }
 
 }  // namespace soadyn_py

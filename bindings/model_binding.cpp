@@ -9,6 +9,7 @@
 
 #include "arrays.hpp"
 #include "model_handle.hpp"
+#include "soadyn/modal_rule.hpp"
 #include "soadyn/flex/flexible_body.hpp"
 #include "soadyn/scenes.hpp"
 
@@ -53,9 +54,7 @@ py::array_t<bool> prescribed_mask(const soadyn::Model& m) {
 void refuse_modal(const soadyn::Model& m, int dof, bool flag) {
   if (dof < 0 || dof >= m.nv)
     throw py::value_error("DOF index " + std::to_string(dof) + " is out of range (nv = " + std::to_string(m.nv) + ")");
-  if (flag && m.is_modal(dof))
-    throw py::value_error("DOF '" + m.dof_names[static_cast<std::size_t>(dof)] +
-                          "' is a modal coordinate of a flexible body: modal DOFs are always regular");
+  if (flag) soadyn::require_regular_modal_dof(m, dof);  // std::invalid_argument: ValueError
 }
 
 py::array_t<bool> modal_mask(const soadyn::Model& m) {
@@ -109,6 +108,11 @@ void bind_model(py::module_& mod) {
              for (int d : dofs) refuse_modal(h.model, d, flag);
              for (int d : dofs) h.model.set_prescribed(d, flag);
            })
+      .def("_require_regular_modal_dofs",
+           [](const ModelHandle& h, const std::vector<int>& dofs) {
+             for (int d : dofs) refuse_modal(h.model, d, true);
+           },
+           "Raises ValueError naming the first of `dofs` that is a modal coordinate (always regular).")
       .def("_set_prescribed_mask",
            [](ModelHandle& h, const std::vector<bool>& mask) {
              const auto lock = h.lock_for_change();

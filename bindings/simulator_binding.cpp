@@ -203,7 +203,7 @@ void bind_sources(py::module_& mod) {
             if (!(finite(duration, "cycloidal duration") > 0)) throw py::value_error("cycloidal duration must be positive");
             return Source{soadyn::Cycloidal<double>{finite(t0, "t0"), duration, finite(q0, "q0"), finite(q1, "q1")}}; },
           py::arg("q0"), py::arg("q1"), py::arg("t0"), py::arg("duration"),
-          "Rest-to-rest cycloidal motion from q0 to q1 (seed 001 Eq. 34).")
+          "Rest-to-rest cycloidal motion from q0 to q1 (Saha, Shah & Nandihal 2013, Eq. 34).")
       .def_static("spline", [](const std::vector<double>& t, const std::vector<double>& q) {
             for (double x : t) finite(x, "spline time");
             for (double x : q) finite(x, "spline value");

@@ -121,3 +121,56 @@ def test_signature_and_documentation(fn, params):
     assert list(inspect.signature(fn).parameters) == params
     assert fn.__doc__ == general(fn).__doc__.split("\n\n", 1)[1]
     assert fn.__module__ == "soadyn._soadyn"
+
+
+# pybind11's private API (bindings/pybind11_private.hpp): what the fast entry reads must be what numpy and
+# pybind11's public API say, and the pybind11 it was built with must lie in the range pyproject.toml allows.
+
+def _pybind11_requirement():
+    import pathlib
+    import re
+    text = (pathlib.Path(__file__).resolve().parents[1] / "pyproject.toml").read_text()
+    match = re.search(r'"pybind11>=([0-9.]+),<([0-9]+)"', text)
+    assert match, "pyproject.toml must bound pybind11 as \"pybind11>=X.Y,<N\""
+    return tuple(int(k) for k in match.group(1).split(".")), int(match.group(2))
+
+
+def test_built_with_a_pybind11_inside_the_bounded_range():
+    low, next_major = _pybind11_requirement()
+    built = tuple(int(k) for k in _soadyn._pybind11_version.split("."))
+    assert low <= built and built[0] < next_major, (built, low, next_major)
+
+
+@pytest.mark.parametrize("array, fast", [
+    (np.arange(5.0), True),
+    (np.arange(5.0)[::-1].copy(), True),
+    (np.arange(10.0)[::2], False),               # strided
+    (np.arange(5.0).astype(">f8"), False),       # big-endian
+    (np.arange(5, dtype=np.float32), False),
+    (np.arange(5), False),
+    (np.zeros((2, 3)), True),                    # 2-D: fields read, shape (2, 3)
+    (np.asfortranarray(np.zeros((2, 3))), False),
+])
+def test_private_array_fields_match_numpy(array, fast):
+    fields = _soadyn._probe_array_fields(array)
+    assert fields["data"] == array.ctypes.data
+    assert fields["shape"] == array.shape
+    assert fields["float64"] == (array.dtype.kind == "f" and array.dtype.itemsize == 8)
+    assert fields["big_endian"] == (array.dtype.byteorder == ">")
+    assert fields["c_contiguous_and_aligned"] == (array.flags.c_contiguous and array.flags.aligned)
+    is_fast = (fields["float64"] and not fields["big_endian"] and fields["c_contiguous_and_aligned"])
+    assert is_fast == fast
+
+
+def test_private_array_probe_refuses_non_arrays():
+    for obj in ([1.0, 2.0], (1.0,), 3.0, "abc", None):
+        assert _soadyn._probe_array_fields(obj) is None
+
+
+def test_private_instance_value_is_pybind11s_object(model):
+    plain = _soadyn._Model()
+    for m in (model, plain):  # the Python subclass soadyn.Model and the extension class itself
+        fast, general = _soadyn._probe_model_handles(m)
+        assert fast != 0 and fast == general
+    for other in ("not a model", soadyn.Joint.free(), soadyn.MotionSource.constant_velocity(1.0)):
+        assert _soadyn._probe_model_handles(other) == (0, 0)

@@ -73,7 +73,7 @@ def test_forward_and_inverse_dynamics_agree_with_dense_equations(seed, floating,
 
 @pytest.mark.parametrize("seed,floating,appendages", DYNAMICS_TREES, ids=DYNAMICS_IDS)
 def test_hybrid_dynamics_matches_partitioned_solve(seed, floating, appendages):
-    """Seed Eq. 12 on the dense M and h, hinge DOFs randomly prescribed, modal DOFs regular."""
+    """Jain & Rodriguez 1993, Eq. 12 on the dense M and h, hinge DOFs randomly prescribed, modal DOFs regular."""
     m, parts = random_flexible_tree(seed, 8, floating, damping=True, appendages=appendages)
     q, v, rng = random_flexible_state(m, seed)
     M = assembled_mass_matrix(m, parts, q)

@@ -30,6 +30,7 @@ import pytest
 
 import soadyn
 from error_log import ErrorLog
+from pinocchio_mapping import FREE_Q, FREE_V_PIN, JointMatch, PinocchioMapping
 from trees import random_inertia, random_rotation, random_unit
 
 RTOL = 1e-10
@@ -40,8 +41,6 @@ MODELS = [(layout, seed) for layout in LAYOUTS for seed in SEEDS]
 CASES = [(layout, seed, state) for layout, seed in MODELS for state in STATES]
 CASE_IDS = [f"{layout}-seed{seed}-state{state}" for layout, seed, state in CASES]
 
-FREE_Q = ("px", "py", "pz", "qx", "qy", "qz", "qw")   # both libraries: position, quaternion (x, y, z, w)
-FREE_V_PIN = ("vx", "vy", "vz", "wx", "wy", "wz")      # Pinocchio: (linear, angular), body frame
 
 
 # ---------------------------------------------------------------------------
@@ -322,22 +321,16 @@ class PinTree:
         return out
 
 
-class Mapping:
-    """Name-matched coordinate and DOF maps between soadyn and Pinocchio."""
+class Mapping(PinocchioMapping):
+    """Name-matched coordinate and DOF maps between soadyn and Pinocchio, plus the modal
+    coordinates and elastic forces of the flexible bodies."""
 
     def __init__(self, m: soadyn.Model, model: pin.Model, tree: PinTree, ids: dict, parts: list[Part]):
-        self.m, self.model = m, model
-        self.q_of_pin = np.full(model.nq, -1)   # soadyn coordinate index of each Pinocchio coordinate
-        self.v_of_pin = np.full(model.nv, -1)   # soadyn DOF index of each Pinocchio DOF
+        joints = []
         for joint in tree.joints():
-            pj = model.joints[ids[joint.name]]
             assert model.names[ids[joint.name]] == joint.name
-            for k, name in enumerate(joint.coordinate_names()):
-                self.q_of_pin[pj.idx_q + k] = m.coordinate_names.index(name)
-            for k, name in enumerate(joint.dof_names()):
-                self.v_of_pin[pj.idx_v + k] = m.dof_names.index(name)
-        assert sorted(self.q_of_pin) == list(range(m.nq)), "coordinates are not a bijection"
-        assert sorted(self.v_of_pin) == list(range(m.nv)), "DOFs are not a bijection"
+            joints.append(JointMatch(ids[joint.name], tuple(joint.coordinate_names()), tuple(joint.dof_names())))
+        super().__init__(m, model, joints)
         # Modal coordinates and DOFs of each flexible body, in mode order, and their K and C.
         self.modal = []
         for p in parts:
@@ -351,22 +344,8 @@ class Mapping:
         for _, vi, _, _ in self.modal:
             self.modal_dofs[vi] = True
 
-    def q(self, q_soa):
-        return np.asarray(q_soa)[self.q_of_pin]
-
-    def v(self, x_soa):
-        """A velocity, acceleration or generalized force in Pinocchio's DOF order."""
-        return np.asarray(x_soa)[self.v_of_pin]
-
-    def back(self, x_pin):
-        out = np.empty(len(x_pin))
-        out[self.v_of_pin] = x_pin
-        return out
-
     def matrix(self, M_pin):
-        out = np.empty_like(M_pin)
-        out[np.ix_(self.v_of_pin, self.v_of_pin)] = M_pin
-        return out
+        return self.matrix_from_pin(M_pin)
 
     def elastic(self, q, v):
         """The elastic modal forces -K eta - C eta_dot, soadyn's DOF order (zero on hinges)."""

@@ -1,5 +1,5 @@
 """The hybrid (prescribed/regular) dynamics against the dense equations of
-motion: seed 000 Eq. 10 (M qdd + h = tau) and its partitioned solve, Eq. 12."""
+motion: Jain & Rodriguez 1993, Eq. 10 (M qdd + h = tau) and its partitioned solve, Eq. 12."""
 import numpy as np
 import pytest
 
@@ -25,7 +25,7 @@ def dense_state(seed, floating=True, nbodies=14):
 
 
 def partitioned_solve(M, h, mask, u):
-    """Seed Eq. 12: known tau_r and qdd_p; unknown qdd_r and tau_p."""
+    """Jain & Rodriguez 1993, Eq. 12: known tau_r and qdd_p; unknown qdd_r and tau_p."""
     r, p = ~mask, mask
     qdd = np.empty(len(u))
     tau = np.empty(len(u))
@@ -97,7 +97,7 @@ def test_inverse_dynamics_reproduces_hybrid_outputs(seed):
 
 
 def test_multi_dof_hinges_mix_modes():
-    """Seed conclusion 5: one DOF of a spherical/free/planar/universal hinge prescribed, the others regular."""
+    """Jain & Rodriguez 1993, conclusion 5: one DOF of a spherical/free/planar/universal hinge prescribed, the others regular."""
     m, q, v, rng, M, h = dense_state(3, nbodies=20)
     multi = [n for n in m.dof_names if ":" in n]
     assert len({n.split(":")[0] for n in multi}) >= 5

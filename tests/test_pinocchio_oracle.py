@@ -19,6 +19,7 @@ import pytest
 
 import soadyn
 from error_log import ErrorLog
+from pinocchio_mapping import JointMatch, PinocchioMapping, free_joint_names
 from trees import JOINT_KINDS, random_inertia, random_rotation, random_unit
 
 RTOL = 1e-10
@@ -157,64 +158,42 @@ def build_pinocchio(specs: list[BodySpec], gravity: np.ndarray) -> pin.Model:
 # Coordinate and DOF mapping
 # ---------------------------------------------------------------------------
 
+class Mapping(PinocchioMapping):
+    """soadyn <-> Pinocchio configuration and DOF correspondence, joint by joint: the
+    Pinocchio joint of body b<i> is named b<i> and carries the body's coordinates and DOFs."""
+
+    def __init__(self, m: soadyn.Model, model: pin.Model, specs: list[BodySpec]):
+        self.specs = specs
+        self.joint_ids = []
+        joints = []
+        q_ranges = _segments(m.q_index, m.nq)
+        v_ranges = _segments(m.v_index, m.nv)
+        for i, s in enumerate(specs):
+            assert m.body_names[i] == s.name and m.joint_types[i] == s.kind
+            jid = model.getJointId(s.name)
+            assert model.parents[jid] == s.parent + 1
+            q_names = tuple(m.coordinate_names[k] for k in q_ranges[i])
+            v_names = tuple(m.dof_names[k] for k in v_ranges[i])
+            if s.kind == "free":
+                q_names, v_names = free_joint_names(s.name)
+            # Every other kind has the same layout in both (quaternions (x, y, z, w)), but
+            # the planar joint's angle, which Pinocchio stores as (cos, sin).
+            joints.append(JointMatch(jid, q_names, v_names, planar=s.kind == "planar"))
+            self.joint_ids.append(jid)
+        super().__init__(m, model, joints)
+        assert model.njoints == m.nbodies + 1
+
+    def matrix(self, M_soa: np.ndarray) -> np.ndarray:
+        return self.matrix_to_pin(M_soa)
+
+    def f_ext(self, f_soa: np.ndarray) -> list:
+        return super().f_ext(f_soa, self.joint_ids)
+
+
 def _segments(starts, total: int) -> list[range]:
     """Per-body index ranges from the start indices (bodies are stored contiguously)."""
     ends = list(starts[1:]) + [total]
     return [range(a, b) for a, b in zip(starts, ends)]
-
-
-class Mapping:
-    """soadyn <-> Pinocchio configuration and DOF correspondence, joint by joint."""
-
-    def __init__(self, m: soadyn.Model, model: pin.Model, specs: list[BodySpec]):
-        self.m, self.model, self.specs = m, model, specs
-        self.q_ranges = _segments(m.q_index, m.nq)
-        self.v_ranges = _segments(m.v_index, m.nv)
-        self.joint_ids = []
-        # perm[k] = soadyn DOF index of Pinocchio DOF k.
-        self.perm = np.full(model.nv, -1)
-        for i, s in enumerate(specs):
-            assert m.body_names[i] == s.name and m.joint_types[i] == s.kind
-            jid = model.getJointId(s.name)
-            joint = model.joints[jid]
-            assert model.parents[jid] == s.parent + 1
-            soa_v = list(self.v_ranges[i])
-            assert len(soa_v) == joint.nv, s.name
-            if s.kind == "free":
-                # soadyn v = (angular, linear), Pinocchio's v = (linear, angular); both body frame.
-                soa_v = soa_v[3:] + soa_v[:3]
-            self.perm[joint.idx_v:joint.idx_v + joint.nv] = soa_v
-            self.joint_ids.append(jid)
-        assert sorted(self.perm) == list(range(m.nv))
-        assert model.nv == m.nv and model.njoints == m.nbodies + 1
-
-    def q(self, q_soa: np.ndarray) -> np.ndarray:
-        q_pin = np.empty(self.model.nq)
-        for s, jid, qr in zip(self.specs, self.joint_ids, self.q_ranges):
-            joint = self.model.joints[jid]
-            qi = q_soa[qr.start:qr.stop]
-            if s.kind == "planar":
-                # soadyn (x, y, theta) -> Pinocchio (x, y, cos theta, sin theta).
-                qi = np.array([qi[0], qi[1], np.cos(qi[2]), np.sin(qi[2])])
-            # Every other kind has the same layout; quaternions are (x, y, z, w) in both.
-            assert len(qi) == joint.nq, s.name
-            q_pin[joint.idx_q:joint.idx_q + joint.nq] = qi
-        return q_pin
-
-    def v(self, v_soa: np.ndarray) -> np.ndarray:
-        """A velocity, acceleration or generalized force in Pinocchio's DOF order."""
-        return np.asarray(v_soa)[self.perm]
-
-    def matrix(self, M_soa: np.ndarray) -> np.ndarray:
-        return M_soa[np.ix_(self.perm, self.perm)]
-
-    def f_ext(self, f_soa: np.ndarray) -> list:
-        """soadyn rows [torque; force] about the body origin in the body frame -> one pin.Force
-        (linear, angular) per joint in the joint frame (= body frame), universe first."""
-        forces = [pin.Force.Zero() for _ in range(self.model.njoints)]
-        for i, jid in enumerate(self.joint_ids):
-            forces[jid] = pin.Force(f_soa[i, 3:], f_soa[i, :3])
-        return pin.StdVec_Force(forces)
 
 
 @dataclass

@@ -30,6 +30,7 @@ from .linearize import natural_frequencies, stiffness_matrix
 from .model import Model
 from .simulator import MotionSource, Simulator, Trajectory
 from .urdf import UrdfError, load_urdf
+from . import hil, scenes
 
 from ._version import __version__  # written by the build from pyproject.toml
 
@@ -40,4 +41,5 @@ __all__ = [
     "forward_dynamics", "inverse_dynamics", "hybrid_dynamics", "mass_matrix", "bias_forces",
     "joint_wrenches", "kinetic_energy", "potential_energy", "momentum", "center_of_mass",
     "forward_kinematics", "integrate", "neutral_configuration", "random_configuration",
+    "scenes", "hil",
 ]

@@ -22,6 +22,7 @@ import numpy as np
 
 from . import _soadyn as core
 from ._soadyn import HilRunner
+from .progress import progress_bar
 from .scenes import SCENES, drive_cassini
 from .simulator import Simulator
 
@@ -258,8 +259,6 @@ def _momentum(sim: Simulator) -> list[float]:
 def _run_with_progress(runner, steps: int, show: bool, dt: float):
     """Runs the loop in a worker thread while the main thread updates a
     progress bar; returns (Ctrl-C stopped it, the exception a step raised or None)."""
-    from tqdm import tqdm
-
     errors: list[BaseException] = []
 
     def work():
@@ -269,7 +268,7 @@ def _run_with_progress(runner, steps: int, show: bool, dt: float):
             errors.append(error)
 
     worker = threading.Thread(target=work, name="soadyn-hil", daemon=True)
-    bar = tqdm(total=steps, unit="step", disable=not show, dynamic_ncols=True, desc="HIL")
+    bar = progress_bar(steps, unit="step", desc="HIL", disable=not show)
     interrupted = False
     worker.start()
     try:

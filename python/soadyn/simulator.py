@@ -70,11 +70,7 @@ class Simulator(_Simulator):
 
     def _drivable(self, dof) -> list[int]:
         dofs = self._dofs(dof)
-        modal = self._model.modal
-        for k in dofs:
-            if modal[k]:
-                raise ValueError(f"DOF '{self._model.dof_names[k]}' is a modal coordinate: "
-                                 "modal DOFs are always regular and cannot be locked or released")
+        self._model._require_regular_modal_dofs(dofs)  # all checked before any changes
         return dofs
 
     def lock(self, dof) -> None:

@@ -1,5 +1,5 @@
 // Model: immutable topology and parameters of a rigid multibody tree, plus
-// the one run-time switch the seed's algorithm needs, the prescribed/regular
+// the one run-time switch Jain & Rodriguez's algorithm needs, the prescribed/regular
 // flag of every DOF. All per-call scratch lives in Data (data.hpp), so one
 // Model can serve many Data objects on many threads as long as nobody flips
 // flags concurrently.
@@ -134,7 +134,7 @@ class ModelTpl {
   std::vector<int> parent;
   std::vector<JointModel<S>> joints;
   aligned_vector<Transform<S>> placement;  // joint frame in the parent body frame
-  aligned_vector<Mat6<S>> inertia;         // spatial inertia about the body origin (seed M(k))
+  aligned_vector<Mat6<S>> inertia;         // spatial inertia about the body origin (M(k), Jain & Rodriguez 1993)
   std::vector<S> mass;
   aligned_vector<Vec3<S>> com;
   aligned_vector<Mat3<S>> inertia_com;     // rotational inertia about the centre of mass, body frame

@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include "soadyn/modal_rule.hpp"
 #include "soadyn/model.hpp"
 #include "soadyn/tree_frame_reach.hxx"
 #include "soadyn/validation.hpp"
@@ -315,9 +316,7 @@ void ModelTpl<S>::refresh_modes() {
 template <class S>
 void ModelTpl<S>::set_prescribed(int dof, bool flag) {
   const std::size_t d = static_cast<std::size_t>(dof);
-  if (modal_dof[d] && flag)
-    detail::fail("DOF '" + dof_names[d] + "' is a modal coordinate of flexible body '" +
-                 body_names[static_cast<std::size_t>(dof_body[d])] + "': modal DOFs are always regular");
+  if (flag) require_regular_modal_dof(*this, dof);
   if (prescribed[d] == static_cast<std::uint8_t>(flag)) return;
   prescribed[d] = static_cast<std::uint8_t>(flag);
   refresh_body_modes(dof_body[d]);

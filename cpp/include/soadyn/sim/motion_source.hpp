@@ -51,8 +51,8 @@ struct Polynomial {
   }
 };
 
-// Cycloidal rest-to-rest motion from q0 at t0 to q1 at t0 + duration (seed
-// 001 Eq. 34): q = q0 + (q1 - q0) [s/T - sin(2 pi s/T) / (2 pi)], held
+// Cycloidal rest-to-rest motion from q0 at t0 to q1 at t0 + duration (Saha,
+// Shah & Nandihal 2013, Eq. 34): q = q0 + (q1 - q0) [s/T - sin(2 pi s/T) / (2 pi)], held
 // before and after.
 template <class S>
 struct Cycloidal {

@@ -1,5 +1,5 @@
 // Fixed-step simulation with prescribed-motion sources and run-time mode
-// switching (the seed's application: turntables at a rate, gimbals under
+// switching (the application of Jain & Rodriguez 1993: turntables at a rate, gimbals under
 // velocity control, actuator lock-up faults).
 //
 // Memory policy: everything is allocated by the constructor, by prescribe()

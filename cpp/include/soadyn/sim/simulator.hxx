@@ -7,6 +7,7 @@
 #include "soadyn/algorithms/energy.hpp"
 #include "soadyn/algorithms/hybrid.hpp"
 #include "soadyn/sim/chart.hpp"
+#include "soadyn/modal_rule.hpp"
 #include "soadyn/sim/simulator.hpp"
 
 namespace soadyn {
@@ -79,9 +80,7 @@ void SimulatorTpl<S>::check_dof(int dof) const {
 template <class S>
 void SimulatorTpl<S>::check_drivable(int dof) const {
   check_dof(dof);
-  if (model_.is_modal(dof))
-    throw std::invalid_argument("DOF '" + model_.dof_names[static_cast<std::size_t>(dof)] +
-                                "' is a modal coordinate: modal DOFs are always regular and cannot be driven");
+  require_regular_modal_dof(model_, dof);
 }
 
 template <class S>

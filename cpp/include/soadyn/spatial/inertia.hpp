@@ -1,4 +1,4 @@
-// Rigid-body spatial inertia about the body frame origin (seed M(k)).
+// Rigid-body spatial inertia about the body frame origin (M(k), Jain & Rodriguez 1993).
 #pragma once
 #include "soadyn/spatial/transform.hpp"
 

@@ -1,5 +1,5 @@
 // Fixed-size Eigen types and the spatial cross products.
-// Spatial vectors are [angular; linear] (seed 000 and Featherstone).
+// Spatial vectors are [angular; linear] (Jain & Rodriguez 1993; Featherstone 2008).
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -22,7 +22,7 @@ template <class S> using Vec6 = Eigen::Matrix<S, 6, 1>;
 template <class S> using Mat6 = Eigen::Matrix<S, 6, 6>;
 template <class S> using VecX = Eigen::Matrix<S, Eigen::Dynamic, 1>;
 template <class S> using MatX = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
-// At most six columns: a hinge's motion subspace (seed H*(k)) and its
+// At most six columns: a hinge's motion subspace (H*(k), Jain & Rodriguez 1993) and its
 // articulated-inertia products. The storage is inline, never on the heap.
 template <class S> using Mat6N = Eigen::Matrix<S, 6, Eigen::Dynamic, 0, 6, 6>;
 template <class S> using MatN = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;

@@ -1,0 +1,614 @@
+"""
+soadyn C++ core.
+
+Type stubs of the compiled module: drafted with pybind11-stubgen, checked and completed by hand
+(the three fast entries, the FlexibleBody types); tests/test_package.py checks that they name exactly
+the module's attributes and parameters.
+"""
+from __future__ import annotations
+import collections.abc
+import numpy
+import numpy.typing
+import typing
+__all__: list[str] = ['DynamicsError', 'FlexibleBody', 'HilRunner', 'Joint', 'MotionSource', 'NonphysicalInertiaError', 'QUATERNION_TOLERANCE', 'bias_forces', 'center_of_mass', 'forward_dynamics', 'forward_kinematics', 'hybrid_dynamics', 'integrate', 'inverse_dynamics', 'joint_wrenches', 'kinetic_energy', 'mass_matrix', 'momentum', 'neutral_configuration', 'potential_energy', 'random_configuration']
+class Joint:
+    """
+    A joint type; build one with the static constructors.
+    """
+    @staticmethod
+    def cylindrical(axis: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '') -> Joint:
+        """
+        Rotation about and translation along `axis`: ':angle', ':offset'.
+        """
+    @staticmethod
+    def fixed(name: str = '') -> Joint:
+        """
+        Weld: the body is merged into its parent and becomes a named frame.
+        """
+    @staticmethod
+    def free(name: str = '') -> Joint:
+        """
+        Six DOF: q = (position, quaternion x y z w), v = body-frame (angular, linear velocity of the origin).
+        """
+    @staticmethod
+    def helical(axis: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], pitch: typing.SupportsFloat | typing.SupportsIndex, name: str = '') -> Joint:
+        """
+        Screw about `axis`: `pitch` metres of travel per radian. One DOF.
+        """
+    @staticmethod
+    def planar(name: str = '') -> Joint:
+        """
+        x-y translation and z rotation: q = (x, y, theta), v = body-frame (vx, vy, wz).
+        """
+    @staticmethod
+    def prismatic(axis: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '') -> Joint:
+        """
+        Translation along `axis`. One DOF.
+        """
+    @staticmethod
+    def revolute(axis: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '') -> Joint:
+        """
+        Rotation about `axis` (joint frame). One DOF.
+        """
+    @staticmethod
+    def spherical(name: str = '') -> Joint:
+        """
+        Ball joint: q = quaternion (x, y, z, w), v = body-frame angular velocity.
+        """
+    @staticmethod
+    def universal(axis1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], axis2: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '') -> Joint:
+        """
+        Rotation about axis1, then about axis2 of the rotated frame. DOFs '<name>:1', '<name>:2'.
+        """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def nq(self) -> int:
+        ...
+    @property
+    def nv(self) -> int:
+        ...
+    @property
+    def type(self) -> str:
+        ...
+class _Model:
+    def __init__(self) -> None:
+        ...
+    def _add_body(self, name: str, parent: str, joint: Joint, R: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], p: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], mass: typing.SupportsFloat | typing.SupportsIndex, com: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], inertia: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], accept_nonphysical_inertia: bool = False) -> int:
+        ...
+    def _add_flexible_body(self, arg0: str, arg1: str, arg2: Joint, arg3: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], arg4: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg5: FlexibleBody) -> int:
+        ...
+    def _copy_from(self, arg0: _Model) -> None:
+        ...
+    def _load_cassini(self) -> None:
+        ...
+    def _load_pendulum_chain(self, arg0: typing.SupportsInt | typing.SupportsIndex, arg1: typing.SupportsFloat | typing.SupportsIndex, arg2: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    def _require_regular_modal_dofs(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]) -> None:
+        """
+        Raises ValueError naming the first of `dofs` that is a modal coordinate (always regular).
+        """
+    def _set_prescribed_indices(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], arg1: bool) -> None:
+        ...
+    def _set_prescribed_mask(self, arg0: collections.abc.Sequence[bool]) -> None:
+        ...
+    def body_index(self, arg0: str) -> int:
+        """
+        Index of the named body, or -1.
+        """
+    def dof_index(self, arg0: str) -> int:
+        """
+        Velocity index of the named DOF, or -1.
+        """
+    def flexible_body(self, name: str) -> FlexibleBody:
+        """
+        The FlexibleBody of the named body.
+        """
+    @property
+    def body_names(self) -> list[str]:
+        ...
+    @property
+    def coordinate_names(self) -> list[str]:
+        ...
+    @property
+    def dof_names(self) -> list[str]:
+        ...
+    @property
+    def frame_names(self) -> list[str]:
+        ...
+    @property
+    def gravity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        Gravity in the world frame (default (0, 0, -9.81)).
+        """
+    @gravity.setter
+    def gravity(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def joint_names(self) -> list[str]:
+        ...
+    @property
+    def joint_types(self) -> list[str]:
+        ...
+    @property
+    def masses(self) -> list[float]:
+        ...
+    @property
+    def modal(self) -> numpy.typing.NDArray[numpy.bool]:
+        """
+        Bool array (nv): True where the DOF is a modal coordinate (always regular).
+        """
+    @property
+    def n_modes(self) -> list[int]:
+        """
+        Modal coordinates per body (0 for a rigid body).
+        """
+    @property
+    def nbodies(self) -> int:
+        ...
+    @property
+    def nq(self) -> int:
+        ...
+    @property
+    def nv(self) -> int:
+        ...
+    @property
+    def parents(self) -> list[int]:
+        ...
+    @property
+    def prescribed(self) -> numpy.typing.NDArray[numpy.bool]:
+        """
+        Bool array (nv): True where the DOF is prescribed.
+        """
+    @property
+    def q_index(self) -> list[int]:
+        ...
+    @property
+    def v_index(self) -> list[int]:
+        ...
+class NonphysicalInertiaError(ValueError):
+    pass
+class DynamicsError(ArithmeticError):
+    pass
+class MotionSource:
+    """
+    Position, velocity and acceleration of one DOF as functions of time.
+    """
+    @staticmethod
+    def constant_acceleration(acceleration: typing.SupportsFloat | typing.SupportsIndex, v0: typing.SupportsFloat | typing.SupportsIndex = 0.0, q0: typing.SupportsFloat | typing.SupportsIndex = 0.0, t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> MotionSource:
+        ...
+    @staticmethod
+    def constant_velocity(velocity: typing.SupportsFloat | typing.SupportsIndex, q0: typing.SupportsFloat | typing.SupportsIndex = 0.0, t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> MotionSource:
+        ...
+    @staticmethod
+    def cycloidal(q0: typing.SupportsFloat | typing.SupportsIndex, q1: typing.SupportsFloat | typing.SupportsIndex, t0: typing.SupportsFloat | typing.SupportsIndex, duration: typing.SupportsFloat | typing.SupportsIndex) -> MotionSource:
+        """
+        Rest-to-rest cycloidal motion from q0 to q1 (Saha, Shah & Nandihal 2013, Eq. 34).
+        """
+    @staticmethod
+    def function(fn: collections.abc.Callable) -> MotionSource:
+        """
+        fn(t) -> (q, v, a): a Python callable (not real-time). If it raises or returns a non-finite value, the step stops with DynamicsError naming the DOF (chained to the exception raised).
+        """
+    @staticmethod
+    def polynomial(coefficients: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> MotionSource:
+        """
+        q(t) = sum c_k (t - t0)^k, constant term first.
+        """
+    @staticmethod
+    def spline(times: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], values: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex]) -> MotionSource:
+        """
+        Natural cubic spline through the table (held outside it).
+        """
+    def sample(self, t: typing.SupportsFloat | typing.SupportsIndex) -> tuple[float, float, float]:
+        """
+        (q, v, a) at time t.
+        """
+class _SimulatorCore:
+    pass
+class _Simulator(_SimulatorCore):
+    def __init__(self, model: _Model, dt: typing.SupportsFloat | typing.SupportsIndex, integrator: str = 'rk4', event_capacity: typing.SupportsInt | typing.SupportsIndex = 64) -> None:
+        ...
+    def _drive_cassini(self) -> None:
+        ...
+    def _lock(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def _prescribe(self, arg0: typing.SupportsInt | typing.SupportsIndex, arg1: MotionSource) -> None:
+        ...
+    def _release(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def _run(self, steps: typing.SupportsInt | typing.SupportsIndex) -> tuple:
+        ...
+    def _schedule(self, arg0: typing.SupportsFloat | typing.SupportsIndex, arg1: str, arg2: typing.SupportsInt | typing.SupportsIndex) -> int:
+        ...
+    def _schedule_prescribe(self, arg0: typing.SupportsFloat | typing.SupportsIndex, arg1: typing.SupportsInt | typing.SupportsIndex, arg2: MotionSource) -> int:
+        ...
+    def _set_input(self, arg0: typing.SupportsInt | typing.SupportsIndex, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    def _set_state(self, arg0: typing.Any, arg1: typing.Any, arg2: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    def step(self) -> None:
+        """
+        Advance one step; on failure raises DynamicsError and leaves the state as before the step.
+        """
+    @property
+    def _dof_names(self) -> list[str]:
+        ...
+    @property
+    def atol(self) -> float:
+        ...
+    @atol.setter
+    def atol(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def dt(self) -> float:
+        ...
+    @property
+    def energy_lost(self) -> float:
+        """
+        Kinetic energy removed by lock impulses so far.
+        """
+    @property
+    def event_capacity(self) -> int:
+        """
+        Most events that can be pending at once.
+        """
+    @property
+    def forces(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Generalized forces at the start of the last step (drive torques on prescribed DOFs).
+        """
+    @property
+    def inputs(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    @property
+    def integrator(self) -> str:
+        ...
+    @property
+    def last_substeps(self) -> int:
+        """
+        dopri5: sub-step attempts of the last step.
+        """
+    @property
+    def max_substeps(self) -> int:
+        """
+        dopri5: sub-step attempts allowed in one step; beyond it the step fails (DynamicsError).
+        """
+    @max_substeps.setter
+    def max_substeps(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def pending_events(self) -> int:
+        ...
+    @property
+    def prescribed(self) -> numpy.typing.NDArray[numpy.bool]:
+        ...
+    @property
+    def q(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    @property
+    def rtol(self) -> float:
+        ...
+    @rtol.setter
+    def rtol(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def steps_taken(self) -> int:
+        """
+        Steps completed since construction (a failed step does not count).
+        """
+    @property
+    def time(self) -> float:
+        ...
+    @property
+    def v(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+class _HilSummary:
+    @property
+    def as_fast_as_possible(self) -> bool:
+        ...
+    @property
+    def command_out_of_range_dof(self) -> int:
+        ...
+    @property
+    def command_policy(self) -> str:
+        ...
+    @property
+    def commands_rejected(self) -> int:
+        ...
+    @property
+    def commands_saturated(self) -> int:
+        ...
+    @property
+    def compute_max_us(self) -> float:
+        ...
+    @property
+    def compute_p50_us(self) -> float:
+        ...
+    @property
+    def compute_p999_us(self) -> float:
+        ...
+    @property
+    def compute_p99_us(self) -> float:
+        ...
+    @property
+    def deadline_misses(self) -> int:
+        ...
+    @property
+    def exception_step(self) -> int:
+        ...
+    @property
+    def failed_dof(self) -> int:
+        ...
+    @property
+    def failed_step(self) -> int:
+        ...
+    @property
+    def kernel_drops(self) -> int:
+        ...
+    @property
+    def kernel_drops_counted(self) -> bool:
+        ...
+    @property
+    def lateness_max_us(self) -> float:
+        ...
+    @property
+    def lateness_p50_us(self) -> float:
+        ...
+    @property
+    def lateness_p99_us(self) -> float:
+        ...
+    @property
+    def max_packets_per_step(self) -> int:
+        ...
+    @property
+    def packets_dropped(self) -> int:
+        ...
+    @property
+    def packets_received(self) -> int:
+        ...
+    @property
+    def packets_rejected_sender(self) -> int:
+        ...
+    @property
+    def packets_sent(self) -> int:
+        ...
+    @property
+    def packets_stale(self) -> int:
+        ...
+    @property
+    def realtime(self) -> dict:
+        ...
+    @property
+    def requested_steps(self) -> int:
+        ...
+    @property
+    def saturated_per_dof(self) -> list[int]:
+        ...
+    @property
+    def send_failures(self) -> int:
+        ...
+    @property
+    def status(self) -> str:
+        ...
+    @property
+    def steps(self) -> int:
+        ...
+    @property
+    def steps_left_pending(self) -> int:
+        ...
+    @property
+    def stopped(self) -> bool:
+        ...
+    @property
+    def wall_seconds(self) -> float:
+        ...
+class HilRunner:
+    """
+    Fixed-rate loop over a Simulator with optional UDP I/O (see soadyn.hil.run_hil).
+    """
+    def __init__(self, sim: _Simulator, rate_hz: typing.SupportsFloat | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex, udp_port: typing.SupportsInt | typing.SupportsIndex | None = None, udp_destination_port: typing.SupportsInt | typing.SupportsIndex = 0, as_fast_as_possible: bool = False, record_every: typing.SupportsInt | typing.SupportsIndex = 0, spin_us: typing.SupportsFloat | typing.SupportsIndex = 0.0, fifo_priority: typing.SupportsInt | typing.SupportsIndex = 0, cpu: typing.SupportsInt | typing.SupportsIndex = -1, lock_memory: bool = False, command_limits: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, command_policy: str = 'clamp', udp_command_port: typing.SupportsInt | typing.SupportsIndex = -1, max_packets_per_step: typing.SupportsInt | typing.SupportsIndex = 16) -> None:
+        ...
+    def release_peer(self) -> None:
+        """
+        Forget the latched command sender: the next valid command's sender becomes the peer (thread-safe).
+        """
+    def request_stop(self) -> None:
+        """
+        Ask a running loop to stop (thread-safe).
+        """
+    def run(self) -> None:
+        """
+        Run the loop (GIL released); the outcome is in summary(). An exception raised by a Python motion source ends the run: run() raises the DynamicsError naming its DOF, caused by that exception, as Simulator.step does; summary() still holds the run.
+        """
+    def summary(self) -> _HilSummary:
+        ...
+    def trajectory(self) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+        """
+        Recorded (t, q, v): the start and every record_every steps.
+        """
+    @property
+    def command_limits(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Per-DOF limits of the command values (default a * M_ii at the start; inf: none).
+        """
+    @command_limits.setter
+    def command_limits(self, arg1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        ...
+    @property
+    def commands_rejected(self) -> int:
+        ...
+    @property
+    def commands_saturated(self) -> int:
+        ...
+    @property
+    def compute_ns(self) -> numpy.typing.NDArray[numpy.int64]:
+        ...
+    @property
+    def deadline_misses(self) -> int:
+        ...
+    @property
+    def lateness_ns(self) -> numpy.typing.NDArray[numpy.int64]:
+        ...
+    @property
+    def packets_received(self) -> int:
+        ...
+    @property
+    def steps_done(self) -> int:
+        ...
+    @property
+    def udp_port(self) -> typing.Any:
+        ...
+class FlexibleBody:
+    """
+    Modal flexible body: a rigid reference frame at the inboard hinge plus n_modes linear modes
+    of a lumped model (nodes with point masses, rotary inertias and 6 x n_modes mode shapes,
+    rows [rotation; translation]). Immutable; its modal integrals are computed once.
+    """
+    @staticmethod
+    def cantilever_beam(length: typing.SupportsFloat | typing.SupportsIndex, EI: typing.SupportsFloat | typing.SupportsIndex, mass_per_length: typing.SupportsFloat | typing.SupportsIndex, n_modes: typing.SupportsInt | typing.SupportsIndex, n_nodes: typing.SupportsInt | typing.SupportsIndex = 60) -> FlexibleBody:
+        """
+        Uniform Euler-Bernoulli cantilever along x, clamped at the body origin: n_nodes lumped
+        segments plus a massless 'tip' node; n_modes clamped-free bending modes per plane in the
+        x-y and x-z planes, interleaved (2 * n_modes modes in all).
+        """
+    def __init__(self, positions: typing.Any, masses: typing.Any, rotary_inertias: typing.Any, mode_shapes: typing.Any, stiffness: typing.Any, damping: typing.Any = None, attachments: collections.abc.Mapping[str, typing.SupportsInt | typing.SupportsIndex] = ...) -> None:
+        """
+        positions (N, 3) undeformed node positions in the body frame; masses (N,); rotary_inertias
+        (N, 3, 3) about each node; mode_shapes (N, 6, n_modes); stiffness and damping (n_modes,
+        n_modes), symmetric positive semidefinite (damping None: zero); attachments {name: node}.
+        """
+    def __repr__(self) -> str:
+        ...
+    def augmented_mass_matrix(self, eta: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        M(eta), (6 + n_modes) square: T = 1/2 [V; eta_dot]' M [V; eta_dot], V = [omega; v_origin] body frame.
+        """
+    def natural_frequencies_clamped(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Natural frequencies (rad/s, ascending) of the body clamped at its reference frame.
+        """
+    def node_load(self, j: typing.SupportsInt | typing.SupportsIndex, eta: typing.Any, wrench: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+        """
+        Generalized force of `wrench` = [torque; force] applied at node j (node frame) at eta: returns
+        (body_wrench, modal_forces): the wrench about the body origin in the body frame (add it to
+        f_ext[body]) and the modal forces (add them to the modal DOFs' entries of tau / u).
+        """
+    def node_pose(self, j: typing.SupportsInt | typing.SupportsIndex, eta: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 4]"]:
+        """
+        4x4 pose of node j in the body frame at eta.
+        """
+    def strain_energy(self, eta: typing.Any) -> float:
+        """
+        1/2 eta' K eta.
+        """
+    @property
+    def attachments(self) -> dict[str, int]:
+        ...
+    @property
+    def damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    @property
+    def masses(self) -> numpy.typing.NDArray[numpy.float64]:
+        ...
+    @property
+    def modal_mass(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    @property
+    def mode_shapes(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        (N, 6, n_modes): rows [rotation; translation].
+        """
+    @property
+    def n_modes(self) -> int:
+        ...
+    @property
+    def n_nodes(self) -> int:
+        ...
+    @property
+    def nodes(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        (N, 3) undeformed node positions, body frame.
+        """
+    @property
+    def rotary_inertias(self) -> numpy.typing.NDArray[numpy.float64]:
+        ...
+    @property
+    def stiffness(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+def _probe_array_fields(arg0: typing.Any) -> typing.Any:
+    ...
+def _probe_model_handles(arg0: typing.Any) -> tuple[int, int]:
+    ...
+def _time_cpp(model: _Model, algorithm: str, q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], u: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], calls: typing.SupportsInt | typing.SupportsIndex = 20000, repetitions: typing.SupportsInt | typing.SupportsIndex = 7) -> float:
+    """
+    Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea' or 'crba' over the given
+    states (rows), `calls` calls per repetition. For benchmarks; the GIL is released.
+    """
+def bias_forces(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    h(q, v): Coriolis, centrifugal and gravity generalized forces.
+    """
+def center_of_mass(model: _Model, q: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+    """
+    Centre of mass of the whole tree in the world frame.
+    """
+def forward_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, tau: numpy.typing.ArrayLike, f_ext: numpy.typing.ArrayLike | None = None) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    Accelerations qdd = M^-1 (tau - h + J' f_ext) by the articulated-body algorithm (every DOF regular,
+    whatever the model's flags). f_ext: (nbodies, 6) body-frame wrenches [torque; force] about each body
+    origin. Returns a fresh array.
+    """
+def forward_kinematics(model: _Model, q: typing.Any, v: typing.Any = None) -> typing.Any:
+    """
+    (poses, velocities): (nbodies, 4, 4) homogeneous body poses in the world and, with v, (nbodies, 6)
+    body-frame spatial velocities [angular; linear].
+    """
+def hybrid_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike, f_ext: numpy.typing.ArrayLike | None = None, joint_wrenches: bool = False) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]] | tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+    """
+    Hybrid dynamics (Jain & Rodriguez 1993, Eqs. 14, 28, 29): u holds the torque of each regular DOF and the acceleration of
+    each prescribed DOF (model.prescribed). Returns fresh arrays (qdd, tau) with every DOF's acceleration
+    and generalized force, plus the (nbodies, 6) joint wrenches when joint_wrenches=True.
+    """
+def integrate(model: _Model, q: typing.Any, v: typing.Any, dt: typing.SupportsFloat | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    q (+) v dt, each joint on its manifold (quaternions by the exponential map; free joints on SE(3)).
+    """
+def inverse_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, qdd: numpy.typing.ArrayLike, f_ext: numpy.typing.ArrayLike | None = None) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    Generalized forces tau = M qdd + h - J' f_ext (recursive Newton-Euler). Returns a fresh array.
+    """
+def joint_wrenches(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any, f_ext: typing.Any = None) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    Joint reaction wrenches (nbodies, 6): the spatial force [torque; force] the parent exerts on each body
+    through its hinge, in the body frame about the body origin, at the given accelerations.
+    """
+def kinetic_energy(model: _Model, q: typing.Any, v: typing.Any) -> float:
+    """
+    Kinetic energy 1/2 v' M v.
+    """
+def mass_matrix(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    Joint-space mass matrix M(q), (nv, nv) (composite-rigid-body algorithm).
+    """
+def momentum(model: _Model, q: typing.Any, v: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    Spatial momentum [angular about the world origin; linear] in the world frame.
+    """
+def neutral_configuration(model: _Model) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    Zero coordinates with identity quaternions.
+    """
+def potential_energy(model: _Model, q: typing.Any) -> float:
+    """
+    Gravitational potential energy -sum m g.c (zero at the world origin).
+    """
+def random_configuration(model: _Model, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    Random configuration: angles in [-pi, pi], offsets in [-1, 1], uniform unit quaternions.
+    """
+QUATERNION_TOLERANCE: float = 1e-06
+_pybind11_version: str  # the pybind11 version the module was built with
