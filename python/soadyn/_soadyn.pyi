@@ -56,6 +56,11 @@ class Joint:
         Ball joint: q = quaternion (x, y, z, w), v = body-frame angular velocity.
         """
     @staticmethod
+    def translation(name: str = '') -> Joint:
+        """
+        Cartesian translation along the joint frame's x, y, z: q = v = (x, y, z). DOFs ':x', ':y', ':z'.
+        """
+    @staticmethod
     def universal(axis1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], axis2: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '') -> Joint:
         """
         Rotation about axis1, then about axis2 of the rotated frame. DOFs '<name>:1', '<name>:2'.
