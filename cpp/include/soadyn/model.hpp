@@ -174,6 +174,7 @@ class ModelTpl {
   std::vector<std::uint8_t> check_tree_frame_reach;
   bool reach_checks_needed = false;
 
+  // Set by every structural change (add_body, add_flexible_body); a copy carries it.
   DynamicsPath dynamics_path = DynamicsPath::rigid_tree_frames;
 
   std::vector<Frame<S>> frames;

@@ -23,39 +23,37 @@ template <class S> using VecRef = typename type_identity<Eigen::Ref<VecX<S>>>::t
 // The two kinds of frame the sweeps work in (data.hpp): body frames and tree frames.
 enum class Frames { body, tree };
 
-// Body i's sweep quantities in frames F, for the steps both kinds of sweep
-// share (hinge_steps.hpp). `D` is DataTpl<S> or const DataTpl<S>.
-template <Frames F, class D>
-SOADYN_ALWAYS_INLINE auto& frame_subspace(D& d) {
-  if constexpr (F == Frames::body) return d.sweep.body_subspace; else return d.sweep.tree_subspace;
+// `body` or `tree` as F says: one quantity of the sweeps in the two kinds of frame.
+template <Frames F, class T>
+SOADYN_ALWAYS_INLINE T& by_frame(T& body, T& tree) {
+  if constexpr (F == Frames::body) return body; else return tree;
 }
+
+// The sweep quantities in frames F, for the steps both kinds of sweep share
+// (hinge_steps.hpp). `D` is DataTpl<S> or const DataTpl<S>.
 template <Frames F, class D>
-SOADYN_ALWAYS_INLINE auto& frame_coriolis(D& d) {
-  if constexpr (F == Frames::body) return d.sweep.body_coriolis; else return d.sweep.tree_coriolis;
-}
+SOADYN_ALWAYS_INLINE auto& frame_subspace(D& d) { return by_frame<F>(d.sweep.body_subspace, d.sweep.tree_subspace); }
+template <Frames F, class D>
+SOADYN_ALWAYS_INLINE auto& frame_coriolis(D& d) { return by_frame<F>(d.sweep.body_coriolis, d.sweep.tree_coriolis); }
 template <Frames F, class D>
 SOADYN_ALWAYS_INLINE auto& frame_acceleration(D& d) {
-  if constexpr (F == Frames::body) return d.body_acceleration; else return d.sweep.tree_acceleration;
+  return by_frame<F>(d.body_acceleration, d.sweep.tree_acceleration);
 }
 template <Frames F, class D>
-SOADYN_ALWAYS_INLINE auto& frame_hinge_force(D& d) {
-  if constexpr (F == Frames::body) return d.hinge_force; else return d.sweep.tree_hinge_force;
-}
+SOADYN_ALWAYS_INLINE auto& frame_hinge_force(D& d) { return by_frame<F>(d.hinge_force, d.sweep.tree_hinge_force); }
 template <Frames F, class D>
 SOADYN_ALWAYS_INLINE auto& frame_articulated_inertia(D& d) {
-  if constexpr (F == Frames::body) return d.sweep.body_articulated_inertia; else return d.sweep.tree_articulated_inertia;
+  return by_frame<F>(d.sweep.body_articulated_inertia, d.sweep.tree_articulated_inertia);
 }
 template <Frames F, class D>
 SOADYN_ALWAYS_INLINE auto& frame_bias_and_children_z(D& d) {
-  if constexpr (F == Frames::body) return d.sweep.body_bias_and_children_z; else return d.sweep.tree_bias_and_children_z;
+  return by_frame<F>(d.sweep.body_bias_and_children_z, d.sweep.tree_bias_and_children_z);
 }
 template <Frames F, class D>
-SOADYN_ALWAYS_INLINE auto& frame_gain(D& d) {
-  if constexpr (F == Frames::body) return d.sweep.body_gain; else return d.sweep.tree_gain;
-}
+SOADYN_ALWAYS_INLINE auto& frame_gain(D& d) { return by_frame<F>(d.sweep.body_gain, d.sweep.tree_gain); }
 template <Frames F, class D>
 SOADYN_ALWAYS_INLINE auto& frame_regular_subspace(D& d) {
-  if constexpr (F == Frames::body) return d.sweep.body_regular_subspace; else return d.sweep.tree_regular_subspace;
+  return by_frame<F>(d.sweep.body_regular_subspace, d.sweep.tree_regular_subspace);
 }
 
 // Outputs a caller may ask for beyond qdd and tau.
