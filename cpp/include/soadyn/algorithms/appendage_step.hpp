@@ -56,20 +56,26 @@ inline void appendage_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, c
   const Mat3<S> M_ww = E.trace() * Mat3<S>::Identity() - E + mi.rotary_inertia;  // Eq. (4)
 
   // Bias b = [b_V; b_e]: Eqs. (8), (9) and the gyroscopic term, plus K eta + C eta_dot.
-  Vec6<S> momentum = Vec6<S>::Zero();  // (M w)_V = M_VV V + M_Ve eta_dot
+  Vec6<S>& b = d.sweep.body_bias_force[i];
+  VecX<S>& b_e = fd.modal_bias;
   if (v) {
     const auto eta_dot = modal_velocities(m, body, v);
     const Vec3<S> omega = V.template head<3>(), vel = V.template tail<3>();
+    Vec6<S> momentum;  // (M w)_V = M_VV V + M_Ve eta_dot
     momentum.template head<3>() = M_ww * omega + c.cross(vel);
     momentum.template tail<3>() = mi.mass * vel - c.cross(omega);
     for (int k = 0; k < n; ++k) {
       momentum.template head<3>() += eta_dot[k] * M_we.col(k);
       momentum.template tail<3>() += eta_dot[k] * S1.col(k);
     }
+    mi.inertial_bias(eta_dot, V, momentum, fd.second_moment_rates, fd.bias);
+    b = fd.bias.template head<6>();
+    modal_bias_with_elastic_forces(m.flexible_body(body), fd.bias, eta, eta_dot, b_e);
+  } else {
+    b.setZero();
+    b_e.setZero();
   }
-  flexible_bias_from_momentum(m, d, i, q, v, V, momentum, f_ext);
-  const Vec6<S>& b = d.sweep.body_bias_force[i];
-  const VecX<S>& b_e = fd.modal_bias;
+  if (f_ext) b -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
 
   // Elimination: G' = [Y W], nu, P^ and z^.
   const MatX<S>& M_inv = mi.modal_mass_inverse;

@@ -111,46 +111,32 @@ inline void modal_bias_with_elastic_forces(const FlexibleBodyTpl<S>& body, const
     for (int k = 0; k < n; ++k) modal_bias[k] += K(k, l) * eta[l] + C(k, l) * eta_dot[l];
 }
 
-// Bias of flexible body i once its momentum (M w)_V = M_VV V + M_Ve eta_dot
-// is known, body frame, with the rates D_k (Eq. 7) already in
-// second_moment_rates: sweep.body_bias_force[i] = b_V - f_ext and modal_bias
-// = b_e + K eta + C eta_dot (Eqs. 8-9), V the body-frame velocity. Zero
-// velocity (v null) leaves only -f_ext (impulse problems and mass-matrix
-// columns: no elastic impulse). Shared by flexible_bias_step (M(eta)
-// assembled) and appendage_step (its blocks only).
-template <class S>
-inline void flexible_bias_from_momentum(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
-                                        const Vec6<S>& V, const Vec6<S>& momentum, const S* f_ext) {
-  const int b = static_cast<int>(i);
-  FlexibleBodyData<S>& fd = flexible_data(m, d, i);
-  Vec6<S>& bias_force = d.sweep.body_bias_force[i];
-  if (v) {
-    const FlexibleBodyTpl<S>& body = m.flexible_body(b);
-    const auto eta_dot = modal_velocities(m, b, v);
-    body.modal_integrals().inertial_bias(eta_dot, V, momentum, fd.second_moment_rates, fd.bias);
-    bias_force = fd.bias.template head<6>();
-    modal_bias_with_elastic_forces(body, fd.bias, modal_coordinates(m, b, q), eta_dot, fd.modal_bias);
-  } else {
-    bias_force.setZero();
-    fd.modal_bias.setZero();
-  }
-  if (f_ext) bias_force -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
-}
-
-// Bias of flexible body i from its assembled M(eta) (flexible_inertia_step)
-// and body-frame velocity: flexible_bias_from_momentum.
+// Bias of flexible body i: sweep.body_bias_force[i] = b_V - f_ext and
+// modal_bias = b_e + K eta + C eta_dot (Eqs. 8-9), in the body frame, given the body-frame
+// velocity; zero velocity (v null) leaves only -f_ext (impulse problems and
+// mass-matrix columns: no elastic impulse).
 template <class S>
 inline void flexible_bias_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
                                const Vec6<S>& body_velocity, const S* f_ext) {
-  Vec6<S> momentum = Vec6<S>::Zero();  // (M w)_V
+  const int b = static_cast<int>(i);
+  FlexibleBodyData<S>& fd = flexible_data(m, d, i);
   if (v) {
-    const int b = static_cast<int>(i);
-    FlexibleBodyData<S>& fd = flexible_data(m, d, i);
-    m.flexible_body(b).modal_integrals().second_moment_rates(modal_coordinates(m, b, q), fd.second_moment_rates);
+    const FlexibleBodyTpl<S>& body = m.flexible_body(b);
+    const auto eta = modal_coordinates(m, b, q);
+    const auto eta_dot = modal_velocities(m, b, v);
+    const ModalIntegrals<S>& mi = body.modal_integrals();
+    mi.second_moment_rates(eta, fd.second_moment_rates);
+    Vec6<S> momentum;  // (M w)_V
     momentum.noalias() = fd.mass.template topLeftCorner<6, 6>() * body_velocity;
-    momentum.noalias() += fd.mass.topRightCorner(6, m.n_modes[i]) * modal_velocities(m, b, v);
+    momentum.noalias() += fd.mass.topRightCorner(6, body.n_modes()) * eta_dot;
+    mi.inertial_bias(eta_dot, body_velocity, momentum, fd.second_moment_rates, fd.bias);
+    d.sweep.body_bias_force[i] = fd.bias.template head<6>();
+    modal_bias_with_elastic_forces(body, fd.bias, eta, eta_dot, fd.modal_bias);
+  } else {
+    d.sweep.body_bias_force[i].setZero();
+    fd.modal_bias.setZero();
   }
-  flexible_bias_from_momentum(m, d, i, q, v, body_velocity, momentum, f_ext);
+  if (f_ext) d.sweep.body_bias_force[i] -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
 }
 
 // Velocity, Coriolis term and bias of body i (motion_step with flexible bodies).
