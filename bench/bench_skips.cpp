@@ -61,8 +61,8 @@ void hybrid_with_wrenches(const Model& m, soadyn::Data& d, const soadyn_test::St
   soadyn::hybrid_dynamics<double>(m, d, s.q, s.v, s.u, nullptr, soadyn::DynamicsOutputs{true});
 }
 void body_frame_sweeps(const Model& m, soadyn::Data& d, const soadyn_test::State& s) {
-  soadyn::detail::hybrid_sweeps<double>(m, d, s.q.data(), s.v.data(), soadyn::ConstVecRef<double>(s.u), nullptr,
-                                      soadyn::world_acceleration(m), soadyn::DynamicsOutputs{});
+  soadyn::detail::body_frame_sweeps<Flags::model_flags, double>(m, d, s.q.data(), s.v.data(), s.u.data(), nullptr,
+                                                               soadyn::world_acceleration(m), false);
 }
 template <bool Flex>
 void tree_frame_sweeps(const Model& m, soadyn::Data& d, const soadyn_test::State& s) {

@@ -223,7 +223,7 @@ void bind_algorithms(py::module_& mod) {
             T.setIdentity();
             T.topLeftCorner<3, 3>() = d.pose_in_world[i].rotation;
             T.topRightCorner<3, 1>() = d.pose_in_world[i].translation;
-            if (vo) Eigen::Map<soadyn::Vec6<double>>(vo + 6 * i) = d.velocity[i];
+            if (vo) Eigen::Map<soadyn::Vec6<double>>(vo + 6 * i) = d.body_velocity[i];
           }
         });
         refuse_non_finite("forward_kinematics", "pose", po, static_cast<std::size_t>(n), 16, h.model.body_names);

@@ -20,7 +20,7 @@ int body_at_fault(const soadyn::Model& m, const soadyn::Data& d, bool with_veloc
     if (!X.rotation.allFinite() || !X.translation.allFinite()) return i;
     if (!(m.mass[k] * X.translation).allFinite()) return i;
     if (!with_velocity) continue;
-    const soadyn::Vec6<double>& V = d.velocity[k];
+    const soadyn::Vec6<double>& V = d.body_velocity[k];
     if (!V.allFinite()) return i;
     const soadyn::Vec6<double> h = m.inertia[k] * V;
     if (!h.allFinite() || !std::isfinite(V.dot(h)) || !X.force_to_parent(h).allFinite()) return i;
@@ -35,7 +35,7 @@ int largest_share(const soadyn::Model& m, const soadyn::Data& d, bool with_veloc
   double largest = -1;
   for (int i = 0; i < m.nbodies(); ++i) {
     const auto k = static_cast<std::size_t>(i);
-    const double share = with_velocity ? (m.inertia[k] * d.velocity[k]).norm()
+    const double share = with_velocity ? (m.inertia[k] * d.body_velocity[k]).norm()
                                        : m.mass[k] * d.pose_in_world[k].translation.norm();
     if (share > largest) {
       largest = share;

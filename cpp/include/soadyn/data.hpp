@@ -3,6 +3,16 @@
 // Memory policy: all allocation happens in the constructor. A Data belongs to
 // the Model it was built from (same `model_version`); rebuild it after adding
 // bodies. Flipping prescribed/regular flags needs no rebuild.
+//
+// Layout: the outputs users read sit at the top level of DataTpl; every
+// intermediate quantity of the sweeps sits in `sweep` (SweepData). Each
+// spatial quantity has one frame, named in its name: `body_` quantities are in
+// body i's own frame about its origin (the recursion of Jain & Rodriguez,
+// "Recursive Dynamics Algorithm for Multibody Systems with Prescribed Motion",
+// ASME J. Mechanical Design 115(3), 1993, as written), `tree_` quantities in
+// body i's tree frame (world orientation, origin at its tree's root body
+// origin; algorithms/tree_frame_steps.hpp). Which algorithm fills which is
+// said per member; the README's architecture section says which sweep runs when.
 #pragma once
 #include <Eigen/Cholesky>
 #include "soadyn/model.hpp"
@@ -11,20 +21,66 @@ namespace soadyn {
 
 template <class S> using Mat6X = Eigen::Matrix<S, 6, Eigen::Dynamic>;
 
-// Scratch of one flexible body (n_m modal coordinates), flex/flexible_body.hpp:
-// its augmented mass matrix and the modal blocks of its articulated inertia.
+// Scratch of one flexible body (n_m modal coordinates), flex/flexible_body.hpp,
+// all in the body frame: its augmented mass matrix and the modal blocks of its
+// articulated inertia.
 template <class S>
 struct FlexibleBodyData {
   explicit FlexibleBodyData(int n_modes);
 
-  MatX<S> mass;                   // M(eta), (6 + n_m) square
-  MatX<S> second_moment_rates;    // [D_0 ... D_{n_m-1}] (modal_integrals.hpp, Eq. 7)
-  VecX<S> bias;                   // inertial bias (6 + n_m), modal_integrals.hpp
-  VecX<S> modal_bias;             // modal rows of the body's bias; then of z (articulated) or the modal force (RNEA)
-  Mat6X<S> coupling;              // rigid-modal block of the articulated inertia (6 x n_m)
-  MatX<S> modal_inertia;          // modal block of the articulated inertia (n_m x n_m); its Cholesky factor after elimination
-  MatX<S> gain_transpose;         // modal_inertia^-1 coupling' (n_m x 6); tree frames: M_ee^-1 M_eV, body frame
-  VecX<S> innovation;             // modal_inertia^-1 (u_modal - modal rows of z)
+  MatX<S> mass;                        // M(eta), (6 + n_m) square
+  MatX<S> second_moment_rates;         // [D_0 ... D_{n_m-1}] (modal_integrals.hpp, Eq. 7)
+  VecX<S> bias;                        // inertial bias (6 + n_m), modal_integrals.hpp
+  VecX<S> modal_bias;                  // b_e + K eta + C eta_dot: modal rows of the body's own bias
+  VecX<S> modal_bias_and_children_z;   // modal_bias + sum over bodies on nodes of Psi' z+ (articulated sweeps)
+  VecX<S> modal_force;                 // generalized modal force of the Newton-Euler sweeps (RNEA)
+  Mat6X<S> coupling;                   // P_Ve: rigid-modal block of the articulated inertia (6 x n_m)
+  Eigen::Matrix<S, 3, Eigen::Dynamic> deformed_angular_coupling;  // M_we(eta) (3 x n_m), appendage_step.hpp
+  MatX<S> modal_inertia;               // P_ee (n_m x n_m), factored in place (Cholesky L) by the elimination
+  MatX<S> gain_transpose;              // P_ee^-1 P_eV (n_m x 6)
+  VecX<S> innovation;                  // P_ee^-1 (u_modal - modal rows of z)
+};
+
+// Intermediate quantities of the sweeps (see the top of this file for the
+// frames). Read them only to debug an algorithm: which call last wrote a
+// member, and whether it did at all, depends on the model's dynamics path.
+template <class S>
+struct SweepData {
+  // Body frames: body-frame sweeps (aba.hxx), inverse dynamics, kinematics.
+  aligned_vector<Mat6N<S>> body_subspace;              // H*(i)
+  aligned_vector<Vec6<S>> body_joint_bias;             // dH*/dt qdot of the joint
+  aligned_vector<Vec6<S>> body_coriolis;               // a(i) (Eq. 1)
+  aligned_vector<Vec6<S>> body_bias_force;             // b(i) (Eq. 1): gyroscopic force minus external wrench
+  aligned_vector<Mat6<S>> body_articulated_inertia;    // P(i) (Eq. 14)
+  aligned_vector<Vec6<S>> body_bias_and_children_z;    // b(i) + sum of the children's z+: z(i) without P(i) a(i) (Eq. 28)
+  aligned_vector<Mat6N<S>> body_regular_subspace;      // the regular columns of H*(i) (mixed hinges)
+  aligned_vector<Mat6N<S>> body_gain;                  // G(i) = P H*_r D^-1 (Eq. 28)
+  // Per body placed on a node of a flexible parent: the node's deformation
+  // motion subspace Psi (6 x n_m of the parent) and the velocity-product part
+  // of the node's motion relative to the parent's body frame, both in this
+  // body's frame (flexible_steps.hpp).
+  aligned_vector<Mat6X<S>> attachment_subspace;
+  aligned_vector<Vec6<S>> attachment_bias;
+
+  // Tree frames: tree-frame sweeps (tree_frame_sweeps.hxx), the composite-rigid-body mass matrix.
+  aligned_vector<Transform<S>> tree_pose;              // body i in its tree frame
+  aligned_vector<Mat6N<S>> tree_subspace;              // H*(i)
+  aligned_vector<Vec6<S>> tree_velocity;               // V(i)
+  aligned_vector<Vec6<S>> tree_coriolis;               // a(i)
+  aligned_vector<Vec6<S>> tree_bias_force;             // b(i) of a rigid body (an appendage's is in body_bias_force)
+  aligned_vector<Vec6<S>> tree_acceleration;           // alpha(i), including the -gravity base acceleration
+  aligned_vector<Vec6<S>> tree_hinge_force;            // f(i) (Eq. 29)
+  aligned_vector<Mat6<S>> tree_articulated_inertia;    // P(i); the composite inertia in the mass matrix
+  aligned_vector<Vec6<S>> tree_bias_and_children_z;    // b(i) + sum of the children's z+ (Eq. 28)
+  aligned_vector<Mat6N<S>> tree_regular_subspace;      // the regular columns of H*(i) (mixed hinges)
+  aligned_vector<Mat6N<S>> tree_gain;                  // G(i) = P H*_r D^-1
+
+  // Hinge coordinates (no frame).
+  aligned_vector<VecN<S>> innovation;                  // nu(i) = D^-1 eps(i) (Eq. 28)
+  VecX<S> unit_acceleration;  // mass-matrix columns (flexible models, bodies beyond tree-frame reach)
+
+  // Flexible bodies (empty without them), in the order of model.flexible_bodies.
+  std::vector<FlexibleBodyData<S>, Eigen::aligned_allocator<FlexibleBodyData<S>>> flexible;
 };
 
 template <class S>
@@ -33,50 +89,25 @@ struct DataTpl {
 
   std::uint64_t model_version;
 
-  // Kinematics (body frames; see model.hpp for conventions).
-  aligned_vector<Transform<S>> pose_in_parent;  // body i in its parent body frame (or the world)
-  aligned_vector<Transform<S>> pose_in_world;   // filled by forward_kinematics and the energy functions
-  aligned_vector<Mat6N<S>> subspace;            // S(i) = seed H*(i), body frame
-  aligned_vector<Vec6<S>> joint_bias;           // dS/dt v of the joint
-  aligned_vector<Vec6<S>> velocity;             // seed V(i)
-  aligned_vector<Vec6<S>> coriolis;             // seed a(i)
-  aligned_vector<Vec6<S>> bias_force;           // seed b(i): gyroscopic force minus external wrench
-  aligned_vector<Vec6<S>> acceleration;         // seed alpha(i), including the -gravity base acceleration
-  // Spatial force across hinge i, exerted by the parent on body i, in body
-  // i's frame about its origin (seed f(i)): the joint reaction wrench.
-  aligned_vector<Vec6<S>> hinge_force;
-
-  // Rigid models, and flexible models with no body on a node: forward and
-  // hybrid dynamics work in tree frames (algorithms/tree_frame_steps.hpp) and
-  // leave velocity, coriolis, bias_force (a flexible body's stays in its body
-  // frame), acceleration and the articulated quantities in tree-frame
-  // coordinates; every other algorithm leaves them in body frames.
-  aligned_vector<Transform<S>> tree_pose;  // body i in its tree frame
-  aligned_vector<Mat6N<S>> tree_subspace;  // S(i) in the tree frame
-
-  // Articulated-body quantities (seed Eq. 14, 28). Also used as composite
-  // inertia scratch by the mass matrix.
-  aligned_vector<Mat6<S>> articulated_inertia;  // P(i)
-  aligned_vector<Vec6<S>> articulated_bias;     // z(i) before the hinge's own terms
-  aligned_vector<Mat6N<S>> regular_subspace;    // S columns of the regular DOFs (mixed hinges)
-  aligned_vector<Mat6N<S>> gain;                // G(i) = P S_r D^-1
-  aligned_vector<VecN<S>> innovation;           // nu(i) = D^-1 eps(i)
-
-  // Flexible bodies (empty without them). Per flexible body, in the order of
-  // model.flexible_bodies:
-  std::vector<FlexibleBodyData<S>, Eigen::aligned_allocator<FlexibleBodyData<S>>> flexible;
-  // Per body placed on a node of a flexible parent: the node's deformation
-  // motion subspace in this body's frame (6 x n_m of the parent) and the
-  // velocity-product part of the node's motion relative to the parent's
-  // body frame, also in this body's frame (flexible_steps.hpp).
-  aligned_vector<Mat6X<S>> attachment_subspace;
-  aligned_vector<Vec6<S>> attachment_bias;
-  VecX<S> unit_acceleration;  // mass-matrix columns (flexible models, bodies beyond tree-frame reach)
-
   // Outputs.
   VecX<S> qdd;          // generalized accelerations (nv)
   VecX<S> tau;          // generalized forces (nv)
   MatX<S> mass_matrix;  // (nv x nv)
+  // Spatial force across hinge i, exerted by the parent on body i, in body
+  // i's frame about its origin (Eq. 29, f(i)): the joint reaction wrench.
+  // Filled by inverse dynamics, and by hybrid dynamics when asked for.
+  aligned_vector<Vec6<S>> hinge_force;
+  // Kinematics (see model.hpp for conventions).
+  aligned_vector<Transform<S>> pose_in_parent;  // body i in its parent body frame (or the world)
+  aligned_vector<Transform<S>> pose_in_world;   // filled by forward_kinematics and the energy functions
+  // Body velocity V(i), body frame: forward_kinematics (with v), the energy
+  // functions, inverse dynamics, bias_forces and the body-frame sweeps.
+  aligned_vector<Vec6<S>> body_velocity;
+  // Body acceleration alpha(i), body frame, including the -gravity base
+  // acceleration: inverse dynamics and the body-frame sweeps.
+  aligned_vector<Vec6<S>> body_acceleration;
+
+  SweepData<S> sweep;
 };
 
 using Data = DataTpl<double>;

@@ -68,6 +68,16 @@ struct HingeModes {
   bool needs_articulated_inertia = true;
 };
 
+// Which sweeps forward dynamics, hybrid dynamics and its impulse form run
+// (algorithms/dynamics_path.hxx), fixed by the model's structure and stored
+// when it changes. A tree-frame path falls back to body frames for a call in
+// which a body lies beyond its tree-frame reach (tree_frame_reach.hxx).
+enum class DynamicsPath : std::uint8_t {
+  rigid_tree_frames,      // no flexible body: tree frames, rigid steps only
+  appendage_tree_frames,  // flexible bodies with no body on a node: tree frames
+  body_frames,            // some body on a flexible body's node: body frames
+};
+
 template <class S>
 class ModelTpl {
  public:
@@ -101,12 +111,6 @@ class ModelTpl {
 
   int nbodies() const { return static_cast<int>(parent.size()); }
   bool has_flexible_bodies() const { return !flexible_bodies.empty(); }
-  // Some body's joint sits on a node of a flexible body.
-  bool has_node_attachments() const {
-    for (const int node : attachment_node)
-      if (node >= 0) return true;
-    return false;
-  }
   bool is_flexible(int body) const { return flexible_index[static_cast<std::size_t>(body)] >= 0; }
   const FlexibleBodyTpl<S>& flexible_body(int body) const {
     return flexible_bodies[static_cast<std::size_t>(flexible_index[static_cast<std::size_t>(body)])];
@@ -170,6 +174,9 @@ class ModelTpl {
   std::vector<std::uint8_t> check_tree_frame_reach;
   bool reach_checks_needed = false;
 
+  // Set by every structural change (add_body, add_flexible_body); a copy carries it.
+  DynamicsPath dynamics_path = DynamicsPath::rigid_tree_frames;
+
   std::vector<Frame<S>> frames;
   Vec3<S> gravity;
   // Incremented by every structural change (Data must then be rebuilt).
@@ -179,6 +186,7 @@ class ModelTpl {
   void refresh_modes();
   void refresh_body_modes(int body);
   void refresh_tree_frame_reach();
+  void refresh_dynamics_path();
   // add_body / add_flexible_body after the parent is resolved; `flexible`
   // null for a rigid body.
   int add_resolved(const std::string& name, int parent_body, int node, const JointModel<S>& joint,

@@ -225,6 +225,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
     frame_lookup_[name] = static_cast<int>(frames.size());
     frames.push_back(Frame<S>{name, parent_body, X, -1});
     refresh_tree_frame_reach();
+    refresh_dynamics_path();
     ++version;
     return -1;
   }
@@ -280,6 +281,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
   refresh_body_modes(index);
   refresh_modes();
   refresh_tree_frame_reach();
+  refresh_dynamics_path();
   ++version;
   return index;
 }
@@ -295,6 +297,14 @@ void ModelTpl<S>::refresh_body_modes(int body) {
     else
       h.regular[h.n_regular++] = static_cast<std::uint8_t>(k);
   }
+}
+
+template <class S>
+void ModelTpl<S>::refresh_dynamics_path() {
+  const bool on_nodes = std::any_of(attachment_node.begin(), attachment_node.end(), [](int node) { return node >= 0; });
+  dynamics_path = on_nodes               ? DynamicsPath::body_frames
+                  : has_flexible_bodies() ? DynamicsPath::appendage_tree_frames
+                                          : DynamicsPath::rigid_tree_frames;
 }
 
 template <class S>

@@ -23,8 +23,9 @@
 namespace soadyn {
 
 // Body-frame P^ and z^ of flexible appendage i, given its body-frame
-// velocity V; leaves G' in gain_transpose and nu in innovation of its
-// FlexibleBodyData (tree_modal_accelerations reads them). `v` null: zero
+// velocity V; leaves b_V - f_ext in sweep.body_bias_force[i], and G' in
+// gain_transpose and nu in innovation of its FlexibleBodyData
+// (modal_accelerations reads them). `v` null: zero
 // velocity with no elastic force (impulse problems), as flexible_bias_step.
 // `f_ext` as in steps.hpp.
 template <class S>
@@ -48,15 +49,14 @@ inline void appendage_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, c
   }
   // M_we flattened: Q_k = angular_coupling_linear's columns k n_m .. k n_m +
   // n_m - 1 are 3 n_m contiguous values, so vec(M_we) = vec(H0) + [vec(Q_0)
-  // ... vec(Q_n-1)] eta, one matrix-vector product. It is kept, 3 x n_m
-  // contiguous, in the storage of the body's coupling block (6 x n_m).
-  Eigen::Map<Eigen::Matrix<S, 3, Eigen::Dynamic>> M_we(fd.coupling.data(), 3, n);
+  // ... vec(Q_n-1)] eta, one matrix-vector product.
+  Eigen::Matrix<S, 3, Eigen::Dynamic>& M_we = fd.deformed_angular_coupling;
   affine_columns(mi.angular_coupling.data(), mi.angular_coupling_linear.data(), 3 * n, n, eta.data(), M_we.data());
   E = S(0.5) * (E + E.transpose());
   const Mat3<S> M_ww = E.trace() * Mat3<S>::Identity() - E + mi.rotary_inertia;  // Eq. (4)
 
   // Bias b = [b_V; b_e]: Eqs. (8), (9) and the gyroscopic term, plus K eta + C eta_dot.
-  Vec6<S>& b = d.bias_force[i];
+  Vec6<S>& b = d.sweep.body_bias_force[i];
   VecX<S>& b_e = fd.modal_bias;
   if (v) {
     const auto eta_dot = modal_velocities(m, body, v);

@@ -19,21 +19,24 @@ bool composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef
   for (std::size_t i = 0; i < n; ++i) {
     tree_joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
     if (beyond_tree_frame_reach(m, d, i)) return false;
-    spatial_inertia_in_frame(d.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i], d.articulated_inertia[i]);
+    spatial_inertia_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i],
+                             d.sweep.tree_articulated_inertia[i]);
   }
   for (std::size_t i = n; i-- > 0;) {  // upper triangle: M(j, i) for j = i and every ancestor (v_index[j] <= v_index[i])
     const int p = m.parent[i];
     const Eigen::Index vi = m.v_index[i], ni = m.nv_body[i];
     for (Eigen::Index b = 0; b < ni; ++b) {
-      const Vec6<S> F = d.articulated_inertia[i] * d.tree_subspace[i].col(b);  // force of a unit hinge acceleration
+      // force of a unit hinge acceleration
+      const Vec6<S> F = d.sweep.tree_articulated_inertia[i] * d.sweep.tree_subspace[i].col(b);
       for (std::size_t j = i;;) {
         const Eigen::Index vj = m.v_index[j], nj = j == i ? b + 1 : m.nv_body[j];
-        for (Eigen::Index a = 0; a < nj; ++a) d.mass_matrix(vj + a, vi + b) = d.tree_subspace[j].col(a).dot(F);
+        for (Eigen::Index a = 0; a < nj; ++a) d.mass_matrix(vj + a, vi + b) = d.sweep.tree_subspace[j].col(a).dot(F);
         if (m.parent[j] < 0) break;
         j = static_cast<std::size_t>(m.parent[j]);
       }
     }
-    if (p >= 0) d.articulated_inertia[static_cast<std::size_t>(p)] += d.articulated_inertia[i];
+    if (p >= 0)
+      d.sweep.tree_articulated_inertia[static_cast<std::size_t>(p)] += d.sweep.tree_articulated_inertia[i];
   }
   d.mass_matrix.template triangularView<Eigen::StrictlyLower>() = d.mass_matrix.transpose();
   return true;
@@ -44,12 +47,12 @@ bool composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef
 // zero velocity, hence without elastic forces). O(nv N).
 template <class S>
 void mass_matrix_by_columns(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
-  d.unit_acceleration.setZero();
+  d.sweep.unit_acceleration.setZero();
   for (Eigen::Index k = 0; k < m.nv; ++k) {
-    d.unit_acceleration[k] = S(1);
-    newton_euler_sweeps<true>(m, d, q.data(), static_cast<const S*>(nullptr), d.unit_acceleration.data(),
+    d.sweep.unit_acceleration[k] = S(1);
+    newton_euler_sweeps<true>(m, d, q.data(), static_cast<const S*>(nullptr), d.sweep.unit_acceleration.data(),
                               static_cast<const S*>(nullptr), Vec6<S>(Vec6<S>::Zero()));
-    d.unit_acceleration[k] = S(0);
+    d.sweep.unit_acceleration[k] = S(0);
     d.mass_matrix.col(k) = d.tau;
   }
   for (Eigen::Index r = 0; r < m.nv; ++r)  // symmetric to rounding; make it exactly so

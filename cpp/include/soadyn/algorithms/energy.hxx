@@ -11,11 +11,11 @@ namespace detail {
 // forward_kinematics with velocities). Uses the flexible body's scratch.
 template <class S>
 Vec6<S> body_momentum(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
-  if (!m.is_flexible(static_cast<int>(i))) return m.inertia[i] * d.velocity[i];
+  if (!m.is_flexible(static_cast<int>(i))) return m.inertia[i] * d.body_velocity[i];
   flexible_inertia_step(m, d, i, q);
   const FlexibleBodyData<S>& fd = flexible_data(m, d, i);
   Vec6<S> h;
-  h.noalias() = fd.mass.template topLeftCorner<6, 6>() * d.velocity[i];
+  h.noalias() = fd.mass.template topLeftCorner<6, 6>() * d.body_velocity[i];
   h.noalias() += fd.mass.topRightCorner(6, m.n_modes[i]) * modal_velocities(m, static_cast<int>(i), v);
   return h;
 }
@@ -36,15 +36,16 @@ S kinetic_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, c
   S energy(0);
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
     const Vec6<S> h = detail::body_momentum(m, d, i, q.data(), v.data());
-    energy += S(0.5) * d.velocity[i].dot(h);
-    if (m.is_flexible(static_cast<int>(i))) {  // + 1/2 eta_dot' (M_eV V + M_ee eta_dot)
-      FlexibleBodyData<S>& fd = flexible_data(m, d, i);
+    energy += S(0.5) * d.body_velocity[i].dot(h);
+    if (m.is_flexible(static_cast<int>(i))) {  // + 1/2 eta_dot' (M_eV V + M_ee eta_dot), row by row
+      const FlexibleBodyData<S>& fd = flexible_data(m, d, i);
       const Eigen::Index n = m.n_modes[i];
       const auto eta_dot = modal_velocities(m, static_cast<int>(i), v.data());
-      auto modal_momentum = fd.bias.tail(n);
-      modal_momentum.noalias() = fd.mass.bottomLeftCorner(n, 6) * d.velocity[i];
-      modal_momentum.noalias() += fd.mass.bottomRightCorner(n, n) * eta_dot;
-      energy += S(0.5) * eta_dot.dot(modal_momentum);
+      for (Eigen::Index r = 0; r < n; ++r) {
+        const S modal_momentum = fd.mass.row(6 + r).template head<6>().dot(d.body_velocity[i].transpose()) +
+                                 fd.mass.row(6 + r).tail(n).dot(eta_dot.transpose());
+        energy += S(0.5) * eta_dot[r] * modal_momentum;
+      }
     }
   }
   return energy;
@@ -71,10 +72,9 @@ S potential_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q)
   S strain(0);  // 1/2 eta' K eta
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
     if (!m.is_flexible(static_cast<int>(i))) continue;
-    FlexibleBodyData<S>& fd = flexible_data(m, d, i);
+    const MatX<S>& K = m.flexible_body(static_cast<int>(i)).stiffness();
     const auto eta = modal_coordinates(m, static_cast<int>(i), q.data());
-    fd.modal_bias.noalias() = m.flexible_body(static_cast<int>(i)).stiffness() * eta;
-    strain += S(0.5) * eta.dot(fd.modal_bias);
+    for (Eigen::Index r = 0; r < eta.size(); ++r) strain += S(0.5) * eta[r] * K.row(r).dot(eta.transpose());
   }
   return strain - mass * m.gravity.dot(c);
 }

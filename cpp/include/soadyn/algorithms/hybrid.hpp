@@ -11,7 +11,8 @@
 // very sweeps of forward_dynamics (aba.hpp), so it never costs more; a tree
 // with every DOF prescribed runs inverse dynamics (rnea.hpp). Rigid models and
 // models whose flexible bodies carry nothing on a node run in tree frames
-// (tree_frame_sweeps.hxx), the others in body frames (hybrid.hxx).
+// (tree_frame_sweeps.hxx), the others in body frames (body_frame_sweeps.hxx);
+// dynamics_path.hxx chooses.
 #pragma once
 #include "soadyn/algorithms/steps.hpp"
 

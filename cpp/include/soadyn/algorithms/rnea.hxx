@@ -14,21 +14,22 @@ void newton_euler_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: kinematics, accelerations, body forces
     body_joint_step<Flex>(m, d, i, q, v);
     body_motion_step<Flex>(m, d, i, q, v, f_ext);
-    d.acceleration[i] = body_parent_acceleration<Flex>(m, d, i, world_acc, qdd) + d.coriolis[i];
-    if (qdd) d.acceleration[i] += subspace_times(d.subspace[i], qdd + m.v_index[i]);
+    d.body_acceleration[i] = body_parent_acceleration<Flex>(m, d, i, world_acc, qdd) + d.sweep.body_coriolis[i];
+    if (qdd) d.body_acceleration[i] += subspace_times(d.sweep.body_subspace[i], qdd + m.v_index[i]);
     if constexpr (Flex) {
       if (m.is_flexible(static_cast<int>(i))) {
         flexible_newton_euler(m, d, i, qdd);
         continue;
       }
     }
-    d.hinge_force[i] = m.inertia[i] * d.acceleration[i] + d.bias_force[i];
+    d.hinge_force[i] = m.inertia[i] * d.body_acceleration[i] + d.sweep.body_bias_force[i];
   }
   for (std::size_t i = n; i-- > 0;) {  // tip to base: hinge forces
-    subspace_transpose_times(d.subspace[i], d.hinge_force[i], d.tau.segment(m.v_index[i], m.nv_body[i]));
+    subspace_transpose_times(d.sweep.body_subspace[i], d.hinge_force[i],
+                             d.tau.segment(m.v_index[i], m.nv_body[i]));
     if constexpr (Flex)
       if (m.is_flexible(static_cast<int>(i)))
-        d.tau.segment(m.modal_v_index(static_cast<int>(i)), m.n_modes[i]) = flexible_data(m, d, i).modal_bias;
+        d.tau.segment(m.modal_v_index(static_cast<int>(i)), m.n_modes[i]) = flexible_data(m, d, i).modal_force;
     push_body_force<Flex>(m, d, i, d.hinge_force[i]);
   }
 }

@@ -1,6 +1,6 @@
-// Per-body steps shared by the sweeps of every algorithm (seed Eqs. 1-4, 14,
-// 28, 29). Body i's quantities are in its own frame; `pose_in_parent[i]`
-// carries them to the parent frame (seed phi(k+1, k)).
+// Per-body steps shared by the sweeps of every algorithm (Jain & Rodriguez
+// 1993, Eqs. 1-4, 14, 28, 29). Body i's quantities are in its own frame;
+// `pose_in_parent[i]` carries them to the parent frame (the paper's phi(k+1, k)).
 #pragma once
 #include <Eigen/Cholesky>
 #include <limits>
@@ -19,6 +19,42 @@ struct type_identity {
 };
 template <class S> using ConstVecRef = typename type_identity<Eigen::Ref<const VecX<S>>>::type;
 template <class S> using VecRef = typename type_identity<Eigen::Ref<VecX<S>>>::type;
+
+// The two kinds of frame the sweeps work in (data.hpp): body frames and tree frames.
+enum class Frames { body, tree };
+
+// `body` or `tree` as F says: one quantity of the sweeps in the two kinds of frame.
+template <Frames F, class T>
+SOADYN_ALWAYS_INLINE T& by_frame(T& body, T& tree) {
+  if constexpr (F == Frames::body) return body; else return tree;
+}
+
+// The sweep quantities in frames F, for the steps both kinds of sweep share
+// (hinge_steps.hpp). `D` is DataTpl<S> or const DataTpl<S>.
+template <Frames F, class D>
+SOADYN_ALWAYS_INLINE auto& frame_subspace(D& d) { return by_frame<F>(d.sweep.body_subspace, d.sweep.tree_subspace); }
+template <Frames F, class D>
+SOADYN_ALWAYS_INLINE auto& frame_coriolis(D& d) { return by_frame<F>(d.sweep.body_coriolis, d.sweep.tree_coriolis); }
+template <Frames F, class D>
+SOADYN_ALWAYS_INLINE auto& frame_acceleration(D& d) {
+  return by_frame<F>(d.body_acceleration, d.sweep.tree_acceleration);
+}
+template <Frames F, class D>
+SOADYN_ALWAYS_INLINE auto& frame_hinge_force(D& d) { return by_frame<F>(d.hinge_force, d.sweep.tree_hinge_force); }
+template <Frames F, class D>
+SOADYN_ALWAYS_INLINE auto& frame_articulated_inertia(D& d) {
+  return by_frame<F>(d.sweep.body_articulated_inertia, d.sweep.tree_articulated_inertia);
+}
+template <Frames F, class D>
+SOADYN_ALWAYS_INLINE auto& frame_bias_and_children_z(D& d) {
+  return by_frame<F>(d.sweep.body_bias_and_children_z, d.sweep.tree_bias_and_children_z);
+}
+template <Frames F, class D>
+SOADYN_ALWAYS_INLINE auto& frame_gain(D& d) { return by_frame<F>(d.sweep.body_gain, d.sweep.tree_gain); }
+template <Frames F, class D>
+SOADYN_ALWAYS_INLINE auto& frame_regular_subspace(D& d) {
+  return by_frame<F>(d.sweep.body_regular_subspace, d.sweep.tree_regular_subspace);
+}
 
 // Outputs a caller may ask for beyond qdd and tau.
 struct DynamicsOutputs {
@@ -45,6 +81,15 @@ const S* velocities_unless_at_rest(const ModelTpl<S>& m, const ConstVecRef<S>& v
   if (m.has_flexible_bodies()) return v.data();
   for (Eigen::Index k = 0; k < v.size(); ++k)
     if (v[k] != S(0)) return v.data();
+  return nullptr;
+}
+
+// The same for a pointer to nv velocities (null: zero velocity, kept).
+template <class S>
+const S* velocities_unless_at_rest(const ModelTpl<S>& m, const S* v) {
+  if (!v || m.has_flexible_bodies()) return v;
+  for (int k = 0; k < m.nv; ++k)
+    if (v[k] != S(0)) return v;
   return nullptr;
 }
 
@@ -94,32 +139,34 @@ inline void joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const
     case JointKernel::fixed: pose = placement; return;
     default: {
       Transform<S> joint_pose;
-      joint_calc(m.joints[i], q + iq, v ? v + iv : nullptr, joint_pose, d.subspace[i], d.joint_bias[i]);
+      joint_calc(m.joints[i], q + iq, v ? v + iv : nullptr, joint_pose, d.sweep.body_subspace[i], d.sweep.body_joint_bias[i]);
       pose = placement * joint_pose;
     }
   }
 }
 
 // Body velocity V(i) = phi* V(parent) + S v_i and Coriolis term
-// a(i) = dS/dt v_i + V(i) x (S v_i) (seed Eq. 1).
+// a(i) = dS/dt v_i + V(i) x (S v_i) (Jain & Rodriguez 1993, Eq. 1), body frame.
 template <class S>
 inline void velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v) {
   const int p = m.parent[i];
-  const Vec6<S> joint_velocity = subspace_times(d.subspace[i], v + m.v_index[i]);
+  const Vec6<S> joint_velocity = subspace_times(d.sweep.body_subspace[i], v + m.v_index[i]);
   if (p >= 0)
-    d.velocity[i] = d.pose_in_parent[i].motion_to_child(d.velocity[static_cast<std::size_t>(p)]) + joint_velocity;
+    d.body_velocity[i] =
+        d.pose_in_parent[i].motion_to_child(d.body_velocity[static_cast<std::size_t>(p)]) + joint_velocity;
   else
-    d.velocity[i] = joint_velocity;
-  d.coriolis[i] = d.joint_bias[i] + motion_cross(d.velocity[i], joint_velocity);
+    d.body_velocity[i] = joint_velocity;
+  d.sweep.body_coriolis[i] = d.sweep.body_joint_bias[i] + motion_cross(d.body_velocity[i], joint_velocity);
 }
 
 // Gyroscopic force minus the external wrench: b(i) = V x* (M V) - f_ext(i)
-// (seed Eq. 1). `f_ext` holds nbodies rows of 6 (body frame, about the body
-// origin, [torque; force]) or is null.
+// (Jain & Rodriguez 1993, Eq. 1), body frame. `f_ext` holds nbodies rows of
+// 6 (body frame, about the body origin, [torque; force]) or is null.
 template <class S>
 inline void bias_force_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* f_ext) {
-  d.bias_force[i] = force_cross(d.velocity[i], Vec6<S>(m.inertia[i] * d.velocity[i]));
-  if (f_ext) d.bias_force[i] -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
+  const Vec6<S>& V = d.body_velocity[i];
+  d.sweep.body_bias_force[i] = force_cross(V, Vec6<S>(m.inertia[i] * V));
+  if (f_ext) d.sweep.body_bias_force[i] -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
 }
 
 // Velocity, Coriolis and bias force of body i; `v` null means zero velocity
@@ -131,18 +178,19 @@ inline void motion_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, cons
     bias_force_step(m, d, i, f_ext);
     return;
   }
-  d.velocity[i].setZero();
-  d.coriolis[i].setZero();
-  d.bias_force[i].setZero();
-  if (f_ext) d.bias_force[i] -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
+  d.body_velocity[i].setZero();
+  d.sweep.body_coriolis[i].setZero();
+  d.sweep.body_bias_force[i].setZero();
+  if (f_ext) d.sweep.body_bias_force[i] -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
 }
 
-// Parent acceleration seen in body i's frame: seed alpha+(i) = phi* alpha(parent).
+// Parent acceleration seen in body i's frame: alpha+(i) = phi* alpha(parent)
+// (Jain & Rodriguez 1993, Eq. 29).
 template <class S>
 inline Vec6<S> parent_acceleration(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i,
                                    const Vec6<S>& world_acc) {
   const int p = m.parent[i];
-  return d.pose_in_parent[i].motion_to_child(p >= 0 ? d.acceleration[static_cast<std::size_t>(p)] : world_acc);
+  return d.pose_in_parent[i].motion_to_child(p >= 0 ? d.body_acceleration[static_cast<std::size_t>(p)] : world_acc);
 }
 
 // Adds body i's hinge force f (body frame) to its parent's accumulator.
@@ -161,7 +209,7 @@ inline S singular_pivot_threshold(const Mat6<S>& P) {
 
 // How a hinge step delivers P+: stored in `P_plus`; added to it when
 // `P_plus` is the parent's articulated inertia in the same frame (tree
-// frames, seed Eq. 14 with phi = 1): one pass over the parent instead of a
+// frames, Eq. 14 with phi = 1): one pass over the parent instead of a
 // copy, an update and an addition; or not at all, when only P+ times a known
 // acceleration is needed (articulated_plus_times, hinge_steps.hpp).
 enum class PlusMode { store, add, none };
@@ -181,14 +229,14 @@ SOADYN_ALWAYS_INLINE void deliver_p_plus(const Mat6<S>& P, const Gain& G, const 
 // articulated_hinge_step (below) for a hinge of N regular DOFs, N fixed at
 // compile time: universal (2), spherical (3) and free (6) joints.
 template <int N, PlusMode Mode, class S>
-inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z, VecN<S>& eps,
-                                        Mat6N<S>& G, VecN<S>& nu, Mat6<S>& P_plus, Vec6<S>& z_plus,
-                                        const S& threshold) {
+inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z,
+                                        const VecN<S>& torque, Mat6N<S>& G, VecN<S>& nu, Mat6<S>& P_plus,
+                                        Vec6<S>& z_plus, const S& threshold) {
   using Mat6n = Eigen::Matrix<S, 6, N>;
   using Vecn = Eigen::Matrix<S, N, 1>;
   const Mat6n s = Sr;
   const Mat6n U = P * s;
-  Vecn e = eps.template head<N>();
+  Vecn e = torque.template head<N>();  // eps = T - S' z
   e.noalias() -= s.transpose() * z;
   Eigen::Matrix<S, N, N> L = s.transpose() * U;  // D = S' P S, factored in place
   const int bad = cholesky_in_place(L, threshold);
@@ -196,7 +244,6 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
   Eigen::Matrix<S, N, 6> gain_transpose = U.transpose();  // G' = D^-1 (P S)'
   cholesky_solve_in_place(L, gain_transpose);
   const Mat6n gain = gain_transpose.transpose();
-  eps = e;
   Vecn solved = e;  // nu = D^-1 eps
   cholesky_solve_in_place(L, solved);
   nu = solved;
@@ -210,11 +257,11 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
 // The regular part of a hinge in the tip-to-base sweep (seed Eqs. 14, 28):
 //   D = S' P S,  G = P S D^-1,  eps = T - S' z,  nu = D^-1 eps,
 //   P+ = (I - G S') P,  z+ = z + G eps.
-// `z` already holds b + children + P (S_p qdd_p + a). On entry `eps` holds
-// the regular hinge torques T. P+ goes to `P_plus` as `Mode` says. Returns
-// the local column of a singular D, or -1.
+// `z` already holds b + children + P (S_p qdd_p + a); `torque` holds the
+// regular hinge torques T. P+ goes to `P_plus` as `Mode` says. Returns the
+// local column of a singular D, or -1.
 template <PlusMode Mode = PlusMode::store, class S>
-inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z, VecN<S>& eps,
+inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z, const VecN<S>& torque,
                                   Mat6N<S>& G, VecN<S>& nu, Mat6<S>& P_plus, Vec6<S>& z_plus) {
   const S threshold = singular_pivot_threshold(P);
   if (Sr.cols() == 1) {  // the common case, in fixed-size arithmetic: a scalar D
@@ -222,8 +269,7 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     const S D = Sr.col(0).dot(u);
     if (!(D > threshold)) return 0;
     const Vec6<S> g = u / D;
-    const S e = eps[0] - Sr.col(0).dot(z);
-    eps[0] = e;
+    const S e = torque[0] - Sr.col(0).dot(z);
     G.col(0) = g;
     nu[0] = e / D;
     deliver_p_plus<Mode>(P, g, u, P_plus);
@@ -231,12 +277,13 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     return -1;
   }
   switch (Sr.cols()) {  // multi-DOF hinges in fixed-size arithmetic
-    case 2: return articulated_hinge_step_fixed<2, Mode>(P, Sr, z, eps, G, nu, P_plus, z_plus, threshold);
-    case 3: return articulated_hinge_step_fixed<3, Mode>(P, Sr, z, eps, G, nu, P_plus, z_plus, threshold);
-    case 6: return articulated_hinge_step_fixed<6, Mode>(P, Sr, z, eps, G, nu, P_plus, z_plus, threshold);
+    case 2: return articulated_hinge_step_fixed<2, Mode>(P, Sr, z, torque, G, nu, P_plus, z_plus, threshold);
+    case 3: return articulated_hinge_step_fixed<3, Mode>(P, Sr, z, torque, G, nu, P_plus, z_plus, threshold);
+    case 6: return articulated_hinge_step_fixed<6, Mode>(P, Sr, z, torque, G, nu, P_plus, z_plus, threshold);
     default: break;
   }
   const Mat6N<S> U = P * Sr;  // 6 x nr
+  VecN<S> eps = torque;
   eps.noalias() -= Sr.transpose() * z;
   {
     const MatN<S> D = Sr.transpose() * U;
@@ -254,13 +301,14 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
   return -1;
 }
 
-// Adds P+ and z+ of body i to its parent (seed Eq. 14: P(k) = phi P+ phi* + M).
+// Adds P+ and z+ of body i to its parent, body frames (Jain & Rodriguez
+// 1993, Eq. 14: P(k) = phi P+ phi* + M).
 template <class S>
 inline void push_articulated_to_parent(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const Mat6<S>& P_plus,
                                        const Vec6<S>& z_plus) {
   const std::size_t p = static_cast<std::size_t>(m.parent[i]);
-  d.articulated_inertia[p] += d.pose_in_parent[i].inertia_to_parent(P_plus);
-  d.articulated_bias[p] += d.pose_in_parent[i].force_to_parent(z_plus);
+  d.sweep.body_articulated_inertia[p] += d.pose_in_parent[i].inertia_to_parent(P_plus);
+  d.sweep.body_bias_and_children_z[p] += d.pose_in_parent[i].force_to_parent(z_plus);
 }
 
 template <class S>

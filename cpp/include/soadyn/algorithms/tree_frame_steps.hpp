@@ -1,6 +1,6 @@
 // Per-body steps of the rigid-model sweeps in tree frames.
 //
-// The seed's recursions (Eqs. 1, 14, 28, 29) hold in any frame. For rigid
+// The recursions of Jain & Rodriguez 1993 (Eqs. 1, 14, 28, 29) hold in any frame. For rigid
 // models, forward and hybrid dynamics express every spatial quantity of a
 // body in its *tree frame*: the world's orientation, origin at the tree's
 // root body origin. In one common frame the inter-body operator phi(k+1, k)
@@ -36,13 +36,14 @@ template <class S>
 inline Vec6<S> general_joint_tree_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const Transform<S>& base,
                                        const S* q, const S* v, bool root) {
   Transform<S> joint_pose;
-  joint_calc(m.joints[i], q + m.q_index[i], v ? v + m.v_index[i] : nullptr, joint_pose, d.subspace[i], d.joint_bias[i]);
-  Transform<S>& pose = d.tree_pose[i];
+  joint_calc(m.joints[i], q + m.q_index[i], v ? v + m.v_index[i] : nullptr, joint_pose, d.sweep.body_subspace[i],
+             d.sweep.body_joint_bias[i]);
+  Transform<S>& pose = d.sweep.tree_pose[i];
   pose = base * joint_pose;
   if (root) pose.translation.setZero();
-  Mat6N<S>& s = d.tree_subspace[i];
-  for (Eigen::Index c = 0; c < s.cols(); ++c) s.col(c) = pose.motion_to_parent(Vec6<S>(d.subspace[i].col(c)));
-  return pose.motion_to_parent(d.joint_bias[i]);
+  Mat6N<S>& s = d.sweep.tree_subspace[i];
+  for (Eigen::Index c = 0; c < s.cols(); ++c) s.col(c) = pose.motion_to_parent(Vec6<S>(d.sweep.body_subspace[i].col(c)));
+  return pose.motion_to_parent(d.sweep.body_joint_bias[i]);
 }
 
 // Universal joint: its tree-frame kernel (joints/universal.hpp).
@@ -50,8 +51,8 @@ template <class S>
 inline Vec6<S> universal_tree_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const Transform<S>& base,
                                    const S* q, const S* v, bool root) {
   const UniversalJoint<S>& joint = *std::get_if<UniversalJoint<S>>(&m.joints[i]);
-  return joint.tree_step(base, q + m.q_index[i], v ? v + m.v_index[i] : nullptr, root, d.tree_pose[i],
-                         d.tree_subspace[i]);
+  return joint.tree_step(base, q + m.q_index[i], v ? v + m.v_index[i] : nullptr, root, d.sweep.tree_pose[i],
+                         d.sweep.tree_subspace[i]);
 }
 
 }  // namespace detail
@@ -69,9 +70,9 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
   if (root)
     base.rotation = m.placement[i].rotation;
   else
-    base = d.tree_pose[static_cast<std::size_t>(p)] * m.placement[i];
-  Transform<S>& pose = d.tree_pose[i];
-  Mat6N<S>& s = d.tree_subspace[i];
+    base = d.sweep.tree_pose[static_cast<std::size_t>(p)] * m.placement[i];
+  Transform<S>& pose = d.sweep.tree_pose[i];
+  Mat6N<S>& s = d.sweep.tree_subspace[i];
   // The 1-DOF kernels' coordinate along +e_k.
   const auto x = [&] { return q[m.q_index[i]] * m.axis_sign[i]; };
   switch (m.joint_kernel[i]) {
@@ -93,21 +94,22 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
   return Vec6<S>::Zero();
 }
 
-// Tree-frame kinematics of body i (seed Eq. 1): pose and subspace,
+// Tree-frame kinematics of body i (Jain & Rodriguez 1993, Eq. 1): pose and subspace,
 // V(i) = V(parent) + H* qdot and a(i) = V(i) x (H* qdot) + joint bias.
 // `v` null: zero velocity (impulse problems).
 template <class S>
 SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   const Vec6<S> joint_rate = tree_joint_step(m, d, i, q, v);
   if (!v) {
-    d.velocity[i].setZero();
-    d.coriolis[i].setZero();
+    d.sweep.tree_velocity[i].setZero();
+    d.sweep.tree_coriolis[i].setZero();
     return;
   }
   const int p = m.parent[i];
-  const Vec6<S> joint_velocity = subspace_times(d.tree_subspace[i], v + m.v_index[i]);
-  d.velocity[i] = p >= 0 ? Vec6<S>(d.velocity[static_cast<std::size_t>(p)] + joint_velocity) : joint_velocity;
-  d.coriolis[i] = motion_cross(d.velocity[i], joint_velocity) + joint_rate;
+  const Vec6<S> joint_velocity = subspace_times(d.sweep.tree_subspace[i], v + m.v_index[i]);
+  d.sweep.tree_velocity[i] =
+      p >= 0 ? Vec6<S>(d.sweep.tree_velocity[static_cast<std::size_t>(p)] + joint_velocity) : joint_velocity;
+  d.sweep.tree_coriolis[i] = motion_cross(d.sweep.tree_velocity[i], joint_velocity) + joint_rate;
 }
 
 // Whether body i sits beyond the distance from its tree origin at which tree
@@ -116,53 +118,40 @@ SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d
 template <class S>
 SOADYN_ALWAYS_INLINE bool beyond_tree_frame_reach(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i) {
   return m.reach_checks_needed && m.check_tree_frame_reach[i] &&
-         d.tree_pose[i].translation.squaredNorm() > m.tree_frame_reach_squared[i];
+         d.sweep.tree_pose[i].translation.squaredNorm() > m.tree_frame_reach_squared[i];
 }
 
 // Body terms of rigid body i in its tree frame: M(i) into
-// articulated_inertia[i] (the start of P) and b(i) = V x* (M V) - f_ext into
-// bias_force[i] and articulated_bias[i]; `f_ext` as in steps.hpp.
+// tree_articulated_inertia[i] (the start of P) and b(i) = V x* (M V) - f_ext
+// into tree_bias_force[i] and tree_bias_and_children_z[i]; `f_ext` as in steps.hpp.
 template <class S>
 SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v, const S* f_ext) {
-  const Transform<S>& pose = d.tree_pose[i];
-  Mat6<S>& inertia = d.articulated_inertia[i];
+  const Transform<S>& pose = d.sweep.tree_pose[i];
+  Mat6<S>& inertia = d.sweep.tree_articulated_inertia[i];
   spatial_inertia_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i], inertia);
-  Vec6<S>& b = d.bias_force[i];
+  Vec6<S>& b = d.sweep.tree_bias_force[i];
   if (v)
-    b = force_cross(d.velocity[i], Vec6<S>(inertia * d.velocity[i]));
+    b = force_cross(d.sweep.tree_velocity[i], Vec6<S>(inertia * d.sweep.tree_velocity[i]));
   else
     b.setZero();
   if (f_ext) b -= pose.force_to_parent(Eigen::Map<const Vec6<S>>(f_ext + 6 * i));
-  d.articulated_bias[i] = b;
+  d.sweep.tree_bias_and_children_z[i] = b;
 }
 
 // Body terms of flexible appendage i (appendage_step.hpp) in its tree frame:
 // its modal DOFs are eliminated in the body frame, and P^ and z^ are carried
 // to the tree frame by one congruence. Children add their P+ and z+ to them;
-// once alpha(i) is known, eta_ddot = nu - G' alpha (tree_modal_accelerations).
+// once alpha(i) is known, eta_ddot = nu - G' alpha (modal_accelerations,
+// flexible_steps.hpp, with alpha carried to the body frame).
 template <class S>
 inline void tree_flexible_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
                                     const S* u, const S* f_ext) {
-  const Transform<S>& pose = d.tree_pose[i];
+  const Transform<S>& pose = d.sweep.tree_pose[i];
   Mat6<S> P;
   Vec6<S> z;
-  appendage_step(m, d, i, q, v, u, f_ext, Vec6<S>(pose.motion_to_child(d.velocity[i])), P, z);
-  d.articulated_inertia[i] = pose.inertia_to_parent(P);
-  d.articulated_bias[i] = pose.force_to_parent(z);
-}
-
-// Modal accelerations of flexible body i once alpha(i) (tree frame) is known:
-// eta_ddot = nu - G' alpha in the body frame; the modal forces are u's.
-template <class S>
-inline void tree_modal_accelerations(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u) {
-  FlexibleBodyData<S>& fd = flexible_data(m, d, i);
-  const int first = m.modal_v_index(static_cast<int>(i));
-  const Eigen::Index n = fd.innovation.size();
-  const Vec6<S> alpha = d.tree_pose[i].motion_to_child(d.acceleration[i]);
-  for (Eigen::Index r = 0; r < n; ++r) {
-    d.qdd[first + r] = fd.innovation[r] - fd.gain_transpose.row(r).dot(alpha.transpose());
-    d.tau[first + r] = u[first + r];
-  }
+  appendage_step(m, d, i, q, v, u, f_ext, Vec6<S>(pose.motion_to_child(d.sweep.tree_velocity[i])), P, z);
+  d.sweep.tree_articulated_inertia[i] = pose.inertia_to_parent(P);
+  d.sweep.tree_bias_and_children_z[i] = pose.force_to_parent(z);
 }
 
 }  // namespace soadyn

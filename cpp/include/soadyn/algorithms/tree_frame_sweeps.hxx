@@ -3,9 +3,10 @@
 // dynamics (every DOF regular: the articulated-body algorithm), for rigid
 // models (Flex = false) and for models whose flexible bodies carry no body
 // on a node (Flex = true: appendages such as booms, antennas and arrays).
-// Models with bodies on nodes use the body-frame sweeps (hybrid.hxx,
-// aba.hxx). Inverse dynamics stays in body frames (rnea.hxx): without an
-// articulated inertia to carry, body frames need fewer operations.
+// Models with bodies on nodes, and bodies beyond tree-frame reach, use the
+// body-frame sweep (body_frame_sweeps.hxx); dynamics_path.hxx chooses.
+// Inverse dynamics stays in body frames (rnea.hxx): without an articulated
+// inertia to carry, body frames need fewer operations.
 #pragma once
 #include "soadyn/algorithms/hinge_steps.hpp"
 #include "soadyn/algorithms/small_cholesky.hpp"
@@ -22,15 +23,15 @@ namespace detail {
 // Stores alpha in acceleration[i]; returns the DOF of a singular P, or -1.
 template <class S>
 inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u) {
-  const Mat6N<S>& s = d.tree_subspace[i];
-  Mat6<S> L = d.articulated_inertia[i];
+  const Mat6N<S>& s = d.sweep.tree_subspace[i];
+  Mat6<S> L = d.sweep.tree_articulated_inertia[i];
   const int bad = cholesky_in_place(L, singular_pivot_threshold(L));
   if (bad >= 0) return m.v_index[i] + bad;
   const Eigen::Map<const Vec6<S>> torque(u + m.v_index[i]);
-  Vec6<S>& alpha = d.acceleration[i];
+  Vec6<S>& alpha = d.sweep.tree_acceleration[i];
   alpha << s.template topLeftCorner<3, 3>() * torque.template head<3>(),
       s.template bottomRightCorner<3, 3>() * torque.template tail<3>();
-  alpha -= d.articulated_bias[i];
+  alpha -= d.sweep.tree_bias_and_children_z[i];
   cholesky_solve_in_place(L, alpha);
   return -1;
 }
@@ -39,39 +40,22 @@ inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, 
 template <class S>
 inline void free_root_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u, const Vec6<S>& world_acc,
                               bool want_force) {
-  const Mat6N<S>& s = d.tree_subspace[i];
+  SweepData<S>& w = d.sweep;
+  const Mat6N<S>& s = w.tree_subspace[i];
   const int vi = m.v_index[i];
-  const Vec6<S> relative = d.acceleration[i] - world_acc - d.coriolis[i];
+  const Vec6<S> relative = w.tree_acceleration[i] - world_acc - w.tree_coriolis[i];
   d.qdd.template segment<3>(vi) = s.template topLeftCorner<3, 3>().transpose() * relative.template head<3>();
   d.qdd.template segment<3>(vi + 3) = s.template bottomRightCorner<3, 3>().transpose() * relative.template tail<3>();
   d.tau.template segment<6>(vi) = Eigen::Map<const Vec6<S>>(u + vi);
-  if (want_force) d.hinge_force[i] = d.articulated_inertia[i] * d.acceleration[i] + d.articulated_bias[i];
+  if (want_force)
+    w.tree_hinge_force[i] = w.tree_articulated_inertia[i] * w.tree_acceleration[i] + w.tree_bias_and_children_z[i];
 }
 
-// Hinge forces of the sweeps, from tree frames to body frames.
+// Hinge forces of the sweeps, from tree frames to the body-frame output.
 template <class S>
 inline void hinge_forces_to_body_frames(DataTpl<S>& d) {
-  for (std::size_t i = 0; i < d.hinge_force.size(); ++i) d.hinge_force[i] = d.tree_pose[i].force_to_child(d.hinge_force[i]);
-}
-
-// Whose flags the sweeps follow: the model's (bodies without an articulated
-// inertia handled as in RNEA), the model's when every body has one (a regular
-// hinge at every root: no Newton-Euler branches compiled in), or none (every
-// DOF regular: forward dynamics).
-enum class ModePolicy { model_flags, model_flags_articulated, all_regular };
-
-template <ModePolicy Modes, class S>
-inline bool needs_articulated_inertia(const ModelTpl<S>& m, std::size_t i) {
-  if constexpr (Modes != ModePolicy::model_flags) return true;
-  return m.modes[i].needs_articulated_inertia;
-}
-
-// Whether body i's hinge has no prescribed DOF: its steps then run the
-// articulated-body code with the DOF count fixed by the joint (no gather of
-// regular columns, no mode branches), as forward dynamics does.
-template <ModePolicy Modes, class S>
-inline bool regular_hinge(const ModelTpl<S>& m, std::size_t i) {
-  return Modes == ModePolicy::all_regular || m.modes[i].n_prescribed == 0;
+  for (std::size_t i = 0; i < d.hinge_force.size(); ++i)
+    d.hinge_force[i] = d.sweep.tree_pose[i].force_to_child(d.sweep.tree_hinge_force[i]);
 }
 
 template <ModePolicy Modes, class S>
@@ -79,18 +63,18 @@ inline bool is_regular_free_root(const ModelTpl<S>& m, std::size_t i) {
   return m.parent[i] < 0 && m.joint_kernel[i] == JointKernel::free && regular_hinge<Modes>(m, i);
 }
 
-// The tree-frame hinge step of body i (seed Eq. 28): P+ added to the parent's
-// P as it is formed when the parent has one (Eq. 14 with phi = 1), else not
-// formed at all (`never_formed`).
+// The tree-frame hinge step of body i (Jain & Rodriguez 1993, Eq. 28): P+
+// added to the parent's P as it is formed when the parent has one (Eq. 14
+// with phi = 1), else not formed at all (`never_formed`).
 template <bool AllRegular, class S>
 SOADYN_ALWAYS_INLINE int tree_hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
                                            bool into_parent, Mat6<S>& never_formed, Vec6<S>& z_plus,
                                            const Mat6<S>*& P_out) {
+  constexpr Frames tree = Frames::tree;
   if (into_parent)
-    return hinge_inward<AllRegular, PlusMode::add>(m, d, i, u, d.tree_subspace[i],
-                                                   d.articulated_inertia[static_cast<std::size_t>(m.parent[i])],
-                                                   z_plus, P_out);
-  return hinge_inward<AllRegular, PlusMode::none>(m, d, i, u, d.tree_subspace[i], never_formed, z_plus, P_out);
+    return hinge_inward<tree, AllRegular, PlusMode::add>(
+        m, d, i, u, d.sweep.tree_articulated_inertia[static_cast<std::size_t>(m.parent[i])], z_plus, P_out);
+  return hinge_inward<tree, AllRegular, PlusMode::none>(m, d, i, u, never_formed, z_plus, P_out);
 }
 
 // The three sweeps in tree frames. `v` null means zero velocity; `want_force`
@@ -101,11 +85,12 @@ template <ModePolicy Modes, bool Flex, class S>
 Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u, const S* f_ext,
                          const Vec6<S>& world_acc, bool want_force) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
+  SweepData<S>& w = d.sweep;
   const auto parent_acc = [&](std::size_t i) -> const Vec6<S>& {
     const int p = m.parent[i];
-    return p >= 0 ? d.acceleration[static_cast<std::size_t>(p)] : world_acc;
+    return p >= 0 ? w.tree_acceleration[static_cast<std::size_t>(p)] : world_acc;
   };
-  for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, M, b (seed Eq. 1); all-prescribed regions' accelerations
+  for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, M, b (Eq. 1); all-prescribed regions' accelerations
     tree_velocity_step(m, d, i, q, v);
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
     if constexpr (Flex) {
@@ -116,22 +101,22 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
     }
     tree_rigid_body_step(m, d, i, v, f_ext);
     if (!needs_articulated_inertia<Modes>(m, i)) {  // Newton-Euler: alpha = alpha+ + H* qdd + a, f = M alpha + b
-      d.acceleration[i] = parent_acc(i) + d.coriolis[i];
-      d.acceleration[i] += subspace_times(d.tree_subspace[i], u + m.v_index[i]);
-      d.hinge_force[i] = d.bias_force[i];
-      d.hinge_force[i].noalias() += d.articulated_inertia[i] * d.acceleration[i];
+      w.tree_acceleration[i] = parent_acc(i) + w.tree_coriolis[i];
+      w.tree_acceleration[i] += subspace_times(w.tree_subspace[i], u + m.v_index[i]);
+      w.tree_hinge_force[i] = w.tree_bias_force[i];
+      w.tree_hinge_force[i].noalias() += w.tree_articulated_inertia[i] * w.tree_acceleration[i];
     }
   }
   Mat6<S> never_formed;  // P+ is added to the parent as it is formed, or only applied (articulated_plus_times)
   Vec6<S> z_plus;
-  for (std::size_t i = n; i-- > 0;) {  // tip to base (seed Eq. 28)
+  for (std::size_t i = n; i-- > 0;) {  // tip to base (Eq. 28)
     const int p = m.parent[i];
     const std::size_t pp = static_cast<std::size_t>(p);
     if (!needs_articulated_inertia<Modes>(m, i)) {  // T = H f, f(parent) += f
       const int vi = m.v_index[i], ni = m.nv_body[i];
       for (int k = 0; k < ni; ++k) d.qdd[vi + k] = u[vi + k];
-      subspace_transpose_times(d.tree_subspace[i], d.hinge_force[i], d.tau.segment(vi, ni));
-      if (p >= 0) d.hinge_force[pp] += d.hinge_force[i];
+      subspace_transpose_times(w.tree_subspace[i], w.tree_hinge_force[i], d.tau.segment(vi, ni));
+      if (p >= 0) w.tree_hinge_force[pp] += w.tree_hinge_force[i];
       continue;
     }
     if (is_regular_free_root<Modes>(m, i)) {
@@ -147,27 +132,30 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
     if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
     if (p < 0) continue;
     if (into_parent) {
-      if (P_out) d.articulated_inertia[pp] += *P_out;  // a hinge with no regular DOF passes P on
-      d.articulated_bias[pp] += z_plus;
+      if (P_out) w.tree_articulated_inertia[pp] += *P_out;  // a hinge with no regular DOF passes P on
+      w.tree_bias_and_children_z[pp] += z_plus;
     } else {  // the parent's acceleration is already known: f = P+ alpha(parent) + z+
-      d.hinge_force[pp] += z_plus;
+      Vec6<S>& f = w.tree_hinge_force[pp];
+      const Vec6<S>& alpha = w.tree_acceleration[pp];
+      f += z_plus;
       if (P_out)
-        d.hinge_force[pp].noalias() += *P_out * d.acceleration[pp];
+        f.noalias() += *P_out * alpha;
       else
-        d.hinge_force[pp] += regular ? articulated_plus_times<true>(m, d, i, d.tree_subspace[i], d.acceleration[pp])
-                                     : articulated_plus_times<false>(m, d, i, d.tree_subspace[i], d.acceleration[pp]);
+        f += regular ? articulated_plus_times<Frames::tree, true>(m, d, i, alpha)
+                     : articulated_plus_times<Frames::tree, false>(m, d, i, alpha);
     }
   }
-  for (std::size_t i = 0; i < n; ++i) {  // base to tip (seed Eq. 29)
+  for (std::size_t i = 0; i < n; ++i) {  // base to tip (Eq. 29)
     if (!needs_articulated_inertia<Modes>(m, i)) continue;
     if (is_regular_free_root<Modes>(m, i))
       free_root_outward(m, d, i, u, world_acc, want_force);
     else if (regular_hinge<Modes>(m, i))
-      hinge_outward<true>(m, d, i, u, parent_acc(i), d.tree_subspace[i], want_force);
+      hinge_outward<Frames::tree, true>(m, d, i, u, parent_acc(i), want_force);
     else  // some DOF prescribed
-      hinge_outward<false>(m, d, i, u, parent_acc(i), d.tree_subspace[i], want_force);
+      hinge_outward<Frames::tree, false>(m, d, i, u, parent_acc(i), want_force);
     if constexpr (Flex)
-      if (m.is_flexible(static_cast<int>(i))) tree_modal_accelerations(m, d, i, u);
+      if (m.is_flexible(static_cast<int>(i)))
+        modal_accelerations(m, d, i, u, Vec6<S>(w.tree_pose[i].motion_to_child(w.tree_acceleration[i])));
   }
   if (want_force) hinge_forces_to_body_frames(d);
   const Status s = check_finite(d.qdd);
