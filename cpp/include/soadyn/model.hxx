@@ -80,7 +80,7 @@ void check_physical_inertia(S mass, const Vec3<S>& com, const Mat3<S>& I, const 
   if (mass == S(0) && m.maxCoeff() > tol) throw NonphysicalInertiaError(who + ": massless body with nonzero inertia");
 }
 
-// The spatial inertia about the frame origin (seed M(k)) must be finite:
+// The spatial inertia about the frame origin (M(k) of Jain & Rodriguez 1993) must be finite:
 // mass * com and mass * |com|^2 overflow long before mass or com do.
 template <class S>
 void check_finite_spatial_inertia(const Mat6<S>& M, const std::string& who) {

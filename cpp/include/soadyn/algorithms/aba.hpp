@@ -1,4 +1,4 @@
-// Forward dynamics by the articulated-body algorithm: the seed's algorithm
+// Forward dynamics by the articulated-body algorithm: Jain & Rodriguez's algorithm
 // with every hinge regular, whatever the model's flags say.
 #pragma once
 #include "soadyn/algorithms/steps.hpp"

@@ -1,7 +1,7 @@
 // Hybrid dynamics of a tree whose DOFs are each regular (torque given,
 // acceleration unknown) or prescribed (acceleration given, torque unknown):
-// the O(N) algorithm of seed 000 (Eqs. 14, 28, 29, Lemma 8), on trees, with
-// multi-DOF hinges whose DOFs may mix modes (seed conclusion 5).
+// the O(N) algorithm of Jain & Rodriguez 1993 (Eqs. 14, 28, 29, Lemma 8), on trees, with
+// multi-DOF hinges whose DOFs may mix modes (ibid., conclusion 5).
 //
 // Bodies on whose root path every hinge is prescribed need no articulated
 // inertia: their accelerations are known in the first sweep and their hinge

@@ -1,4 +1,4 @@
-// Inverse dynamics by the recursive Newton-Euler algorithm (seed Eqs. 1-4).
+// Inverse dynamics by the recursive Newton-Euler algorithm (Jain & Rodriguez 1993, Eqs. 1-4).
 #pragma once
 #include "soadyn/algorithms/steps.hpp"
 

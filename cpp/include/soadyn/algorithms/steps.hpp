@@ -254,7 +254,7 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
   return -1;
 }
 
-// The regular part of a hinge in the tip-to-base sweep (seed Eqs. 14, 28):
+// The regular part of a hinge in the tip-to-base sweep (Jain & Rodriguez 1993, Eqs. 14, 28):
 //   D = S' P S,  G = P S D^-1,  eps = T - S' z,  nu = D^-1 eps,
 //   P+ = (I - G S') P,  z+ = z + G eps.
 // `z` already holds b + children + P (S_p qdd_p + a); `torque` holds the
