@@ -1,6 +1,6 @@
 // The joint types: every alternative of JointModel. Adding a joint type is
-// one header beside these (joint_base.hpp lists what it provides) and one
-// line in this list; everything else (model, sweeps, integration, charts,
+// one header beside these (joint_base.hpp lists what it provides) and its
+// registration here: its #include and its entry in the variant; everything else (model, sweeps, integration, charts,
 // random configurations, Python factories) dispatches on the variant.
 #pragma once
 #include <variant>
