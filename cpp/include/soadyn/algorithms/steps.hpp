@@ -71,26 +71,23 @@ Vec6<S> world_acceleration(const ModelTpl<S>& m) {
   return a;
 }
 
-// The velocities the sweeps are given: nullptr for a rigid model at rest
-// (every entry of v zero), so they skip every velocity term (joint velocity
-// products, Coriolis and gyroscopic forces) with the same result. A flexible
-// model always gets v: its elastic forces are computed with the velocity
-// terms (flexible_steps.hpp).
-template <class S>
-const S* velocities_unless_at_rest(const ModelTpl<S>& m, const ConstVecRef<S>& v) {
-  if (m.has_flexible_bodies()) return v.data();
-  for (Eigen::Index k = 0; k < v.size(); ++k)
-    if (v[k] != S(0)) return v.data();
-  return nullptr;
-}
-
-// The same for a pointer to nv velocities (null: zero velocity, kept).
+// The velocities the sweeps are given, from nv velocities `v` (null: zero
+// velocity, kept): nullptr for a rigid model at rest (every entry of v zero),
+// so they skip every velocity term (joint velocity products, Coriolis and
+// gyroscopic forces) with the same result. A flexible model always gets v:
+// its elastic forces are computed with the velocity terms (flexible_steps.hpp).
 template <class S>
 const S* velocities_unless_at_rest(const ModelTpl<S>& m, const S* v) {
   if (!v || m.has_flexible_bodies()) return v;
   for (int k = 0; k < m.nv; ++k)
     if (v[k] != S(0)) return v;
   return nullptr;
+}
+
+// The same for a vector of nv velocities.
+template <class S>
+const S* velocities_unless_at_rest(const ModelTpl<S>& m, const ConstVecRef<S>& v) {
+  return velocities_unless_at_rest(m, v.data());
 }
 
 // S x for a hinge subspace S (6 x n, n <= 6) and n values x, column by
