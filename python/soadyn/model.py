@@ -6,7 +6,7 @@ from typing import Iterable, Union
 
 import numpy as np
 
-from ._soadyn import FlexibleBody, Joint, NonphysicalInertiaError, _Model
+from ._soadyn import FlexibleBody, Joint, LoopError, NonphysicalInertiaError, _Model
 
 __all__ = ["Model", "Joint", "NonphysicalInertiaError"]
 
@@ -147,6 +147,32 @@ class Model(_Model):
             raise TypeError(f"body '{name}': joint must be a soadyn.Joint, got {type(joint).__name__}")
         R, p = _placement(placement, name)
         return self._add_flexible_body(name, self._parent_name(parent, name), joint, R, p, body)
+
+    def add_loop(self, name: str, frame_a, frame_b, kind: str, placement_a: Placement = None,
+                 placement_b: Placement = None, length: float | None = None) -> int:
+        """Add a closed loop (a cut joint) and return its index.
+
+        frame_a: a body or frame name (or body index); frame_b: a body or frame name, or None for the world.
+        kind: "point" (3 equations: the frames' origins coincide), "revolute" (5: origins coincide and z axes
+        stay aligned), "prismatic" (5: equal orientations, frame_a's origin on frame_b's z axis), "weld" (6),
+        "distance" (1: a massless rod of `length` between the origins; length is required).
+        placement_a/placement_b: the loop frames in frame_a's/frame_b's frame, as (R, p), a 4x4 matrix or a
+        translation. Loops on flexible bodies are refused. Raises LoopError naming the loop at fault.
+        """
+        if not isinstance(name, str):
+            raise TypeError(f"loop name must be a str, got {type(name).__name__} ({name!r})")
+        if not isinstance(kind, str):
+            raise TypeError(f"loop '{name}': kind must be a str, got {type(kind).__name__}")
+        label = f"{name}' (loop"  # reads "body '<name>' (loop': ..." in placement errors
+        Ra, pa = _placement(placement_a, label)
+        Rb, pb = _placement(placement_b, label)
+        a_name = self._parent_name(frame_a, name) if frame_a is not None else ""
+        b_name = self._parent_name(frame_b, name)
+        if length is None:
+            if kind == "distance":
+                raise LoopError(f"loop '{name}': a distance loop needs length=")
+            length = 0.0
+        return self._add_loop(name, a_name, b_name, kind, Ra, pa, Rb, pb, _real_scalar(length, "length", label))
 
     def _parent_name(self, parent, name: str) -> str:
         if parent is None:
