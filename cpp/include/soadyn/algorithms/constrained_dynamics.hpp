@@ -13,8 +13,8 @@
 // identity (sizes stay nv, so flipping flags needs no reallocation). The
 // multipliers solve the Delassus system
 //   (C_r M_rr^-1 C_r') lambda = kappa - C_p qdd_p - C_r M_rr^-1 b_r
-// by its eigendecomposition: eigenvalues below delassus_threshold times the
-// largest are dropped, so redundant loop equations (a planar four-bar closed
+// by a pivoted Cholesky factorisation (semidefinite_solve.hpp): pivots below
+// delassus_threshold times the largest diagonal entry count as zero, so redundant loop equations (a planar four-bar closed
 // by a revolute cut: 5 equations of rank 2) give the minimum-norm lambda,
 // exact for consistent equations; for inconsistent ones the answer is the
 // least-squares lambda (closure accelerations are then not met). The

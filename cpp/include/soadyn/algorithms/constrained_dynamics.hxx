@@ -5,6 +5,7 @@
 #include "soadyn/algorithms/kinematics.hpp"
 #include "soadyn/algorithms/loop_closure.hxx"
 #include "soadyn/algorithms/rnea.hxx"
+#include "soadyn/algorithms/semidefinite_solve.hpp"
 
 namespace soadyn {
 
@@ -23,20 +24,6 @@ void substitute_prescribed(const ModelTpl<S>& m, LoopData<S>& ld, const MatX<S>&
     ld.regular_mass(p, p) = S(1);
     ld.constraint_jacobian_regular.col(p).setZero();
   }
-}
-
-// lambda = pinv(delassus) rhs by the eigendecomposition (eigenvalues below
-// delassus_threshold times the largest are dropped).
-template <class S>
-void solve_multipliers(LoopData<S>& ld) {
-  ld.delassus_eigen.compute(ld.delassus);
-  const auto& values = ld.delassus_eigen.eigenvalues();
-  const auto& vectors = ld.delassus_eigen.eigenvectors();
-  const S largest = values.size() > 0 ? values.cwiseAbs().maxCoeff() : S(0);
-  ld.spectral.noalias() = vectors.transpose() * ld.rhs;
-  for (Eigen::Index k = 0; k < values.size(); ++k)
-    ld.spectral[k] = values[k] > delassus_threshold<S>() * largest ? ld.spectral[k] / values[k] : S(0);
-  ld.multipliers.noalias() = vectors * ld.spectral;
 }
 
 // Loop wrenches W lambda from the multipliers (loops/loop.hpp), from the
@@ -67,24 +54,26 @@ Status constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
   update_world_poses(m, d);
   detail::loop_equations(m, d, true);
   detail::substitute_prescribed(m, ld, d.mass_matrix);
-  ld.regular_mass_factor.compute(ld.regular_mass);
-  if (ld.regular_mass_factor.info() != Eigen::Success) return {StatusCode::singular_articulated_inertia, -1};
+  // Plain-loop Cholesky (small_cholesky.hpp): Eigen's blocked one allocates for nv >= 32.
+  const int bad_pivot = cholesky_in_place(ld.regular_mass, S(0));
+  if (bad_pivot >= 0) return {StatusCode::singular_articulated_inertia, bad_pivot};
   // b: tau_r - h_r - M_rp qdd_p on regular rows, qdd_p on prescribed rows.
   for (int k = 0; k < m.nv; ++k) d.qdd[k] = m.is_prescribed(k) ? u[k] : S(0);
-  ld.free_acceleration.noalias() = -(d.mass_matrix * d.qdd);
-  ld.free_acceleration -= ld.bias;
+  ld.free_acceleration.noalias() = d.mass_matrix * d.qdd;  // M_rp qdd_p (a negated product would need a temporary)
   for (int k = 0; k < m.nv; ++k)
-    ld.free_acceleration[k] = m.is_prescribed(k) ? u[k] : ld.free_acceleration[k] + u[k];
-  ld.regular_mass_factor.solveInPlace(ld.free_acceleration);
+    ld.free_acceleration[k] = m.is_prescribed(k) ? u[k] : u[k] - ld.bias[k] - ld.free_acceleration[k];
+  cholesky_solve_in_place(ld.regular_mass, ld.free_acceleration);
   ld.inverse_mass_times_ct = ld.constraint_jacobian_regular.transpose();
-  ld.regular_mass_factor.solveInPlace(ld.inverse_mass_times_ct);
-  ld.delassus.noalias() = ld.constraint_jacobian_regular * ld.inverse_mass_times_ct;
+  cholesky_solve_in_place(ld.regular_mass, ld.inverse_mass_times_ct);
+  // lazyProduct: coefficient-wise, without the blocked product's workspace.
+  ld.delassus.noalias() = ld.constraint_jacobian_regular.lazyProduct(ld.inverse_mass_times_ct);
   // rhs = kappa - C qdd_free: the free accelerations carry qdd_p on prescribed rows.
   ld.rhs = ld.kappa;
   ld.rhs.noalias() -= ld.jacobian * ld.free_acceleration;
-  detail::solve_multipliers(ld);
+  if (semidefinite_min_norm_solve(ld.delassus, ld.rhs, delassus_threshold<S>(), ld.delassus_solve, ld.multipliers) < 0)
+    return {StatusCode::non_finite_result, -1};
   d.qdd = ld.free_acceleration;
-  d.qdd.noalias() += ld.inverse_mass_times_ct * ld.multipliers;
+  d.qdd.noalias() += ld.inverse_mass_times_ct * ld.multipliers;  // matrix-vector products need no workspace
   // tau = M qdd + h - J' f_ext - C' lambda; regular entries are the given torques.
   d.tau = ld.bias;
   d.tau.noalias() += d.mass_matrix * d.qdd;

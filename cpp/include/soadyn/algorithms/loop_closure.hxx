@@ -143,7 +143,7 @@ void loop_equations(const ModelTpl<S>& m, DataTpl<S>& d, bool with_kappa) {
     add_point_jacobian(m, d, loop.body_b, P, S(-1), ld.relative_jacobian);
     const int k = loop.rows();
     ld.residual.segment(loop.first_row, k) = dir.residual.head(k);
-    ld.jacobian.middleRows(loop.first_row, k).noalias() = dir.W.leftCols(k).transpose() * ld.relative_jacobian;
+    ld.jacobian.middleRows(loop.first_row, k).noalias() = dir.W.leftCols(k).transpose().lazyProduct(ld.relative_jacobian);
     ld.velocity_residual.segment(loop.first_row, k).noalias() = dir.W.leftCols(k).transpose() * relative_velocity;
     if (with_kappa) {
       // kappa = -d/dt (W' relative velocity) at qdd = 0. A prismatic loop

@@ -2,8 +2,8 @@
 // Model's loops (m = nloop_equations): part of DataTpl as `data.loops`.
 #pragma once
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <Eigen/QR>
+#include "soadyn/algorithms/semidefinite_solve.hpp"
 #include "soadyn/model.hpp"
 
 namespace soadyn {
@@ -15,9 +15,9 @@ struct LoopData {
   LoopData(int nv, int m, int nloops)
       : residual(VecX<S>::Zero(m)), velocity_residual(VecX<S>::Zero(m)), jacobian(MatX<S>::Zero(m, nv)),
         kappa(VecX<S>::Zero(m)), multipliers(VecX<S>::Zero(m)), wrench(static_cast<std::size_t>(nloops), Vec6<S>::Zero()),
-        relative_jacobian(Mat6X<S>::Zero(6, nv)), regular_mass(MatX<S>::Zero(nv, nv)), regular_mass_factor(nv),
+        relative_jacobian(Mat6X<S>::Zero(6, nv)), regular_mass(MatX<S>::Zero(nv, nv)),
         constraint_jacobian_regular(MatX<S>::Zero(m, nv)), inverse_mass_times_ct(MatX<S>::Zero(nv, m)),
-        delassus(MatX<S>::Zero(m, m)), delassus_eigen(m), rhs(VecX<S>::Zero(m)), spectral(VecX<S>::Zero(m)),
+        delassus(MatX<S>::Zero(m, m)), delassus_solve(m), rhs(VecX<S>::Zero(m)),
         free_acceleration(VecX<S>::Zero(nv)), bias(VecX<S>::Zero(nv)), rank_qr(m, nv) {}
 
   // Outputs.
@@ -30,13 +30,13 @@ struct LoopData {
 
   // Scratch.
   Mat6X<S> relative_jacobian;              // [omega_A - omega_B; v_A - v_B(P)] as a 6 x nv map of v
-  MatX<S> regular_mass;                    // M with the prescribed rows and columns replaced by the identity
-  Eigen::LLT<MatX<S>> regular_mass_factor;
+  MatX<S> regular_mass;                    // M with the prescribed rows and columns replaced by the identity,
+                                           // then its Cholesky factor L (lower triangle)
   MatX<S> constraint_jacobian_regular;     // C with the prescribed columns zeroed
   MatX<S> inverse_mass_times_ct;           // regular_mass^-1 C_r'
   MatX<S> delassus;                        // C_r M_rr^-1 C_r' (m x m)
-  Eigen::SelfAdjointEigenSolver<MatX<S>> delassus_eigen;
-  VecX<S> rhs, spectral;
+  SemidefiniteSolveScratch<S> delassus_solve;  // minimum-norm multipliers (semidefinite_solve.hpp)
+  VecX<S> rhs;
   VecX<S> free_acceleration;               // qdd without loop forces
   VecX<S> bias;                            // h - J' f_ext
   Eigen::ColPivHouseholderQR<MatX<S>> rank_qr;
