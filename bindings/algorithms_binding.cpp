@@ -121,6 +121,84 @@ void bind_algorithms(py::module_& mod) {
       "each prescribed DOF (model.prescribed). Returns fresh arrays (qdd, tau) with every DOF's acceleration\n"
       "and generalized force, plus the (nbodies, 6) joint wrenches when joint_wrenches=True.");
 
+  mod.def("constrained_dynamics",
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext) {
+        const StateArgs a(h, q, v, u, "u", f_ext);
+        auto qdd = vector_out(h.model.nv), tau = vector_out(h.model.nv);
+        auto wrenches = fresh_array(h.model.nloops(), 6);
+        double* w = wrenches.mutable_data();
+        soadyn::Status status;
+        run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          status = soadyn::constrained_dynamics<double>(m, d, Map(a.q.data(), m.nq), Map(a.v.data(), m.nv),
+                                                        Map(a.x.data(), m.nv), a.f_ext);
+          Eigen::Map<Eigen::VectorXd>(qdd.mutable_data(), m.nv) = d.qdd;
+          Eigen::Map<Eigen::VectorXd>(tau.mutable_data(), m.nv) = d.tau;
+          for (std::size_t l = 0; l < d.loops.wrench.size(); ++l)
+            Eigen::Map<soadyn::Vec6<double>>(w + 6 * l) = d.loops.wrench[l];
+        });
+        raise_on(status, h.model, "constrained_dynamics");
+        return py::make_tuple(qdd, tau, wrenches);
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none(),
+      "Hybrid dynamics with the model's closed loops: u as in hybrid_dynamics. Returns fresh arrays (qdd, tau,\n"
+      "loop_wrenches): every DOF's acceleration and generalized force, and per loop (nloops, 6) the wrench\n"
+      "[torque; force] that frame_b's side exerts on frame_a's side, world-aligned axes, about frame_a's origin.\n"
+      "Redundant loop equations give the minimum-norm multipliers. Equals hybrid_dynamics without loops.");
+
+  mod.def("loop_residual",
+      [](ModelHandle& h, py::handle q, py::handle v) -> py::object {
+        const std::uint64_t version = h.model.version;
+        const Array qa = q_arg(h, q);
+        py::object keep_v;
+        const double* vp = nullptr;
+        if (!v.is_none()) {
+          Array va = v_arg(h, v, "v");
+          vp = va.data();
+          keep_v = std::move(va);
+        }
+        const py::ssize_t m_rows = h.model.nloop_equations;
+        auto position = vector_out(m_rows), velocity = vector_out(m_rows);
+        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          soadyn::loop_residual<double>(m, d, Map(qa.data(), m.nq), vp);
+          Eigen::Map<Eigen::VectorXd>(position.mutable_data(), m_rows) = d.loops.residual;
+          Eigen::Map<Eigen::VectorXd>(velocity.mutable_data(), m_rows) = d.loops.velocity_residual;
+        });
+        if (vp) return py::make_tuple(position, velocity);
+        return std::move(position);
+      },
+      py::arg("model"), py::arg("q"), py::arg("v") = py::none(),
+      "Loop-closure residual Psi(q) (nloop_equations,), and with v the tuple (Psi(q), C(q) v).");
+
+  mod.def("loop_jacobian",
+      [](ModelHandle& h, py::handle q) {
+        const std::uint64_t version = h.model.version;
+        const Array qa = q_arg(h, q);
+        auto out = fresh_array(h.model.nloop_equations, h.model.nv);
+        double* o = out.mutable_data();
+        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          soadyn::loop_residual<double>(m, d, Map(qa.data(), m.nq), nullptr);
+          Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(o, m.nloop_equations, m.nv) =
+              d.loops.jacobian;
+        });
+        return out;
+      },
+      py::arg("model"), py::arg("q"),
+      "Loop constraint Jacobian C(q), (nloop_equations, nv): C v is the cut joints' relative velocity.");
+
+  mod.def("loop_rank",
+      [](ModelHandle& h, py::handle q) {
+        const std::uint64_t version = h.model.version;
+        const Array qa = q_arg(h, q);
+        int rank = 0;
+        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          rank = soadyn::loop_rank<double>(m, d, Map(qa.data(), m.nq));
+        });
+        return rank;
+      },
+      py::arg("model"), py::arg("q"),
+      "Rank of the loop constraint Jacobian C(q) (column-pivoted QR; pivots below 1e3 machine epsilons times\n"
+      "the largest count as zero).");
+
   mod.def("mass_matrix",
       [](ModelHandle& h, py::handle q) {
         const std::uint64_t version = h.model.version;

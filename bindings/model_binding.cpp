@@ -102,6 +102,27 @@ void bind_model(py::module_& mod) {
              const auto lock = h.lock_for_change();
              return h.model.add_flexible_body(name, parent, joint.joint, X, body, joint.name);
            })
+      .def("_add_loop",
+           [](ModelHandle& h, const std::string& name, const std::string& frame_a, const std::string& frame_b,
+              const std::string& kind, const Eigen::Matrix3d& Ra, const Eigen::Vector3d& pa, const Eigen::Matrix3d& Rb,
+              const Eigen::Vector3d& pb, double length) {
+             soadyn::Transform<double> Xa, Xb;
+             Xa.rotation = Ra;
+             Xa.translation = pa;
+             Xb.rotation = Rb;
+             Xb.translation = pb;
+             const soadyn::LoopKind k = soadyn::parse_loop_kind(kind, name);
+             const auto lock = h.lock_for_change();
+             return h.model.add_loop(name, frame_a, frame_b, k, Xa, Xb, length);
+           })
+      .def_property_readonly("loop_names", [](const ModelHandle& h) {
+             std::vector<std::string> names;
+             for (const auto& l : h.model.loops) names.push_back(l.name);
+             return names;
+           }, "Names of the closed loops, in the order added.")
+      .def_property_readonly("nloops", [](const ModelHandle& h) { return h.model.nloops(); }, "Number of closed loops.")
+      .def_property_readonly("nloop_equations", [](const ModelHandle& h) { return h.model.nloop_equations; },
+                             "Number of loop-closure equations (the rows of loop_jacobian).")
       .def("_set_prescribed_indices",
            [](ModelHandle& h, const std::vector<int>& dofs, bool flag) {
              const auto lock = h.lock_for_change();
@@ -188,6 +209,7 @@ void bind_model(py::module_& mod) {
           "Gravity in the world frame (default (0, 0, -9.81)).");
 
   py::register_exception<soadyn::NonphysicalInertiaError>(mod, "NonphysicalInertiaError", PyExc_ValueError);
+  py::register_exception<soadyn::LoopError>(mod, "LoopError", PyExc_ValueError);
 }
 
 }  // namespace soadyn_py

@@ -86,6 +86,8 @@ class _Model:
         ...
     def _add_flexible_body(self, arg0: str, arg1: str, arg2: Joint, arg3: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], arg4: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg5: FlexibleBody) -> int:
         ...
+    def _add_loop(self, arg0: str, arg1: str, arg2: str, arg3: str, arg4: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], arg5: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg6: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], arg7: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg8: typing.SupportsFloat | typing.SupportsIndex) -> int:
+        ...
     def _copy_from(self, arg0: _Model) -> None:
         ...
     def _load_cassini(self) -> None:
@@ -155,6 +157,21 @@ class _Model:
     def nbodies(self) -> int:
         ...
     @property
+    def loop_names(self) -> list[str]:
+        """
+        Names of the closed loops, in the order added.
+        """
+    @property
+    def nloops(self) -> int:
+        """
+        Number of closed loops.
+        """
+    @property
+    def nloop_equations(self) -> int:
+        """
+        Number of loop-closure equations (the rows of loop_jacobian).
+        """
+    @property
     def nq(self) -> int:
         ...
     @property
@@ -177,6 +194,8 @@ class _Model:
 class NonphysicalInertiaError(ValueError):
     pass
 class DynamicsError(ArithmeticError):
+    pass
+class LoopError(ValueError):
     pass
 class MotionSource:
     """
@@ -567,6 +586,13 @@ def forward_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.A
     whatever the model's flags). f_ext: (nbodies, 6) body-frame wrenches [torque; force] about each body
     origin. Returns a fresh array.
     """
+def constrained_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike, f_ext: numpy.typing.ArrayLike | None = None) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+    """
+    Hybrid dynamics with the model's closed loops: u as in hybrid_dynamics. Returns fresh arrays (qdd, tau,
+    loop_wrenches): every DOF's acceleration and generalized force, and per loop (nloops, 6) the wrench
+    [torque; force] that frame_b's side exerts on frame_a's side, world-aligned axes, about frame_a's origin.
+    Redundant loop equations give the minimum-norm multipliers. Equals hybrid_dynamics without loops.
+    """
 def forward_kinematics(model: _Model, q: typing.Any, v: typing.Any = None) -> typing.Any:
     """
     (poses, velocities): (nbodies, 4, 4) homogeneous body poses in the world and, with v, (nbodies, 6)
@@ -594,6 +620,19 @@ def joint_wrenches(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any,
 def kinetic_energy(model: _Model, q: typing.Any, v: typing.Any) -> float:
     """
     Kinetic energy 1/2 v' M v.
+    """
+def loop_jacobian(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    Loop constraint Jacobian C(q), (nloop_equations, nv): C v is the cut joints' relative velocity.
+    """
+def loop_rank(model: _Model, q: typing.Any) -> int:
+    """
+    Rank of the loop constraint Jacobian C(q) (column-pivoted QR; pivots below 1e3 machine epsilons times
+    the largest count as zero).
+    """
+def loop_residual(model: _Model, q: typing.Any, v: typing.Any = None) -> typing.Any:
+    """
+    Loop-closure residual Psi(q) (nloop_equations,), and with v the tuple (Psi(q), C(q) v).
     """
 def mass_matrix(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """

@@ -6,27 +6,27 @@ from typing import Iterable, Union
 
 import numpy as np
 
-from ._soadyn import FlexibleBody, Joint, NonphysicalInertiaError, _Model
+from ._soadyn import FlexibleBody, Joint, LoopError, NonphysicalInertiaError, _Model
 
 __all__ = ["Model", "Joint", "NonphysicalInertiaError"]
 
 Placement = Union[None, tuple, np.ndarray]
 
 
-def _real_array(x, what: str, body: str) -> np.ndarray:
+def _real_array(x, what: str, body: str, owner: str = "body") -> np.ndarray:
     """`x` as a float array; TypeError naming the argument and the body unless it holds real numbers.
 
     numpy would read a string ('1.5') as a number and drop a complex number's
     imaginary part: both are refused, as are booleans and None.
     """
     if isinstance(x, (str, bytes)):
-        raise TypeError(f"body '{body}': {what} must be real numbers, got {type(x).__name__}")
+        raise TypeError(f"{owner} '{body}': {what} must be real numbers, got {type(x).__name__}")
     try:
         a = np.asarray(x)
     except (TypeError, ValueError) as exc:  # ragged nesting
-        raise TypeError(f"body '{body}': {what} must be real numbers, got {type(x).__name__}") from exc
+        raise TypeError(f"{owner} '{body}': {what} must be real numbers, got {type(x).__name__}") from exc
     if a.dtype.kind not in "iuf":
-        raise TypeError(f"body '{body}': {what} must be real numbers, got {a.dtype} "
+        raise TypeError(f"{owner} '{body}': {what} must be real numbers, got {a.dtype} "
                         f"({type(x).__name__})")
     return a.astype(float)
 
@@ -40,25 +40,25 @@ def _real_scalar(x, what: str, body: str) -> float:
     return float(a)
 
 
-def _placement(placement: Placement, body: str):
+def _placement(placement: Placement, body: str, owner: str = "body"):
     """(R, p), a 4x4 homogeneous matrix, a translation p, or None (identity)."""
     if placement is None:
         return np.eye(3), np.zeros(3)
     if isinstance(placement, tuple) and len(placement) == 2:
         R, p = placement
-        R = np.eye(3) if R is None else _real_array(R, "placement rotation", body)
-        p = np.zeros(3) if p is None else _real_array(p, "placement translation", body)
+        R = np.eye(3) if R is None else _real_array(R, "placement rotation", body, owner)
+        p = np.zeros(3) if p is None else _real_array(p, "placement translation", body, owner)
     else:
-        T = _real_array(placement, "placement", body)
+        T = _real_array(placement, "placement", body, owner)
         if T.shape == (4, 4):
             R, p = T[:3, :3], T[:3, 3]
         elif T.shape == (3,):
             R, p = np.eye(3), T
         else:
-            raise ValueError(f"body '{body}': placement must be (R, p), a 4x4 matrix or a translation, "
+            raise ValueError(f"{owner} '{body}': placement must be (R, p), a 4x4 matrix or a translation, "
                              f"got shape {T.shape}")
     if R.shape != (3, 3) or p.shape != (3,):
-        raise ValueError(f"body '{body}': placement rotation must be 3x3 and translation length 3")
+        raise ValueError(f"{owner} '{body}': placement rotation must be 3x3 and translation length 3")
     return R, p
 
 
@@ -147,6 +147,32 @@ class Model(_Model):
             raise TypeError(f"body '{name}': joint must be a soadyn.Joint, got {type(joint).__name__}")
         R, p = _placement(placement, name)
         return self._add_flexible_body(name, self._parent_name(parent, name), joint, R, p, body)
+
+    def add_loop(self, name: str, frame_a, frame_b, kind: str, placement_a: Placement = None,
+                 placement_b: Placement = None, length: float | None = None) -> int:
+        """Add a closed loop (a cut joint) and return its index.
+
+        frame_a: a body or frame name (or body index); frame_b: a body or frame name, or None for the world.
+        kind: "point" (3 equations: the frames' origins coincide), "revolute" (5: origins coincide and z axes
+        stay aligned), "prismatic" (5: equal orientations, frame_a's origin on frame_b's z axis), "weld" (6),
+        "distance" (1: a massless rod of `length` between the origins; length is required).
+        placement_a/placement_b: the loop frames in frame_a's/frame_b's frame, as (R, p), a 4x4 matrix or a
+        translation. Loops on flexible bodies are refused. Raises LoopError naming the loop at fault.
+        """
+        if not isinstance(name, str):
+            raise TypeError(f"loop name must be a str, got {type(name).__name__} ({name!r})")
+        if not isinstance(kind, str):
+            raise TypeError(f"loop '{name}': kind must be a str, got {type(kind).__name__}")
+        Ra, pa = _placement(placement_a, name, "loop")
+        Rb, pb = _placement(placement_b, name, "loop")
+        a_name = self._parent_name(frame_a, name) if frame_a is not None else ""
+        b_name = self._parent_name(frame_b, name)
+        if length is None:
+            if kind == "distance":
+                raise LoopError(f"loop '{name}': a distance loop needs length=")
+            length = 0.0
+        length = float(_real_array(length, "length", name, "loop"))
+        return self._add_loop(name, a_name, b_name, kind, Ra, pa, Rb, pb, length)
 
     def _parent_name(self, parent, name: str) -> str:
         if parent is None:

@@ -64,10 +64,20 @@ def check_sim_no_allocation(output: str) -> None:
     require(bool(lines(r"^test_sim_no_allocation: PASS$", output)), "the PASS line")
 
 
+def check_loops_no_allocation(output: str) -> None:
+    """10^4 constrained_dynamics calls (and loop_residual, loop_rank) on a tree with a loop of every kind."""
+    require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
+    require(bool(lines(r"^loops: 5, equations: 20, nv = \d+", output)), "five loops, 20 equations")
+    require(bool(lines(r"^calls: 10000 constrained_dynamics; failed statuses: 0$", output)), "10^4 calls, none failed")
+    require(bool(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)), "zero allocations")
+    require(bool(lines(r"^test_loops_no_allocation: PASS$", output)), "the PASS line")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
     "test_sim_no_allocation": check_sim_no_allocation,
+    "test_loops_no_allocation": check_loops_no_allocation,
 }
 
 

@@ -15,11 +15,11 @@
 // said per member; the README's architecture section says which sweep runs when.
 #pragma once
 #include <Eigen/Cholesky>
+#include "soadyn/loops/loop_data.hpp"
 #include "soadyn/model.hpp"
 
 namespace soadyn {
 
-template <class S> using Mat6X = Eigen::Matrix<S, 6, Eigen::Dynamic>;
 
 // Scratch of one flexible body (n_m modal coordinates), flex/flexible_body.hpp,
 // all in the body frame: its augmented mass matrix and the modal blocks of its
@@ -108,6 +108,8 @@ struct DataTpl {
   aligned_vector<Vec6<S>> body_acceleration;
 
   SweepData<S> sweep;
+  // Closed loops (loops/loop_data.hpp): closure equations, multipliers, loop wrenches.
+  LoopData<S> loops;
 };
 
 using Data = DataTpl<double>;

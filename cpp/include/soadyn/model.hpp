@@ -24,6 +24,7 @@
 #include "soadyn/flex/flexible_body.hpp"
 #include "soadyn/joints/joint.hpp"
 #include "soadyn/joints/joint_kernel.hpp"
+#include "soadyn/loops/loop.hpp"
 #include "soadyn/spatial/inertia.hpp"
 
 namespace soadyn {
@@ -109,6 +110,19 @@ class ModelTpl {
                         const Transform<S>& placement, const FlexibleBodyTpl<S>& body,
                         const std::string& joint_name = "");
 
+  // Adds a closed loop (loops/loop.hpp): a cut joint of `kind` between frame
+  // A, `placement_a` in the frame of body or frame `frame_a`, and frame B,
+  // `placement_b` in the frame of `frame_b` ("" or "world": the world).
+  // `length` is the rod length of a "distance" loop (finite, positive) and
+  // ignored otherwise. Loops on a flexible body, or on a body carried by one,
+  // are refused. Throws LoopError naming the loop (unknown frame, a loop
+  // between a body and itself, a non-finite or non-orthonormal placement, a
+  // duplicate name, a bad length). Returns the loop's index.
+  int add_loop(const std::string& name, const std::string& frame_a, const std::string& frame_b, LoopKind kind,
+               const Transform<S>& placement_a, const Transform<S>& placement_b, S length = S(0));
+  int nloops() const { return static_cast<int>(loops.size()); }
+  int loop_index(const std::string& name) const;
+
   int nbodies() const { return static_cast<int>(parent.size()); }
   bool has_flexible_bodies() const { return !flexible_bodies.empty(); }
   bool is_flexible(int body) const { return flexible_index[static_cast<std::size_t>(body)] >= 0; }
@@ -178,6 +192,10 @@ class ModelTpl {
   DynamicsPath dynamics_path = DynamicsPath::rigid_tree_frames;
 
   std::vector<Frame<S>> frames;
+  // Closed loops, in the order added, and their equation count (the sum of
+  // their rows(); each loop's equations start at its first_row).
+  std::vector<LoopTpl<S>> loops;
+  int nloop_equations = 0;
   Vec3<S> gravity;
   // Incremented by every structural change (Data must then be rebuilt).
   std::uint64_t version = 0;
@@ -192,6 +210,10 @@ class ModelTpl {
   int add_resolved(const std::string& name, int parent_body, int node, const JointModel<S>& joint,
                    const Transform<S>& placement, S mass, const Vec3<S>& com, const Mat3<S>& inertia_com,
                    const std::string& joint_name, const FlexibleBodyTpl<S>* flexible, InertiaPolicy policy);
+  // The body and the placement in its frame of loop frame `frame` ("" or
+  // "world": body -1); throws LoopError naming `loop`.
+  int resolve_loop_frame(const std::string& loop, const std::string& frame, const Transform<S>& placement,
+                         const char* which, Transform<S>& in_body) const;
   std::unordered_map<std::string, int> body_lookup_, dof_lookup_, frame_lookup_;
 };
 

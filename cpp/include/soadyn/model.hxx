@@ -10,6 +10,7 @@
 #include "soadyn/model.hpp"
 #include "soadyn/tree_frame_reach.hxx"
 #include "soadyn/validation.hpp"
+#include "soadyn/loops/add_loop.hxx"
 
 namespace soadyn {
 

@@ -6,6 +6,8 @@
 #include "soadyn/algorithms/energy.hpp"
 #include "soadyn/algorithms/hybrid.hpp"
 #include "soadyn/algorithms/kinematics.hpp"
+#include "soadyn/algorithms/constrained_dynamics.hpp"
+#include "soadyn/algorithms/loop_closure.hpp"
 #include "soadyn/algorithms/rnea.hpp"
 #include "soadyn/data.hpp"
 #include "soadyn/flex/cantilever_beam.hpp"

@@ -1,0 +1,180 @@
+#pragma once
+#include <Eigen/Geometry>
+#include <cmath>
+#include "soadyn/algorithms/kinematics.hpp"
+#include "soadyn/algorithms/loop_closure.hpp"
+
+namespace soadyn {
+
+namespace detail {
+
+// Motion of a point fixed on a body (or on the world, body -1), world axes:
+// angular velocity, the point's velocity, and with qdd = 0 the angular and
+// the classical point acceleration.
+template <class S>
+struct PointMotion {
+  Vec3<S> omega = Vec3<S>::Zero(), velocity = Vec3<S>::Zero();
+  Vec3<S> angular_acceleration = Vec3<S>::Zero(), acceleration = Vec3<S>::Zero();
+};
+
+// `r`: the point in the body frame. The body accelerations in `data` carry
+// the -gravity base acceleration, whose body-frame value is [0; -R' g].
+template <class S>
+PointMotion<S> body_point_motion(const ModelTpl<S>& m, const DataTpl<S>& d, int body, const Vec3<S>& r,
+                                 bool with_acceleration) {
+  PointMotion<S> pm;
+  if (body < 0) return pm;
+  const std::size_t b = static_cast<std::size_t>(body);
+  const Mat3<S>& R = d.pose_in_world[b].rotation;
+  const Vec3<S> w = d.body_velocity[b].template head<3>();
+  const Vec3<S> v_r = d.body_velocity[b].template tail<3>() + w.cross(r);
+  pm.omega = R * w;
+  pm.velocity = R * v_r;
+  if (with_acceleration) {
+    const Vec3<S> alpha = d.body_acceleration[b].template head<3>();
+    const Vec3<S> a = d.body_acceleration[b].template tail<3>() + R.transpose() * m.gravity;
+    pm.angular_acceleration = R * alpha;
+    pm.acceleration = R * (a + alpha.cross(r) + w.cross(v_r));  // classical acceleration of the point
+  }
+  return pm;
+}
+
+// J += sign * [angular; linear velocity of the body's point at world
+// position p] as a map of v: the body's world Jacobian, one column per
+// hinge DOF on its root path (H*(j) of Jain & Rodriguez 1993 carried to the world).
+template <class S>
+void add_point_jacobian(const ModelTpl<S>& m, const DataTpl<S>& d, int body, const Vec3<S>& p, S sign,
+                        Mat6X<S>& J) {
+  for (int j = body; j >= 0; j = m.parent[static_cast<std::size_t>(j)]) {
+    const std::size_t js = static_cast<std::size_t>(j);
+    const Transform<S>& X = d.pose_in_world[js];
+    const Mat6N<S>& H = d.sweep.body_subspace[js];
+    for (Eigen::Index c = 0; c < H.cols(); ++c) {
+      const Vec3<S> w = X.rotation * H.col(c).template head<3>();
+      const Vec3<S> lin = X.rotation * H.col(c).template tail<3>() + w.cross(p - X.translation);
+      J.col(m.v_index[js] + c).template head<3>() += sign * w;
+      J.col(m.v_index[js] + c).template tail<3>() += sign * lin;
+    }
+  }
+}
+
+template <class S>
+Transform<S> loop_frame_in_world(const DataTpl<S>& d, int body, const Transform<S>& placement) {
+  return body < 0 ? placement : d.pose_in_world[static_cast<std::size_t>(body)] * placement;
+}
+
+template <class S>
+Vec3<S> rotation_vector(const Mat3<S>& R) {
+  const Eigen::AngleAxis<S> aa(R);
+  return aa.angle() * aa.axis();
+}
+
+// The constraint directions W (6 x k, first k columns) of a loop, their rate
+// Wdot, and the residual Psi (loops/loop.hpp).
+template <class S>
+struct LoopDirections {
+  Mat6<S> W = Mat6<S>::Zero(), W_rate = Mat6<S>::Zero();
+  Vec6<S> residual = Vec6<S>::Zero();
+};
+
+template <class S>
+LoopDirections<S> loop_directions(const LoopTpl<S>& loop, const Transform<S>& A, const Transform<S>& B,
+                                  const Vec6<S>& relative_velocity, const Vec3<S>& omega_a, const Vec3<S>& omega_b) {
+  LoopDirections<S> ld;
+  const Vec3<S> d = A.translation - B.translation;
+  const Vec3<S> x_a = A.rotation.col(0), y_a = A.rotation.col(1), z_a = A.rotation.col(2);
+  const Vec3<S> x_b = B.rotation.col(0), y_b = B.rotation.col(1), z_b = B.rotation.col(2);
+  switch (loop.kind) {
+    case LoopKind::point:
+      ld.W.template block<3, 3>(3, 0).setIdentity();
+      ld.residual.template head<3>() = d;
+      break;
+    case LoopKind::revolute: {
+      ld.W.template block<3, 3>(3, 0).setIdentity();
+      ld.W.template block<3, 1>(0, 3) = x_a;
+      ld.W.template block<3, 1>(0, 4) = y_a;
+      ld.W_rate.template block<3, 1>(0, 3) = omega_a.cross(x_a);
+      ld.W_rate.template block<3, 1>(0, 4) = omega_a.cross(y_a);
+      const Vec3<S> tilt = z_b.cross(z_a);
+      ld.residual << d, x_a.dot(tilt), y_a.dot(tilt), S(0);
+      break;
+    }
+    case LoopKind::prismatic:
+      ld.W.template block<3, 3>(0, 0).setIdentity();
+      ld.W.template block<3, 1>(3, 3) = x_b;
+      ld.W.template block<3, 1>(3, 4) = y_b;
+      ld.W_rate.template block<3, 1>(3, 3) = omega_b.cross(x_b);
+      ld.W_rate.template block<3, 1>(3, 4) = omega_b.cross(y_b);
+      ld.residual << rotation_vector<S>(A.rotation * B.rotation.transpose()), x_b.dot(d), y_b.dot(d), S(0);
+      break;
+    case LoopKind::weld:
+      ld.W.setIdentity();
+      ld.residual << rotation_vector<S>(A.rotation * B.rotation.transpose()), d;
+      break;
+    case LoopKind::distance: {
+      const S length = d.norm();
+      const Vec3<S> n = d / length;
+      const Vec3<S> rel = relative_velocity.template tail<3>();
+      ld.W.template block<3, 1>(3, 0) = n;
+      ld.W_rate.template block<3, 1>(3, 0) = (rel - n * n.dot(rel)) / length;
+      ld.residual[0] = length - loop.length;
+      break;
+    }
+  }
+  return ld;
+}
+
+template <class S>
+void loop_equations(const ModelTpl<S>& m, DataTpl<S>& d, bool with_kappa) {
+  LoopData<S>& ld = d.loops;
+  for (const LoopTpl<S>& loop : m.loops) {
+    const Transform<S> A = loop_frame_in_world(d, loop.body_a, loop.placement_a);
+    const Transform<S> B = loop_frame_in_world(d, loop.body_b, loop.placement_b);
+    // P: the point of body B whose velocity enters (A's origin for a prismatic loop, B's otherwise).
+    const Vec3<S> P = loop.kind == LoopKind::prismatic ? A.translation : B.translation;
+    const Vec3<S> P_in_b = loop.body_b < 0 ? P : d.pose_in_world[static_cast<std::size_t>(loop.body_b)].inverse().apply_point(P);
+    const PointMotion<S> a = body_point_motion(m, d, loop.body_a, loop.placement_a.translation, with_kappa);
+    const PointMotion<S> b = body_point_motion(m, d, loop.body_b, P_in_b, with_kappa);
+    Vec6<S> relative_velocity;
+    relative_velocity << a.omega - b.omega, a.velocity - b.velocity;
+    const LoopDirections<S> dir = loop_directions(loop, A, B, relative_velocity, a.omega, b.omega);
+    ld.relative_jacobian.setZero();
+    add_point_jacobian(m, d, loop.body_a, A.translation, S(1), ld.relative_jacobian);
+    add_point_jacobian(m, d, loop.body_b, P, S(-1), ld.relative_jacobian);
+    const int k = loop.rows();
+    ld.residual.segment(loop.first_row, k) = dir.residual.head(k);
+    ld.jacobian.middleRows(loop.first_row, k).noalias() = dir.W.leftCols(k).transpose().lazyProduct(ld.relative_jacobian);
+    ld.velocity_residual.segment(loop.first_row, k).noalias() = dir.W.leftCols(k).transpose() * relative_velocity;
+    if (with_kappa) {
+      // kappa = -d/dt (W' relative velocity) at qdd = 0. A prismatic loop
+      // follows B's point under A's moving origin: its rate adds omega_B x (v_A - v_B(P)).
+      Vec6<S> relative_acceleration;
+      relative_acceleration << a.angular_acceleration - b.angular_acceleration, a.acceleration - b.acceleration;
+      if (loop.kind == LoopKind::prismatic)
+        relative_acceleration.template tail<3>() -= b.omega.cross(relative_velocity.template tail<3>());
+      ld.kappa.segment(loop.first_row, k).noalias() =
+          -(dir.W.leftCols(k).transpose() * relative_acceleration + dir.W_rate.leftCols(k).transpose() * relative_velocity);
+    }
+  }
+}
+
+}  // namespace detail
+
+template <class S>
+void loop_residual(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const S* v) {
+  forward_kinematics(m, d, q.data(), v);
+  if (!v)
+    for (auto& V : d.body_velocity) V.setZero();
+  detail::loop_equations(m, d, false);
+}
+
+template <class S>
+int loop_rank(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
+  loop_residual(m, d, q, static_cast<const S*>(nullptr));
+  if (m.nloop_equations == 0) return 0;
+  d.loops.rank_qr.setThreshold(loop_rank_threshold<S>());
+  d.loops.rank_qr.compute(d.loops.jacobian);
+  return static_cast<int>(d.loops.rank_qr.rank());
+}
+
+}  // namespace soadyn

@@ -1,0 +1,45 @@
+// Per-call buffers of the loop layer (loops/loop.hpp), sized once from the
+// Model's loops (m = nloop_equations): part of DataTpl as `data.loops`.
+#pragma once
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+#include "soadyn/algorithms/semidefinite_solve.hpp"
+#include "soadyn/model.hpp"
+
+namespace soadyn {
+
+template <class S> using Mat6X = Eigen::Matrix<S, 6, Eigen::Dynamic>;
+
+template <class S>
+struct LoopData {
+  LoopData(int nv, int m, int nloops)
+      : residual(VecX<S>::Zero(m)), velocity_residual(VecX<S>::Zero(m)), jacobian(MatX<S>::Zero(m, nv)),
+        kappa(VecX<S>::Zero(m)), multipliers(VecX<S>::Zero(m)), wrench(static_cast<std::size_t>(nloops), Vec6<S>::Zero()),
+        relative_jacobian(Mat6X<S>::Zero(6, nv)), regular_mass(MatX<S>::Zero(nv, nv)),
+        constraint_jacobian_regular(MatX<S>::Zero(m, nv)), inverse_mass_times_ct(MatX<S>::Zero(nv, m)),
+        delassus(MatX<S>::Zero(m, m)), delassus_solve(m), rhs(VecX<S>::Zero(m)),
+        free_acceleration(VecX<S>::Zero(nv)), bias(VecX<S>::Zero(nv)), rank_qr(m, nv) {}
+
+  // Outputs.
+  VecX<S> residual;           // Psi(q), m
+  VecX<S> velocity_residual;  // C v, m
+  MatX<S> jacobian;           // C (m x nv): C v is the relative velocity of the cut joints
+  VecX<S> kappa;              // C qdd = kappa, kappa = -Cdot v
+  VecX<S> multipliers;        // lambda: M qdd + h = tau + C' lambda
+  aligned_vector<Vec6<S>> wrench;  // per loop: [torque; force] of B's side on A's side, world axes, about A's origin
+
+  // Scratch.
+  Mat6X<S> relative_jacobian;              // [omega_A - omega_B; v_A - v_B(P)] as a 6 x nv map of v
+  MatX<S> regular_mass;                    // M with the prescribed rows and columns replaced by the identity,
+                                           // then its Cholesky factor L (lower triangle)
+  MatX<S> constraint_jacobian_regular;     // C with the prescribed columns zeroed
+  MatX<S> inverse_mass_times_ct;           // regular_mass^-1 C_r'
+  MatX<S> delassus;                        // C_r M_rr^-1 C_r' (m x m)
+  SemidefiniteSolveScratch<S> delassus_solve;  // minimum-norm multipliers (semidefinite_solve.hpp)
+  VecX<S> rhs;
+  VecX<S> free_acceleration;               // qdd without loop forces
+  VecX<S> bias;                            // h - J' f_ext
+  Eigen::ColPivHouseholderQR<MatX<S>> rank_qr;
+};
+
+}  // namespace soadyn

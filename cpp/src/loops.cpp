@@ -1,0 +1,12 @@
+#include "soadyn/algorithms/constrained_dynamics.hxx"
+#include "soadyn/algorithms/loop_closure.hxx"
+
+namespace soadyn {
+#define SOADYN_INSTANTIATE(S)                                                                                  \
+  template void loop_residual<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, const S*);            \
+  template int loop_rank<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&);                          \
+  template Status constrained_dynamics<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&,              \
+                                          const ConstVecRef<S>&, const ConstVecRef<S>&, const S*);
+SOADYN_INSTANTIATE(double)
+SOADYN_INSTANTIATE(float)
+}  // namespace soadyn

@@ -1,0 +1,257 @@
+"""Closed loops: the planar four-bar in closed form (closure Jacobian of
+Saha, Shah & Nandihal 2013, Eq. 52b; reduced equations with
+E = [1; -C_d^-1 C_i] of "Joint Coordinate Method, Part 1", Eqs. 1.16-1.24),
+prescribed DOFs in loops against Pinocchio's constraint dynamics, the
+closure equations of every kind against finite differences, and bad input."""
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import soadyn
+from test_loops_pinocchio import closed_loop_case, pinocchio_solution
+
+# The crank-rocker of Saha, Shah & Nandihal 2013 (Fig. 16): link lengths (m) and masses (kg).
+CRANK, COUPLER, ROCKER, GROUND = 0.038, 0.1152, 0.1152, 0.0895
+MASSES = (1.5, 5.0, 3.0)
+
+
+def rod(length, mass):
+    """Uniform slender rod along its body x axis: centre of mass and principal moments about it."""
+    return dict(mass=mass, com=(length / 2, 0.0, 0.0), inertia=(0.0, mass * length**2 / 12, mass * length**2 / 12))
+
+
+def four_bar(kind="revolute"):
+    m = soadyn.Model()
+    m.gravity = (0.0, -9.81, 0.0)
+    z = soadyn.Joint.revolute((0.0, 0.0, 1.0))
+    m.add_body("crank", None, z, **rod(CRANK, MASSES[0]))
+    m.add_body("coupler", "crank", z, placement=(CRANK, 0.0, 0.0), **rod(COUPLER, MASSES[1]))
+    m.add_body("rocker", None, z, placement=(GROUND, 0.0, 0.0), **rod(ROCKER, MASSES[2]))
+    m.add_loop("pin", "coupler", "rocker", kind, placement_a=(None, (COUPLER, 0, 0)),
+               placement_b=(None, (ROCKER, 0, 0)))
+    return m
+
+
+def e(x):
+    return np.array([np.cos(x), np.sin(x)])
+
+
+def e_perp(x):
+    return np.array([-np.sin(x), np.cos(x)])
+
+
+def assembled(theta1):
+    """Joint angles (crank, coupler relative to crank, rocker) closing the four-bar, elbow up."""
+    P, G = CRANK * e(theta1), np.array([GROUND, 0.0])
+    d = np.linalg.norm(G - P)
+    # Q on the circles |Q - P| = COUPLER, |Q - G| = ROCKER.
+    along = (COUPLER**2 - ROCKER**2 + d * d) / (2 * d)
+    u = (G - P) / d
+    Q = P + along * u + np.sqrt(COUPLER**2 - along**2) * np.array([-u[1], u[0]])
+    phi2 = np.arctan2(*(Q - P)[::-1])
+    theta3 = np.arctan2(*(Q - G)[::-1])
+    return np.array([theta1, phi2 - theta1, theta3])
+
+
+def closure_jacobian(theta):
+    """d/dtheta of the in-plane closure f = crank tip + coupler - (ground + rocker) (Eq. 52b)."""
+    t1, t2, t3 = theta
+    phi2 = t1 + t2
+    return np.column_stack([CRANK * e_perp(t1) + COUPLER * e_perp(phi2), COUPLER * e_perp(phi2), -ROCKER * e_perp(t3)])
+
+
+def closure_velocity_product(theta, thetad):
+    """The part of f'' without accelerations: -a t1'^2 e(t1) - b phi2'^2 e(phi2) + c t3'^2 e(t3)."""
+    t1, t2, t3 = theta
+    return (-CRANK * thetad[0]**2 * e(t1) - COUPLER * (thetad[0] + thetad[1])**2 * e(t1 + t2)
+            + ROCKER * thetad[2]**2 * e(t3))
+
+
+def four_bar_state(theta1, rate):
+    theta = assembled(theta1)
+    J = closure_jacobian(theta)
+    thetad = np.r_[rate, -np.linalg.solve(J[:, 1:], J[:, 0] * rate)]
+    return theta, thetad
+
+
+@pytest.mark.parametrize("theta1", np.linspace(0.1, 2 * np.pi, 7))
+def test_four_bar_driven_crank_matches_closed_form(theta1):
+    m = four_bar()
+    theta, thetad = four_bar_state(theta1, rate=3.0)
+    assert np.abs(soadyn.loop_residual(m, theta)).max() < 1e-14
+    assert soadyn.loop_rank(m, theta) == 2  # 5 equations of a planar revolute cut, rank 2
+    m.set_prescribed(["crank"])
+    crank_acc = -1.7
+    qdd, tau, wrench = soadyn.constrained_dynamics(m, theta, thetad, np.array([crank_acc, 0.0, 0.0]))
+    J = closure_jacobian(theta)
+    expected = np.linalg.solve(J[:, 1:], -J[:, 0] * crank_acc - closure_velocity_product(theta, thetad))
+    np.testing.assert_allclose(qdd[1:], expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max())
+    assert qdd[0] == crank_acc
+    # Crank torque by virtual work on the independent coordinate (Joint Coordinate Method, Eq. 1.31).
+    E = np.r_[1.0, -np.linalg.solve(J[:, 1:], J[:, 0])]
+    M, h = soadyn.mass_matrix(m, theta), soadyn.bias_forces(m, theta, thetad)
+    torque = E @ (M @ qdd + h)
+    assert abs(tau[0] - torque) <= 1e-10 * abs(torque)
+    # Planar: no out-of-plane reaction, no reaction torque (the minimum-norm multipliers).
+    assert np.abs(wrench[0, [0, 1, 2, 5]]).max() < 1e-12 * np.abs(wrench).max()
+
+
+@pytest.mark.parametrize("theta1", np.linspace(0.3, 2 * np.pi, 5))
+def test_free_four_bar_matches_reduced_equation(theta1):
+    m = four_bar()
+    theta, thetad = four_bar_state(theta1, rate=-2.0)
+    crank_torque = 0.4
+    qdd, tau, _ = soadyn.constrained_dynamics(m, theta, thetad, np.array([crank_torque, 0.0, 0.0]))
+    J = closure_jacobian(theta)
+    E = np.r_[1.0, -np.linalg.solve(J[:, 1:], J[:, 0])]
+    gamma = np.r_[0.0, np.linalg.solve(J[:, 1:], -closure_velocity_product(theta, thetad))]
+    M, h = soadyn.mass_matrix(m, theta), soadyn.bias_forces(m, theta, thetad)
+    crank_acc = (E @ np.array([crank_torque, 0, 0]) - E @ h - E @ M @ gamma) / (E @ M @ E)
+    expected = E * crank_acc + gamma
+    np.testing.assert_allclose(qdd, expected, rtol=1e-10, atol=1e-10 * np.abs(expected).max())
+
+
+def test_no_loops_equals_hybrid_dynamics():
+    from trees import random_state, random_tree
+    m, _ = random_tree(3, nbodies=8)
+    q, v, rng = random_state(m, 3)
+    m.set_prescribed([1, 4, 6])
+    u = rng.normal(size=m.nv)
+    qdd, tau, wrenches = soadyn.constrained_dynamics(m, q, v, u)
+    qdd_h, tau_h = soadyn.hybrid_dynamics(m, q, v, u)
+    np.testing.assert_array_equal(qdd, qdd_h)
+    np.testing.assert_array_equal(tau, tau_h)
+    assert wrenches.shape == (0, 6)
+
+
+@pytest.mark.parametrize("seed", (0, 1, 2, 4))  # cases whose loop equations are independent (not seed 3)
+@pytest.mark.parametrize("kinds", [("point",), ("weld",), ("point", "weld")], ids=["point", "weld", "mixed"])
+def test_prescribed_dofs_in_loops_match_pinocchio(seed, kinds):
+    """Pinocchio solves with every DOF regular; soadyn, given Pinocchio's accelerations on some DOFs as
+    prescribed, must return Pinocchio's accelerations on the others and the torques on those DOFs."""
+    m, model, mapping, constraints, q, v, rng, _ = closed_loop_case(seed, seed % 2 == 0, 1 + seed % 2, kinds)
+    tau = rng.normal(size=m.nv)
+    qdd_pin, _ = pinocchio_solution(model, mapping, constraints, q, v, tau)
+    C = soadyn.loop_jacobian(m, q)
+    assert np.linalg.matrix_rank(C) == C.shape[0]
+    for _ in range(100):  # four prescribed DOFs that leave the multipliers determined (C_r of full row rank)
+        prescribed = rng.choice(m.nv, size=4, replace=False)
+        regular = np.setdiff1d(np.arange(m.nv), prescribed)
+        if np.linalg.matrix_rank(C[:, regular]) == C.shape[0]:
+            break
+    else:
+        raise AssertionError("no choice of prescribed DOFs leaves C_r of full row rank")
+    m.set_prescribed(np.isin(np.arange(m.nv), prescribed))
+    u = tau.copy()
+    u[prescribed] = qdd_pin[prescribed]
+    qdd, tau_out, _ = soadyn.constrained_dynamics(m, q, v, u)
+    assert np.abs(qdd - qdd_pin).max() <= 1e-9 * max(1.0, np.abs(qdd_pin).max())
+    assert np.abs(tau_out - tau).max() <= 1e-9 * max(1.0, np.abs(tau).max())
+
+
+def _closed_random_loops(seed, kinds):
+    """A random tree with one loop of each kind in `kinds`, closed at the returned q."""
+    from trees import random_tree
+    m, _ = random_tree(seed, nbodies=10)
+    rng = np.random.default_rng(seed)
+    q = soadyn.random_configuration(m, seed)
+    poses = soadyn.forward_kinematics(m, q)[0]
+    for k, kind in enumerate(kinds):
+        a, b = rng.choice(np.arange(-1, m.nbodies), size=2, replace=False)
+        if a < 0:
+            a, b = b, a
+        R = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+        R *= np.sign(np.linalg.det(R))
+        p = rng.uniform(-0.3, 0.3, size=3)
+        A = poses[a] @ np.block([[R, p[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]])
+        B = A if b < 0 else np.linalg.solve(poses[b], A)
+        Bp = B.copy()
+        length = None
+        if kind == "distance":  # frame B's origin 0.4 m away from A's
+            Bp[:3, 3] = B[:3, 3] + B[:3, :3] @ (0.4 * np.array([0.6, 0.0, 0.8]))
+            length = 0.4
+        if kind == "prismatic":  # A's origin on B's z axis, 0.25 m along it
+            Bp[:3, 3] = B[:3, 3] - B[:3, 2] * 0.25
+        m.add_loop(f"{kind}{k}", m.body_names[a], None if b < 0 else m.body_names[b], kind,
+                   placement_a=(R, p), placement_b=(Bp[:3, :3], Bp[:3, 3]), length=length)
+    return m, q, rng
+
+
+ALL_KINDS = ("point", "revolute", "prismatic", "weld", "distance")
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_closure_jacobian_and_kappa_match_finite_differences(seed):
+    m, q, rng = _closed_random_loops(seed, ALL_KINDS)
+    assert m.nloop_equations == 3 + 5 + 5 + 6 + 1
+    assert np.abs(soadyn.loop_residual(m, q)).max() < 1e-12
+    C = soadyn.loop_jacobian(m, q)
+    v = rng.normal(size=m.nv)
+    h = 1e-6
+    dpsi = (soadyn.loop_residual(m, soadyn.integrate(m, q, v, h))
+            - soadyn.loop_residual(m, soadyn.integrate(m, q, v, -h))) / (2 * h)
+    assert np.abs(dpsi - C @ v).max() <= 1e-7 * np.abs(C @ v).max()
+    # kappa: along the constrained motion d/dt (C v) = 0, i.e. C qdd = kappa.
+    v -= np.linalg.pinv(C) @ (C @ v)
+    qdd, _, _ = soadyn.constrained_dynamics(m, q, v, rng.normal(size=m.nv))
+    h = 1e-5
+    plus = soadyn.loop_residual(m, soadyn.integrate(m, q, h * v + 0.5 * h * h * qdd, 1.0), v + h * qdd)[1]
+    minus = soadyn.loop_residual(m, soadyn.integrate(m, q, -h * v + 0.5 * h * h * qdd, 1.0), v - h * qdd)[1]
+    scale = np.abs(C).max() * (np.abs(qdd).max() + np.abs(v).max() ** 2)
+    assert np.abs((plus - minus) / (2 * h)).max() <= 1e-6 * scale
+
+
+def test_loop_names_and_counts():
+    m = four_bar()
+    assert m.loop_names == ["pin"] and m.nloops == 1 and m.nloop_equations == 5
+
+
+def _two_links():
+    m = soadyn.Model()
+    z = soadyn.Joint.revolute((0, 0, 1))
+    m.add_body("a", None, z, mass=1.0, com=(0.5, 0, 0), inertia=(0.1, 0.1, 0.1))
+    m.add_body("b", "a", z, placement=(1.0, 0, 0), mass=1.0, com=(0.5, 0, 0), inertia=(0.1, 0.1, 0.1))
+    return m
+
+
+@pytest.mark.parametrize("args,message", [
+    (("l", "a", "a", "point"), "loop 'l': frame_a 'a' and frame_b 'a' are on the same body 'a'"),
+    (("l", "nope", "b", "point"), "loop 'l': frame_a 'nope' is neither a body nor a frame"),
+    (("l", "a", "nope", "weld"), "loop 'l': frame_b 'nope' is neither a body nor a frame"),
+    (("l", "a", "b", "hinge"), "loop 'l': unknown kind 'hinge' (expected point, revolute, prismatic, weld or distance)"),
+    (("l", "a", "b", "distance"), "loop 'l': a distance loop needs length="),
+    (("l", None, "b", "point"), "loop 'l': frame_a '' is on the world; frame_a must be on a body"),
+])
+def test_bad_loops_are_refused_by_name(args, message):
+    m = _two_links()
+    with pytest.raises(soadyn.LoopError) as info:
+        m.add_loop(*args)
+    assert str(info.value) == message
+    assert m.nloops == 0
+
+
+def test_nan_placement_duplicate_name_and_bad_length_are_refused():
+    m = _two_links()
+    with pytest.raises(soadyn.LoopError, match=r"^loop 'l': placement_a is not finite$"):
+        m.add_loop("l", "a", "b", "point", placement_a=(None, (np.nan, 0, 0)))
+    with pytest.raises(soadyn.LoopError, match=r"^loop 'l': placement_b rotation is not a rotation matrix"):
+        m.add_loop("l", "a", "b", "point", placement_b=(2 * np.eye(3), None))
+    with pytest.raises(soadyn.LoopError, match=r"^loop 'l': a distance loop needs a finite, positive length$"):
+        m.add_loop("l", "a", "b", "distance", length=-1.0)
+    m.add_loop("l", "a", "b", "point")
+    with pytest.raises(soadyn.LoopError, match=r"^loop 'l': duplicate loop name$"):
+        m.add_loop("l", "a", None, "point")
+    assert m.nloops == 1
+
+
+def test_loops_on_flexible_bodies_are_refused():
+    m = soadyn.Model()
+    beam = soadyn.FlexibleBody.cantilever_beam(1.0, 10.0, 1.0, 2)
+    m.add_flexible_body("beam", None, beam, soadyn.Joint.revolute((0, 0, 1)))
+    m.add_body("tip", "beam", soadyn.Joint.revolute((0, 0, 1)), placement=(1.0, 0, 0), mass=1.0,
+               com=(0.1, 0, 0), inertia=(0.1, 0.1, 0.1))
+    with pytest.raises(soadyn.LoopError, match=r"^loop 'l': frame_a 'tip' is on flexible body 'beam' or carried "
+                                               r"by it; loops on flexible bodies are not supported$"):
+        m.add_loop("l", "tip", None, "point")

@@ -1,0 +1,105 @@
+"""Constrained dynamics of random trees closed by 1-3 loops against
+Pinocchio's constraint dynamics (pin.RigidConstraintModel +
+pin.initConstraintDynamics + pin.constraintDynamics, proximal settings tight).
+
+Each loop joins a frame on one body (frame_a, Pinocchio's joint1 placement)
+to a frame on another body or the world (frame_b, joint2), placed so that
+the loop is closed at the drawn configuration; the velocity is projected onto
+the loop's tangent space. "point" is Pinocchio's CONTACT_3D, "weld" its
+CONTACT_6D. Pinocchio's multipliers are, in the LOCAL frame of joint1's
+placement, the force (CONTACT_3D) or the spatial force (linear, angular;
+CONTACT_6D) the constraint applies to joint1's side, which soadyn reports in
+world axes as loop_wrenches [torque; force]."""
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import soadyn
+from test_pinocchio_oracle import Mapping, build_pinocchio, build_soadyn, random_specs
+
+RTOL = 1e-9
+CASES = [(seed, floating, nloops) for seed in range(4) for floating in (True, False) for nloops in (1, 2, 3)]
+IDS = [f"seed{s}-{'floating' if f else 'fixed'}-{n}loops" for s, f, n in CASES]
+
+
+def _pose(T):
+    return T[:3, :3], T[:3, 3]
+
+
+def closed_loop_case(seed, floating, nloops, kinds):
+    specs = random_specs(seed, floating)
+    m = build_soadyn(specs)
+    model = build_pinocchio(specs, m.gravity)
+    mapping = Mapping(m, model, specs)
+    rng = np.random.default_rng(100 + seed)
+    q = soadyn.random_configuration(m, seed)
+    poses = soadyn.forward_kinematics(m, q)[0]
+    constraints = []
+    for k in range(nloops):
+        a, b = rng.choice(np.arange(-1, m.nbodies), size=2, replace=False)
+        if a < 0:
+            a, b = b, a
+        kind = kinds[k % len(kinds)]
+        Ra = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+        Ra *= np.sign(np.linalg.det(Ra))
+        pa = rng.uniform(-0.3, 0.3, size=3)
+        A_world = poses[a] @ np.block([[Ra, pa[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]])
+        B_body = A_world if b < 0 else np.linalg.solve(poses[b], A_world)  # closed at q
+        m.add_loop(f"loop{k}", m.body_names[a], None if b < 0 else m.body_names[b], kind,
+                   placement_a=(Ra, pa), placement_b=_pose(B_body))
+        ctype = pin.ContactType.CONTACT_3D if kind == "point" else pin.ContactType.CONTACT_6D
+        constraints.append(pin.RigidConstraintModel(ctype, model, int(a) + 1, pin.SE3(Ra, pa), int(b) + 1,
+                                                    pin.SE3(*_pose(B_body)), pin.ReferenceFrame.LOCAL))
+    C = soadyn.loop_jacobian(m, q)
+    v = rng.normal(size=m.nv)
+    v -= np.linalg.pinv(C) @ (C @ v)  # on the tangent space of the loops
+    return m, model, mapping, constraints, q, v, rng, A_world
+
+
+def pinocchio_solution(model, mapping, constraints, q, v, tau):
+    data = model.createData()
+    models = pin.StdVec_RigidConstraintModel()
+    for c in constraints:
+        models.append(c)
+    datas = pin.StdVec_RigidConstraintData()
+    for c in constraints:
+        datas.append(c.createData())
+    pin.initConstraintDynamics(model, data, models, datas)
+    settings = pin.ProximalSettings(1e-14, 1e-12, 200)
+    ddq = pin.constraintDynamics(model, data, mapping.q(q), mapping.v(v), mapping.v(tau), models, datas,
+                                 settings)
+    return mapping.back(ddq), np.array(data.lambda_c)
+
+
+@pytest.mark.parametrize("seed,floating,nloops", CASES, ids=IDS)
+@pytest.mark.parametrize("kinds", [("point",), ("weld",), ("point", "weld")], ids=["point", "weld", "mixed"])
+def test_constrained_dynamics_matches_pinocchio(seed, floating, nloops, kinds):
+    m, model, mapping, constraints, q, v, rng, _ = closed_loop_case(seed, floating, nloops, kinds)
+    assert np.abs(soadyn.loop_residual(m, q)).max() < 1e-12
+    tau = rng.normal(size=m.nv)
+    qdd, tau_out, wrenches = soadyn.constrained_dynamics(m, q, v, tau)
+    qdd_pin, lam_pin = pinocchio_solution(model, mapping, constraints, q, v, tau)
+    scale = max(1.0, np.abs(qdd_pin).max())
+    assert np.abs(qdd - qdd_pin).max() <= RTOL * scale
+    np.testing.assert_array_equal(tau_out, tau)
+    C = soadyn.loop_jacobian(m, q)
+    if np.linalg.matrix_rank(C) < C.shape[0]:
+        # Redundant loop equations: the multipliers are not unique (soadyn gives the minimum-norm ones),
+        # the generalized loop force C' lambda = M qdd + h - tau is, and qdd above already pins it.
+        return
+    # Pinocchio's multipliers in soadyn's convention, loop by loop.
+    poses = soadyn.forward_kinematics(m, q)[0]
+    row = 0
+    expected = np.zeros((m.nloops, 6))
+    for k, c in enumerate(constraints):
+        RA = (poses[c.joint1_id - 1] @ c.joint1_placement.homogeneous)[:3, :3]
+        size = 3 if c.type == pin.ContactType.CONTACT_3D else 6
+        if size == 3:
+            expected[k, 3:] = RA @ lam_pin[row:row + 3]
+        else:
+            expected[k, :3] = RA @ lam_pin[row + 3:row + 6]
+            expected[k, 3:] = RA @ lam_pin[row:row + 3]
+        row += size
+    assert np.abs(wrenches - expected).max() <= RTOL * max(1.0, np.abs(expected).max())
