@@ -37,6 +37,16 @@ template <class S>
 Status constrained_dynamics(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q,
                             const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext = nullptr);
 
+namespace detail {
+// The solve behind constrained_dynamics, from what is already in `data`:
+// mass_matrix (M), loops.bias (h - J' f_ext), loops.jacobian (C) and
+// loops.kappa. Fills qdd, tau, loops.multipliers and loops.wrench. The same
+// kernel solves the impulse problem of a mode switch in a loop model
+// (M dv = tau + C' Lambda, C dv = -C v, dv_p given): bias = 0, kappa = -C v.
+template <class S>
+Status constrained_solve(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& u);
+}  // namespace detail
+
 template <class S>
 S delassus_threshold() { return S(1e3) * Eigen::NumTraits<S>::epsilon(); }
 

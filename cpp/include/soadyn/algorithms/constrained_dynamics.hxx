@@ -39,20 +39,9 @@ void loop_wrenches_from_multipliers(const ModelTpl<S>& m, DataTpl<S>& d) {
   }
 }
 
-}  // namespace detail
-
 template <class S>
-Status constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                            const ConstVecRef<S>& u, const S* f_ext) {
+Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& u) {
   LoopData<S>& ld = d.loops;
-  if (m.nloops() == 0) return hybrid_dynamics(m, d, q, v, u, f_ext);
-  Status status = mass_matrix(m, d, q);
-  if (!status.ok()) return status;
-  // h - J' f_ext, and the body accelerations of qdd = 0 that kappa needs.
-  detail::rnea(m, d, q.data(), v.data(), static_cast<const S*>(nullptr), f_ext);
-  ld.bias = d.tau;
-  update_world_poses(m, d);
-  detail::loop_equations(m, d, true);
   detail::substitute_prescribed(m, ld, d.mass_matrix);
   // Plain-loop Cholesky (small_cholesky.hpp): Eigen's blocked one allocates for nv >= 32.
   const int bad_pivot = cholesky_in_place(ld.regular_mass, S(0));
@@ -81,12 +70,28 @@ Status constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
   for (int k = 0; k < m.nv; ++k)
     if (!m.is_prescribed(k)) d.tau[k] = u[k];
   detail::loop_wrenches_from_multipliers(m, d);
-  status = check_finite(d.qdd);
+  Status status = check_finite(d.qdd);
   if (!status.ok()) return status;
   status = check_finite(d.tau);
   if (!status.ok()) return status;
   if (!ld.multipliers.allFinite()) return {StatusCode::non_finite_result, -1};
   return status;
+}
+
+}  // namespace detail
+
+template <class S>
+Status constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                            const ConstVecRef<S>& u, const S* f_ext) {
+  if (m.nloops() == 0) return hybrid_dynamics(m, d, q, v, u, f_ext);
+  const Status status = mass_matrix(m, d, q);
+  if (!status.ok()) return status;
+  // h - J' f_ext, and the body accelerations of qdd = 0 that kappa needs.
+  detail::rnea(m, d, q.data(), v.data(), static_cast<const S*>(nullptr), f_ext);
+  d.loops.bias = d.tau;
+  update_world_poses(m, d);
+  detail::loop_equations(m, d, true);
+  return detail::constrained_solve(m, d, u);
 }
 
 }  // namespace soadyn
