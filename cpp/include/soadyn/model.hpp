@@ -171,6 +171,10 @@ class ModelTpl {
   int nq = 0, nv = 0;
   std::vector<std::string> dof_names, coordinate_names;
   std::vector<int> dof_body;
+  // The previous DOF on each DOF's path to the root (-1: none): the mass
+  // matrix couples a DOF only with its ancestors and descendants (branch-
+  // induced sparsity, algorithms/tree_cholesky.hpp).
+  std::vector<int> dof_parent;
   std::vector<std::uint8_t> prescribed;
   std::vector<std::uint8_t> modal_dof;  // 1 for modal coordinates
   int n_prescribed = 0;  // how many DOFs are prescribed

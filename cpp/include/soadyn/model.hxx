@@ -267,7 +267,13 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
   if (flexible) flexible_bodies.push_back(*flexible);
   for (int k = 0; k < jq; ++k) coordinate_names.push_back(jq == 1 ? jname : jname + ":" + qs[k]);
   for (int k = 0; k < nm; ++k) coordinate_names.push_back(new_dofs[static_cast<std::size_t>(jv + k)]);
+  int ancestor = parent_body;  // the nearest ancestor with DOFs: its last DOF precedes this body's first
+  while (ancestor >= 0 && nv_body[static_cast<std::size_t>(ancestor)] + n_modes[static_cast<std::size_t>(ancestor)] == 0)
+    ancestor = parent[static_cast<std::size_t>(ancestor)];
+  const int ancestor_last_dof =
+      ancestor < 0 ? -1 : modal_v_index(ancestor) + n_modes[static_cast<std::size_t>(ancestor)] - 1;
   for (int k = 0; k < jv + nm; ++k) {
+    dof_parent.push_back(k == 0 ? ancestor_last_dof : nv + k - 1);
     dof_lookup_[new_dofs[static_cast<std::size_t>(k)]] = nv + k;
     dof_names.push_back(new_dofs[static_cast<std::size_t>(k)]);
     dof_body.push_back(index);
