@@ -42,6 +42,19 @@ py::array_t<double> vector_out(py::ssize_t n) { return fresh_array(n); }
 
 py::array_t<double> wrench_out(const ModelHandle& h) { return fresh_array(h.model.nbodies(), 6); }
 
+// The (nbodies, 6) joint-wrench array of a call that returns it on request:
+// `data` is null when it was not asked for.
+struct OptionalWrenches {
+  py::object array;
+  double* data = nullptr;
+  OptionalWrenches(const ModelHandle& h, bool wanted) {
+    if (!wanted) return;
+    auto a = wrench_out(h);
+    data = a.mutable_data();
+    array = std::move(a);
+  }
+};
+
 void copy_hinge_forces(const soadyn::Data& d, double* out) {
   for (std::size_t i = 0; i < d.hinge_force.size(); ++i) Eigen::Map<soadyn::Vec6<double>>(out + 6 * i) = d.hinge_force[i];
 }
@@ -131,17 +144,12 @@ void bind_algorithms(py::module_& mod) {
       [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext, bool wrenches) -> py::object {
         const StateArgs a(h, q, v, u, "u", f_ext);
         auto qdd = vector_out(h.model.nv), tau = vector_out(h.model.nv);
-        py::object w;
-        double* wo = nullptr;
-        if (wrenches) {
-          auto wa = wrench_out(h);
-          wo = wa.mutable_data();
-          w = std::move(wa);
-        }
-        raise_on(hybrid_dynamics_into(h, a.buffers(), qdd.mutable_data(), tau.mutable_data(), wo), h.model,
+        const OptionalWrenches w(h, wrenches);
+        raise_on(hybrid_dynamics_into(h, a.buffers(), qdd.mutable_data(), tau.mutable_data(), w.data), h.model,
                  "hybrid_dynamics");
-        if (wo) refuse_non_finite("hybrid_dynamics", "joint wrench", wo, h.model.body_names.size(), 6, h.model.body_names);
-        if (wrenches) return py::make_tuple(qdd, tau, w);
+        if (w.data)
+          refuse_non_finite("hybrid_dynamics", "joint wrench", w.data, h.model.body_names.size(), 6, h.model.body_names);
+        if (wrenches) return py::make_tuple(qdd, tau, w.array);
         return py::make_tuple(qdd, tau);
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none(),
@@ -155,13 +163,8 @@ void bind_algorithms(py::module_& mod) {
         const StateArgs a(h, q, v, u, "u", f_ext);
         auto qdd = vector_out(h.model.nv), tau = vector_out(h.model.nv);
         auto wrenches = fresh_array(h.model.nloops(), 6);
-        py::object hinge;
-        double* ho = nullptr;
-        if (joint_wrenches) {
-          auto ha = wrench_out(h);
-          ho = ha.mutable_data();
-          hinge = std::move(ha);
-        }
+        const OptionalWrenches hinge(h, joint_wrenches);
+        double* ho = hinge.data;
         double* w = wrenches.mutable_data();
         soadyn::Status status;
         run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
@@ -177,7 +180,7 @@ void bind_algorithms(py::module_& mod) {
         raise_on(status, h.model, "constrained_dynamics");
         if (ho) refuse_non_finite("constrained_dynamics", "joint wrench", ho, h.model.body_names.size(), 6,
                                   h.model.body_names);
-        if (joint_wrenches) return py::make_tuple(qdd, tau, wrenches, hinge);
+        if (joint_wrenches) return py::make_tuple(qdd, tau, wrenches, hinge.array);
         return py::make_tuple(qdd, tau, wrenches);
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none(),

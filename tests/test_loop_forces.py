@@ -609,7 +609,7 @@ def loop_models(draw):
     return m, q, v, u, f_ext
 
 
-@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=300, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(loop_models())
 def test_constrained_dynamics_fuzz_is_finite_or_a_named_error(case):
     m, q, v, u, f_ext = case
