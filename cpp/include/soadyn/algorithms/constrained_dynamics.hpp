@@ -40,7 +40,8 @@
 // lambda (minimum norm) and its accelerations, tau and wrenches in `data`,
 // finite, and returns inconsistent_loop_equations with the index of the loop
 // whose closure acceleration C qdd - kappa is furthest off (relative to
-// |kappa| + |C||qdd|, above loop_consistency_threshold). A locked mechanism
+// |kappa| + |C|(|qdd| + |qdd_free|), above loop_consistency_threshold; only
+// checked when K is rank deficient: a full-rank K is solved exactly). A locked mechanism
 // (mobility zero) with consistent inputs is an ordinary case: qdd is the
 // unique motion and tau_p the minimum-norm forces (zero when the structure
 // can carry the load).

@@ -215,7 +215,9 @@ Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<
   status = check_finite(d.tau);
   if (!status.ok()) return status;
   if (!ld.multipliers.allFinite()) return {StatusCode::non_finite_result, -1};
-  const int loop = inconsistent_loop(m, d);
+  // A full-rank Delassus system is solved exactly: only a rank-deficient one
+  // can leave closure accelerations unmet.
+  const int loop = ld.delassus_solve.rank < m.nloop_equations ? inconsistent_loop(m, d) : -1;
   if (loop >= 0) return {StatusCode::inconsistent_loop_equations, loop};
   return status;
 }
