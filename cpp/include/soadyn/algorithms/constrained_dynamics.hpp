@@ -41,7 +41,10 @@
 // finite, and returns inconsistent_loop_equations with the index of the loop
 // whose closure acceleration C qdd - kappa is furthest off (relative to
 // |kappa| + |C|(|qdd| + |qdd_free|), above loop_consistency_threshold; only
-// checked when K is rank deficient: a full-rank K is solved exactly). A locked mechanism
+// checked when K is rank deficient: a full-rank K is solved exactly; an
+// absolute floor keeps the drift of a mechanism at rest from counting). The
+// check belongs to constrained_dynamics, not to the kernel
+// detail::constrained_solve. A locked mechanism
 // (mobility zero) with consistent inputs is an ordinary case: qdd is the
 // unique motion and tau_p the minimum-norm forces (zero when the structure
 // can carry the load).
@@ -81,7 +84,8 @@ Status constrained_dynamics(const ModelTpl<S>& model, DataTpl<S>& data, const Co
 // `loop_wrenches` (nloops rows of 6, [torque; force] of frame B's side on
 // frame A's side, world axes, about frame A's origin: data.loops.wrench as
 // constrained_dynamics leaves it), each applied as in constrained_dynamics.
-// data.tau = M qdd + h - J' f_ext - C' lambda. Status: non_finite_result.
+// data.tau is inverse dynamics' M qdd + h - J' f_ext (the loop forces not
+// subtracted). Status: non_finite_result.
 template <class S>
 Status loop_joint_wrenches(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q,
                            const ConstVecRef<S>& v, const ConstVecRef<S>& qdd, const S* loop_wrenches,
@@ -90,7 +94,10 @@ Status loop_joint_wrenches(const ModelTpl<S>& model, DataTpl<S>& data, const Con
 namespace detail {
 // The solve behind constrained_dynamics, from what is already in `data`:
 // mass_matrix (M), loops.bias (h - J' f_ext), loops.jacobian (C) and
-// loops.kappa. Fills qdd, tau, loops.multipliers and loops.wrench. The same
+// loops.kappa. Fills qdd, tau (minimum-norm actuator forces),
+// loops.multipliers and loops.wrench; leaves the least-squares answer of an
+// inconsistent system without a status (an impulse's rhs -C v is
+// inconsistent only by the velocity drift, which the projection removes). The same
 // kernel solves the impulse problem of a mode switch in a loop model
 // (M dv = tau + C' Lambda, C dv = -C v, dv_p given): bias = 0, kappa = -C v.
 template <class S>

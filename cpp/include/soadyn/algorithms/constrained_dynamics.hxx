@@ -103,10 +103,13 @@ S closure_equation_scale(const LoopData<S>& ld, const VecX<S>& qdd, int i) {
 }
 
 // The loop whose closure acceleration C qdd = kappa is furthest off, relative
-// to closure_equation_scale (plus loop_consistency_threshold times the
-// largest such scale, so equations that vanish identically, as the
-// out-of-plane rows of a planar mechanism, are judged against the others),
-// or -1 when every equation is met within loop_consistency_threshold.
+// to closure_equation_scale plus loop_consistency_threshold times (the
+// largest such scale + 1): equations that vanish identically, as the
+// out-of-plane rows of a planar mechanism, are judged against the others,
+// and a mechanism at rest with no load against a floor of
+// loop_consistency_threshold^2 (2.2e-13 in double, in the equations' SI
+// units), below which a closure acceleration is drift. -1 when every
+// equation is met.
 template <class S>
 int inconsistent_loop(const ModelTpl<S>& m, const DataTpl<S>& d) {
   using std::abs;
@@ -120,7 +123,7 @@ int inconsistent_loop(const ModelTpl<S>& m, const DataTpl<S>& d) {
     const LoopTpl<S>& loop = m.loops[l];
     for (int i = loop.first_row; i < loop.first_row + loop.rows(); ++i) {
       const S scale = closure_equation_scale(ld, d.qdd, i);
-      const S ratio = abs(ld.jacobian.row(i).dot(d.qdd) - ld.kappa[i]) / (tol * (scale + tol * largest_scale));
+      const S ratio = abs(ld.jacobian.row(i).dot(d.qdd) - ld.kappa[i]) / (tol * (scale + tol * (largest_scale + S(1))));
       if (ratio > worst_ratio) {
         worst_ratio = ratio;
         worst = static_cast<int>(l);
@@ -215,10 +218,6 @@ Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<
   status = check_finite(d.tau);
   if (!status.ok()) return status;
   if (!ld.multipliers.allFinite()) return {StatusCode::non_finite_result, -1};
-  // A full-rank Delassus system is solved exactly: only a rank-deficient one
-  // can leave closure accelerations unmet.
-  const int loop = ld.delassus_solve.rank < m.nloop_equations ? inconsistent_loop(m, d) : -1;
-  if (loop >= 0) return {StatusCode::inconsistent_loop_equations, loop};
   return status;
 }
 
@@ -235,9 +234,14 @@ Status constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
   d.loops.bias = d.tau;
   update_world_poses(m, d);
   detail::loop_equations(m, d, true);
-  const Status status = detail::constrained_solve(m, d, u);
-  if (!outputs.hinge_forces || !(status.ok() || status.code == StatusCode::inconsistent_loop_equations)) return status;
-  const Status wrenches = detail::constrained_hinge_forces(m, d, q, v, f_ext);
+  Status status = detail::constrained_solve(m, d, u);
+  if (!status.ok()) return status;
+  // A full-rank Delassus system is solved exactly: only a rank-deficient one
+  // can leave closure accelerations unmet.
+  const int loop = d.loops.delassus_solve.rank < m.nloop_equations ? detail::inconsistent_loop(m, d) : -1;
+  if (loop >= 0) status = {StatusCode::inconsistent_loop_equations, loop};
+  if (!outputs.hinge_forces) return status;
+  const Status wrenches = detail::constrained_hinge_forces(m, d, q, v, f_ext);  // also of a least-squares answer
   return wrenches.ok() ? status : wrenches;
 }
 
