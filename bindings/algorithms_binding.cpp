@@ -31,6 +31,29 @@ py::array_t<double> vector_out(py::ssize_t n) { return fresh_array(n); }
 
 py::array_t<double> wrench_out(const ModelHandle& h) { return fresh_array(h.model.nbodies(), 6); }
 
+// The (nbodies, 6) joint-wrench array of a call that returns it on request:
+// `data` is null when it was not asked for.
+struct OptionalWrenches {
+  py::object array;
+  double* data = nullptr;
+  OptionalWrenches(const ModelHandle& h, bool wanted) {
+    if (!wanted) return;
+    auto a = wrench_out(h);
+    data = a.mutable_data();
+    array = std::move(a);
+  }
+};
+
+void copy_hinge_forces(const soadyn::Data& d, double* out) {
+  for (std::size_t i = 0; i < d.hinge_force.size(); ++i) Eigen::Map<soadyn::Vec6<double>>(out + 6 * i) = d.hinge_force[i];
+}
+
+std::vector<std::string> loop_names(const soadyn::Model& m) {
+  std::vector<std::string> names;
+  for (const auto& l : m.loops) names.push_back(l.name);
+  return names;
+}
+
 // The checked (q, v, x, f_ext) of a dynamics call; x is tau, qdd or u.
 // (The model's version is read first: converting an argument may run Python
 // code, and so let another thread change the model.)
@@ -76,32 +99,46 @@ void bind_algorithms(py::module_& mod) {
       "Generalized forces tau = M qdd + h - J' f_ext (recursive Newton-Euler). Returns a fresh array.");
 
   mod.def("joint_wrenches",
-      [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext) {
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext, py::handle loop_wrenches) {
         const StateArgs a(h, q, v, qdd, "qdd", f_ext);
         auto out = wrench_out(h);
-        inverse_dynamics_into(h, a.buffers(), nullptr, out.mutable_data());  // its torques are not returned
+        if (h.model.nloops() == 0 && loop_wrenches.is_none()) {
+          inverse_dynamics_into(h, a.buffers(), nullptr, out.mutable_data());  // its torques are not returned
+        } else {
+          if (loop_wrenches.is_none())
+            throw py::value_error("joint_wrenches: the model has closed loops: pass loop_wrenches= (the (nloops, 6) "
+                                  "loop wrenches constrained_dynamics returns), or call "
+                                  "constrained_dynamics(..., joint_wrenches=True)");
+          const Array w = checked_matrix(loop_wrenches, "loop_wrenches", 6, loop_names(h.model));
+          soadyn::Status status;
+          run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
+            status = soadyn::loop_joint_wrenches<double>(m, d, Map(a.q.data(), m.nq), Map(a.v.data(), m.nv),
+                                                         Map(a.x.data(), m.nv), w.data(), a.f_ext);
+            copy_hinge_forces(d, out.mutable_data());
+          });
+          raise_on(status, h.model, "joint_wrenches");
+        }
         refuse_non_finite("joint_wrenches", "joint wrench", out.data(), h.model.body_names.size(), 6, h.model.body_names);
         return out;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("qdd"), py::arg("f_ext") = py::none(),
+      py::arg("loop_wrenches") = py::none(),
       "Joint reaction wrenches (nbodies, 6): the spatial force [torque; force] the parent exerts on each body\n"
-      "through its hinge, in the body frame about the body origin, at the given accelerations.");
+      "through its hinge, in the body frame about the body origin, at the given accelerations. On a model with\n"
+      "closed loops the tree is also loaded by the loop forces, so loop_wrenches (nloops, 6) is required: the\n"
+      "wrenches constrained_dynamics returns (each acts on frame_a's body about frame_a's origin, its opposite\n"
+      "on frame_b's body with the force at frame_b's origin, frame_a's for a prismatic loop).");
 
   mod.def("hybrid_dynamics",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext, bool wrenches) -> py::object {
         const StateArgs a(h, q, v, u, "u", f_ext);
         auto qdd = vector_out(h.model.nv), tau = vector_out(h.model.nv);
-        py::object w;
-        double* wo = nullptr;
-        if (wrenches) {
-          auto wa = wrench_out(h);
-          wo = wa.mutable_data();
-          w = std::move(wa);
-        }
-        raise_on(hybrid_dynamics_into(h, a.buffers(), qdd.mutable_data(), tau.mutable_data(), wo), h.model,
+        const OptionalWrenches w(h, wrenches);
+        raise_on(hybrid_dynamics_into(h, a.buffers(), qdd.mutable_data(), tau.mutable_data(), w.data), h.model,
                  "hybrid_dynamics");
-        if (wo) refuse_non_finite("hybrid_dynamics", "joint wrench", wo, h.model.body_names.size(), 6, h.model.body_names);
-        if (wrenches) return py::make_tuple(qdd, tau, w);
+        if (w.data)
+          refuse_non_finite("hybrid_dynamics", "joint wrench", w.data, h.model.body_names.size(), 6, h.model.body_names);
+        if (wrenches) return py::make_tuple(qdd, tau, w.array);
         return py::make_tuple(qdd, tau);
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none(),
@@ -111,28 +148,41 @@ void bind_algorithms(py::module_& mod) {
       "and generalized force, plus the (nbodies, 6) joint wrenches when joint_wrenches=True.");
 
   mod.def("constrained_dynamics",
-      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext) {
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext, bool joint_wrenches) -> py::object {
         const StateArgs a(h, q, v, u, "u", f_ext);
         auto qdd = vector_out(h.model.nv), tau = vector_out(h.model.nv);
         auto wrenches = fresh_array(h.model.nloops(), 6);
+        const OptionalWrenches hinge(h, joint_wrenches);
+        double* ho = hinge.data;
         double* w = wrenches.mutable_data();
         soadyn::Status status;
         run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
           status = soadyn::constrained_dynamics<double>(m, d, Map(a.q.data(), m.nq), Map(a.v.data(), m.nv),
-                                                        Map(a.x.data(), m.nv), a.f_ext);
+                                                        Map(a.x.data(), m.nv), a.f_ext,
+                                                        soadyn::DynamicsOutputs{joint_wrenches});
           Eigen::Map<Eigen::VectorXd>(qdd.mutable_data(), m.nv) = d.qdd;
           Eigen::Map<Eigen::VectorXd>(tau.mutable_data(), m.nv) = d.tau;
           for (std::size_t l = 0; l < d.loops.wrench.size(); ++l)
             Eigen::Map<soadyn::Vec6<double>>(w + 6 * l) = d.loops.wrench[l];
+          if (ho) copy_hinge_forces(d, ho);
         });
         raise_on(status, h.model, "constrained_dynamics");
+        if (ho) refuse_non_finite("constrained_dynamics", "joint wrench", ho, h.model.body_names.size(), 6,
+                                  h.model.body_names);
+        if (joint_wrenches) return py::make_tuple(qdd, tau, wrenches, hinge.array);
         return py::make_tuple(qdd, tau, wrenches);
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none(),
+      py::arg("joint_wrenches") = false,
       "Hybrid dynamics with the model's closed loops: u as in hybrid_dynamics. Returns fresh arrays (qdd, tau,\n"
       "loop_wrenches): every DOF's acceleration and generalized force, and per loop (nloops, 6) the wrench\n"
-      "[torque; force] that frame_b's side exerts on frame_a's side, world-aligned axes, about frame_a's origin.\n"
-      "Redundant loop equations give the minimum-norm multipliers. Equals hybrid_dynamics without loops.");
+      "[torque; force] that frame_b's side exerts on frame_a's side, world-aligned axes, about frame_a's origin;\n"
+      "with joint_wrenches=True also the (nbodies, 6) joint wrenches of the tree loaded by f_ext and the loop\n"
+      "forces (as joint_wrenches). Redundant loop equations give minimum-norm multipliers. With more prescribed\n"
+      "DOFs than the mechanism's mobility (redundant actuation) tau holds the minimum-norm actuator forces: the\n"
+      "smallest ||tau_p|| over every set of loop forces consistent with the motion. Closure accelerations that\n"
+      "cannot be met (inconsistent prescribed accelerations, a driven mechanism at a dead centre) raise\n"
+      "DynamicsError naming the loop. Equals hybrid_dynamics without loops.");
 
   mod.def("loop_residual",
       [](ModelHandle& h, py::handle q, py::handle v) -> py::object {

@@ -56,6 +56,14 @@ void raise_on(const soadyn::Status& s, const soadyn::Model& m, const char* what)
                         "configuration from here with the DOFs allowed to move)");
   }
   const std::string& dof = name_of(m.dof_names, s.index);
+  if (s.code == soadyn::StatusCode::inconsistent_loop_equations) {
+    const std::string loop = s.index >= 0 && static_cast<std::size_t>(s.index) < m.loops.size()
+                                 ? m.loops[static_cast<std::size_t>(s.index)].name
+                                 : std::string("?");
+    throw DynamicsError(std::string(what) + ": the closure equations of loop '" + loop +
+                        "' cannot be met: the prescribed accelerations are inconsistent with the loops, or the "
+                        "mechanism is at a singular configuration (a dead centre)");
+  }
   if (s.code == soadyn::StatusCode::singular_articulated_inertia)
     throw DynamicsError(std::string(what) + ": the articulated inertia D of regular DOF '" + dof +
                         "' is singular: nothing with mass or inertia moves with this DOF");

@@ -3,6 +3,7 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <optional>
 #include <tuple>
 #include <utility>
 #include <variant>
@@ -105,7 +106,7 @@ void bind_model(py::module_& mod) {
       .def("_add_loop",
            [](ModelHandle& h, const std::string& name, const std::string& frame_a, const std::string& frame_b,
               const std::string& kind, const Eigen::Matrix3d& Ra, const Eigen::Vector3d& pa, const Eigen::Matrix3d& Rb,
-              const Eigen::Vector3d& pb, double length) {
+              const Eigen::Vector3d& pb, double length, std::optional<Eigen::VectorXd> q) {
              soadyn::Transform<double> Xa, Xb;
              Xa.rotation = Ra;
              Xa.translation = pa;
@@ -113,7 +114,10 @@ void bind_model(py::module_& mod) {
              Xb.translation = pb;
              const soadyn::LoopKind k = soadyn::parse_loop_kind(kind, name);
              const auto lock = h.lock_for_change();
-             return h.model.add_loop(name, frame_a, frame_b, k, Xa, Xb, length);
+             if (q && q->size() != h.model.nq)
+               throw py::value_error("loop '" + name + "': q has " + std::to_string(q->size()) + " entries, expected " +
+                                     std::to_string(h.model.nq));
+             return h.model.add_loop(name, frame_a, frame_b, k, Xa, Xb, length, q ? q->data() : nullptr);
            })
       .def_property_readonly("loop_names", [](const ModelHandle& h) {
              std::vector<std::string> names;

@@ -221,7 +221,8 @@ def _two_links():
     (("l", "nope", "b", "point"), "loop 'l': frame_a 'nope' is neither a body nor a frame"),
     (("l", "a", "nope", "weld"), "loop 'l': frame_b 'nope' is neither a body nor a frame"),
     (("l", "a", "b", "hinge"), "loop 'l': unknown kind 'hinge' (expected point, revolute, prismatic, weld or distance)"),
-    (("l", "a", "b", "distance"), "loop 'l': a distance loop needs length="),
+    (("l", "a", None, "distance"),  # no length=: measured at the neutral configuration, where they coincide
+     "loop 'l': frame_a and frame_b coincide at the neutral configuration: give the rod's length="),
     (("l", None, "b", "point"), "loop 'l': frame_a '' is on the world; frame_a must be on a body"),
 ])
 def test_bad_loops_are_refused_by_name(args, message):

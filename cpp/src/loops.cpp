@@ -8,7 +8,9 @@ namespace soadyn {
   template void loop_residual<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, const S*);            \
   template int loop_rank<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&);                          \
   template Status constrained_dynamics<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&,              \
-                                          const ConstVecRef<S>&, const ConstVecRef<S>&, const S*);     \
+                                          const ConstVecRef<S>&, const ConstVecRef<S>&, const S*, DynamicsOutputs); \
+  template Status loop_joint_wrenches<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&,               \
+                                         const ConstVecRef<S>&, const ConstVecRef<S>&, const S*, const S*);   \
   template Status detail::constrained_solve<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&);      \
   template Status assemble_loops<S>(const ModelTpl<S>&, DataTpl<S>&, VecRef<S>, const ConstVecRef<S>&, S, int,  \
                                     int*);                                                                      \

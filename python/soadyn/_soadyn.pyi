@@ -86,7 +86,7 @@ class _Model:
         ...
     def _add_flexible_body(self, arg0: str, arg1: str, arg2: Joint, arg3: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], arg4: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg5: FlexibleBody) -> int:
         ...
-    def _add_loop(self, arg0: str, arg1: str, arg2: str, arg3: str, arg4: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], arg5: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg6: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], arg7: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg8: typing.SupportsFloat | typing.SupportsIndex) -> int:
+    def _add_loop(self, arg0: str, arg1: str, arg2: str, arg3: str, arg4: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], arg5: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg6: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], arg7: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg8: typing.SupportsFloat | typing.SupportsIndex, arg9: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None) -> int:
         ...
     def _copy_from(self, arg0: _Model) -> None:
         ...
@@ -617,12 +617,17 @@ def forward_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.A
     whatever the model's flags). f_ext: (nbodies, 6) body-frame wrenches [torque; force] about each body
     origin. Returns a fresh array.
     """
-def constrained_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike, f_ext: numpy.typing.ArrayLike | None = None) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+def constrained_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike, f_ext: numpy.typing.ArrayLike | None = None, joint_wrenches: bool = False) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]] | tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     """
     Hybrid dynamics with the model's closed loops: u as in hybrid_dynamics. Returns fresh arrays (qdd, tau,
     loop_wrenches): every DOF's acceleration and generalized force, and per loop (nloops, 6) the wrench
-    [torque; force] that frame_b's side exerts on frame_a's side, world-aligned axes, about frame_a's origin.
-    Redundant loop equations give the minimum-norm multipliers. Equals hybrid_dynamics without loops.
+    [torque; force] that frame_b's side exerts on frame_a's side, world-aligned axes, about frame_a's origin;
+    with joint_wrenches=True also the (nbodies, 6) joint wrenches of the tree loaded by f_ext and the loop
+    forces (as joint_wrenches). Redundant loop equations give minimum-norm multipliers. With more prescribed
+    DOFs than the mechanism's mobility (redundant actuation) tau holds the minimum-norm actuator forces: the
+    smallest ||tau_p|| over every set of loop forces consistent with the motion. Closure accelerations that
+    cannot be met (inconsistent prescribed accelerations, a driven mechanism at a dead centre) raise
+    DynamicsError naming the loop. Equals hybrid_dynamics without loops.
     """
 def forward_kinematics(model: _Model, q: typing.Any, v: typing.Any = None) -> typing.Any:
     """
@@ -649,10 +654,13 @@ def inverse_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.A
     """
     Generalized forces tau = M qdd + h - J' f_ext (recursive Newton-Euler). Returns a fresh array.
     """
-def joint_wrenches(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any, f_ext: typing.Any = None) -> numpy.typing.NDArray[numpy.float64]:
+def joint_wrenches(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any, f_ext: typing.Any = None, loop_wrenches: typing.Any = None) -> numpy.typing.NDArray[numpy.float64]:
     """
     Joint reaction wrenches (nbodies, 6): the spatial force [torque; force] the parent exerts on each body
-    through its hinge, in the body frame about the body origin, at the given accelerations.
+    through its hinge, in the body frame about the body origin, at the given accelerations. On a model with
+    closed loops the tree is also loaded by the loop forces, so loop_wrenches (nloops, 6) is required: the
+    wrenches constrained_dynamics returns (each acts on frame_a's body about frame_a's origin, its opposite
+    on frame_b's body with the force at frame_b's origin, frame_a's for a prismatic loop).
     """
 def kinetic_energy(model: _Model, q: typing.Any, v: typing.Any) -> float:
     """

@@ -99,7 +99,9 @@ def _finite_or_none(x):
     return x
 
 
-LOOP_NOT_CLOSED = "loop closure not reached"  # the status of a step whose closure projection failed
+# Statuses whose index is a loop: a step whose closure projection failed, and closure
+# accelerations the prescribed motion contradicts.
+LOOP_STATUSES = ("loop closure not reached", "loop-closure equations cannot be met")
 
 
 @dataclass
@@ -321,7 +323,7 @@ def _report(sim, runner, rate, realtime, interrupted, exception, energy0, moment
     t, q, v = runner.trajectory()
     failed = s.status != "ok"
     dof_names = list(sim._dof_names)
-    loop_failed = failed and s.status == LOOP_NOT_CLOSED
+    loop_failed = failed and s.status in LOOP_STATUSES
     loop_names = list(sim._model.loop_names)
     energy1 = _measure(lambda: _energy(sim), "energy at end", report_errors)
     momentum1 = _measure(lambda: _momentum(sim), "momentum at end", report_errors)

@@ -149,13 +149,15 @@ class Model(_Model):
         return self._add_flexible_body(name, self._parent_name(parent, name), joint, R, p, body)
 
     def add_loop(self, name: str, frame_a, frame_b, kind: str, placement_a: Placement = None,
-                 placement_b: Placement = None, length: float | None = None) -> int:
+                 placement_b: Placement = None, length: float | None = None, q=None) -> int:
         """Add a closed loop (a cut joint) and return its index.
 
         frame_a: a body or frame name (or body index); frame_b: a body or frame name, or None for the world.
         kind: "point" (3 equations: the frames' origins coincide), "revolute" (5: origins coincide and z axes
         stay aligned), "prismatic" (5: equal orientations, frame_a's origin on frame_b's z axis), "weld" (6),
-        "distance" (1: a massless rod of `length` between the origins; length is required).
+        "distance" (1: a massless rod of `length` between the origins; without length, the rod has the current
+        length: the distance between the two frames at configuration `q`, or at the model's neutral
+        configuration (soadyn.neutral_configuration) when q is None).
         placement_a/placement_b: the loop frames in frame_a's/frame_b's frame, as (R, p), a 4x4 matrix or a
         translation. Loops on flexible bodies are refused. Raises LoopError naming the loop at fault.
         """
@@ -167,12 +169,19 @@ class Model(_Model):
         Rb, pb = _placement(placement_b, name, "loop")
         a_name = self._parent_name(frame_a, name) if frame_a is not None else ""
         b_name = self._parent_name(frame_b, name)
+        if q is not None and (kind != "distance" or length is not None):
+            raise LoopError(f"loop '{name}': q= gives the length of a distance loop without length=")
         if length is None:
-            if kind == "distance":
-                raise LoopError(f"loop '{name}': a distance loop needs length=")
-            length = 0.0
-        length = float(_real_array(length, "length", name, "loop"))
-        return self._add_loop(name, a_name, b_name, kind, Ra, pa, Rb, pb, length)
+            length = 0.0  # C++: a distance loop of length 0 measures it (at q, or at the neutral configuration)
+        else:
+            length = float(_real_array(length, "length", name, "loop"))
+            if kind == "distance" and not length > 0:
+                raise LoopError(f"loop '{name}': a distance loop needs a finite, positive length")
+        if q is not None:
+            from . import _soadyn
+            _soadyn.forward_kinematics(self, q)  # checks q: shape, finite, unit quaternions (named errors)
+            q = np.ascontiguousarray(q, dtype=float)
+        return self._add_loop(name, a_name, b_name, kind, Ra, pa, Rb, pb, length, q)
 
     def _parent_name(self, parent, name: str) -> str:
         if parent is None:

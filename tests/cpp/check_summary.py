@@ -69,6 +69,11 @@ def check_loops_no_allocation(output: str) -> None:
     require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
     require(bool(lines(r"^loops: 5, equations: 20, nv = \d+", output)), "five loops, 20 equations")
     require(bool(lines(r"^calls: 10000 constrained_dynamics; failed statuses: 0$", output)), "10^4 calls, none failed")
+    require(bool(lines(r"^joint wrench calls: [1-9]\d*; rank-deficient Delassus with prescribed DOFs: [1-9]\d*; "
+                       r"inconsistent loop equations \(least-squares answer\): \d+$", output)),
+            "joint wrenches and the minimum-norm actuator forces exercised")
+    require(len(lines(r"^distance loop without length \((neutral|at q)\): ", output)) == 2,
+            "distance loops measured at the neutral and at a given configuration")
     require(bool(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)), "zero allocations")
     require(bool(lines(r"^test_loops_no_allocation: PASS$", output)), "the PASS line")
 

@@ -114,12 +114,16 @@ class ModelTpl {
   // A, `placement_a` in the frame of body or frame `frame_a`, and frame B,
   // `placement_b` in the frame of `frame_b` ("" or "world": the world).
   // `length` is the rod length of a "distance" loop (finite, positive) and
-  // ignored otherwise. Loops on a flexible body, or on a body carried by one,
-  // are refused. Throws LoopError naming the loop (unknown frame, a loop
-  // between a body and itself, a non-finite or non-orthonormal placement, a
-  // duplicate name, a bad length). Returns the loop's index.
+  // ignored otherwise; 0 means the current length: the distance between the
+  // two frames at `configuration` (nq coordinates), or at the neutral
+  // configuration when it is null. Loops on a flexible body, or on a body
+  // carried by one, are refused. Throws LoopError naming the loop (unknown
+  // frame, a loop between a body and itself, a non-finite or non-orthonormal
+  // placement, a duplicate name, a bad length, frames that coincide where the
+  // length is measured). Returns the loop's index.
   int add_loop(const std::string& name, const std::string& frame_a, const std::string& frame_b, LoopKind kind,
-               const Transform<S>& placement_a, const Transform<S>& placement_b, S length = S(0));
+               const Transform<S>& placement_a, const Transform<S>& placement_b, S length = S(0),
+               const S* configuration = nullptr);
   int nloops() const { return static_cast<int>(loops.size()); }
   int loop_index(const std::string& name) const;
 

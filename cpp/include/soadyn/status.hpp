@@ -12,6 +12,8 @@ enum class StatusCode {
   non_finite_source,             // a motion source returned a non-finite value (index: its DOF)
   substep_limit,                 // the adaptive integrator used up its sub-steps in one step
   loop_not_closed,               // loop-closure projection did not converge (index: the loop, not a DOF)
+  inconsistent_loop_equations,   // closure accelerations cannot be met (index: the loop); data holds the
+                                 // least-squares answer (constrained_dynamics.hpp)
   // Internal to the dynamics dispatch, never returned by a public algorithm:
   // a body lies beyond its tree-frame reach (tree_frame_reach.hxx), so the
   // call is redone in body frames (index: the body).
@@ -28,6 +30,7 @@ inline const char* status_message(StatusCode code) {
     case StatusCode::non_finite_source: return "motion source returned a non-finite value";
     case StatusCode::substep_limit: return "sub-step limit reached";
     case StatusCode::loop_not_closed: return "loop closure not reached";
+    case StatusCode::inconsistent_loop_equations: return "loop-closure equations cannot be met";
     case StatusCode::beyond_tree_frame_reach: return "beyond tree-frame reach";
   }
   return "unknown";
@@ -35,7 +38,7 @@ inline const char* status_message(StatusCode code) {
 
 struct Status {
   StatusCode code = StatusCode::ok;
-  int index = -1;  // the DOF at fault (velocity index), or -1
+  int index = -1;  // the DOF at fault (velocity index), the loop for inconsistent_loop_equations, or -1
   bool ok() const { return code == StatusCode::ok; }
 };
 

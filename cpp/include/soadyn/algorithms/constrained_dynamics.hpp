@@ -12,35 +12,92 @@
 // Cholesky factor of M with its prescribed rows and columns replaced by the
 // identity (sizes stay nv, so flipping flags needs no reallocation). The
 // multipliers solve the Delassus system
-//   (C_r M_rr^-1 C_r') lambda = kappa - C_p qdd_p - C_r M_rr^-1 b_r
+//   K lambda = kappa - C_p qdd_p - C_r M_rr^-1 b_r,   K = C_r M_rr^-1 C_r'
 // by a pivoted Cholesky factorisation (semidefinite_solve.hpp): pivots below
-// delassus_threshold times the largest diagonal entry count as zero, so redundant loop equations (a planar four-bar closed
-// by a revolute cut: 5 equations of rank 2) give the minimum-norm lambda,
-// exact for consistent equations; for inconsistent ones the answer is the
-// least-squares lambda (closure accelerations are then not met). The
-// accelerations are unique whenever the equations are consistent. Then
-// tau_p = (M qdd + h - J' f_ext - C' lambda)_p.
+// delassus_threshold times the largest diagonal entry count as zero, so
+// redundant loop equations (a planar four-bar closed by a revolute cut: 5
+// equations of rank 2) give the minimum-norm lambda0, exact for consistent
+// equations. The accelerations are then unique: qdd_r depends on lambda only
+// through C_r' lambda, and null(K) = null(C_r').
+//
+// Actuator forces. tau_p = (M qdd + h - J' f_ext - C' lambda)_p. When the
+// prescribed DOFs are exactly independent coordinates of the mechanism
+// (rank C_r = rank C) every lambda with K lambda = rhs gives the same tau_p:
+// the "Joint Coordinate Method, Part 1" Eq. 1.31 result E'(M qdd + h), E a
+// basis of null(C). With more prescribed DOFs than the mechanism's mobility
+// (redundant actuation) tau_p is not unique; the solve returns the
+// minimum-norm actuator forces: with N a basis of null(K) (from the pivoted
+// factor, N = P'[-L1^-T L2'; I]) and B = C_p' N, lambda = lambda0 + N z with
+// z the minimum-norm least-squares solution of B z = tau0_p, tau0 = tau at
+// lambda0, so tau_p = tau0_p - B z = min ||tau_p|| over every lambda
+// consistent with the motion. The multipliers stay a consistent choice (the
+// part of lambda in null(C') remains indeterminate and is not minimised).
+//
+// Singular and inconsistent cases. When the closure accelerations cannot be
+// met (prescribed accelerations inconsistent with the loops, a driven
+// mechanism at a dead centre, a prescribed DOF of a locked mechanism moved),
+// the rhs is not in the range of K: the solve leaves the least-squares
+// lambda (minimum norm) and its accelerations, tau and wrenches in `data`,
+// finite, and returns inconsistent_loop_equations with the index of the loop
+// whose closure acceleration C qdd - kappa is furthest off (relative to
+// |kappa| + |C|(|qdd| + |qdd_free|), above loop_consistency_threshold; only
+// checked when K is rank deficient: a full-rank K is solved exactly; an
+// absolute floor keeps the drift of a mechanism at rest from counting). The
+// check belongs to constrained_dynamics, not to the kernel
+// detail::constrained_solve. A locked mechanism
+// (mobility zero) with consistent inputs is an ordinary case: qdd is the
+// unique motion and tau_p the minimum-norm forces (zero when the structure
+// can carry the load).
+//
+// Joint wrenches (DynamicsOutputs::hinge_forces): data.hinge_force holds each
+// hinge's wrench on its body (body frame, about the body origin, as
+// inverse_dynamics) in the tree loaded by f_ext and by the loop forces:
+// loop l's wrench W lambda on frame A's body (about frame A's origin) and its
+// opposite on frame B's body (its force at frame B's origin, or at frame A's
+// origin for a prismatic loop: the points whose velocities C compares)
+// ("Joint Coordinate Method, Part 1", Sect. 4, Eqs. 1.25-1.29, with the
+// cut-joint reactions C' nu).
 //
 // Allocation free after Data is built; never throws. With no loops this is
 // hybrid_dynamics itself.
 #pragma once
+#include <cmath>
 #include "soadyn/algorithms/steps.hpp"
 
 namespace soadyn {
 
 // data.qdd, data.tau as hybrid_dynamics; data.loops.multipliers (lambda),
 // data.loops.wrench (per loop, [torque; force] of frame B's side on frame A's
-// side, world axes, about frame A's origin), and the closure equations.
+// side, world axes, about frame A's origin), the closure equations, and with
+// outputs.hinge_forces the joint wrenches data.hinge_force.
 // Status: singular_articulated_inertia when M_rr is not positive definite,
-// non_finite_result naming the first non-finite acceleration or force.
+// non_finite_result naming the first non-finite acceleration or force,
+// inconsistent_loop_equations (index: the loop) with the least-squares
+// answer in `data`.
 template <class S>
 Status constrained_dynamics(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q,
-                            const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext = nullptr);
+                            const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext = nullptr,
+                            DynamicsOutputs outputs = {});
+
+// Joint wrenches of a model with loops at given accelerations: data.hinge_force
+// (as inverse_dynamics) of the tree loaded by f_ext and by the loop wrenches
+// `loop_wrenches` (nloops rows of 6, [torque; force] of frame B's side on
+// frame A's side, world axes, about frame A's origin: data.loops.wrench as
+// constrained_dynamics leaves it), each applied as in constrained_dynamics.
+// data.tau is inverse dynamics' M qdd + h - J' f_ext (the loop forces not
+// subtracted). Status: non_finite_result.
+template <class S>
+Status loop_joint_wrenches(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q,
+                           const ConstVecRef<S>& v, const ConstVecRef<S>& qdd, const S* loop_wrenches,
+                           const S* f_ext = nullptr);
 
 namespace detail {
 // The solve behind constrained_dynamics, from what is already in `data`:
 // mass_matrix (M), loops.bias (h - J' f_ext), loops.jacobian (C) and
-// loops.kappa. Fills qdd, tau, loops.multipliers and loops.wrench. The same
+// loops.kappa. Fills qdd, tau (minimum-norm actuator forces),
+// loops.multipliers and loops.wrench; leaves the least-squares answer of an
+// inconsistent system without a status (an impulse's rhs -C v is
+// inconsistent only by the velocity drift, which the projection removes). The same
 // kernel solves the impulse problem of a mode switch in a loop model
 // (M dv = tau + C' Lambda, C dv = -C v, dv_p given): bias = 0, kappa = -C v.
 template <class S>
@@ -49,5 +106,15 @@ Status constrained_solve(const ModelTpl<S>& model, DataTpl<S>& data, const Const
 
 template <class S>
 S delassus_threshold() { return S(1e3) * Eigen::NumTraits<S>::epsilon(); }
+
+// Closure accelerations off by more than this, relative to |kappa| + |C||qdd|
+// per equation, make the loop equations inconsistent: the square root of
+// delassus_threshold, the relative size of a singular value of C below
+// which the Delassus solve treats a direction as absent.
+template <class S>
+S loop_consistency_threshold() {
+  using std::sqrt;
+  return sqrt(delassus_threshold<S>());
+}
 
 }  // namespace soadyn

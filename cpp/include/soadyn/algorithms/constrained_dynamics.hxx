@@ -1,4 +1,5 @@
 #pragma once
+#include <algorithm>
 #include "soadyn/algorithms/constrained_dynamics.hpp"
 #include "soadyn/algorithms/crba.hpp"
 #include "soadyn/algorithms/hybrid.hpp"
@@ -39,6 +40,147 @@ void loop_wrenches_from_multipliers(const ModelTpl<S>& m, DataTpl<S>& d) {
   }
 }
 
+// N, a basis of null(K) (m x (m - rank), in ld.null_basis) from the pivoted
+// Cholesky factor P K P' = L L' left by the multipliers' solve: with L's
+// first `rank` rows L1 (lower triangular) and the rest L2, the permuted
+// null vectors are [-L1^-T L2'; I]. Returns m - rank.
+template <class S>
+int delassus_null_basis(LoopData<S>& ld) {
+  const SemidefiniteSolveScratch<S>& s = ld.delassus_solve;
+  const MatX<S>& L = s.factor;
+  const Eigen::Index m = L.rows(), k = s.rank, r = m - k;
+  for (Eigen::Index j = 0; j < r; ++j) {
+    for (Eigen::Index i = k; i-- > 0;) {  // back substitution with L1'
+      S x = -L(k + j, i);
+      for (Eigen::Index l = i + 1; l < k; ++l) x -= L(l, i) * ld.null_work[l];
+      ld.null_work[i] = x / L(i, i);
+    }
+    for (Eigen::Index i = 0; i < m; ++i)
+      ld.null_basis(s.permutation[static_cast<std::size_t>(i)], j) = i < k ? ld.null_work[i] : S(i == k + j ? 1 : 0);
+  }
+  return static_cast<int>(r);
+}
+
+// Redundant actuation: given d.tau = M qdd + h - J' f_ext - C' lambda0,
+// moves lambda along null(K) (which leaves qdd unchanged) to the minimum
+// ||tau_p||: lambda = lambda0 + N z, z = B^+ tau0 with B = C_p' N.
+template <class S>
+void minimum_norm_actuation(const ModelTpl<S>& m, DataTpl<S>& d) {
+  LoopData<S>& ld = d.loops;
+  if (m.n_prescribed == 0) return;
+  const int r = delassus_null_basis(ld);
+  if (r == 0) return;
+  const auto N = ld.null_basis.leftCols(r);
+  auto B = ld.actuation_map.leftCols(r);
+  B.noalias() = ld.jacobian.transpose().lazyProduct(N);
+  for (int k = 0; k < m.nv; ++k)
+    if (!m.is_prescribed(k)) B.row(k).setZero();  // C_r' N = 0 up to rounding
+  ld.actuation_gram.setZero();  // B'B in the top-left corner: the padding's zero pivots are never taken
+  ld.actuation_gram.topLeftCorner(r, r).noalias() = B.transpose().lazyProduct(B);
+  // B is negligible (the prescribed DOFs are independent coordinates) when
+  // its columns are rounding noise next to |C| |N_j|.
+  S reference = S(0);
+  for (int j = 0; j < r; ++j) reference = std::max(reference, N.col(j).squaredNorm());
+  reference *= ld.jacobian.squaredNorm() * delassus_threshold<S>();
+  const S largest = ld.actuation_gram.diagonal().maxCoeff();
+  if (!(largest > reference)) return;
+  ld.actuation_rhs.setZero();
+  ld.actuation_rhs.head(r).noalias() = B.transpose().lazyProduct(d.tau);
+  if (semidefinite_min_norm_solve(ld.actuation_gram, ld.actuation_rhs, reference / largest, ld.actuation_solve,
+                                  ld.actuation_step) < 0)
+    return;  // the unchanged lambda0 is still a consistent answer
+  ld.multipliers.noalias() += N.lazyProduct(ld.actuation_step.head(r));
+  d.tau.noalias() -= B.lazyProduct(ld.actuation_step.head(r));
+}
+
+// The size of the terms of closure equation i: |kappa_i| + |C_i| (|qdd| +
+// |qdd_free|), qdd_free the accelerations without loop forces (a locked
+// mechanism has qdd = 0, its equations balance the loop forces' share).
+template <class S>
+S closure_equation_scale(const LoopData<S>& ld, const VecX<S>& qdd, int i) {
+  using std::abs;
+  return abs(ld.kappa[i]) + ld.jacobian.row(i).cwiseAbs().dot(qdd.cwiseAbs() + ld.free_acceleration.cwiseAbs());
+}
+
+// The loop whose closure acceleration C qdd = kappa is furthest off, relative
+// to closure_equation_scale plus loop_consistency_threshold times (the
+// largest such scale + 1): equations that vanish identically, as the
+// out-of-plane rows of a planar mechanism, are judged against the others,
+// and a mechanism at rest with no load against a floor of
+// loop_consistency_threshold^2 (2.2e-13 in double, in the equations' SI
+// units), below which a closure acceleration is drift. -1 when every
+// equation is met.
+template <class S>
+int inconsistent_loop(const ModelTpl<S>& m, const DataTpl<S>& d) {
+  using std::abs;
+  const LoopData<S>& ld = d.loops;
+  const S tol = loop_consistency_threshold<S>();
+  S largest_scale = S(0);
+  for (int i = 0; i < m.nloop_equations; ++i) largest_scale = std::max(largest_scale, closure_equation_scale(ld, d.qdd, i));
+  int worst = -1;
+  S worst_ratio = S(1);
+  for (std::size_t l = 0; l < m.loops.size(); ++l) {
+    const LoopTpl<S>& loop = m.loops[l];
+    for (int i = loop.first_row; i < loop.first_row + loop.rows(); ++i) {
+      const S scale = closure_equation_scale(ld, d.qdd, i);
+      const S ratio = abs(ld.jacobian.row(i).dot(d.qdd) - ld.kappa[i]) / (tol * (scale + tol * (largest_scale + S(1))));
+      if (ratio > worst_ratio) {
+        worst_ratio = ratio;
+        worst = static_cast<int>(l);
+      }
+    }
+  }
+  return worst;
+}
+
+// The loop wrench w (world axes, [torque; force] about world point p) acting
+// on `body`, subtracted from the hinge force of the body and of each of its
+// ancestors (each in its own frame about its origin): an external wrench on a
+// body relieves every hinge between it and the root (inverse dynamics,
+// Jain & Rodriguez 1993, Eq. 1).
+template <class S>
+void relieve_hinges(const ModelTpl<S>& m, DataTpl<S>& d, int body, const Vec3<S>& p, const Vec6<S>& w) {
+  for (int j = body; j >= 0; j = m.parent[static_cast<std::size_t>(j)]) {
+    const Transform<S>& X = d.pose_in_world[static_cast<std::size_t>(j)];
+    Vec6<S> f;
+    f.template head<3>() = X.rotation.transpose() * (w.template head<3>() + (p - X.translation).cross(w.template tail<3>()));
+    f.template tail<3>() = X.rotation.transpose() * w.template tail<3>();
+    d.hinge_force[static_cast<std::size_t>(j)] -= f;
+  }
+}
+
+// Adds the loop forces to hinge forces inverse dynamics left in `d` (world
+// poses current): `wrench(l)` of each loop on frame A's body about A's
+// origin, its opposite on frame B's body with the force at the point P whose
+// velocity the loop's C compares (B's origin; A's for a prismatic loop).
+template <class S, class Wrench>
+void add_loop_forces_to_hinges(const ModelTpl<S>& m, DataTpl<S>& d, const Wrench& wrench) {
+  for (std::size_t l = 0; l < m.loops.size(); ++l) {
+    const LoopTpl<S>& loop = m.loops[l];
+    const Transform<S> A = loop_frame_in_world(d, loop.body_a, loop.placement_a);
+    const Transform<S> B = loop_frame_in_world(d, loop.body_b, loop.placement_b);
+    const Vec6<S> w = wrench(l);
+    relieve_hinges(m, d, loop.body_a, A.translation, w);
+    relieve_hinges(m, d, loop.body_b, loop.kind == LoopKind::prismatic ? A.translation : B.translation, Vec6<S>(-w));
+  }
+}
+
+// data.hinge_force at the solved qdd with f_ext and the loop forces; data.tau
+// is kept (inverse dynamics rewrites it: saved in free_acceleration, no
+// longer needed once qdd is known).
+template <class S>
+Status constrained_hinge_forces(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
+                                const ConstVecRef<S>& v, const S* f_ext) {
+  d.loops.free_acceleration = d.tau;
+  rnea(m, d, q.data(), v.data(), d.qdd.data(), f_ext);
+  d.tau = d.loops.free_acceleration;
+  update_world_poses(m, d);
+  add_loop_forces_to_hinges(m, d, [&](std::size_t l) { return d.loops.wrench[l]; });
+  for (const Vec6<S>& f : d.hinge_force)
+    if (!f.allFinite()) return {StatusCode::non_finite_result, -1};
+  return {};
+}
+
 template <class S>
 Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& u) {
   LoopData<S>& ld = d.loops;
@@ -67,6 +209,7 @@ Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<
   d.tau = ld.bias;
   d.tau.noalias() += d.mass_matrix * d.qdd;
   d.tau.noalias() -= ld.jacobian.transpose() * ld.multipliers;
+  minimum_norm_actuation(m, d);
   for (int k = 0; k < m.nv; ++k)
     if (!m.is_prescribed(k)) d.tau[k] = u[k];
   detail::loop_wrenches_from_multipliers(m, d);
@@ -82,16 +225,38 @@ Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<
 
 template <class S>
 Status constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                            const ConstVecRef<S>& u, const S* f_ext) {
-  if (m.nloops() == 0) return hybrid_dynamics(m, d, q, v, u, f_ext);
-  const Status status = mass_matrix(m, d, q);
-  if (!status.ok()) return status;
+                            const ConstVecRef<S>& u, const S* f_ext, DynamicsOutputs outputs) {
+  if (m.nloops() == 0) return hybrid_dynamics(m, d, q, v, u, f_ext, outputs);
+  const Status inertia = mass_matrix(m, d, q);
+  if (!inertia.ok()) return inertia;
   // h - J' f_ext, and the body accelerations of qdd = 0 that kappa needs.
   detail::rnea(m, d, q.data(), v.data(), static_cast<const S*>(nullptr), f_ext);
   d.loops.bias = d.tau;
   update_world_poses(m, d);
   detail::loop_equations(m, d, true);
-  return detail::constrained_solve(m, d, u);
+  Status status = detail::constrained_solve(m, d, u);
+  if (!status.ok()) return status;
+  // A full-rank Delassus system is solved exactly: only a rank-deficient one
+  // can leave closure accelerations unmet.
+  const int loop = d.loops.delassus_solve.rank < m.nloop_equations ? detail::inconsistent_loop(m, d) : -1;
+  if (loop >= 0) status = {StatusCode::inconsistent_loop_equations, loop};
+  if (!outputs.hinge_forces) return status;
+  const Status wrenches = detail::constrained_hinge_forces(m, d, q, v, f_ext);  // also of a least-squares answer
+  return wrenches.ok() ? status : wrenches;
+}
+
+template <class S>
+Status loop_joint_wrenches(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                           const ConstVecRef<S>& qdd, const S* loop_wrenches, const S* f_ext) {
+  detail::rnea(m, d, q.data(), v.data(), qdd.data(), f_ext);
+  Status status = check_finite(d.tau);
+  if (!status.ok()) return status;
+  if (m.nloops() == 0) return status;
+  update_world_poses(m, d);
+  detail::add_loop_forces_to_hinges(m, d, [&](std::size_t l) { return Vec6<S>(Eigen::Map<const Vec6<S>>(loop_wrenches + 6 * l)); });
+  for (const Vec6<S>& f : d.hinge_force)
+    if (!f.allFinite()) return {StatusCode::non_finite_result, -1};
+  return status;
 }
 
 }  // namespace soadyn

@@ -22,6 +22,40 @@ void check_loop_placement(const std::string& loop, const Transform<S>& X, const 
       std::abs(X.rotation.determinant() - S(1)) > tol)
     loop_fail(loop, std::string(which) + " rotation is not a rotation matrix (orthonormal, determinant 1)");
 }
+
+// World pose of rigid `body` (-1: the world) at coordinates q, chaining each
+// joint's placement and motion to the root (loops are never on or under a
+// flexible body, so the chain is rigid).
+template <class S>
+Transform<S> rigid_body_pose_at(const ModelTpl<S>& m, int body, const S* q) {
+  Transform<S> pose;
+  for (int j = body; j >= 0; j = m.parent[static_cast<std::size_t>(j)]) {
+    const std::size_t js = static_cast<std::size_t>(j);
+    Transform<S> joint_pose;
+    Mat6N<S> subspace;
+    Vec6<S> bias;
+    joint_init_subspace(m.joints[js], subspace);
+    joint_calc(m.joints[js], q + m.q_index[js], static_cast<const S*>(nullptr), joint_pose, subspace, bias);
+    pose = m.placement[js] * joint_pose * pose;
+  }
+  return pose;
+}
+
+// The current length of a "distance" loop: |p_A - p_B| at `q`, or at the
+// neutral configuration when q is null.
+template <class S>
+S loop_length_at(const ModelTpl<S>& m, const LoopTpl<S>& loop, const S* q) {
+  VecX<S> neutral;
+  if (!q) {
+    neutral = VecX<S>::Zero(m.nq);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i)
+      joint_neutral(m.joints[i], neutral.data() + m.q_index[i]);
+    q = neutral.data();
+  }
+  const Vec3<S> a = rigid_body_pose_at(m, loop.body_a, q).apply_point(loop.placement_a.translation);
+  const Vec3<S> b = rigid_body_pose_at(m, loop.body_b, q).apply_point(loop.placement_b.translation);
+  return (a - b).norm();
+}
 }  // namespace detail
 
 template <class S>
@@ -45,8 +79,8 @@ int ModelTpl<S>::resolve_loop_frame(const std::string& loop, const std::string& 
     if (f < 0) detail::loop_fail(loop, std::string(which) + " '" + frame + "' is neither a body nor a frame");
     const Frame<S>& fr = frames[static_cast<std::size_t>(f)];
     if (fr.node >= 0)
-      detail::loop_fail(loop, std::string(which) + " '" + frame + "' is a node of a flexible body; loops on flexible "
-                        "bodies are not supported");
+      detail::loop_fail(loop, std::string(which) + " '" + frame + "' is a node of flexible body '" +
+                        body_names[static_cast<std::size_t>(fr.body)] + "'; loops on flexible bodies are not supported");
     body = fr.body;
     frame_in_body = fr.placement;
     if (body < 0) {
@@ -66,7 +100,7 @@ int ModelTpl<S>::resolve_loop_frame(const std::string& loop, const std::string& 
 template <class S>
 int ModelTpl<S>::add_loop(const std::string& name, const std::string& frame_a, const std::string& frame_b,
                           LoopKind kind, const Transform<S>& placement_a, const Transform<S>& placement_b,
-                          S length) {
+                          S length, const S* configuration) {
   if (name.empty()) throw LoopError("loop name must not be empty");
   if (loop_index(name) >= 0) detail::loop_fail(name, "duplicate loop name");
   detail::check_loop_placement(name, placement_a, "placement_a");
@@ -82,8 +116,17 @@ int ModelTpl<S>::add_loop(const std::string& name, const std::string& frame_a, c
     detail::loop_fail(name, "frame_a '" + frame_a + "' and frame_b '" + frame_b + "' are on the same body '" +
                       body_names[static_cast<std::size_t>(loop.body_a)] + "'");
   if (kind == LoopKind::distance) {
-    if (!(std::isfinite(static_cast<double>(length)) && length > S(0)))
+    if (!(std::isfinite(static_cast<double>(length)) && length >= S(0)))
       detail::loop_fail(name, "a distance loop needs a finite, positive length");
+    if (configuration)
+      for (int k = 0; k < nq; ++k)
+        if (!std::isfinite(static_cast<double>(configuration[k])))
+          detail::loop_fail(name, "coordinate '" + coordinate_names[static_cast<std::size_t>(k)] +
+                            "' of the configuration that gives the length is not finite");
+    if (length == S(0)) length = detail::loop_length_at(*this, loop, configuration);
+    if (!(length > S(100) * Eigen::NumTraits<S>::epsilon()))
+      detail::loop_fail(name, std::string("frame_a and frame_b coincide at the ") +
+                        (configuration ? "given" : "neutral") + " configuration: give the rod's length=");
     loop.length = length;
   }
   loop.first_row = nloop_equations;

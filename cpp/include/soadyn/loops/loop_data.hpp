@@ -18,7 +18,10 @@ struct LoopData {
         relative_jacobian(Mat6X<S>::Zero(6, nv)), regular_mass(MatX<S>::Zero(nv, nv)),
         constraint_jacobian_regular(MatX<S>::Zero(m, nv)), inverse_mass_times_ct(MatX<S>::Zero(nv, m)),
         delassus(MatX<S>::Zero(m, m)), delassus_solve(m), rhs(VecX<S>::Zero(m)),
-        free_acceleration(VecX<S>::Zero(nv)), bias(VecX<S>::Zero(nv)), rank_qr(m, nv),
+        free_acceleration(VecX<S>::Zero(nv)), bias(VecX<S>::Zero(nv)), null_basis(MatX<S>::Zero(m, m)),
+        null_work(VecX<S>::Zero(m)), actuation_map(MatX<S>::Zero(nv, m)), actuation_gram(MatX<S>::Zero(m, m)),
+        actuation_solve(m), actuation_rhs(VecX<S>::Zero(m)), actuation_step(VecX<S>::Zero(m)),
+        rank_qr(m, nv),
         projection_multipliers(VecX<S>::Zero(m)), correction(VecX<S>::Zero(nv)), q_start(VecX<S>::Zero(nq)) {}
 
   // Outputs.
@@ -40,6 +43,13 @@ struct LoopData {
   VecX<S> rhs;
   VecX<S> free_acceleration;               // qdd without loop forces
   VecX<S> bias;                            // h - J' f_ext
+  // Minimum-norm actuator forces (constrained_dynamics.hpp, redundant actuation):
+  MatX<S> null_basis;                      // N: m x (m - rank) basis of the null space of the Delassus matrix
+  VecX<S> null_work;
+  MatX<S> actuation_map;                   // B = C_p' N (nv x (m - rank)): prescribed forces along N
+  MatX<S> actuation_gram;                  // B'B, zero-padded to m x m
+  SemidefiniteSolveScratch<S> actuation_solve;
+  VecX<S> actuation_rhs, actuation_step;   // B' tau0 and z (lambda = lambda0 + N z)
   Eigen::ColPivHouseholderQR<MatX<S>> rank_qr;
   // Closure projection (loop_assembly.hpp): its multipliers, the tangent
   // correction of q or v, and the configuration a Gauss-Newton step starts from.

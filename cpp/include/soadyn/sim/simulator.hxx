@@ -542,10 +542,14 @@ Status SimulatorTpl<S>::step() {
 template <class S>
 std::string SimulatorTpl<S>::describe(const Status& s) const {
   std::string text = status_message(s.code);
-  if (s.code == StatusCode::loop_not_closed && s.index >= 0 && s.index < model_.nloops())
-    text += " (loop '" + model_.loops[static_cast<std::size_t>(s.index)].name + "', tolerance " +
-            std::to_string(static_cast<double>(loop_tolerance)) + " in " + std::to_string(loop_max_iterations) +
-            " Gauss-Newton steps)";
+  const bool loop_status = s.code == StatusCode::loop_not_closed || s.code == StatusCode::inconsistent_loop_equations;
+  if (loop_status && s.index >= 0 && s.index < model_.nloops()) {
+    text += " (loop '" + model_.loops[static_cast<std::size_t>(s.index)].name + "'";
+    if (s.code == StatusCode::loop_not_closed)
+      text += ", tolerance " + std::to_string(static_cast<double>(loop_tolerance)) + " in " +
+              std::to_string(loop_max_iterations) + " Gauss-Newton steps";
+    text += ")";
+  }
   else if (s.index >= 0 && s.index < model_.nv) text += " (DOF '" + model_.dof_names[static_cast<std::size_t>(s.index)] + "')";
   if (s.code == StatusCode::substep_limit)
     text += " (dopri5: " + std::to_string(max_substeps) + " sub-step attempts in one step, max_substeps)";
