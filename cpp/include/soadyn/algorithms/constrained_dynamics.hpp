@@ -9,10 +9,12 @@
 // Method. M (mass_matrix) and h - J' f_ext (inverse dynamics at qdd = 0)
 // come from the O(N) tree algorithms. Substituting the prescribed
 // accelerations leaves M_rr qdd_r = b_r + C_r' lambda, solved by the
-// Cholesky factor of M with its prescribed rows and columns replaced by the
-// identity (sizes stay nv, so flipping flags needs no reallocation). The
-// multipliers solve the Delassus system
-//   K lambda = kappa - C_p qdd_p - C_r M_rr^-1 b_r,   K = C_r M_rr^-1 C_r'
+// factor M_rr = L' L of M with its prescribed rows and columns replaced by
+// the identity (sizes stay nv, so flipping flags needs no reallocation), L
+// with the tree's branch-induced sparsity (tree_cholesky.hpp: O(n d^2) for
+// depth d). The multipliers solve the Delassus system
+//   K lambda = kappa - C_p qdd_p - C_r M_rr^-1 b_r,   K = C_r M_rr^-1 C_r' = Y'Y,
+// Y = L'^-1 C_r' (one sparse half-solve per equation),
 // by a pivoted Cholesky factorisation (semidefinite_solve.hpp): pivots below
 // delassus_threshold times the largest diagonal entry count as zero, so
 // redundant loop equations (a planar four-bar closed by a revolute cut: 5

@@ -7,6 +7,7 @@
 #include "soadyn/algorithms/loop_closure.hxx"
 #include "soadyn/algorithms/rnea.hxx"
 #include "soadyn/algorithms/semidefinite_solve.hpp"
+#include "soadyn/algorithms/tree_cholesky.hpp"
 
 namespace soadyn {
 
@@ -185,26 +186,31 @@ template <class S>
 Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& u) {
   LoopData<S>& ld = d.loops;
   detail::substitute_prescribed(m, ld, d.mass_matrix);
-  // Plain-loop Cholesky (small_cholesky.hpp): Eigen's blocked one allocates for nv >= 32.
-  const int bad_pivot = cholesky_in_place(ld.regular_mass, S(0));
+  // M_rr = L' L with the tree's sparsity (tree_cholesky.hpp): O(n d^2), plain loops, no allocation.
+  const int bad_pivot = tree_ltl_in_place(ld.regular_mass, m.dof_parent);
   if (bad_pivot >= 0) return {StatusCode::singular_articulated_inertia, bad_pivot};
+  const MatX<S>& L = ld.regular_mass;
   // b: tau_r - h_r - M_rp qdd_p on regular rows, qdd_p on prescribed rows.
   for (int k = 0; k < m.nv; ++k) d.qdd[k] = m.is_prescribed(k) ? u[k] : S(0);
   ld.free_acceleration.noalias() = d.mass_matrix * d.qdd;  // M_rp qdd_p (a negated product would need a temporary)
   for (int k = 0; k < m.nv; ++k)
     ld.free_acceleration[k] = m.is_prescribed(k) ? u[k] : u[k] - ld.bias[k] - ld.free_acceleration[k];
-  cholesky_solve_in_place(ld.regular_mass, ld.free_acceleration);
-  ld.inverse_mass_times_ct = ld.constraint_jacobian_regular.transpose();
-  cholesky_solve_in_place(ld.regular_mass, ld.inverse_mass_times_ct);
+  tree_ltl_solve_transposed(L, m.dof_parent, ld.free_acceleration);
+  tree_ltl_solve(L, m.dof_parent, ld.free_acceleration);
+  // Y = L'^-1 C_r', so that C_r M_rr^-1 C_r' = Y' Y (one half-solve per equation).
+  ld.half_solved_ct = ld.constraint_jacobian_regular.transpose();
+  tree_ltl_solve_transposed(L, m.dof_parent, ld.half_solved_ct);
   // lazyProduct: coefficient-wise, without the blocked product's workspace.
-  ld.delassus.noalias() = ld.constraint_jacobian_regular.lazyProduct(ld.inverse_mass_times_ct);
+  ld.delassus.noalias() = ld.half_solved_ct.transpose().lazyProduct(ld.half_solved_ct);
   // rhs = kappa - C qdd_free: the free accelerations carry qdd_p on prescribed rows.
   ld.rhs = ld.kappa;
   ld.rhs.noalias() -= ld.jacobian * ld.free_acceleration;
   if (semidefinite_min_norm_solve(ld.delassus, ld.rhs, delassus_threshold<S>(), ld.delassus_solve, ld.multipliers) < 0)
     return {StatusCode::non_finite_result, -1};
-  d.qdd = ld.free_acceleration;
-  d.qdd.noalias() += ld.inverse_mass_times_ct * ld.multipliers;  // matrix-vector products need no workspace
+  // qdd = qdd_free + M_rr^-1 C_r' lambda = qdd_free + L^-1 (Y lambda).
+  d.qdd.noalias() = ld.half_solved_ct * ld.multipliers;  // matrix-vector products need no workspace
+  tree_ltl_solve(L, m.dof_parent, d.qdd);
+  d.qdd += ld.free_acceleration;
   // tau = M qdd + h - J' f_ext - C' lambda; regular entries are the given torques.
   d.tau = ld.bias;
   d.tau.noalias() += d.mass_matrix * d.qdd;

@@ -16,7 +16,7 @@ struct LoopData {
       : residual(VecX<S>::Zero(m)), velocity_residual(VecX<S>::Zero(m)), jacobian(MatX<S>::Zero(m, nv)),
         kappa(VecX<S>::Zero(m)), multipliers(VecX<S>::Zero(m)), wrench(static_cast<std::size_t>(nloops), Vec6<S>::Zero()),
         relative_jacobian(Mat6X<S>::Zero(6, nv)), regular_mass(MatX<S>::Zero(nv, nv)),
-        constraint_jacobian_regular(MatX<S>::Zero(m, nv)), inverse_mass_times_ct(MatX<S>::Zero(nv, m)),
+        constraint_jacobian_regular(MatX<S>::Zero(m, nv)), half_solved_ct(MatX<S>::Zero(nv, m)),
         delassus(MatX<S>::Zero(m, m)), delassus_solve(m), rhs(VecX<S>::Zero(m)),
         free_acceleration(VecX<S>::Zero(nv)), bias(VecX<S>::Zero(nv)), null_basis(MatX<S>::Zero(m, m)),
         null_work(VecX<S>::Zero(m)), actuation_map(MatX<S>::Zero(nv, m)), actuation_gram(MatX<S>::Zero(m, m)),
@@ -35,9 +35,9 @@ struct LoopData {
   // Scratch.
   Mat6X<S> relative_jacobian;              // [omega_A - omega_B; v_A - v_B(P)] as a 6 x nv map of v
   MatX<S> regular_mass;                    // M with the prescribed rows and columns replaced by the identity,
-                                           // then its Cholesky factor L (lower triangle)
+                                           // then its tree-sparse factor L, M_rr = L' L (lower triangle)
   MatX<S> constraint_jacobian_regular;     // C with the prescribed columns zeroed
-  MatX<S> inverse_mass_times_ct;           // regular_mass^-1 C_r'
+  MatX<S> half_solved_ct;                  // Y = L'^-1 C_r' with M_rr = L' L (tree_cholesky.hpp)
   MatX<S> delassus;                        // C_r M_rr^-1 C_r' (m x m)
   SemidefiniteSolveScratch<S> delassus_solve;  // minimum-norm multipliers (semidefinite_solve.hpp)
   VecX<S> rhs;
