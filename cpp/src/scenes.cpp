@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace soadyn {
 
@@ -16,6 +17,28 @@ Mat3<S> rod(S mass, S length, int axis) {
   Mat3<S> I = Mat3<S>::Identity() * (mass * length * length / S(12));
   I(axis, axis) = S(1e-3) * mass;
   return I;
+}
+
+// A uniform slender rod of `length` along its body x axis, hinged at its end:
+// centre of mass at length/2 and principal moments m l^2/12 (none about the axis).
+template <class S>
+struct SlenderRod {
+  S mass, length;
+  Vec3<S> com() const { return Vec3<S>(length / S(2), S(0), S(0)); }
+  Mat3<S> inertia() const { return Vec3<S>(S(0), mass * length * length / S(12), mass * length * length / S(12)).asDiagonal(); }
+};
+
+template <class S>
+int add_rod(ModelTpl<S>& m, const std::string& name, const std::string& parent, const JointModel<S>& joint,
+            const Transform<S>& placement, const SlenderRod<S>& rod) {
+  return m.add_body(name, parent, joint, placement, rod.mass, rod.com(), rod.inertia());
+}
+
+// The cut of a planar scene: the physical pin ("revolute") or its point form.
+void require_planar_cut(LoopKind closure, const char* scene) {
+  if (closure != LoopKind::revolute && closure != LoopKind::point)
+    throw std::invalid_argument(std::string(scene) + ": the loop must be 'revolute' or 'point', got '" +
+                                loop_kind_name(closure) + "'");
 }
 
 // Solid cylinder of `radius` and `height` along `axis`, about its centre.
@@ -152,11 +175,86 @@ ModelTpl<S> pendulum_chain_model(int links, S length, S mass) {
   return m;
 }
 
+template <class S>
+ModelTpl<S> four_bar_model(LoopKind closure) {
+  require_planar_cut(closure, "four_bar");
+  using D = FourBarData;
+  ModelTpl<S> m;
+  m.gravity = vec<S>(0, -9.81, 0);
+  const RevoluteJoint<S> hinge{Vec3<S>::UnitZ()};
+  add_rod<S>(m, "crank", "", hinge, Transform<S>(), {S(D::crank_mass), S(D::crank_length)});
+  add_rod<S>(m, "coupler", "crank", hinge, at<S>(D::crank_length, 0, 0), {S(D::coupler_mass), S(D::coupler_length)});
+  add_rod<S>(m, "rocker", "", hinge, at<S>(D::ground_length, 0, 0), {S(D::rocker_mass), S(D::rocker_length)});
+  m.add_loop("coupler_rocker", "coupler", "rocker", closure, at<S>(D::coupler_length, 0, 0),
+             at<S>(D::rocker_length, 0, 0));
+  return m;
+}
+
+template <class S>
+ModelTpl<S> slider_crank_model(LoopKind closure) {
+  require_planar_cut(closure, "slider_crank");
+  using D = SliderCrankData;
+  ModelTpl<S> m;
+  m.gravity = vec<S>(0, -9.81, 0);
+  const RevoluteJoint<S> hinge{Vec3<S>::UnitZ()};
+  add_rod<S>(m, "crank", "", hinge, Transform<S>(), {S(D::crank_mass), S(D::crank_length)});
+  add_rod<S>(m, "connecting_rod", "crank", hinge, at<S>(D::crank_length, 0, 0), {S(D::rod_mass), S(D::rod_length)});
+  const S cube = S(D::slider_mass * D::slider_size * D::slider_size / 6.0);
+  m.add_body("slider", "", PrismaticJoint<S>{Vec3<S>::UnitX()}, at<S>(0, D::offset, 0), S(D::slider_mass),
+             Vec3<S>::Zero(), Mat3<S>(Mat3<S>::Identity() * cube));
+  m.add_loop("wrist_pin", "connecting_rod", "slider", closure, at<S>(D::rod_length, 0, 0), Transform<S>());
+  return m;
+}
+
+template <class S>
+ModelTpl<S> delta_robot_model() {
+  using D = DeltaRobotData;
+  using std::cos;
+  using std::sin;
+  ModelTpl<S> m;
+  const SlenderRod<S> arm{S(D::arm_mass), S(D::arm_length)}, rod{S(D::rod_mass), S(D::rod_length)};
+  const UniversalJoint<S> elbow{Vec3<S>::UnitY(), Vec3<S>::UnitZ()};
+  std::string rods[6];
+  Vec3<S> balls[6];  // each rod's ball joint on the plate, in the plate frame
+  for (int k = 0; k < 3; ++k) {
+    const S azimuth = S(2 * 3.14159265358979323846 / 3) * S(k);
+    const Vec3<S> radial(cos(azimuth), sin(azimuth), S(0)), tangent(-sin(azimuth), cos(azimuth), S(0));
+    // Hinge frame: x radial, y the tangent (the hinge axis), z up.
+    Transform<S> hinge;
+    hinge.rotation << radial, tangent, Vec3<S>::UnitZ();
+    hinge.translation = S(D::base_radius) * radial;
+    const std::string arm_name = "arm_" + std::to_string(k + 1);
+    add_rod<S>(m, arm_name, "", RevoluteJoint<S>{Vec3<S>::UnitY()}, hinge, arm);
+    for (int side = 0; side < 2; ++side) {
+      const S across = (side ? S(-0.5) : S(0.5)) * S(D::rod_spacing);
+      const int r = 2 * k + side;
+      rods[r] = "rod_" + std::to_string(k + 1) + (side ? "b" : "a");
+      add_rod<S>(m, rods[r], arm_name, elbow, at<S>(D::arm_length, across, 0), rod);
+      balls[r] = S(D::plate_radius) * radial + across * tangent;
+    }
+  }
+  const S disc = S(D::plate_mass * D::plate_radius * D::plate_radius / 4.0);
+  m.add_body("plate", "", FreeJoint<S>{}, Transform<S>(), S(D::plate_mass), Vec3<S>::Zero(),
+             Vec3<S>(disc, disc, S(2) * disc).asDiagonal());
+  for (int r = 0; r < 6; ++r) {
+    Transform<S> on_plate;
+    on_plate.translation = balls[r];
+    m.add_loop("ball_" + rods[r].substr(4), rods[r], "plate", LoopKind::point, at<S>(D::rod_length, 0, 0), on_plate);
+  }
+  return m;
+}
+
 template ModelTpl<double> cassini_model<double>();
 template ModelTpl<float> cassini_model<float>();
 template void drive_cassini<double>(SimulatorTpl<double>&);
 template void drive_cassini<float>(SimulatorTpl<float>&);
 template ModelTpl<double> pendulum_chain_model<double>(int, double, double);
 template ModelTpl<float> pendulum_chain_model<float>(int, float, float);
+template ModelTpl<double> four_bar_model<double>(LoopKind);
+template ModelTpl<float> four_bar_model<float>(LoopKind);
+template ModelTpl<double> slider_crank_model<double>(LoopKind);
+template ModelTpl<float> slider_crank_model<float>(LoopKind);
+template ModelTpl<double> delta_robot_model<double>();
+template ModelTpl<float> delta_robot_model<float>();
 
 }  // namespace soadyn
