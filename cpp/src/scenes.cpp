@@ -41,6 +41,23 @@ void require_planar_cut(LoopKind closure, const char* scene) {
                                 loop_kind_name(closure) + "'");
 }
 
+// The start of the planar linkages: gravity -9.81 m/s^2 along y, a "crank"
+// hinged to the world at the origin and a rod `rod_name` hinged to its tip,
+// both about z.
+template <class S>
+ModelTpl<S> crank_and_rod(LoopKind closure, const char* scene, const SlenderRod<S>& crank, const std::string& rod_name,
+                          const SlenderRod<S>& rod) {
+  require_planar_cut(closure, scene);
+  ModelTpl<S> m;
+  m.gravity = Vec3<S>(S(0), S(-9.81), S(0));
+  const RevoluteJoint<S> hinge{Vec3<S>::UnitZ()};
+  add_rod<S>(m, "crank", "", hinge, Transform<S>(), crank);
+  Transform<S> tip;
+  tip.translation.x() = crank.length;
+  add_rod<S>(m, rod_name, "crank", hinge, tip, rod);
+  return m;
+}
+
 // Solid cylinder of `radius` and `height` along `axis`, about its centre.
 template <class S>
 Mat3<S> cylinder(S mass, S radius, S height, int axis = 2) {
@@ -177,14 +194,11 @@ ModelTpl<S> pendulum_chain_model(int links, S length, S mass) {
 
 template <class S>
 ModelTpl<S> four_bar_model(LoopKind closure) {
-  require_planar_cut(closure, "four_bar");
   using D = FourBarData;
-  ModelTpl<S> m;
-  m.gravity = vec<S>(0, -9.81, 0);
-  const RevoluteJoint<S> hinge{Vec3<S>::UnitZ()};
-  add_rod<S>(m, "crank", "", hinge, Transform<S>(), {S(D::crank_mass), S(D::crank_length)});
-  add_rod<S>(m, "coupler", "crank", hinge, at<S>(D::crank_length, 0, 0), {S(D::coupler_mass), S(D::coupler_length)});
-  add_rod<S>(m, "rocker", "", hinge, at<S>(D::ground_length, 0, 0), {S(D::rocker_mass), S(D::rocker_length)});
+  ModelTpl<S> m = crank_and_rod<S>(closure, "four_bar", {S(D::crank_mass), S(D::crank_length)}, "coupler",
+                                   {S(D::coupler_mass), S(D::coupler_length)});
+  add_rod<S>(m, "rocker", "", RevoluteJoint<S>{Vec3<S>::UnitZ()}, at<S>(D::ground_length, 0, 0),
+             {S(D::rocker_mass), S(D::rocker_length)});
   m.add_loop("coupler_rocker", "coupler", "rocker", closure, at<S>(D::coupler_length, 0, 0),
              at<S>(D::rocker_length, 0, 0));
   return m;
@@ -192,13 +206,9 @@ ModelTpl<S> four_bar_model(LoopKind closure) {
 
 template <class S>
 ModelTpl<S> slider_crank_model(LoopKind closure) {
-  require_planar_cut(closure, "slider_crank");
   using D = SliderCrankData;
-  ModelTpl<S> m;
-  m.gravity = vec<S>(0, -9.81, 0);
-  const RevoluteJoint<S> hinge{Vec3<S>::UnitZ()};
-  add_rod<S>(m, "crank", "", hinge, Transform<S>(), {S(D::crank_mass), S(D::crank_length)});
-  add_rod<S>(m, "connecting_rod", "crank", hinge, at<S>(D::crank_length, 0, 0), {S(D::rod_mass), S(D::rod_length)});
+  ModelTpl<S> m = crank_and_rod<S>(closure, "slider_crank", {S(D::crank_mass), S(D::crank_length)},
+                                   "connecting_rod", {S(D::rod_mass), S(D::rod_length)});
   const S cube = S(D::slider_mass * D::slider_size * D::slider_size / 6.0);
   m.add_body("slider", "", PrismaticJoint<S>{Vec3<S>::UnitX()}, at<S>(0, D::offset, 0), S(D::slider_mass),
              Vec3<S>::Zero(), Mat3<S>(Mat3<S>::Identity() * cube));
