@@ -222,6 +222,17 @@ void bind_model(py::module_& mod) {
 
   py::register_exception<soadyn::NonphysicalInertiaError>(mod, "NonphysicalInertiaError", PyExc_ValueError);
   py::register_exception<soadyn::LoopError>(mod, "LoopError", PyExc_ValueError);
+
+  // Closed states of the loop scenes (std::invalid_argument: ValueError).
+  const auto state = [](const soadyn::SceneState<double>& s) { return py::make_tuple(s.q, s.v); };
+  mod.def("_four_bar_state", [state](double angle, double rate) { return state(soadyn::four_bar_state(angle, rate)); },
+          py::arg("crank_angle"), py::arg("crank_rate"));
+  mod.def("_slider_crank_state",
+          [state](double angle, double rate) { return state(soadyn::slider_crank_state(angle, rate)); },
+          py::arg("crank_angle"), py::arg("crank_rate"));
+  mod.def("_delta_robot_state", [state](const Eigen::Vector3d& position, const Eigen::Vector3d& velocity) {
+    return state(soadyn::delta_robot_state<double>(position, velocity));
+  }, py::arg("position"), py::arg("velocity"));
 }
 
 }  // namespace soadyn_py

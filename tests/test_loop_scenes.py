@@ -456,3 +456,16 @@ def test_four_bar_demo_console_script():
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert "cycloidal (Eq. 34)" in result.stdout and "crank torque (N m)" in result.stdout
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda: scenes.four_bar_state(np.nan), ValueError, "four_bar_state: arguments must be finite"),
+    (lambda: scenes.slider_crank_state(0.0, np.inf), ValueError, "slider_crank_state: arguments must be finite"),
+    (lambda: scenes.four_bar_state("up"), TypeError, "four_bar_state: crank_angle and crank_rate must be real"),
+    (lambda: scenes.delta_robot_state((0.0, np.nan, -0.6)), ValueError, "delta_robot_state: arguments must be finite"),
+    (lambda: scenes.delta_robot_state((0.0, -0.6)), ValueError, "position and velocity need 3 components"),
+    (lambda: scenes.slider_crank("prismatic"), ValueError, "slider_crank: closure must be 'revolute' or 'point'"),
+])
+def test_scene_helpers_refuse_bad_arguments_by_name(call, error, message):
+    with pytest.raises(error, match=message):
+        call()

@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _soadyn as _core
 from ._soadyn import FlexibleBody
 from .model import Model
 
@@ -130,17 +131,12 @@ def delta_robot() -> Model:
     return m
 
 
-def _unit(angle):
-    return np.array([np.cos(angle), np.sin(angle)])
-
-
-def _normal(angle):
-    return np.array([-np.sin(angle), np.cos(angle)])
-
-
-def _finite(name: str, *values) -> None:
-    if not np.isfinite(np.asarray(values, dtype=float)).all():
-        raise ValueError(f"{name}: arguments must be finite, got {values}")
+def _angle_and_rate(name: str, crank_angle, crank_rate) -> tuple[float, float]:
+    try:
+        return float(crank_angle), float(crank_rate)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: crank_angle and crank_rate must be real numbers, "
+                        f"got {crank_angle!r}, {crank_rate!r}") from None
 
 
 def four_bar_state(crank_angle: float, crank_rate: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -150,123 +146,34 @@ def four_bar_state(crank_angle: float, crank_rate: float = 0.0) -> tuple[np.ndar
     tip P and rocker_length about the rocker's pivot O2 meet, on the left of P -> O2 (above the ground
     line: the assembly of the paper's figure). Velocity: the time derivative of the closure
     a e(t1) + b e(phi2) - c e(t3) = O2 (Saha, Shah & Nandihal 2013, Eqs. 51-52), solved for the coupler's
-    absolute rate phi2' and the rocker's rate t3'.
+    absolute rate phi2' and the rocker's rate t3'. The coupler's relative angle is in (-pi, pi].
+    Computed in C++ (soadyn::four_bar_state); ValueError for a non-finite argument.
     """
-    _finite("four_bar_state", crank_angle, crank_rate)
-    D = FourBarData
-    tip = D.crank_length * _unit(crank_angle)
-    pivot = np.array([D.ground_length, 0.0])
-    diagonal = pivot - tip
-    length = np.linalg.norm(diagonal)
-    along = (D.coupler_length**2 - D.rocker_length**2 + length**2) / (2 * length)
-    height_sq = D.coupler_length**2 - along**2
-    if height_sq < 0:
-        raise ValueError(f"four_bar_state: the linkage does not close at crank angle {crank_angle}")
-    direction = diagonal / length
-    pin = tip + along * direction + np.sqrt(height_sq) * np.array([-direction[1], direction[0]])
-    coupler = np.arctan2(*(pin - tip)[::-1])
-    rocker = np.arctan2(*(pin - pivot)[::-1])
-    # a w1 n(t1) + b phi2' n(phi2) - c t3' n(t3) = 0
-    rates = np.linalg.solve(np.column_stack([D.coupler_length * _normal(coupler), -D.rocker_length * _normal(rocker)]),
-                            -D.crank_length * crank_rate * _normal(crank_angle))
-    relative = np.angle(np.exp(1j * (coupler - crank_angle)))
-    return (np.array([crank_angle, relative, rocker]),
-            np.array([crank_rate, rates[0] - crank_rate, rates[1]]))
+    return _core._four_bar_state(*_angle_and_rate("four_bar_state", crank_angle, crank_rate))
 
 
 def slider_crank_state(crank_angle: float, crank_rate: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """(q, v) of slider_crank closed at `crank_angle` turning at `crank_rate`, the slider on the
     far side of the crank (x > crank's tip). With P the crank's tip and phi the rod's absolute angle:
     sin phi = (offset - P_y) / rod_length, x = P_x + rod_length cos phi; differentiated,
-    phi' = -r w cos(t) / (l cos phi) and x' = -r w sin(t) - l phi' sin(phi)."""
-    _finite("slider_crank_state", crank_angle, crank_rate)
-    D = SliderCrankData
-    r, l = D.crank_length, D.rod_length
-    tip = r * _unit(crank_angle)
-    rise = (D.offset - tip[1]) / l
-    if abs(rise) >= 1:
-        raise ValueError(f"slider_crank_state: the linkage does not close at crank angle {crank_angle}")
-    rod = np.arcsin(rise)
-    x = tip[0] + l * np.cos(rod)
-    rod_rate = -r * crank_rate * np.cos(crank_angle) / (l * np.cos(rod))
-    x_rate = -r * crank_rate * np.sin(crank_angle) - l * rod_rate * np.sin(rod)
-    relative = np.angle(np.exp(1j * (rod - crank_angle)))
-    return np.array([crank_angle, relative, x]), np.array([crank_rate, rod_rate - crank_rate, x_rate])
-
-
-def _rotation_y(angle):
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
-
-
-def _delta_arm(k: int, position: np.ndarray, velocity: np.ndarray) -> dict:
-    """Closed-form inverse kinematics of arm k (0, 1, 2) for the plate at `position` moving at `velocity`.
-
-    In the hinge frame (radial u, tangent w, up z) the elbow is E = B + L_a (cos t, 0, -sin t) and the
-    parallelogram's mid-line r = P - E (P: the plate's mid-ball of that arm) has |r| = L_f:
-    a cos t - c sin t = K with (a, c) the u and z parts of P - B and K = (|P - B|^2 + L_a^2 - L_f^2) / (2 L_a),
-    so t = beta - acos(K / rho), rho = hypot(a, c), beta = atan2(-c, a) (the elbow-out branch).
-    Each rod points along n = r / L_f; in the arm's frame n = (cos al cos be, sin be, -sin al cos be) for the
-    universal joint Rot(y, al) Rot(z, be).
-    """
-    D = DeltaRobotData
-    azimuth = 2 * np.pi * k / 3
-    frame = np.array([[np.cos(azimuth), -np.sin(azimuth), 0.0], [np.sin(azimuth), np.cos(azimuth), 0.0],
-                      [0.0, 0.0, 1.0]])  # columns u, w, z
-    d = frame.T @ (position + D.plate_radius * frame[:, 0]) - np.array([D.base_radius, 0.0, 0.0])
-    a, c = d[0], d[2]
-    rho = np.hypot(a, c)
-    K = (d @ d + D.arm_length**2 - D.rod_length**2) / (2 * D.arm_length)
-    if not abs(K) < rho:
-        raise ValueError(f"delta_robot_state: plate position {position.tolist()} is out of reach of arm_{k + 1}")
-    angle = np.arctan2(-c, a) - np.arccos(K / rho)
-    elbow_dir = np.array([np.cos(angle), 0.0, -np.sin(angle)])
-    d_elbow = D.arm_length * np.array([-np.sin(angle), 0.0, -np.cos(angle)])  # dE/dt per unit arm rate
-    r = d - D.arm_length * elbow_dir
-    p_dot = frame.T @ velocity
-    rate = (r @ p_dot) / (r @ d_elbow)
-    r_dot = p_dot - rate * d_elbow
-    # The rod's direction in the arm's frame (rotated by Ry(angle) about y) and its rate of change.
-    Ry = _rotation_y(angle)
-    n = Ry.T @ r / D.rod_length
-    n_dot = Ry.T @ r_dot / D.rod_length - rate * np.cross([0.0, 1.0, 0.0], n)
-    swing, lean = np.arctan2(-n[2], n[0]), np.arcsin(n[1])
-    swing_rate = (n[2] * n_dot[0] - n[0] * n_dot[2]) / (n[0] ** 2 + n[2] ** 2)
-    lean_rate = n_dot[1] / np.cos(lean)
-    return dict(angle=angle, rate=rate, swing=swing, swing_rate=swing_rate, lean=lean, lean_rate=lean_rate)
+    phi' = -r w cos(t) / (l cos phi) and x' = -r w sin(t) - l phi' sin(phi).
+    Computed in C++ (soadyn::slider_crank_state)."""
+    return _core._slider_crank_state(*_angle_and_rate("slider_crank_state", crank_angle, crank_rate))
 
 
 def delta_robot_state(position, velocity=(0.0, 0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
     """(q, v) of delta_robot with the plate's centre at `position` (m, base frame; e.g. (0, 0, -0.6)),
-    level, translating at `velocity` (m/s): closed-form inverse kinematics of each arm (_delta_arm)."""
+    level, translating at `velocity` (m/s). Closed-form inverse kinematics of each arm: in its hinge
+    frame (radial u, tangent w, up z) the elbow is E = B + L_a (cos t, 0, -sin t) and the parallelogram's
+    mid-line r = P - E has length L_f, so a cos t - c sin t = K (a, c: the u and z parts of P - B,
+    K = (|P - B|^2 + L_a^2 - L_f^2) / (2 L_a)) and t = atan2(-c, a) - acos(K / hypot(a, c)) (elbow out);
+    the rods' universal joints follow from r's direction in the arm's frame, the rates from the
+    derivatives of these relations. Computed in C++ (soadyn::delta_robot_state); ValueError for a
+    position out of reach, naming the arm."""
     position, velocity = np.asarray(position, dtype=float), np.asarray(velocity, dtype=float)
     if position.shape != (3,) or velocity.shape != (3,):
         raise ValueError("delta_robot_state: position and velocity need 3 components")
-    _finite("delta_robot_state", *position, *velocity)
-    q, v = {}, {}
-    for k in range(3):
-        arm = _delta_arm(k, position, velocity)
-        q[f"arm_{k + 1}"], v[f"arm_{k + 1}"] = arm["angle"], arm["rate"]
-        for side in "ab":
-            rod = f"rod_{k + 1}{side}"
-            q[f"{rod}:1"], q[f"{rod}:2"] = arm["swing"], arm["lean"]
-            v[f"{rod}:1"], v[f"{rod}:2"] = arm["swing_rate"], arm["lean_rate"]
-    q.update(zip(("plate:px", "plate:py", "plate:pz", "plate:qx", "plate:qy", "plate:qz", "plate:qw"),
-                 (*position, 0.0, 0.0, 0.0, 1.0)))
-    v.update(zip(("plate:wx", "plate:wy", "plate:wz", "plate:vx", "plate:vy", "plate:vz"), (0.0, 0.0, 0.0, *velocity)))
-    names = _delta_names()
-    return np.array([q[n] for n in names[0]]), np.array([v[n] for n in names[1]])
-
-
-_DELTA_NAMES: list = []
-
-
-def _delta_names() -> tuple[list, list]:
-    """delta_robot's coordinate and DOF names, built once."""
-    if not _DELTA_NAMES:
-        m = delta_robot()
-        _DELTA_NAMES.extend([m.coordinate_names, m.dof_names])
-    return _DELTA_NAMES[0], _DELTA_NAMES[1]
+    return _core._delta_robot_state(position, velocity)
 
 
 SCENES = {"cassini": cassini, "pendulum-chain": pendulum_chain}

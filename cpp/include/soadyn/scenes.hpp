@@ -100,6 +100,27 @@ ModelTpl<S> slider_crank_model(LoopKind closure = LoopKind::revolute);
 template <class S>
 ModelTpl<S> delta_robot_model();
 
+// A closed state of a loop scene: q (nq) and v (nv) in the scene's layout.
+template <class S>
+struct SceneState {
+  VecX<S> q, v;
+};
+
+// Closed-form position and velocity analysis (std::invalid_argument for a
+// non-finite argument or a state the linkage cannot reach):
+// four_bar_state: the four-bar at `crank_angle` (rad from the ground line)
+// turning at `crank_rate`, in the assembly with the coupler-rocker pin above
+// the ground line (on the left of the crank's tip -> O2);
+// slider_crank_state: the slider on the far side of the crank's tip;
+// delta_robot_state: the plate level with its centre at `position` (base
+// frame), translating at `velocity`, each arm on its elbow-out branch.
+template <class S>
+SceneState<S> four_bar_state(S crank_angle, S crank_rate = S(0));
+template <class S>
+SceneState<S> slider_crank_state(S crank_angle, S crank_rate = S(0));
+template <class S>
+SceneState<S> delta_robot_state(const Vec3<S>& position, const Vec3<S>& velocity = Vec3<S>::Zero());
+
 extern template ModelTpl<double> cassini_model<double>();
 extern template ModelTpl<float> cassini_model<float>();
 extern template void drive_cassini<double>(SimulatorTpl<double>&);
@@ -112,5 +133,11 @@ extern template ModelTpl<double> slider_crank_model<double>(LoopKind);
 extern template ModelTpl<float> slider_crank_model<float>(LoopKind);
 extern template ModelTpl<double> delta_robot_model<double>();
 extern template ModelTpl<float> delta_robot_model<float>();
+extern template SceneState<double> four_bar_state<double>(double, double);
+extern template SceneState<float> four_bar_state<float>(float, float);
+extern template SceneState<double> slider_crank_state<double>(double, double);
+extern template SceneState<float> slider_crank_state<float>(float, float);
+extern template SceneState<double> delta_robot_state<double>(const Vec3<double>&, const Vec3<double>&);
+extern template SceneState<float> delta_robot_state<float>(const Vec3<float>&, const Vec3<float>&);
 
 }  // namespace soadyn
