@@ -16,17 +16,6 @@ namespace {
 
 using Map = Eigen::Map<const Eigen::VectorXd>;
 
-Array q_arg(const ModelHandle& h, py::handle q) {
-  Array a = checked_vector(q, "q", h.model.coordinate_names);
-  double norm = 0;
-  const int body = soadyn::first_non_unit_quaternion<double>(h.model, Map(a.data(), a.size()), kQuaternionTolerance, &norm);
-  if (body >= 0)
-    throw py::value_error("q: the quaternion of joint '" + h.model.joint_names[static_cast<std::size_t>(body)] +
-                          "' has norm " + std::to_string(norm) + "; it must be 1 within 1e-6");
-  return a;
-}
-Array v_arg(const ModelHandle& h, py::handle v, const char* name) { return checked_vector(v, name, h.model.dof_names); }
-
 // f_ext: None or (nbodies, 6) body-frame wrenches [torque; force] about the body origin.
 // (`keep` holds the checked array; a default-constructed Array would itself
 // allocate an empty numpy array on every call.)

@@ -2,6 +2,7 @@
 // checked buffers. Both the general pybind11 functions and the vectorcall
 // fast path (fast_calls.cpp) run these, so the two cannot drift apart.
 #pragma once
+#include "arrays.hpp"
 #include "model_handle.hpp"
 #include "soadyn/status.hpp"
 
@@ -9,6 +10,11 @@ namespace soadyn_py {
 
 // How far from 1 a quaternion's norm in q may be.
 constexpr double kQuaternionTolerance = 1e-6;
+
+// q (nq): finite, with unit quaternions; v-sized vectors (nv): finite. Python
+// errors name the coordinate or DOF at fault.
+Array q_arg(const ModelHandle& h, py::handle q);
+Array v_arg(const ModelHandle& h, py::handle v, const char* name);
 
 // Checked inputs: q (nq), v (nv), x = tau, qdd or u (nv), f_ext (nbodies x 6,
 // row-major) or nullptr.

@@ -49,6 +49,12 @@ int largest_share(const soadyn::Model& m, const soadyn::Data& d, bool with_veloc
 
 void raise_on(const soadyn::Status& s, const soadyn::Model& m, const char* what) {
   if (s.ok()) return;
+  if (s.code == soadyn::StatusCode::loop_not_closed) {
+    const std::string loop = s.index >= 0 && s.index < m.nloops() ? m.loops[static_cast<std::size_t>(s.index)].name : "?";
+    throw DynamicsError(std::string(what) + ": loop '" + loop +
+                        "' does not close: its residual stays above the tolerance (the mechanism cannot reach a closed "
+                        "configuration from here with the DOFs allowed to move)");
+  }
   const std::string& dof = name_of(m.dof_names, s.index);
   if (s.code == soadyn::StatusCode::singular_articulated_inertia)
     throw DynamicsError(std::string(what) + ": the articulated inertia D of regular DOF '" + dof +

@@ -3,6 +3,7 @@
 namespace soadyn_py {
 void bind_model(pybind11::module_& mod);
 void bind_algorithms(pybind11::module_& mod);
+void bind_loop_kinematics(pybind11::module_& mod);
 void add_fast_paths(pybind11::module_& mod);
 void bind_simulator(pybind11::module_& mod);
 void bind_hil(pybind11::module_& mod);
@@ -14,6 +15,7 @@ PYBIND11_MODULE(_soadyn, mod) {
   mod.doc() = "soadyn C++ core";
   soadyn_py::bind_model(mod);
   soadyn_py::bind_algorithms(mod);
+  soadyn_py::bind_loop_kinematics(mod);
   soadyn_py::add_fast_paths(mod);
   soadyn_py::bind_simulator(mod);
   soadyn_py::bind_hil(mod);

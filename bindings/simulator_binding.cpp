@@ -311,7 +311,24 @@ void bind_simulator(py::module_& mod) {
           [](Sim& s, int n) {
             if (n < 1) throw py::value_error("max_substeps must be >= 1");
             locked_read(s, [&] { s.max_substeps = n; }); },
-          "dopri5: sub-step attempts allowed in one step; beyond it the step fails (DynamicsError).");
+          "dopri5: sub-step attempts allowed in one step; beyond it the step fails (DynamicsError).")
+      .def_property("loop_tolerance", [](Sim& s) { return locked_read(s, [&] { return s.loop_tolerance; }); },
+          [](Sim& s, double x) {
+            if (!(finite(x, "loop_tolerance") > 0)) throw py::value_error("loop_tolerance must be > 0");
+            locked_read(s, [&] { s.loop_tolerance = x; }); },
+          "Largest loop-closure residual |Psi_i| the projection after each step leaves.")
+      .def_property("loop_max_iterations", [](Sim& s) { return locked_read(s, [&] { return s.loop_max_iterations; }); },
+          [](Sim& s, int n) {
+            if (n < 1) throw py::value_error("loop_max_iterations must be >= 1");
+            locked_read(s, [&] { s.loop_max_iterations = n; }); },
+          "Gauss-Newton steps the closure projection may take after a step; beyond it the step fails.")
+      .def_property_readonly("loop_drift", [](Sim& s) {
+            return locked_read(s, [&] { return py::make_tuple(s.last_loop_drift_position(), s.last_loop_drift_velocity()); }); },
+          "(position, velocity): the largest |Psi_i| and |(C v)_i| the integrator left at the end of the last step,\n"
+          "before the closure projection.")
+      .def_property_readonly("max_loop_drift", [](Sim& s) {
+            return locked_read(s, [&] { return py::make_tuple(s.max_loop_drift_position(), s.max_loop_drift_velocity()); }); },
+          "(position, velocity): the largest loop_drift over all steps so far.");
 }
 
 }  // namespace soadyn_py

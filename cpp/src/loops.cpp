@@ -1,4 +1,6 @@
 #include "soadyn/algorithms/constrained_dynamics.hxx"
+#include "soadyn/algorithms/constrained_impulse.hxx"
+#include "soadyn/algorithms/loop_assembly.hxx"
 #include "soadyn/algorithms/loop_closure.hxx"
 
 namespace soadyn {
@@ -7,7 +9,14 @@ namespace soadyn {
   template int loop_rank<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&);                          \
   template Status constrained_dynamics<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&,              \
                                           const ConstVecRef<S>&, const ConstVecRef<S>&, const S*);     \
-  template Status detail::constrained_solve<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&);
+  template Status detail::constrained_solve<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&);      \
+  template Status assemble_loops<S>(const ModelTpl<S>&, DataTpl<S>&, VecRef<S>, const ConstVecRef<S>&, S, int,  \
+                                    int*);                                                                      \
+  template Status project_loop_velocity<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, VecRef<S>,   \
+                                           const ConstVecRef<S>&);                                              \
+  template std::vector<int> independent_coordinates<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&); \
+  template Status constrained_impulse<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&,                \
+                                         const ConstVecRef<S>&, const ConstVecRef<S>&);
 SOADYN_INSTANTIATE(double)
 SOADYN_INSTANTIATE(float)
 }  // namespace soadyn

@@ -18,6 +18,7 @@ from ._soadyn import (
     forward_dynamics,
     forward_kinematics,
     hybrid_dynamics,
+    independent_coordinates,
     integrate,
     inverse_dynamics,
     joint_wrenches,
@@ -31,6 +32,7 @@ from ._soadyn import (
     potential_energy,
     random_configuration,
 )
+from .loops import assemble, project_velocity
 from .linearize import natural_frequencies, stiffness_matrix
 from .model import Model
 from .simulator import MotionSource, Simulator, Trajectory
@@ -48,4 +50,5 @@ __all__ = [
     "forward_kinematics", "integrate", "neutral_configuration", "random_configuration",
     "scenes", "hil",
     "LoopError", "constrained_dynamics", "loop_residual", "loop_jacobian", "loop_rank",
+    "assemble", "project_velocity", "independent_coordinates",
 ]

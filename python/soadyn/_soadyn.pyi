@@ -311,6 +311,33 @@ class _Simulator(_SimulatorCore):
     def max_substeps(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
+    def loop_tolerance(self) -> float:
+        """
+        Largest loop-closure residual |Psi_i| the projection after each step leaves.
+        """
+    @loop_tolerance.setter
+    def loop_tolerance(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def loop_max_iterations(self) -> int:
+        """
+        Gauss-Newton steps the closure projection may take after a step; beyond it the step fails.
+        """
+    @loop_max_iterations.setter
+    def loop_max_iterations(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def loop_drift(self) -> tuple:
+        """
+        (position, velocity): the largest |Psi_i| and |(C v)_i| the integrator left at the end of the last step,
+        before the closure projection.
+        """
+    @property
+    def max_loop_drift(self) -> tuple:
+        """
+        (position, velocity): the largest loop_drift over all steps so far.
+        """
+    @property
     def pending_events(self) -> int:
         ...
     @property
@@ -584,6 +611,10 @@ def _time_cpp(model: _Model, algorithm: str, q: typing.Annotated[numpy.typing.Ar
     Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea' or 'crba' over the given
     states (rows), `calls` calls per repetition. For benchmarks; the GIL is released.
     """
+def _assemble(model: _Model, q: typing.Any, free: collections.abc.Sequence[bool], tolerance: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+    ...
+def _project_velocity(model: _Model, q: typing.Any, v: typing.Any, free: collections.abc.Sequence[bool]) -> numpy.typing.NDArray[numpy.float64]:
+    ...
 def bias_forces(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
     h(q, v): Coriolis, centrifugal and gravity generalized forces.
@@ -615,6 +646,12 @@ def hybrid_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.Ar
     Hybrid dynamics (Jain & Rodriguez 1993, Eqs. 14, 28, 29): u holds the torque of each regular DOF and the acceleration of
     each prescribed DOF (model.prescribed). Returns fresh arrays (qdd, tau) with every DOF's acceleration
     and generalized force, plus the (nbodies, 6) joint wrenches when joint_wrenches=True.
+    """
+def independent_coordinates(model: _Model, q: typing.Any) -> list[str]:
+    """
+    Names of the independent DOFs at q by coordinate partitioning: the DOFs whose columns of the loop
+    constraint Jacobian C(q) carry the largest pivots of a fully pivoted LU factorisation are dependent,
+    the others (nv - rank C of them, in DOF order) independent.
     """
 def integrate(model: _Model, q: typing.Any, v: typing.Any, dt: typing.SupportsFloat | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """

@@ -73,11 +73,24 @@ def check_loops_no_allocation(output: str) -> None:
     require(bool(lines(r"^test_loops_no_allocation: PASS$", output)), "the PASS line")
 
 
+def check_loop_sim_no_allocation(output: str) -> None:
+    """10^4 steps of a five-bar and a four-bar with each integrator, locks and releases changing the loops'
+    mobility, a drive taking over; then direct assembly and projection calls and named failures."""
+    rows = lines(r"^(five-bar|four-bar) \((rk4|euler|dopri5)\): 10000 steps, 0 allocations, 0 frees, "
+                 r"0 failed statuses, worst closure (\S+)$", output)
+    require(len(rows) == 6, "10^4 allocation-free steps of both mechanisms with the three integrators")
+    require(all(float(r[2]) <= 1e-12 for r in rows), "closure within 1e-12 after every step")
+    require(bool(lines(r"^direct calls: 1000 of 1000 closed, 1000 of 1000 failures named loop 0, 0 allocations, "
+                       r"0 frees$", output)), "allocation-free assembly, projection and named failures")
+    require(bool(lines(r"^test_loop_sim_no_allocation: PASS$", output)), "the PASS line")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
     "test_sim_no_allocation": check_sim_no_allocation,
     "test_loops_no_allocation": check_loops_no_allocation,
+    "test_loop_sim_no_allocation": check_loop_sim_no_allocation,
 }
 
 

@@ -5,7 +5,7 @@
       (the one of pyproject.toml) and that soadyn::core needs neither threads nor sockets.
   ... example
       configures examples/cpp against that prefix alone, builds it and runs it: the cassini scene paced
-      in real time for 10 s.
+      in real time for 10 s, and the four-bar (a closed loop) paced for 4 s.
   ... readme
       takes the C++ program, its CMakeLists.txt and its build command from the README's "C++" section as
       written, builds it with HOME=D/home (so "$HOME/.local" is the prefix above) and runs it; its results
@@ -145,6 +145,17 @@ def example(source: Path, scratch: Path) -> None:
     require(paced is not None, "the pacing summary")
     # Sleeping to absolute deadlines, the run cannot end before its last deadline (no speed is judged).
     require(float(paced.group(1)) >= 10.0, f"a paced run: wall time {paced.group(1)} s not below the simulated 10 s")
+    output = run([str(build / "four_bar_realtime")])
+    torque = re.search(r"^four-bar: 4000 steps of 1.0 ms \(RK4\), simulated 4.000 s, crank torque while driven "
+                       r"(\S+) \.\. (\S+) N m$", output, re.MULTILINE)
+    require(torque is not None and float(torque.group(1)) < 0 < float(torque.group(2)),
+            "4000 steps of the four-bar, its crank driven both ways")
+    closure = re.search(r"^loop drift before projection: max (\S+) m, (\S+) m/s; closure at the end (\S+) m, "
+                        r"(\S+) m/s$", output, re.MULTILINE)
+    require(closure is not None and max(float(closure.group(3)), float(closure.group(4))) <= 1e-12,
+            "the four-bar closed to 1e-12 at the end")
+    require(re.search(r"^paced on CLOCK_MONOTONIC: wall (\S+) s, \d+ of 4000 steps", output, re.MULTILINE) is not None,
+            "the four-bar's pacing summary")
 
 
 def readme_blocks(source: Path) -> dict:

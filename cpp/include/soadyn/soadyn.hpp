@@ -7,6 +7,8 @@
 #include "soadyn/algorithms/hybrid.hpp"
 #include "soadyn/algorithms/kinematics.hpp"
 #include "soadyn/algorithms/constrained_dynamics.hpp"
+#include "soadyn/algorithms/constrained_impulse.hpp"
+#include "soadyn/algorithms/loop_assembly.hpp"
 #include "soadyn/algorithms/loop_closure.hpp"
 #include "soadyn/algorithms/rnea.hpp"
 #include "soadyn/data.hpp"

@@ -11,6 +11,7 @@ enum class StatusCode {
   step_size_underflow,           // the adaptive integrator could not meet its tolerance
   non_finite_source,             // a motion source returned a non-finite value (index: its DOF)
   substep_limit,                 // the adaptive integrator used up its sub-steps in one step
+  loop_not_closed,               // loop-closure projection did not converge (index: the loop, not a DOF)
   // Internal to the dynamics dispatch, never returned by a public algorithm:
   // a body lies beyond its tree-frame reach (tree_frame_reach.hxx), so the
   // call is redone in body frames (index: the body).
@@ -26,6 +27,7 @@ inline const char* status_message(StatusCode code) {
     case StatusCode::step_size_underflow: return "step size underflow";
     case StatusCode::non_finite_source: return "motion source returned a non-finite value";
     case StatusCode::substep_limit: return "sub-step limit reached";
+    case StatusCode::loop_not_closed: return "loop closure not reached";
     case StatusCode::beyond_tree_frame_reach: return "beyond tree-frame reach";
   }
   return "unknown";

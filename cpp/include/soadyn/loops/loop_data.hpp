@@ -12,13 +12,14 @@ template <class S> using Mat6X = Eigen::Matrix<S, 6, Eigen::Dynamic>;
 
 template <class S>
 struct LoopData {
-  LoopData(int nv, int m, int nloops)
+  LoopData(int nq, int nv, int m, int nloops)
       : residual(VecX<S>::Zero(m)), velocity_residual(VecX<S>::Zero(m)), jacobian(MatX<S>::Zero(m, nv)),
         kappa(VecX<S>::Zero(m)), multipliers(VecX<S>::Zero(m)), wrench(static_cast<std::size_t>(nloops), Vec6<S>::Zero()),
         relative_jacobian(Mat6X<S>::Zero(6, nv)), regular_mass(MatX<S>::Zero(nv, nv)),
         constraint_jacobian_regular(MatX<S>::Zero(m, nv)), inverse_mass_times_ct(MatX<S>::Zero(nv, m)),
         delassus(MatX<S>::Zero(m, m)), delassus_solve(m), rhs(VecX<S>::Zero(m)),
-        free_acceleration(VecX<S>::Zero(nv)), bias(VecX<S>::Zero(nv)), rank_qr(m, nv) {}
+        free_acceleration(VecX<S>::Zero(nv)), bias(VecX<S>::Zero(nv)), rank_qr(m, nv),
+        projection_multipliers(VecX<S>::Zero(m)), correction(VecX<S>::Zero(nv)), q_start(VecX<S>::Zero(nq)) {}
 
   // Outputs.
   VecX<S> residual;           // Psi(q), m
@@ -40,6 +41,9 @@ struct LoopData {
   VecX<S> free_acceleration;               // qdd without loop forces
   VecX<S> bias;                            // h - J' f_ext
   Eigen::ColPivHouseholderQR<MatX<S>> rank_qr;
+  // Closure projection (loop_assembly.hpp): its multipliers, the tangent
+  // correction of q or v, and the configuration a Gauss-Newton step starts from.
+  VecX<S> projection_multipliers, correction, q_start;
 };
 
 }  // namespace soadyn

@@ -14,6 +14,15 @@
 // SimulationError carries the Status of a dynamics failure (a singular
 // impulse, a motion source returning a non-finite value).
 //
+// Closed loops: a model with loops steps with constrained_dynamics, and
+// after every step the state is projected back onto the closure manifold
+// (loop_assembly.hpp): Gauss-Newton on Psi(q) = 0, then C v = 0, both moving
+// only the regular DOFs (prescribed ones follow their drives exactly), to
+// loop_tolerance. The integrator's drift before the projection is reported
+// (last_loop_drift, max_loop_drift). Mode switches in loops use the impulse
+// form with the cut impulses (constrained_impulse.hpp). set_state keeps the
+// state as given: assemble it first (assemble_loops, project_loop_velocity).
+//
 // Threads: a simulator is not safe to use from two threads at once; the
 // Python binding serialises its calls (bindings/simulator_handle.hpp).
 #pragma once
@@ -21,6 +30,7 @@
 #include <stdexcept>
 #include <string>
 #include "soadyn/algorithms/hybrid.hpp"
+#include "soadyn/algorithms/loop_assembly.hpp"
 #include "soadyn/sim/motion_source.hpp"
 
 namespace soadyn {
@@ -118,6 +128,16 @@ class SimulatorTpl {
   // dopri5: attempts allowed in one step before it stops with
   // StatusCode::substep_limit (a bound on the step's run time).
   int max_substeps = 1000;
+  // Loop closure after each step: largest |Psi_i| allowed, and the Gauss-Newton
+  // steps allowed to reach it (StatusCode::loop_not_closed beyond).
+  S loop_tolerance = default_closure_tolerance<S>();
+  int loop_max_iterations = 10;
+  // Largest loop-closure residuals |Psi_i| and |(C v)_i| the integrator left at
+  // the end of the last step, before the projection, and their maxima over all steps.
+  S last_loop_drift_position() const { return drift_position_; }
+  S last_loop_drift_velocity() const { return drift_velocity_; }
+  S max_loop_drift_position() const { return max_drift_position_; }
+  S max_loop_drift_velocity() const { return max_drift_velocity_; }
 
  private:
   enum class Drive : std::uint8_t { regular, held, sourced };
@@ -129,6 +149,7 @@ class SimulatorTpl {
   Status adaptive_step();
   Status apply_sources(S t);
   Status check_state_finite() const;
+  Status close_loops();
   Status switch_mode(int dof, Drive drive, int source, bool impulse);
   Status fire_due_events();
   Status fire(const Event<S>& e);
@@ -158,6 +179,8 @@ class SimulatorTpl {
   std::size_t event_capacity_;
   std::int64_t events_scheduled_ = 0;
   int last_substeps_ = 0;
+  S drift_position_ = S(0), drift_velocity_ = S(0), max_drift_position_ = S(0), max_drift_velocity_ = S(0);
+  VecX<S> free_dofs_;  // 1 for a regular DOF, 0 for a driven one: what the closure projection may move
   // Runge-Kutta scratch: stage rates of xi and v, base configuration.
   VecX<S> q0_, v0_, xi_, vs_, qs_, xi_err_, v_err_, q_save_, v_save_;
   // The state at the start of a step (restored when it fails), and the

@@ -4,6 +4,9 @@
 #include <limits>
 #include <stdexcept>
 #include "soadyn/algorithms/configuration.hpp"
+#include "soadyn/algorithms/constrained_dynamics.hpp"
+#include "soadyn/algorithms/constrained_impulse.hpp"
+#include "soadyn/algorithms/loop_closure.hpp"
 #include "soadyn/algorithms/energy.hpp"
 #include "soadyn/algorithms/hybrid.hpp"
 #include "soadyn/sim/chart.hpp"
@@ -40,7 +43,7 @@ SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integra
   q_.resize(nq);
   neutral_configuration<S>(model_, q_);
   for (VecX<S>* x : {&v_, &inputs_, &forces_, &u_, &source_offset_, &held_position_, &xi_, &vs_, &xi_err_, &v_err_,
-                     &v0_, &v_save_, &step_v_, &step_forces_, &sampled_position_, &sampled_velocity_})
+                     &v0_, &v_save_, &step_v_, &step_forces_, &sampled_position_, &sampled_velocity_, &free_dofs_})
     x->setZero(nv);
   for (VecX<S>* x : {&q0_, &qs_, &q_save_, &step_q_}) x->setZero(nq);
   k_xi_.assign(7, VecX<S>::Zero(nv));
@@ -261,7 +264,7 @@ Status SimulatorTpl<S>::switch_mode(int dof, Drive drive, int source, bool impul
     const S energy_before = drive == Drive::held ? kinetic_energy<S>(model_, data_, q_, v_) : S(0);
     u_.setZero();
     u_[dof] = target_velocity - v_[dof];
-    const Status s = hybrid_impulse<S>(model_, data_, q_, u_);
+    const Status s = constrained_impulse<S>(model_, data_, q_, v_, u_);
     if (!s.ok()) {
       drive_[d] = previous_drive;
       source_of_[d] = previous_source;
@@ -314,7 +317,7 @@ Status SimulatorTpl<S>::evaluate(S t, const VecX<S>& q, const VecX<S>& v, VecX<S
     }
     u_[static_cast<Eigen::Index>(d)] = acceleration;
   }
-  const Status s = hybrid_dynamics<S>(model_, data_, q, v, u_);
+  const Status s = constrained_dynamics<S>(model_, data_, q, v, u_);  // hybrid_dynamics when there are no loops
   qdd = data_.qdd;
   return s;
 }
@@ -493,6 +496,25 @@ Status SimulatorTpl<S>::advance() {
   }
   s = apply_sources(time_);
   if (!s.ok()) return s;
+  s = check_state_finite();
+  if (!s.ok()) return s;
+  return close_loops();
+}
+
+// Projection onto the closure manifold after a step (see simulator.hpp).
+template <class S>
+Status SimulatorTpl<S>::close_loops() {
+  if (model_.nloops() == 0) return Status{};
+  for (int dof = 0; dof < model_.nv; ++dof) free_dofs_[dof] = model_.is_prescribed(dof) ? S(0) : S(1);
+  loop_residual<S>(model_, data_, q_, v_.data());
+  drift_position_ = data_.loops.residual.template lpNorm<Eigen::Infinity>();
+  drift_velocity_ = data_.loops.velocity_residual.template lpNorm<Eigen::Infinity>();
+  Status s = assemble_loops<S>(model_, data_, q_, free_dofs_, loop_tolerance, loop_max_iterations);
+  if (!s.ok()) return s;
+  s = project_loop_velocity<S>(model_, data_, q_, v_, free_dofs_);
+  if (!s.ok()) return s;
+  max_drift_position_ = std::max(max_drift_position_, drift_position_);
+  max_drift_velocity_ = std::max(max_drift_velocity_, drift_velocity_);
   return check_state_finite();
 }
 
@@ -520,7 +542,11 @@ Status SimulatorTpl<S>::step() {
 template <class S>
 std::string SimulatorTpl<S>::describe(const Status& s) const {
   std::string text = status_message(s.code);
-  if (s.index >= 0 && s.index < model_.nv) text += " (DOF '" + model_.dof_names[static_cast<std::size_t>(s.index)] + "')";
+  if (s.code == StatusCode::loop_not_closed && s.index >= 0 && s.index < model_.nloops())
+    text += " (loop '" + model_.loops[static_cast<std::size_t>(s.index)].name + "', tolerance " +
+            std::to_string(static_cast<double>(loop_tolerance)) + " in " + std::to_string(loop_max_iterations) +
+            " Gauss-Newton steps)";
+  else if (s.index >= 0 && s.index < model_.nv) text += " (DOF '" + model_.dof_names[static_cast<std::size_t>(s.index)] + "')";
   if (s.code == StatusCode::substep_limit)
     text += " (dopri5: " + std::to_string(max_substeps) + " sub-step attempts in one step, max_substeps)";
   return text + " at t = " + std::to_string(static_cast<double>(time_));
