@@ -94,12 +94,8 @@ def run_four_bar_demo(args) -> int:
     print(f"loop coupler_rocker: revolute cut, {model.nloop_equations} equations; one crank revolution in "
           f"{args.revolution:g} s, sampled every {args.dt:g} s")
     driven = [demo.constant_rate(args.revolution, args.dt), demo.cycloidal(args.revolution, args.dt)]
-    try:
-        fall = demo.free_fall(args.duration, args.dt)
-    except RuntimeError as error:
-        fall = None
-        print(f"free fall not shown: {error}")
-    print(demo.format_runs(driven + ([fall] if fall else [])))
+    fall = demo.free_fall(args.duration, args.dt)
+    print(demo.format_runs(driven + [fall]))
     if args.plot:
         demo.plot_runs(driven, fall, args.plot)
         print(f"plot written to {args.plot}")
