@@ -168,12 +168,17 @@ void bind_model(py::module_& mod) {
         load_scene(h, [&] { return soadyn::pendulum_chain_model<double>(links, length, mass); });
       })
       .def("_load_four_bar", [](ModelHandle& h, const std::string& closure) {
-        load_scene(h, [&] { return soadyn::four_bar_model<double>(soadyn::parse_loop_kind(closure, "coupler_rocker")); });
+        load_scene(h, [&] {
+          return soadyn::four_bar_model<double>(soadyn::parse_loop_kind(closure, "coupler_rocker"));
+        });
       })
       .def("_load_slider_crank", [](ModelHandle& h, const std::string& closure) {
-        load_scene(h, [&] { return soadyn::slider_crank_model<double>(soadyn::parse_loop_kind(closure, "wrist_pin")); });
+        load_scene(h, [&] {
+          return soadyn::slider_crank_model<double>(soadyn::parse_loop_kind(closure, "wrist_pin"));
+        });
       })
-      .def("_load_delta_robot", [](ModelHandle& h) { load_scene(h, [] { return soadyn::delta_robot_model<double>(); }); })
+      .def("_load_delta_robot",
+           [](ModelHandle& h) { load_scene(h, [] { return soadyn::delta_robot_model<double>(); }); })
       .def("_copy_from", [](ModelHandle& h, const ModelHandle& other) {
         soadyn::Model copy = other.model;  // read under the GIL: no change can run (model_handle.hpp)
         const auto lock = h.lock_for_change();

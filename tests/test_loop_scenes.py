@@ -243,7 +243,8 @@ def test_driven_four_bar_crank_power_is_the_rate_of_change_of_energy():
         q, v = scenes.four_bar_state(angle, rate)
         _, tau, _ = soadyn.constrained_dynamics(m, q, v, np.array([acceleration, 0.0, 0.0]))
         power.append(tau[0] * rate)
-        rate_of_energy.append((energy(t - 2 * h) - 8 * energy(t - h) + 8 * energy(t + h) - energy(t + 2 * h)) / (12 * h))
+        rate_of_energy.append((energy(t - 2 * h) - 8 * energy(t - h) + 8 * energy(t + h) - energy(t + 2 * h))
+                              / (12 * h))
     power, rate_of_energy = np.array(power), np.array(rate_of_energy)
     assert np.abs(power).max() > 1.0  # the crank does work, not only static holding
     assert np.abs(power - rate_of_energy).max() <= 1e-8 * np.abs(power).max()
@@ -314,8 +315,9 @@ def delta_case():
     model = build_pinocchio(specs, m.gravity)
     mapping = Mapping(m, model, specs)
     plate = len(specs) - 1
-    constraints = [pin.RigidConstraintModel(pin.ContactType.CONTACT_3D, model, rod + 1, pin.SE3(np.eye(3), np.array([LF, 0.0, 0.0])),
-                                            plate + 1, pin.SE3(np.eye(3), ball), pin.ReferenceFrame.LOCAL)
+    rod_end = pin.SE3(np.eye(3), np.array([LF, 0.0, 0.0]))
+    constraints = [pin.RigidConstraintModel(pin.ContactType.CONTACT_3D, model, rod + 1, rod_end, plate + 1,
+                                            pin.SE3(np.eye(3), ball), pin.ReferenceFrame.LOCAL)
                    for rod, ball in balls]
     return m, model, mapping, constraints
 
@@ -406,6 +408,7 @@ def test_four_bar_demo_writes_its_figure_headless(tmp_path, capsys):
     out = _demo(["--revolution", "2", "--plot", str(plot)], capsys)
     assert "scene four-bar: 3 bodies" in out and "one crank revolution in 2 s" in out
     assert "constant rate 3.14 rad/s" in out and "cycloidal (Eq. 34)" in out
+    assert "free fall (RK4, dt 0.002 s)" in out
     assert f"plot written to {plot}" in out
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and plot.stat().st_size > 20_000
     import matplotlib

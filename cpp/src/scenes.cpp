@@ -26,7 +26,10 @@ template <class S>
 struct SlenderRod {
   S mass, length;
   Vec3<S> com() const { return Vec3<S>(length / S(2), S(0), S(0)); }
-  Mat3<S> inertia() const { return Vec3<S>(S(0), mass * length * length / S(12), mass * length * length / S(12)).asDiagonal(); }
+  Mat3<S> inertia() const {
+    const S across = mass * length * length / S(12);
+    return Vec3<S>(S(0), across, across).asDiagonal();
+  }
 };
 
 template <class S>
@@ -264,7 +267,8 @@ namespace {
 template <class S>
 void require_finite(const char* what, std::initializer_list<S> values) {
   for (S x : values)
-    if (!std::isfinite(static_cast<double>(x))) throw std::invalid_argument(std::string(what) + ": arguments must be finite");
+    if (!std::isfinite(static_cast<double>(x)))
+      throw std::invalid_argument(std::string(what) + ": arguments must be finite");
 }
 
 template <class S>
@@ -311,7 +315,8 @@ SceneState<S> four_bar_state(S crank_angle, S crank_rate) {
   const S length = diagonal.norm();
   const S along = (b * b - c * c + length * length) / (S(2) * length), height_sq = b * b - along * along;
   if (!(height_sq >= S(0)))
-    throw std::invalid_argument("four_bar_state: the linkage does not close at crank angle " + std::to_string(crank_angle));
+    throw std::invalid_argument("four_bar_state: the linkage does not close at crank angle " +
+                                std::to_string(crank_angle));
   const V2 direction = diagonal / length;
   const V2 pin = tip + along * direction + std::sqrt(height_sq) * V2(-direction.y(), direction.x());
   const S coupler = angle_of<S>(pin - tip), rocker = angle_of<S>(pin - pivot);
@@ -368,7 +373,8 @@ DeltaArm<S> delta_arm(int k, const Vec3<S>& position, const Vec3<S>& velocity) {
   const S rho = std::hypot(d.x(), d.z());
   const S K = (d.squaredNorm() + La * La - Lf * Lf) / (S(2) * La);
   if (!(std::abs(K) < rho))
-    throw std::invalid_argument("delta_robot_state: the plate position is out of reach of arm_" + std::to_string(k + 1));
+    throw std::invalid_argument("delta_robot_state: the plate position is out of reach of arm_" +
+                                std::to_string(k + 1));
   DeltaArm<S> arm;
   arm.angle = std::atan2(-d.z(), d.x()) - std::acos(K / rho);
   const S c = cos(arm.angle), s = sin(arm.angle);
@@ -392,7 +398,8 @@ DeltaArm<S> delta_arm(int k, const Vec3<S>& position, const Vec3<S>& velocity) {
 
 template <class S>
 SceneState<S> delta_robot_state(const Vec3<S>& position, const Vec3<S>& velocity) {
-  require_finite("delta_robot_state", {position.x(), position.y(), position.z(), velocity.x(), velocity.y(), velocity.z()});
+  require_finite("delta_robot_state",
+                 {position.x(), position.y(), position.z(), velocity.x(), velocity.y(), velocity.z()});
   // Layout of delta_robot_model: per arm k, the arm's angle then its two rods' (swing, lean): 5 coordinates
   // at 5 k; then the plate's free joint (position, quaternion x y z w; v: angular, linear), at 15.
   SceneState<S> state{VecX<S>::Zero(22), VecX<S>::Zero(21)};
