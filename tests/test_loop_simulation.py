@@ -284,3 +284,38 @@ def test_a_model_without_loops_steps_exactly_as_before():
     v1 = v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
     assert np.max(np.abs(sim.v - v1)) <= 1e-14
     assert sim.loop_drift == (0.0, 0.0)
+
+
+# --- the HIL runner with loops -----------------------------------------------------------------------------------
+
+def test_hil_run_of_a_loop_model_matches_plain_stepping_and_reports_the_drift():
+    from soadyn.hil import format_table, run_hil
+    m = four_bar("point")
+    q, _ = four_bar_state(0.7, 0.0)
+    sims = []
+    for _ in range(2):
+        sim = Simulator(m, 1e-3, "rk4")
+        sim.set_state(q, np.zeros(3))
+        sims.append(sim)
+    report = run_hil(sims[0], 1000.0, 1.0, progress=False, realtime=False)
+    sims[1].run(1.0)
+    assert report.ok and report.steps == 1000
+    np.testing.assert_array_equal(sims[0].q, sims[1].q)
+    np.testing.assert_array_equal(sims[0].v, sims[1].v)
+    assert report.loop_drift == {"max_position": sims[1].max_loop_drift[0], "max_velocity": sims[1].max_loop_drift[1]}
+    assert 0 < report.loop_drift["max_position"] <= 1e-8
+    assert "loop drift" in format_table(report) and report.to_dict()["loop_drift"] == report.loop_drift
+
+
+def test_hil_run_names_the_loop_whose_closure_fails():
+    from soadyn.hil import format_table, run_hil
+    m = four_bar("point")
+    q, v = four_bar_state(0.7, 3.0)
+    sim = Simulator(m, 1e-3, "rk4")
+    sim.set_state(q + np.array([0.0, 0.3, 0.0]), v)
+    sim.loop_max_iterations = 1
+    report = run_hil(sim, 1000.0, 0.1, progress=False, realtime=False)
+    assert not report.ok and report.steps == 0
+    assert report.status == "loop closure not reached"
+    assert report.failed_loop == "pin" and report.failed_dof is None
+    assert "(loop 'pin')" in format_table(report)

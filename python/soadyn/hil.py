@@ -68,6 +68,10 @@ class HilReport:
     error: str | None = None  # what a step raised (status "exception in a step"), as "Type: message"
     report_errors: list = field(default_factory=list)  # measurements that could not be made, and why
     exception: BaseException | None = field(default=None, repr=False)  # the exception a step raised
+    failed_loop: str | None = None  # the loop whose closure projection failed (status "loop closure not reached")
+    # Models with loops: the largest closure residuals the integrator left before the projection of a step,
+    # {"max_position": ..., "max_velocity": ...}; None without loops.
+    loop_drift: dict | None = None
 
     @property
     def ok(self) -> bool:
@@ -77,7 +81,7 @@ class HilReport:
         """The summary as JSON-ready data (no per-step arrays)."""
         keys = ["rate_hz", "realtime", "requested_steps", "steps", "deadline_misses", "compute_us", "lateness_us",
                 "packets", "commands", "wall_seconds", "sim_time", "status", "failed_step", "failed_dof", "error",
-                "interrupted", "energy", "momentum", "scheduling", "report_errors"]
+                "interrupted", "energy", "momentum", "scheduling", "report_errors", "failed_loop", "loop_drift"]
         return _finite_or_none({k: getattr(self, k) for k in keys})
 
     def to_json(self, indent: int | None = 2) -> str:
@@ -93,6 +97,9 @@ def _finite_or_none(x):
     if isinstance(x, (list, tuple)):
         return [_finite_or_none(v) for v in x]
     return x
+
+
+LOOP_NOT_CLOSED = "loop closure not reached"  # the status of a step whose closure projection failed
 
 
 @dataclass
@@ -314,6 +321,8 @@ def _report(sim, runner, rate, realtime, interrupted, exception, energy0, moment
     t, q, v = runner.trajectory()
     failed = s.status != "ok"
     dof_names = list(sim._dof_names)
+    loop_failed = failed and s.status == LOOP_NOT_CLOSED
+    loop_names = list(sim._model.loop_names)
     energy1 = _measure(lambda: _energy(sim), "energy at end", report_errors)
     momentum1 = _measure(lambda: _momentum(sim), "momentum at end", report_errors)
     return HilReport(
@@ -324,7 +333,9 @@ def _report(sim, runner, rate, realtime, interrupted, exception, energy0, moment
         packets=_packets(s), commands=_commands(s, runner.command_limits, dof_names),
         wall_seconds=s.wall_seconds, sim_time=float(sim.time), status=s.status,
         failed_step=(s.exception_step if s.exception_step >= 0 else s.failed_step) if failed else None,
-        failed_dof=dof_names[s.failed_dof] if failed and 0 <= s.failed_dof < len(dof_names) else None,
+        failed_dof=dof_names[s.failed_dof] if failed and not loop_failed and 0 <= s.failed_dof < len(dof_names) else None,
+        failed_loop=loop_names[s.failed_dof] if loop_failed and 0 <= s.failed_dof < len(loop_names) else None,
+        loop_drift=dict(zip(("max_position", "max_velocity"), sim.max_loop_drift)) if loop_names else None,
         interrupted=interrupted,
         energy={"start": energy0, "end": energy1}, momentum={"start": momentum0, "end": momentum1},
         scheduling=_scheduling(s.realtime),
@@ -396,8 +407,12 @@ def format_table(r: HilReport) -> str:
         + (f" ({saturated})" if saturated else "") + f", rejected {cmd['rejected']}",
         f"energy    J      {energy}",
         f"momentum         {momentum}",
+        *([f"loop drift       before projection: max {r.loop_drift['max_position']:.2e} (position), "
+           f"{r.loop_drift['max_velocity']:.2e} (velocity); closure projected to the tolerance after every step"]
+          if r.loop_drift else []),
         f"status           {r.status}" + (f" at step {r.failed_step}" if r.failed_step is not None else "")
-        + (f" (DOF '{r.failed_dof}')" if r.failed_dof else "") + (f": {r.error}" if r.error else "")
+        + (f" (DOF '{r.failed_dof}')" if r.failed_dof else "") + (f" (loop '{r.failed_loop}')" if r.failed_loop else "")
+        + (f": {r.error}" if r.error else "")
         + (" (interrupted)" if r.interrupted else ""),
     ]
     return "\n".join(lines)
