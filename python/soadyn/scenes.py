@@ -13,8 +13,9 @@ turntable and the engine gimbal.
 
 ``cantilever_beam`` is one uniform Euler-Bernoulli beam clamped to the world.
 
-Closed-loop scenes (trees closed by cut joints; dimensions in FourBarData,
-SliderCrankData and DeltaRobotData, mirrored from cpp/include/soadyn/scenes.hpp):
+Closed-loop scenes (trees closed by cut joints; their data, in C++
+FourBarData, SliderCrankData and DeltaRobotData, are documented in
+cpp/include/soadyn/scenes.hpp):
 
 ``four_bar`` is the planar crank-rocker of Saha, Shah & Nandihal, "Evolution
 of the DeNOC-based dynamic modelling for multibody systems", Mechanical
@@ -29,10 +30,11 @@ rod 0.2 m (1.5 kg), slider (0.8 kg) on a line 0.02 m above the crank's pivot;
 DOFs "crank", "connecting_rod" (relative), "slider" (x position); the loop
 "wrist_pin" pins the rod's tip to the slider.
 
-``delta_robot`` is a Delta parallel robot: three arms hinged on the base,
-each carrying a parallelogram of two forearm rods whose far ends are ball
-joints ("point" loops) on a free travelling plate: 21 DOFs, 6 loops, 3
-degrees of freedom.
+``delta_robot`` is a Delta parallel robot: three arms (0.3 m, 0.4 kg) hinged
+on the base at radius 0.2 m, each carrying a parallelogram of two forearm
+rods (0.7 m, 0.1 kg, 0.1 m apart) on universal joints, whose far ends are
+ball joints ("point" loops) on a free travelling plate (0.5 kg, balls at
+radius 0.05 m); gravity along -z: 21 DOFs, 6 loops, 3 degrees of freedom.
 
 The ``*_state`` functions return a closed (q, v) by closed-form position and
 velocity analysis.
@@ -83,24 +85,6 @@ def cantilever_beam(length: float, EI: float, mass_per_length: float, n_modes: i
 
 
 PLANAR_CUTS = ("revolute", "point")
-
-
-class FourBarData:
-    """Dimensions (m) and masses (kg) of four_bar (soadyn::FourBarData)."""
-    crank_length, coupler_length, rocker_length, ground_length = 0.038, 0.1152, 0.1152, 0.0895
-    crank_mass, coupler_mass, rocker_mass = 1.5, 5.0, 3.0
-
-
-class SliderCrankData:
-    """Dimensions (m) and masses (kg) of slider_crank (soadyn::SliderCrankData)."""
-    crank_length, rod_length, offset, slider_size = 0.05, 0.2, 0.02, 0.05
-    crank_mass, rod_mass, slider_mass = 1.0, 1.5, 0.8
-
-
-class DeltaRobotData:
-    """Dimensions (m) and masses (kg) of delta_robot (soadyn::DeltaRobotData)."""
-    base_radius, plate_radius, arm_length, rod_length, rod_spacing = 0.2, 0.05, 0.3, 0.7, 0.1
-    arm_mass, rod_mass, plate_mass = 0.4, 0.1, 0.5
 
 
 def _planar_cut(closure: str, scene: str) -> str:
