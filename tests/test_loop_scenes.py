@@ -12,7 +12,10 @@ references written here from the physics, never from soadyn:
   from the documented dimensions (one CONTACT_3D constraint per ball joint);
 - power balance along a driven revolution: crank torque times crank rate
   equals the rate of change of kinetic plus potential energy;
-- the scenes' closed-form states close the loops in position and velocity.
+- the scenes' closed-form states close the loops in position and velocity;
+- `soadyn demo --scene four-bar`: its driven revolutions, its free fall (the
+  Simulator) against the reference's motion integrated here, its figure and
+  its command line.
 """
 from __future__ import annotations
 
