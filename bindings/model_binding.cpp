@@ -64,6 +64,22 @@ py::array_t<bool> modal_mask(const soadyn::Model& m) {
   return mask;
 }
 
+// Replaces the handle's model by a built-in scene; a scene refusing its
+// arguments (std::invalid_argument) is a ValueError.
+template <class Build>
+void load_scene(ModelHandle& h, Build build) {
+  soadyn::Model scene;
+  try {
+    scene = build();
+  } catch (const soadyn::LoopError&) {
+    throw;  // soadyn.LoopError, naming the loop
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+  const auto lock = h.lock_for_change();
+  h.replace_model(std::move(scene));
+}
+
 }  // namespace
 
 void bind_model(py::module_& mod) {
@@ -151,21 +167,22 @@ void bind_model(py::module_& mod) {
            "Index of the named body, or -1.")
       .def("dof_index", [](const ModelHandle& h, const std::string& n) { return h.model.dof_index(n); },
            "Velocity index of the named DOF, or -1.")
-      .def("_load_cassini", [](ModelHandle& h) {
-        soadyn::Model scene = soadyn::cassini_model<double>();
-        const auto lock = h.lock_for_change();
-        h.replace_model(std::move(scene));
-      })
+      .def("_load_cassini", [](ModelHandle& h) { load_scene(h, [] { return soadyn::cassini_model<double>(); }); })
       .def("_load_pendulum_chain", [](ModelHandle& h, int links, double length, double mass) {
-        soadyn::Model scene;
-        try {
-          scene = soadyn::pendulum_chain_model<double>(links, length, mass);
-        } catch (const std::invalid_argument& e) {
-          throw py::value_error(e.what());
-        }
-        const auto lock = h.lock_for_change();
-        h.replace_model(std::move(scene));
+        load_scene(h, [&] { return soadyn::pendulum_chain_model<double>(links, length, mass); });
       })
+      .def("_load_four_bar", [](ModelHandle& h, const std::string& closure) {
+        load_scene(h, [&] {
+          return soadyn::four_bar_model<double>(soadyn::parse_loop_kind(closure, "coupler_rocker"));
+        });
+      })
+      .def("_load_slider_crank", [](ModelHandle& h, const std::string& closure) {
+        load_scene(h, [&] {
+          return soadyn::slider_crank_model<double>(soadyn::parse_loop_kind(closure, "wrist_pin"));
+        });
+      })
+      .def("_load_delta_robot",
+           [](ModelHandle& h) { load_scene(h, [] { return soadyn::delta_robot_model<double>(); }); })
       .def("_copy_from", [](ModelHandle& h, const ModelHandle& other) {
         soadyn::Model copy = other.model;  // read under the GIL: no change can run (model_handle.hpp)
         const auto lock = h.lock_for_change();
@@ -214,6 +231,17 @@ void bind_model(py::module_& mod) {
 
   py::register_exception<soadyn::NonphysicalInertiaError>(mod, "NonphysicalInertiaError", PyExc_ValueError);
   py::register_exception<soadyn::LoopError>(mod, "LoopError", PyExc_ValueError);
+
+  // Closed states of the loop scenes (std::invalid_argument: ValueError).
+  const auto state = [](const soadyn::SceneState<double>& s) { return py::make_tuple(s.q, s.v); };
+  mod.def("_four_bar_state", [state](double angle, double rate) { return state(soadyn::four_bar_state(angle, rate)); },
+          py::arg("crank_angle"), py::arg("crank_rate"));
+  mod.def("_slider_crank_state",
+          [state](double angle, double rate) { return state(soadyn::slider_crank_state(angle, rate)); },
+          py::arg("crank_angle"), py::arg("crank_rate"));
+  mod.def("_delta_robot_state", [state](const Eigen::Vector3d& position, const Eigen::Vector3d& velocity) {
+    return state(soadyn::delta_robot_state<double>(position, velocity));
+  }, py::arg("position"), py::arg("velocity"));
 }
 
 }  // namespace soadyn_py

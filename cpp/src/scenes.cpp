@@ -4,7 +4,9 @@
 #include "soadyn/flex/cantilever_beam.hpp"
 
 #include <cmath>
+#include <initializer_list>
 #include <stdexcept>
+#include <string>
 
 namespace soadyn {
 
@@ -16,6 +18,48 @@ Mat3<S> rod(S mass, S length, int axis) {
   Mat3<S> I = Mat3<S>::Identity() * (mass * length * length / S(12));
   I(axis, axis) = S(1e-3) * mass;
   return I;
+}
+
+// A uniform slender rod of `length` along its body x axis, hinged at its end:
+// centre of mass at length/2 and principal moments m l^2/12 (none about the axis).
+template <class S>
+struct SlenderRod {
+  S mass, length;
+  Vec3<S> com() const { return Vec3<S>(length / S(2), S(0), S(0)); }
+  Mat3<S> inertia() const {
+    const S across = mass * length * length / S(12);
+    return Vec3<S>(S(0), across, across).asDiagonal();
+  }
+};
+
+template <class S>
+int add_rod(ModelTpl<S>& m, const std::string& name, const std::string& parent, const JointModel<S>& joint,
+            const Transform<S>& placement, const SlenderRod<S>& rod) {
+  return m.add_body(name, parent, joint, placement, rod.mass, rod.com(), rod.inertia());
+}
+
+// The cut of a planar scene: the physical pin ("revolute") or its point form.
+void require_planar_cut(LoopKind closure, const char* scene) {
+  if (closure != LoopKind::revolute && closure != LoopKind::point)
+    throw std::invalid_argument(std::string(scene) + ": the loop must be 'revolute' or 'point', got '" +
+                                loop_kind_name(closure) + "'");
+}
+
+// The start of the planar linkages: gravity -9.81 m/s^2 along y, a "crank"
+// hinged to the world at the origin and a rod `rod_name` hinged to its tip,
+// both about z.
+template <class S>
+ModelTpl<S> crank_and_rod(LoopKind closure, const char* scene, const SlenderRod<S>& crank, const std::string& rod_name,
+                          const SlenderRod<S>& rod) {
+  require_planar_cut(closure, scene);
+  ModelTpl<S> m;
+  m.gravity = Vec3<S>(S(0), S(-9.81), S(0));
+  const RevoluteJoint<S> hinge{Vec3<S>::UnitZ()};
+  add_rod<S>(m, "crank", "", hinge, Transform<S>(), crank);
+  Transform<S> tip;
+  tip.translation.x() = crank.length;
+  add_rod<S>(m, rod_name, "crank", hinge, tip, rod);
+  return m;
 }
 
 // Solid cylinder of `radius` and `height` along `axis`, about its centre.
@@ -152,11 +196,245 @@ ModelTpl<S> pendulum_chain_model(int links, S length, S mass) {
   return m;
 }
 
+template <class S>
+ModelTpl<S> four_bar_model(LoopKind closure) {
+  using D = FourBarData;
+  ModelTpl<S> m = crank_and_rod<S>(closure, "four_bar", {S(D::crank_mass), S(D::crank_length)}, "coupler",
+                                   {S(D::coupler_mass), S(D::coupler_length)});
+  add_rod<S>(m, "rocker", "", RevoluteJoint<S>{Vec3<S>::UnitZ()}, at<S>(D::ground_length, 0, 0),
+             {S(D::rocker_mass), S(D::rocker_length)});
+  m.add_loop("coupler_rocker", "coupler", "rocker", closure, at<S>(D::coupler_length, 0, 0),
+             at<S>(D::rocker_length, 0, 0));
+  return m;
+}
+
+template <class S>
+ModelTpl<S> slider_crank_model(LoopKind closure) {
+  using D = SliderCrankData;
+  ModelTpl<S> m = crank_and_rod<S>(closure, "slider_crank", {S(D::crank_mass), S(D::crank_length)},
+                                   "connecting_rod", {S(D::rod_mass), S(D::rod_length)});
+  const S cube = S(D::slider_mass * D::slider_size * D::slider_size / 6.0);
+  m.add_body("slider", "", PrismaticJoint<S>{Vec3<S>::UnitX()}, at<S>(0, D::offset, 0), S(D::slider_mass),
+             Vec3<S>::Zero(), Mat3<S>(Mat3<S>::Identity() * cube));
+  m.add_loop("wrist_pin", "connecting_rod", "slider", closure, at<S>(D::rod_length, 0, 0), Transform<S>());
+  return m;
+}
+
+template <class S>
+ModelTpl<S> delta_robot_model() {
+  using D = DeltaRobotData;
+  using std::cos;
+  using std::sin;
+  ModelTpl<S> m;
+  const SlenderRod<S> arm{S(D::arm_mass), S(D::arm_length)}, rod{S(D::rod_mass), S(D::rod_length)};
+  const UniversalJoint<S> elbow{Vec3<S>::UnitY(), Vec3<S>::UnitZ()};
+  std::string rods[6];
+  Vec3<S> balls[6];  // each rod's ball joint on the plate, in the plate frame
+  for (int k = 0; k < 3; ++k) {
+    const S azimuth = S(2 * 3.14159265358979323846 / 3) * S(k);
+    const Vec3<S> radial(cos(azimuth), sin(azimuth), S(0)), tangent(-sin(azimuth), cos(azimuth), S(0));
+    // Hinge frame: x radial, y the tangent (the hinge axis), z up.
+    Transform<S> hinge;
+    hinge.rotation << radial, tangent, Vec3<S>::UnitZ();
+    hinge.translation = S(D::base_radius) * radial;
+    const std::string arm_name = "arm_" + std::to_string(k + 1);
+    add_rod<S>(m, arm_name, "", RevoluteJoint<S>{Vec3<S>::UnitY()}, hinge, arm);
+    for (int side = 0; side < 2; ++side) {
+      const S across = (side ? S(-0.5) : S(0.5)) * S(D::rod_spacing);
+      const int r = 2 * k + side;
+      rods[r] = "rod_" + std::to_string(k + 1) + (side ? "b" : "a");
+      add_rod<S>(m, rods[r], arm_name, elbow, at<S>(D::arm_length, across, 0), rod);
+      balls[r] = S(D::plate_radius) * radial + across * tangent;
+    }
+  }
+  const S disc = S(D::plate_mass * D::plate_radius * D::plate_radius / 4.0);
+  m.add_body("plate", "", FreeJoint<S>{}, Transform<S>(), S(D::plate_mass), Vec3<S>::Zero(),
+             Vec3<S>(disc, disc, S(2) * disc).asDiagonal());
+  for (int r = 0; r < 6; ++r) {
+    Transform<S> on_plate;
+    on_plate.translation = balls[r];
+    m.add_loop("ball_" + rods[r].substr(4), rods[r], "plate", LoopKind::point, at<S>(D::rod_length, 0, 0), on_plate);
+  }
+  return m;
+}
+
+// ---------------------------------------------------------------------------
+// Closed-form states of the loop scenes
+// ---------------------------------------------------------------------------
+
+namespace {
+
+template <class S>
+void require_finite(const char* what, std::initializer_list<S> values) {
+  for (S x : values)
+    if (!std::isfinite(static_cast<double>(x)))
+      throw std::invalid_argument(std::string(what) + ": arguments must be finite");
+}
+
+template <class S>
+Eigen::Matrix<S, 2, 1> unit(S angle) {
+  return {std::cos(angle), std::sin(angle)};
+}
+
+// d/d(angle) of unit(angle).
+template <class S>
+Eigen::Matrix<S, 2, 1> normal(S angle) {
+  return {-std::sin(angle), std::cos(angle)};
+}
+
+template <class S>
+S angle_of(const Eigen::Matrix<S, 2, 1>& x) {
+  return std::atan2(x.y(), x.x());
+}
+
+// `angle` wrapped to (-pi, pi].
+template <class S>
+S wrapped(S angle) {
+  return std::atan2(std::sin(angle), std::cos(angle));
+}
+
+template <class S>
+SceneState<S> planar_state(S crank, S second_absolute, S third, S crank_rate, S second_rate, S third_rate) {
+  SceneState<S> state{VecX<S>(3), VecX<S>(3)};
+  state.q << crank, wrapped(second_absolute - crank), third;
+  state.v << crank_rate, second_rate - crank_rate, third_rate;
+  return state;
+}
+
+}  // namespace
+
+template <class S>
+SceneState<S> four_bar_state(S crank_angle, S crank_rate) {
+  using D = FourBarData;
+  using V2 = Eigen::Matrix<S, 2, 1>;
+  require_finite("four_bar_state", {crank_angle, crank_rate});
+  const S a = S(D::crank_length), b = S(D::coupler_length), c = S(D::rocker_length);
+  // The pin Q is where the circles of radius b about the crank's tip P and c about O2 meet.
+  const V2 tip = a * unit(crank_angle), pivot(S(D::ground_length), S(0));
+  const V2 diagonal = pivot - tip;
+  const S length = diagonal.norm();
+  const S along = (b * b - c * c + length * length) / (S(2) * length), height_sq = b * b - along * along;
+  if (!(height_sq >= S(0)))
+    throw std::invalid_argument("four_bar_state: the linkage does not close at crank angle " +
+                                std::to_string(crank_angle));
+  const V2 direction = diagonal / length;
+  const V2 pin = tip + along * direction + std::sqrt(height_sq) * V2(-direction.y(), direction.x());
+  const S coupler = angle_of<S>(pin - tip), rocker = angle_of<S>(pin - pivot);
+  // Time derivative of the closure a e(t1) + b e(phi2) - c e(t3) = O2 (Saha, Shah & Nandihal 2013,
+  // Eqs. 51-52): b phi2' n(phi2) - c t3' n(t3) = -a t1' n(t1), solved for (phi2', t3').
+  Eigen::Matrix<S, 2, 2> J;
+  J << b * normal(coupler), -c * normal(rocker);
+  const V2 rates = J.partialPivLu().solve(-a * crank_rate * normal(crank_angle));
+  return planar_state(crank_angle, coupler, rocker, crank_rate, rates.x(), rates.y());
+}
+
+template <class S>
+SceneState<S> slider_crank_state(S crank_angle, S crank_rate) {
+  using D = SliderCrankData;
+  require_finite("slider_crank_state", {crank_angle, crank_rate});
+  const S r = S(D::crank_length), l = S(D::rod_length);
+  // The rod's absolute angle phi: sin phi = (offset - P_y) / l, the slider at x = P_x + l cos phi.
+  const S rise = (S(D::offset) - r * std::sin(crank_angle)) / l;
+  if (!(std::abs(rise) < S(1)))
+    throw std::invalid_argument("slider_crank_state: the linkage does not close at crank angle " +
+                                std::to_string(crank_angle));
+  const S rod = std::asin(rise), x = r * std::cos(crank_angle) + l * std::cos(rod);
+  // Differentiated: phi' = -r w cos(t) / (l cos phi), x' = -r w sin(t) - l phi' sin(phi).
+  const S rod_rate = -r * crank_rate * std::cos(crank_angle) / (l * std::cos(rod));
+  const S x_rate = -r * crank_rate * std::sin(crank_angle) - l * rod_rate * std::sin(rod);
+  return planar_state(crank_angle, rod, x, crank_rate, rod_rate, x_rate);
+}
+
+namespace {
+
+// One Delta arm (k = 0, 1, 2) placed for the plate at `position` moving at `velocity`.
+template <class S>
+struct DeltaArm {
+  S angle, rate;        // the arm's hinge
+  S swing, swing_rate;  // the rods' universal joints: about the arm's hinge axis,
+  S lean, lean_rate;    // then about the rod frame's z
+};
+
+// In the hinge frame (radial u, tangent w, up z) the elbow is E = B + L_a (cos t, 0, -sin t) and the
+// parallelogram's mid-line r = P - E (P: the arm's mid-ball on the plate) has |r| = L_f:
+// a cos t - c sin t = K with (a, c) the u and z parts of P - B and K = (|P - B|^2 + L_a^2 - L_f^2) / (2 L_a),
+// so t = beta - acos(K / rho), rho = hypot(a, c), beta = atan2(-c, a) (the elbow-out branch). Each rod
+// points along n = r / L_f; in the arm's frame n = (cos al cos be, sin be, -sin al cos be) for the
+// universal joint Rot(y, al) Rot(z, be).
+template <class S>
+DeltaArm<S> delta_arm(int k, const Vec3<S>& position, const Vec3<S>& velocity) {
+  using D = DeltaRobotData;
+  using std::cos;
+  using std::sin;
+  const S azimuth = S(2 * 3.14159265358979323846 / 3) * S(k), La = S(D::arm_length), Lf = S(D::rod_length);
+  Mat3<S> hinge;  // columns u, w, z
+  hinge << cos(azimuth), -sin(azimuth), S(0), sin(azimuth), cos(azimuth), S(0), S(0), S(0), S(1);
+  const Vec3<S> d = hinge.transpose() * position + Vec3<S>(S(D::plate_radius) - S(D::base_radius), S(0), S(0));
+  const S rho = std::hypot(d.x(), d.z());
+  const S K = (d.squaredNorm() + La * La - Lf * Lf) / (S(2) * La);
+  if (!(std::abs(K) < rho))
+    throw std::invalid_argument("delta_robot_state: the plate position is out of reach of arm_" +
+                                std::to_string(k + 1));
+  DeltaArm<S> arm;
+  arm.angle = std::atan2(-d.z(), d.x()) - std::acos(K / rho);
+  const S c = cos(arm.angle), s = sin(arm.angle);
+  const Vec3<S> elbow_per_rate = La * Vec3<S>(-s, S(0), -c);  // dE/dt per unit arm rate
+  const Vec3<S> r = d - La * Vec3<S>(c, S(0), -s), p_dot = hinge.transpose() * velocity;
+  arm.rate = r.dot(p_dot) / r.dot(elbow_per_rate);
+  const Vec3<S> r_dot = p_dot - arm.rate * elbow_per_rate;
+  // The rod's direction in the arm's frame (rotated by Ry(angle)) and its rate of change.
+  Mat3<S> Ry;
+  Ry << c, S(0), s, S(0), S(1), S(0), -s, S(0), c;
+  const Vec3<S> n = Ry.transpose() * r / Lf;
+  const Vec3<S> n_dot = Ry.transpose() * r_dot / Lf - arm.rate * Vec3<S>::UnitY().cross(n);
+  arm.swing = std::atan2(-n.z(), n.x());
+  arm.lean = std::asin(n.y());
+  arm.swing_rate = (n.z() * n_dot.x() - n.x() * n_dot.z()) / (n.x() * n.x() + n.z() * n.z());
+  arm.lean_rate = n_dot.y() / cos(arm.lean);
+  return arm;
+}
+
+}  // namespace
+
+template <class S>
+SceneState<S> delta_robot_state(const Vec3<S>& position, const Vec3<S>& velocity) {
+  require_finite("delta_robot_state",
+                 {position.x(), position.y(), position.z(), velocity.x(), velocity.y(), velocity.z()});
+  // Layout of delta_robot_model: per arm k, the arm's angle then its two rods' (swing, lean): 5 coordinates
+  // at 5 k; then the plate's free joint (position, quaternion x y z w; v: angular, linear), at 15.
+  SceneState<S> state{VecX<S>::Zero(22), VecX<S>::Zero(21)};
+  for (int k = 0; k < 3; ++k) {
+    const DeltaArm<S> arm = delta_arm(k, position, velocity);
+    state.q(5 * k) = arm.angle;
+    state.v(5 * k) = arm.rate;
+    for (int rod = 0; rod < 2; ++rod) {
+      state.q.template segment<2>(5 * k + 1 + 2 * rod) << arm.swing, arm.lean;
+      state.v.template segment<2>(5 * k + 1 + 2 * rod) << arm.swing_rate, arm.lean_rate;
+    }
+  }
+  state.q.template segment<3>(15) = position;
+  state.q(21) = S(1);  // level: the identity quaternion
+  state.v.template segment<3>(18) = velocity;
+  return state;
+}
+
 template ModelTpl<double> cassini_model<double>();
 template ModelTpl<float> cassini_model<float>();
 template void drive_cassini<double>(SimulatorTpl<double>&);
 template void drive_cassini<float>(SimulatorTpl<float>&);
 template ModelTpl<double> pendulum_chain_model<double>(int, double, double);
 template ModelTpl<float> pendulum_chain_model<float>(int, float, float);
+template ModelTpl<double> four_bar_model<double>(LoopKind);
+template ModelTpl<float> four_bar_model<float>(LoopKind);
+template ModelTpl<double> slider_crank_model<double>(LoopKind);
+template ModelTpl<float> slider_crank_model<float>(LoopKind);
+template ModelTpl<double> delta_robot_model<double>();
+template ModelTpl<float> delta_robot_model<float>();
+template SceneState<double> four_bar_state<double>(double, double);
+template SceneState<float> four_bar_state<float>(float, float);
+template SceneState<double> slider_crank_state<double>(double, double);
+template SceneState<float> slider_crank_state<float>(float, float);
+template SceneState<double> delta_robot_state<double>(const Vec3<double>&, const Vec3<double>&);
+template SceneState<float> delta_robot_state<float>(const Vec3<float>&, const Vec3<float>&);
 
 }  // namespace soadyn

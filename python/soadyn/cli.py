@@ -1,4 +1,4 @@
-"""Command line: `soadyn demo`, `soadyn check`, `soadyn hil`.
+"""Command line: `soadyn demo` (cassini or four-bar), `soadyn check`, `soadyn hil`.
 
 Every bad argument ends in one line on stderr naming it (argparse's usage
 line and `error:`, exit code 2), never a traceback; a run that cannot start
@@ -14,6 +14,9 @@ import sys
 from . import scenes
 from .demo import describe_scene, format_result, run_demo
 
+# Scenes of `soadyn demo` and the file a bare --plot writes.
+DEMO_PLOTS = {"cassini": "booms.png", "four-bar": "four_bar.png"}
+
 
 def main(argv: list[str] | None = None) -> int:
     from . import __version__
@@ -22,12 +25,18 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--version", action="version", version=f"soadyn {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="{demo,check,hil}")
     demo = sub.add_parser("demo", help="fly a built-in scene for a few seconds and report")
-    demo.add_argument("--scene", default="cassini", choices=["cassini"], help="built-in scene (default cassini)")
-    demo.add_argument("--duration", type=float, default=2.0, help="simulated seconds (default 2)")
+    demo.add_argument("--scene", default="cassini", choices=list(DEMO_PLOTS),
+                      help="built-in scene (default cassini); four-bar: the crank-rocker of Saha, Shah & Nandihal 2013")
+    demo.add_argument("--duration", type=float, default=2.0,
+                      help="simulated seconds (default 2; four-bar: of the free fall)")
     demo.add_argument("--dt", type=float, default=1e-3, help="step in seconds (default 0.001)")
     demo.add_argument("--boom-duration", type=float, default=20.0,
                       help="simulated seconds of the boom-vibration run after a gimbal step (default 20; 0 skips it)")
-    demo.add_argument("--plot", metavar="OUT.png", help="plot the booms' tip deflections (needs matplotlib)")
+    demo.add_argument("--revolution", type=float, default=1.0,
+                      help="four-bar: seconds per crank revolution of the driven runs (default 1)")
+    demo.add_argument("--plot", metavar="OUT.png", nargs="?", const="",
+                      help="plot (needs matplotlib): cassini the booms' tip deflections, four-bar the joint angles "
+                           "and crank torque; without a file name: " + ", ".join(DEMO_PLOTS.values()))
     check = sub.add_parser("check", help="compare soadyn with DART and Pinocchio on a URDF")
     check.add_argument("urdf", help="path of the URDF file")
     check.add_argument("--floating", action="store_true", help="add a free-floating root joint")
@@ -57,8 +66,12 @@ def run_demo_command(args, parser) -> int:
     finite(parser, "--duration", args.duration, 0.0)
     finite(parser, "--dt", args.dt, 0.0)
     finite(parser, "--boom-duration", args.boom_duration, 0.0, inclusive=True)
-    if args.plot:
+    finite(parser, "--revolution", args.revolution, 0.0)
+    if args.plot is not None:
         require_plotting(parser)
+        args.plot = args.plot or DEMO_PLOTS[args.scene]
+    if args.scene == "four-bar":
+        return run_four_bar_demo(args)
     model = scenes.SCENES[args.scene]()
     print(describe_scene(args.scene, model))
     print(format_result(run_demo(model, args.duration, args.dt)))
@@ -70,6 +83,22 @@ def run_demo_command(args, parser) -> int:
         if args.plot:
             plot_response(response, args.plot)
             print(f"plot written to {args.plot}")
+    return 0
+
+
+def run_four_bar_demo(args) -> int:
+    from . import four_bar_demo as demo
+
+    model = scenes.four_bar()
+    print(describe_scene(args.scene, model))
+    print(f"loop coupler_rocker: revolute cut, {model.nloop_equations} equations; one crank revolution in "
+          f"{args.revolution:g} s, sampled every {args.dt:g} s")
+    driven = [demo.constant_rate(args.revolution, args.dt), demo.cycloidal(args.revolution, args.dt)]
+    fall = demo.free_fall(args.duration, args.dt)
+    print(demo.format_runs(driven + [fall]))
+    if args.plot:
+        demo.plot_runs(driven, fall, args.plot)
+        print(f"plot written to {args.plot}")
     return 0
 
 

@@ -12,11 +12,38 @@ turntable and the engine gimbal.
 ``pendulum_chain`` is n identical rods swinging about parallel x axes.
 
 ``cantilever_beam`` is one uniform Euler-Bernoulli beam clamped to the world.
+
+Closed-loop scenes (trees closed by cut joints; their data, in C++
+FourBarData, SliderCrankData and DeltaRobotData, are documented in
+cpp/include/soadyn/scenes.hpp):
+
+``four_bar`` is the planar crank-rocker of Saha, Shah & Nandihal, "Evolution
+of the DeNOC-based dynamic modelling for multibody systems", Mechanical
+Sciences 4, 2013 (Fig. 16): crank 0.038 m (1.5 kg), coupler 0.1152 m (5 kg),
+output link ("rocker") 0.1152 m (3 kg), ground 0.0895 m, uniform slender
+rods, gravity along -y in the x-y plane. DOFs: "crank" (from the ground line
+O1 O2), "coupler" (relative to the crank), "rocker" (from the ground line, at
+O2); the loop "coupler_rocker" pins the coupler's tip to the rocker's tip.
+
+``slider_crank`` is an offset slider-crank: crank 0.05 m (1 kg), connecting
+rod 0.2 m (1.5 kg), slider (0.8 kg) on a line 0.02 m above the crank's pivot;
+DOFs "crank", "connecting_rod" (relative), "slider" (x position); the loop
+"wrist_pin" pins the rod's tip to the slider.
+
+``delta_robot`` is a Delta parallel robot: three arms (0.3 m, 0.4 kg) hinged
+on the base at radius 0.2 m, each carrying a parallelogram of two forearm
+rods (0.7 m, 0.1 kg, 0.1 m apart) on universal joints, whose far ends are
+ball joints ("point" loops) on a free travelling plate (0.5 kg, balls at
+radius 0.05 m); gravity along -z: 21 DOFs, 6 loops, 3 degrees of freedom.
+
+The ``*_state`` functions return a closed (q, v) by closed-form position and
+velocity analysis.
 """
 from __future__ import annotations
 
 import numpy as np
 
+from . import _soadyn as _core
 from ._soadyn import FlexibleBody
 from .model import Model
 
@@ -55,6 +82,82 @@ def cantilever_beam(length: float, EI: float, mass_per_length: float, n_modes: i
     m.gravity = [0.0, 0.0, 0.0]
     m.add_flexible_body("beam", None, FlexibleBody.cantilever_beam(length, EI, mass_per_length, n_modes, n_nodes))
     return m
+
+
+PLANAR_CUTS = ("revolute", "point")
+
+
+def _planar_cut(closure: str, scene: str) -> str:
+    if closure not in PLANAR_CUTS:
+        raise ValueError(f"{scene}: closure must be 'revolute' or 'point', got {closure!r}")
+    return closure
+
+
+def four_bar(closure: str = "revolute") -> Model:
+    """The crank-rocker of Saha, Shah & Nandihal 2013 (Fig. 16), closed at the coupler-rocker pin by a
+    "revolute" cut (5 equations of rank 2, the default) or a "point" cut (3 equations of rank 2)."""
+    m = Model()
+    m._load_four_bar(_planar_cut(closure, "four_bar"))
+    return m
+
+
+def slider_crank(closure: str = "revolute") -> Model:
+    """The offset slider-crank, closed at the wrist pin by a "revolute" (default) or a "point" cut."""
+    m = Model()
+    m._load_slider_crank(_planar_cut(closure, "slider_crank"))
+    return m
+
+
+def delta_robot() -> Model:
+    """The Delta parallel robot: arms "arm_1..3", forearm rods "rod_1a" ... "rod_3b", plate "plate"."""
+    m = Model()
+    m._load_delta_robot()
+    return m
+
+
+def _angle_and_rate(name: str, crank_angle, crank_rate) -> tuple[float, float]:
+    try:
+        return float(crank_angle), float(crank_rate)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: crank_angle and crank_rate must be real numbers, "
+                        f"got {crank_angle!r}, {crank_rate!r}") from None
+
+
+def four_bar_state(crank_angle: float, crank_rate: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """(q, v) of four_bar closed at `crank_angle` (rad from the ground line) turning at `crank_rate`.
+
+    Position: the coupler-rocker pin Q is where the circles of radius coupler_length about the crank's
+    tip P and rocker_length about the rocker's pivot O2 meet, on the left of P -> O2 (above the ground
+    line: the assembly of the paper's figure). Velocity: the time derivative of the closure
+    a e(t1) + b e(phi2) - c e(t3) = O2 (Saha, Shah & Nandihal 2013, Eqs. 51-52), solved for the coupler's
+    absolute rate phi2' and the rocker's rate t3'. The coupler's relative angle is in (-pi, pi].
+    Computed in C++ (soadyn::four_bar_state); ValueError for a non-finite argument.
+    """
+    return _core._four_bar_state(*_angle_and_rate("four_bar_state", crank_angle, crank_rate))
+
+
+def slider_crank_state(crank_angle: float, crank_rate: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """(q, v) of slider_crank closed at `crank_angle` turning at `crank_rate`, the slider on the
+    far side of the crank (x > crank's tip). With P the crank's tip and phi the rod's absolute angle:
+    sin phi = (offset - P_y) / rod_length, x = P_x + rod_length cos phi; differentiated,
+    phi' = -r w cos(t) / (l cos phi) and x' = -r w sin(t) - l phi' sin(phi).
+    Computed in C++ (soadyn::slider_crank_state)."""
+    return _core._slider_crank_state(*_angle_and_rate("slider_crank_state", crank_angle, crank_rate))
+
+
+def delta_robot_state(position, velocity=(0.0, 0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
+    """(q, v) of delta_robot with the plate's centre at `position` (m, base frame; e.g. (0, 0, -0.6)),
+    level, translating at `velocity` (m/s). Closed-form inverse kinematics of each arm: in its hinge
+    frame (radial u, tangent w, up z) the elbow is E = B + L_a (cos t, 0, -sin t) and the parallelogram's
+    mid-line r = P - E has length L_f, so a cos t - c sin t = K (a, c: the u and z parts of P - B,
+    K = (|P - B|^2 + L_a^2 - L_f^2) / (2 L_a)) and t = atan2(-c, a) - acos(K / hypot(a, c)) (elbow out);
+    the rods' universal joints follow from r's direction in the arm's frame, the rates from the
+    derivatives of these relations. Computed in C++ (soadyn::delta_robot_state); ValueError for a
+    position out of reach, naming the arm."""
+    position, velocity = np.asarray(position, dtype=float), np.asarray(velocity, dtype=float)
+    if position.shape != (3,) or velocity.shape != (3,):
+        raise ValueError("delta_robot_state: position and velocity need 3 components")
+    return _core._delta_robot_state(position, velocity)
 
 
 SCENES = {"cassini": cassini, "pendulum-chain": pendulum_chain}
