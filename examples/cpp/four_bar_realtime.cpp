@@ -1,17 +1,19 @@
 // A closed-loop mechanism stepped in real time without Python: the planar
 // crank-rocker four-bar of Saha, Shah & Nandihal (Mechanical Sciences 4,
-// 2013, Fig. 16), built here in C++ as a tree of three hinges closed by one
-// revolute cut, assembled at crank angle 0, then stepped at 1 kHz with RK4:
-// the crank driven at 1 rev/s for the first half (its drive torque is the
-// actuator force of the closed chain), then released to swing under gravity.
-// After every step the simulator projects the state back onto the closure
-// (Simulator: loop_tolerance). Prints the crank torque range, the loop drift
-// RK4 left before the projections, the closure at the end and the step
-// times. Usage: four_bar_realtime [seconds]  (default 4)
+// 2013, Fig. 16), the built-in scene soadyn::four_bar_model (a tree of three
+// hinges closed by one revolute cut: cpp/src/scenes.cpp shows the add_body
+// and add_loop calls), assembled at crank angle 0 from a rough guess, then
+// stepped at 1 kHz with RK4: the crank driven at 1 rev/s for the first half
+// (its drive torque is the actuator force of the closed chain), then released
+// to swing under gravity. After every step the simulator projects the state
+// back onto the closure (Simulator: loop_tolerance). Prints the crank torque
+// range, the loop drift RK4 left before the projections, the closure at the
+// end and the step times. Usage: four_bar_realtime [seconds]  (default 4)
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
+#include <soadyn/scenes.hpp>
 #include <soadyn/soadyn.hpp>
 
 #include "paced_clock.hpp"
@@ -21,30 +23,11 @@ namespace {
 constexpr long period_ns = 1000000;  // 1 ms
 constexpr double kPi = 3.14159265358979323846;
 
-soadyn::Transform<double> at(double x) {
-  soadyn::Transform<double> X;
-  X.translation << x, 0.0, 0.0;
-  return X;
-}
-
-// A uniform slender rod along its body x axis, hinged about z at `hinge` in its parent.
-void add_rod(soadyn::Model& m, const char* name, const char* parent, double hinge, double length, double mass) {
-  const double I = mass * length * length / 12.0;
-  m.add_body(name, parent, soadyn::RevoluteJoint<double>{soadyn::Vec3<double>::UnitZ()}, at(hinge), mass,
-             soadyn::Vec3<double>(length / 2, 0, 0), soadyn::Vec3<double>(0.0, I, I).asDiagonal());
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 4.0;
-  const double crank = 0.038, coupler = 0.1152, rocker = 0.1152, ground = 0.0895;  // m
-  soadyn::Model model;
-  model.gravity << 0.0, -9.81, 0.0;  // in the plane of motion
-  add_rod(model, "crank", "", 0.0, crank, 1.5);
-  add_rod(model, "coupler", "crank", crank, coupler, 5.0);
-  add_rod(model, "rocker", "", ground, rocker, 3.0);
-  model.add_loop("pin", "coupler", "rocker", soadyn::LoopKind::revolute, at(coupler), at(rocker));
+  const soadyn::Model model = soadyn::four_bar_model<double>();
 
   // Assembly (setup, may allocate): crank at 0 held, coupler and rocker from a rough guess.
   soadyn::Data data(model);
