@@ -23,7 +23,7 @@ import numpy as np
 from . import _soadyn as core
 from ._soadyn import HilRunner
 from .progress import progress_bar
-from .scenes import SCENES, drive_cassini
+from .scenes import LOOP_SCENE_STARTS, SCENES, drive_cassini
 from .simulator import Simulator
 
 __all__ = ["HilEvent", "HilReport", "HilRunner", "format_table", "parse_event", "plot_report", "require_matplotlib",
@@ -136,7 +136,8 @@ def parse_event(text: str) -> HilEvent:
 def scene_simulator(scene: str, rate: float, integrator: str = "rk4", events=()) -> Simulator:
     """A Simulator of a built-in scene stepping at 1/rate, with the events
     scheduled. cassini: the turntable turns at 3 rpm and the engine
-    gimbal follows velocity commands (scenes.drive_cassini); pendulum-chain: starts at rest with every joint at 0.3 rad.
+    gimbal follows velocity commands (scenes.drive_cassini); pendulum-chain: starts at rest with every joint at 0.3 rad;
+    four-bar, slider-crank, delta-robot: start at rest, assembled (scenes.LOOP_SCENE_STARTS), and fall.
     An unknown DOF or joint in an event raises ValueError naming it."""
     if scene not in SCENES:
         raise ValueError(f"unknown scene {scene!r} (choose from {sorted(SCENES)})")
@@ -146,6 +147,8 @@ def scene_simulator(scene: str, rate: float, integrator: str = "rk4", events=())
         drive_cassini(sim)
     elif scene == "pendulum-chain":
         sim.set_state(np.full(model.nq, 0.3), np.zeros(model.nv))
+    elif scene in LOOP_SCENE_STARTS:
+        sim.set_state(*LOOP_SCENE_STARTS[scene][1]())
     for event in events:
         try:
             sim.schedule(event.time, event.kind, event.target)

@@ -161,3 +161,13 @@ def delta_robot_state(position, velocity=(0.0, 0.0, 0.0)) -> tuple[np.ndarray, n
 
 
 SCENES = {"cassini": cassini, "pendulum-chain": pendulum_chain}
+
+# The loop scenes and the closed state, at rest, a run of them starts from
+# (`soadyn hil --scene four-bar`): a simulator cannot start from the neutral
+# configuration, which does not close their loops.
+LOOP_SCENE_STARTS = {
+    "four-bar": (four_bar, lambda: four_bar_state(0.7)),
+    "slider-crank": (slider_crank, lambda: slider_crank_state(0.5)),
+    "delta-robot": (delta_robot, lambda: delta_robot_state((0.0, 0.0, -0.6))),
+}
+SCENES.update({name: build for name, (build, _) in LOOP_SCENE_STARTS.items()})
