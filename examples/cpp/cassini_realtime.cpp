@@ -28,21 +28,14 @@ int main(int argc, char** argv) {
   paced_clock::PacedRun run(steps, period_ns);  // allocated before the loop
   run.start();
   for (long k = 0; k < steps; ++k) {
-    const timespec begin = paced_clock::now();
-    const soadyn::Status status = sim.step();
-    const timespec end = paced_clock::now();
+    const soadyn::Status status = run.timed_step(k, [&] { return sim.step(); });
     if (!status.ok()) {
       std::printf("stopped at t = %.3f s: %s (DOF %d)\n", sim.time(), soadyn::status_message(status.code), status.index);
       return 1;
     }
-    run.finish_step(k, begin, end);
   }
-  const std::vector<double>& us = run.step_us();
   std::printf("cassini: %ld steps of %.1f ms (RK4), simulated %.3f s, energy lost to the lock %.6f J\n", steps,
               dt * 1e3, sim.time(), sim.energy_lost());
-  std::printf("step time us: p50 %.2f  p99 %.2f  p99.9 %.2f  max %.2f\n", paced_clock::percentile(us, 0.5),
-              paced_clock::percentile(us, 0.99), paced_clock::percentile(us, 0.999), *std::max_element(us.begin(), us.end()));
-  std::printf("paced on CLOCK_MONOTONIC: wall %.3f s, %ld of %ld steps ended after their deadline (worst by %.1f us)\n",
-              run.wall_seconds(), run.late_steps(), steps, run.worst_lateness_us());
+  run.print_summary(steps);
   return 0;
 }

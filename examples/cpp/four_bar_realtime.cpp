@@ -9,6 +9,7 @@
 // back onto the closure (Simulator: loop_tolerance). Prints the crank torque
 // range, the loop drift RK4 left before the projections, the closure at the
 // end and the step times. Usage: four_bar_realtime [seconds]  (default 4)
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -54,9 +55,7 @@ int main(int argc, char** argv) {
   double torque_min = 0.0, torque_max = 0.0;
   run.start();
   for (long k = 0; k < steps; ++k) {
-    const timespec begin = paced_clock::now();
-    const soadyn::Status status = sim.step();
-    const timespec end = paced_clock::now();
+    const soadyn::Status status = run.timed_step(k, [&] { return sim.step(); });
     if (!status.ok()) {
       std::printf("stopped at t = %.3f s: %s\n", sim.time(), sim.describe(status).c_str());
       return 1;
@@ -65,19 +64,13 @@ int main(int argc, char** argv) {
       torque_min = std::min(torque_min, sim.forces()[0]);
       torque_max = std::max(torque_max, sim.forces()[0]);
     }
-    run.finish_step(k, begin, end);
   }
   soadyn::loop_residual(sim.model(), data, sim.q(), sim.v().data());
-  const std::vector<double>& us = run.step_us();
   std::printf("four-bar: %ld steps of %.1f ms (RK4), simulated %.3f s, crank torque while driven %.4f .. %.4f N m\n",
               steps, dt * 1e3, sim.time(), torque_min, torque_max);
   std::printf("loop drift before projection: max %.1e m, %.1e m/s; closure at the end %.1e m, %.1e m/s\n",
               sim.max_loop_drift_position(), sim.max_loop_drift_velocity(),
               data.loops.residual.lpNorm<Eigen::Infinity>(), data.loops.velocity_residual.lpNorm<Eigen::Infinity>());
-  std::printf("step time us: p50 %.2f  p99 %.2f  p99.9 %.2f  max %.2f\n", paced_clock::percentile(us, 0.5),
-              paced_clock::percentile(us, 0.99), paced_clock::percentile(us, 0.999),
-              *std::max_element(us.begin(), us.end()));
-  std::printf("paced on CLOCK_MONOTONIC: wall %.3f s, %ld of %ld steps ended after their deadline (worst by %.1f us)\n",
-              run.wall_seconds(), run.late_steps(), steps, run.worst_lateness_us());
+  run.print_summary(steps);
   return 0;
 }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <vector>
 
 namespace paced_clock {
@@ -57,10 +58,26 @@ class PacedRun {
       sleep_until(deadline);
     }
   }
+  // Runs step k (`step()`, whose result it returns), timed, then finish_step.
+  template <class Step>
+  auto timed_step(long k, Step&& step) {
+    const timespec begin = now();
+    auto result = step();
+    finish_step(k, begin, now());
+    return result;
+  }
   const std::vector<double>& step_us() const { return step_us_; }
   long late_steps() const { return late_steps_; }
   double worst_lateness_us() const { return worst_lateness_us_; }
   double wall_seconds() const { return microseconds_between(t0_, now()) * 1e-6; }
+  // Prints the step-time percentiles and the pacing summary of the run's `steps` steps.
+  void print_summary(long steps) const {
+    std::printf("step time us: p50 %.2f  p99 %.2f  p99.9 %.2f  max %.2f\n", percentile(step_us_, 0.5),
+                percentile(step_us_, 0.99), percentile(step_us_, 0.999),
+                *std::max_element(step_us_.begin(), step_us_.end()));
+    std::printf("paced on CLOCK_MONOTONIC: wall %.3f s, %ld of %ld steps ended after their deadline (worst by %.1f us)\n",
+                wall_seconds(), late_steps_, steps, worst_lateness_us_);
+  }
 
  private:
   std::vector<double> step_us_;
