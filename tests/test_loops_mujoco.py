@@ -436,7 +436,7 @@ def build_case(tree: str, seed: int, nloops: int):
 
 
 TREES = ("floating", "fixed", "planar")
-CASES = [(tree, seed, nloops) for tree in TREES for seed in range(8) for nloops in (1, 2, 3, 4)]
+CASES = [(tree, seed, nloops) for tree in TREES for seed in range(12) for nloops in (1, 2, 3, 4)]
 IDS = [f"{t}-seed{s}-{n}loops" for t, s, n in CASES]
 
 
