@@ -13,8 +13,8 @@ velocities on the loops' tangent space):
   point loops (the scaling curves).
 Python-level per-call wall time (numpy in, numpy out) of soadyn.constrained_dynamics and
 pin.constraintDynamics (initConstraintDynamics once, outside the timing), interleaved batch
-by batch (bench_robots.interleaved_per_call_us); ratios are medians over repetitions of
-the ratio within a repetition. Pinocchio's proximal settings per model are the cheapest
+by batch (bench_robots.interleaved_per_call_us, 21 repetitions); ratios are medians over repetitions
+of the ratio within a repetition. Pinocchio's proximal settings per model are the cheapest
 that reproduce soadyn's accelerations (agreement reported): mu = 0 and one iteration
 where the loop equations have full rank; where they are redundant, mu = 1e-9 and the fewest
 iterations (up to 10) that reproduce soadyn's accelerations to 1e-9. The per-call overhead of each binding is measured on a one-body model with one
@@ -344,7 +344,7 @@ def random_tree_case(nbodies: int, nloops: int, seed: int = 7) -> Case:
     specs = random_tree_specs(nbodies, seed)
     m = build_soadyn(specs)
     q = soadyn.random_configuration(m, seed)
-    return spec_case(f"random tree {nbodies} bodies, {nloops} point loops", specs, (0.0, 0.0, -9.81), q,
+    return spec_case(f"random tree {nbodies} bodies, {nloops} point loop{'' if nloops == 1 else 's'}", specs, (0.0, 0.0, -9.81), q,
                      random_point_loops(nbodies, nloops, seed))
 
 
@@ -360,7 +360,7 @@ def overhead_case() -> Case:
 # Timing
 # ---------------------------------------------------------------------------
 
-def time_case(c: Case, calls: int, repetitions: int = 7) -> dict:
+def time_case(c: Case, calls: int, repetitions: int = 21) -> dict:
     s = interleaved_per_call_us({
         "soadyn": (lambda q, v, u: soadyn.constrained_dynamics(c.m, q, v, u), c.states),
         "pinocchio": (lambda q, v, u: pin.constraintDynamics(c.model, c.data, q, v, u, c.constraints,
@@ -405,8 +405,9 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer calls (a smoke run, noisier)")
     args = parser.parse_args()
-    calls, rounds, cpp_calls, hybrid_py_calls = (300, 2, 2000, 300) if args.quick else (2000, 6, 20000, 2000)
+    calls, rounds, cpp_calls, hybrid_py_calls = (300, 2, 2000, 300) if args.quick else (1000, 6, 20000, 2000)
 
+    load_before = os.getloadavg()[0]
     overhead = time_case(overhead_case(), calls)
     print("overhead", overhead, flush=True)
     main_cases = [four_bar_case(), delta_case(), talos_case()]
@@ -461,9 +462,10 @@ def main() -> int:
     lines = [
         "# Closed loops: soadyn.constrained_dynamics against Pinocchio's constraintDynamics", "",
         f"- Date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; machine: {cpu}, {os.cpu_count()} logical "
-        f"cores; pin {pin.__version__}",
+        f"cores (load average {load_before:.1f} at the start, {os.getloadavg()[0]:.1f} at the end: other jobs were "
+        f"running); pin {pin.__version__}",
         f"- Source: {source}; command: `python bench/bench_loops.py{' --quick' if args.quick else ''}`",
-        f"- Python per call (numpy in, numpy out): median of 7 repetitions of {calls} calls cycling through "
+        f"- Python per call (numpy in, numpy out): median of 21 repetitions of {calls} calls cycling through "
         f"{STATES} states (one closed configuration, velocities on the loops' tangent space, random inputs), the two "
         "libraries interleaved repetition by repetition; ratio = median over repetitions of the ratio within one.",
         "- Pinocchio: `initConstraintDynamics` once, then `constraintDynamics` per call with the settings shown (the "
@@ -490,7 +492,8 @@ def main() -> int:
         "Tree size with 4 point loops:", "",
         header, rule, *[row(c, t) for c, t in by_size], "",
         "## Models without loops: this build against the pre-loops build", "",
-        f"hybrid_dynamics per call (us) on the bench_robots models, this build (`{after_rev}`) against `{before_rev}` "
+        f"hybrid_dynamics per call (us) on the bench_robots models, this build (the package installed from the "
+        f"source above, `{after_rev}`) against `{before_rev}` "
         f"(PYTHONPATH={BEFORE}, the package of commit a355221), each in a child process, {rounds} rounds alternating "
         f"the builds; C++: `_time_cpp` (median of 7 repetitions of {cpp_calls} calls over 64 states); Python: median "
         f"of 7 repetitions of {hybrid_py_calls} calls. Ratio: median over rounds of after / before.", "",
