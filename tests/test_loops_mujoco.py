@@ -270,7 +270,7 @@ def draw_loop(rng, kind: str, name: str, a: int, b: int, poses, planar: bool) ->
     return LoopSpec(name, kind, a, b, Ra, pa, B[:3, :3], B[:3, 3], length)
 
 
-def _skew_free_log(R: np.ndarray) -> np.ndarray:
+def _small_rotation_vector(R: np.ndarray) -> np.ndarray:
     """Rotation vector of a rotation close to the identity (first order is enough for a residual)."""
     return 0.5 * np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
 
@@ -280,8 +280,8 @@ def loop_residual(kind, RA, pA, RB, pB, length) -> np.ndarray:
     return {
         "point": lambda: d,
         "revolute": lambda: np.r_[d, RA[:, 0] @ np.cross(RB[:, 2], RA[:, 2]), RA[:, 1] @ np.cross(RB[:, 2], RA[:, 2])],
-        "prismatic": lambda: np.r_[_skew_free_log(RA @ RB.T), RB[:, 0] @ d, RB[:, 1] @ d],
-        "weld": lambda: np.r_[_skew_free_log(RA @ RB.T), d],
+        "prismatic": lambda: np.r_[_small_rotation_vector(RA @ RB.T), RB[:, 0] @ d, RB[:, 1] @ d],
+        "weld": lambda: np.r_[_small_rotation_vector(RA @ RB.T), d],
         "distance": lambda: np.array([np.linalg.norm(d) - length]),
     }[kind]()
 
@@ -328,13 +328,13 @@ class Equations:
     W: list              # per loop, at the current configuration
 
 
-def _point_jacobians(model, data, body: int, point: np.ndarray):
-    """6 x nv Jacobian [angular; linear] of the body's material point at `point` (world), and its
-    time derivative; zero for the world."""
-    if body < 0:
+def _point_jacobians(model, data, body: str | None, point: np.ndarray):
+    """6 x nv Jacobian [angular; linear] of the named body's material point at `point` (world), and
+    its time derivative; zero for the world (None)."""
+    if body is None:
         return np.zeros((6, model.nv)), np.zeros((6, model.nv))
     jp, jr, djp, djr = (np.zeros((3, model.nv)) for _ in range(4))
-    bid = body + 1  # MuJoCo body 0 is the world; bodies follow in the MJCF's depth-first order
+    bid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, body)
     mujoco.mj_jac(model, data, jp, jr, point, bid)
     mujoco.mj_jacDot(model, data, djp, djr, point, bid)
     return np.vstack([jr, jp]), np.vstack([djr, djp])
@@ -368,8 +368,8 @@ def mujoco_equations(m, model, specs, loops, q, v) -> Equations:
         RA, pA = data.site_xmat[sa].reshape(3, 3).copy(), data.site_xpos[sa].copy()
         RB, pB = data.site_xmat[sb].reshape(3, 3).copy(), data.site_xpos[sb].copy()
         P = pA if loop.kind == "prismatic" else pB  # body B's point whose velocity enters
-        JA, dJA = _point_jacobians(model, data, loop.a, pA)
-        JB, dJB = _point_jacobians(model, data, loop.b, P)
+        JA, dJA = _point_jacobians(model, data, specs[loop.a].name, pA)
+        JB, dJB = _point_jacobians(model, data, None if loop.b < 0 else specs[loop.b].name, P)
         qvel = data.qvel
         vel_A, vel_B = JA @ qvel, JB @ qvel
         rel = vel_A - vel_B
