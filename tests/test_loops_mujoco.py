@@ -386,10 +386,24 @@ def mujoco_equations(m, model, specs, loops, q, v) -> Equations:
     return Equations(M, h, np.vstack(rows_C), np.concatenate(rows_kappa), np.concatenate(residual), Ws)
 
 
+def null_space(A: np.ndarray, scale: float) -> np.ndarray:
+    """Orthonormal basis (columns) of the null space of A, by SVD: singular values below 1e-9 * scale count
+    as zero (scale: that of the matrix A is cut from, so a block of rounding noise counts as zero)."""
+    _, sv, Vh = np.linalg.svd(A)
+    rank = int((sv > 1e-9 * scale).sum())
+    return Vh[rank:].T
+
+
 def reference_solution(eq: Equations, prescribed: np.ndarray, u: np.ndarray):
     """qdd, tau and the multipliers of M qdd + h = tau + C' lambda, C qdd = kappa, with qdd given on
-    prescribed DOFs and tau on regular ones: the bordered system [M_rr -C_r'; C_r 0] solved by
-    least squares, whose minimum-norm solution has the minimum-norm multipliers (qdd_r is unique)."""
+    prescribed DOFs and tau on regular ones.
+
+    qdd and the minimum-norm multipliers lambda0: the bordered system [M_rr -C_r'; C_r 0] solved by least
+    squares (qdd_r is unique; the minimum-norm solution has the minimum-norm multipliers). Any lambda0 + N z,
+    N a basis of null(C_r'), gives the same motion; when C_p' N != 0 (more prescribed DOFs than the mechanism
+    needs: redundant actuation) they give different tau_p, and tau_p is the minimum-norm actuator force
+    (z: least squares of C_p' N z = tau_p(lambda0)). Returns qdd, tau, lambda and whether the actuation is
+    redundant."""
     r, p = ~prescribed, prescribed
     nr, k = int(r.sum()), eq.C.shape[0]
     K = np.block([[eq.M[np.ix_(r, r)], -eq.C[:, r].T], [eq.C[:, r], np.zeros((k, k))]])
@@ -398,9 +412,15 @@ def reference_solution(eq: Equations, prescribed: np.ndarray, u: np.ndarray):
     qdd = u.copy()
     qdd[r] = x[:nr]
     lam = x[nr:]
+    N = null_space(eq.C[:, r].T, max(1.0, np.linalg.norm(eq.C, 2)))
+    B = eq.C[:, p].T @ N
+    redundant_actuation = B.size > 0 and np.abs(B).max() > 1e-9 * max(1.0, np.linalg.norm(eq.C, 2))
+    if redundant_actuation:
+        tau0 = eq.M @ qdd + eq.h - eq.C.T @ lam
+        lam = lam + N @ np.linalg.lstsq(B, tau0[p], rcond=1e-11)[0]
     tau = eq.M @ qdd + eq.h - eq.C.T @ lam
     tau[r] = u[r]
-    return qdd, tau, lam
+    return qdd, tau, lam, redundant_actuation
 
 
 # ---------------------------------------------------------------------------
@@ -460,16 +480,26 @@ def test_constrained_dynamics_matches_mujoco(tree, seed, nloops, prescribed_frac
     C_pinv = np.linalg.pinv(eq.C, rcond=1e-11)
     admissible = C_pinv @ eq.kappa + (np.eye(m.nv) - C_pinv @ eq.C) @ rng.normal(size=m.nv)
     u = np.where(prescribed, admissible, rng.normal(size=m.nv))
-    qdd_ref, tau_ref, lam = reference_solution(eq, prescribed, u)
+    qdd_ref, tau_ref, lam, redundant_actuation = reference_solution(eq, prescribed, u)
     assert np.abs(eq.C @ qdd_ref - eq.kappa).max() < 1e-9 * max(1.0, np.abs(eq.kappa).max())
-    wrench_ref = np.array([W @ lam[row:row + W.shape[1]]
-                           for W, row in zip(eq.W, np.cumsum([0] + [W.shape[1] for W in eq.W]))])
+    rows = np.cumsum([0] + [W.shape[1] for W in eq.W])
+    wrench_ref = np.array([W @ lam[row:row + W.shape[1]] for W, row in zip(eq.W, rows)])
 
     qdd, tau, wrenches = soadyn.constrained_dynamics(m, q, v, u)
-    label = "redundant" if np.linalg.matrix_rank(eq.C, tol=1e-9) < eq.C.shape[0] else "full rank"
+    full_rank = np.linalg.matrix_rank(eq.C, tol=1e-9) == eq.C.shape[0]
+    label = ("full rank" if full_rank else "redundant") + (", redundant actuation" if redundant_actuation else "")
     check(f"qdd ({label})", qdd, qdd_ref)
     check(f"tau ({label})", tau, tau_ref)
-    check(f"loop wrenches ({label})", wrenches, wrench_ref)
+    # Each wrench lies in the span of its loop's directions W (orthonormal columns): lambda = W' wrench.
+    lam_soadyn = np.concatenate([W.T @ w for W, w in zip(eq.W, wrenches)])
+    check(f"wrench in the span of W ({label})", wrenches,
+          np.array([W @ lam_soadyn[row:row + W.shape[1]] for W, row in zip(eq.W, rows)]))
+    if redundant_actuation and not full_rank:
+        # The multipliers' part in null(C') is not determined by the motion and the actuator forces
+        # (soadyn reports one consistent choice): only the generalized loop force C' lambda is.
+        check(f"generalized loop force C' lambda ({label})", eq.C.T @ lam_soadyn, eq.C.T @ lam)
+    else:
+        check(f"loop wrenches ({label})", wrenches, wrench_ref)
 
 
 def test_cases_cover_every_kind_redundancy_and_mode():
