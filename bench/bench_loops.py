@@ -462,8 +462,8 @@ def main() -> int:
     lines = [
         "# Closed loops: soadyn.constrained_dynamics against Pinocchio's constraintDynamics", "",
         f"- Date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; machine: {cpu}, {os.cpu_count()} logical "
-        f"cores (load average {load_before:.1f} at the start, {os.getloadavg()[0]:.1f} at the end: other jobs were "
-        f"running); pin {pin.__version__}",
+        f"cores (load average {load_before:.1f} at the start, {os.getloadavg()[0]:.1f} at the end); "
+        f"pin {pin.__version__}",
         f"- Source: {source}; command: `python bench/bench_loops.py{' --quick' if args.quick else ''}`",
         f"- Python per call (numpy in, numpy out): median of 21 repetitions of {calls} calls cycling through "
         f"{STATES} states (one closed configuration, velocities on the loops' tangent space, random inputs), the two "
