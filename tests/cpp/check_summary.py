@@ -48,6 +48,17 @@ def check_float_vs_double(output: str) -> None:
     require(max(float(match.group(1)), float(match.group(2))) <= 1e-4, "float within 1e-4 of double")
 
 
+def check_loops_float_vs_double(output: str) -> None:
+    """constrained_dynamics in float against double on random loop models of bounded condition number."""
+    require(bool(lines(r"^cases: 48 accepted \([1-9]\d* with redundant loop equations, \d+ of them with indeterminate "
+                       r"multipliers\), \d+ rejected; largest condition numbers", output)),
+            "48 cases, some redundant, with their condition numbers")
+    match = re.search(r"^test_loops_float_vs_double: PASS: max relative error (\S+) \(tolerance 1e-04\), "
+                      r"48 cases, 0 failures$", output, re.MULTILINE)
+    require(match is not None, "the PASS line")
+    require(float(match.group(1)) <= 1e-4, "float within 1e-4 of double")
+
+
 def check_sim_no_allocation(output: str) -> None:
     """10^5 steps of each built-in scene, RK4 and semi-implicit Euler, with events firing; and the HIL loop,
     paced and as fast as possible, with real-time scheduling requested, and over the UDP link under hostile
@@ -93,6 +104,7 @@ def check_loop_sim_no_allocation(output: str) -> None:
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
+    "test_loops_float_vs_double": check_loops_float_vs_double,
     "test_sim_no_allocation": check_sim_no_allocation,
     "test_loops_no_allocation": check_loops_no_allocation,
     "test_loop_sim_no_allocation": check_loop_sim_no_allocation,
