@@ -78,16 +78,26 @@ void minimum_norm_actuation(const ModelTpl<S>& m, DataTpl<S>& d) {
     if (!m.is_prescribed(k)) B.row(k).setZero();  // C_r' N = 0 up to rounding
   ld.actuation_gram.setZero();  // B'B in the top-left corner: the padding's zero pivots are never taken
   ld.actuation_gram.topLeftCorner(r, r).noalias() = B.transpose().lazyProduct(B);
-  // B is negligible (the prescribed DOFs are independent coordinates) when
-  // its columns are rounding noise next to |C| |N_j|.
-  S reference = S(0);
-  for (int j = 0; j < r; ++j) reference = std::max(reference, N.col(j).squaredNorm());
-  reference *= ld.jacobian.squaredNorm() * delassus_threshold<S>();
+  // How accurate B is: N carries the Delassus factor's error, eps times its
+  // condition (largest over smallest kept pivot squared), so B's columns are
+  // known to about 10 eps cond |C| |N_j|. Directions of B below that noise
+  // level are dropped; all of B when it is noise (the prescribed DOFs are
+  // independent coordinates). Thresholds on B'B are the squares.
+  const MatX<S>& K_factor = ld.delassus_solve.factor;
+  const Eigen::Index kept = ld.delassus_solve.rank;
+  const S condition = kept == 0 ? S(1)
+                                : (K_factor(0, 0) * K_factor(0, 0)) / (K_factor(kept - 1, kept - 1) * K_factor(kept - 1, kept - 1));
+  S largest_null = S(0);
+  for (int j = 0; j < r; ++j) largest_null = std::max(largest_null, N.col(j).squaredNorm());
+  const S noise = S(10) * Eigen::NumTraits<S>::epsilon() * condition;
+  const S reference = noise * noise * ld.jacobian.squaredNorm() * largest_null;
   const S largest = ld.actuation_gram.diagonal().maxCoeff();
   if (!(largest > reference)) return;
+  // Pivots of B'B resolve singular values of B down to sqrt(eps) of the largest.
+  const S relative = std::max(reference / largest, S(10) * Eigen::NumTraits<S>::epsilon());
   ld.actuation_rhs.setZero();
   ld.actuation_rhs.head(r).noalias() = B.transpose().lazyProduct(d.tau);
-  if (semidefinite_min_norm_solve(ld.actuation_gram, ld.actuation_rhs, reference / largest, ld.actuation_solve,
+  if (semidefinite_min_norm_solve(ld.actuation_gram, ld.actuation_rhs, relative, ld.actuation_solve,
                                   ld.actuation_step) < 0)
     return;  // the unchanged lambda0 is still a consistent answer
   ld.multipliers.noalias() += N.lazyProduct(ld.actuation_step.head(r));
