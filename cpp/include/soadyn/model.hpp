@@ -179,6 +179,9 @@ class ModelTpl {
   // matrix couples a DOF only with its ancestors and descendants (branch-
   // induced sparsity, algorithms/tree_cholesky.hpp).
   std::vector<int> dof_parent;
+  // The first DOF of the unbranched run of consecutive DOFs ending at each DOF
+  // (dof_parent[k] == k - 1 throughout the run): ancestors walked as segments.
+  std::vector<int> dof_run_start;
   std::vector<std::uint8_t> prescribed;
   std::vector<std::uint8_t> modal_dof;  // 1 for modal coordinates
   int n_prescribed = 0;  // how many DOFs are prescribed

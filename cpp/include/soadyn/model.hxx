@@ -274,6 +274,8 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
       ancestor < 0 ? -1 : modal_v_index(ancestor) + n_modes[static_cast<std::size_t>(ancestor)] - 1;
   for (int k = 0; k < jv + nm; ++k) {
     dof_parent.push_back(k == 0 ? ancestor_last_dof : nv + k - 1);
+    const bool continues_run = dof_parent.back() >= 0 && dof_parent.back() == nv + k - 1;
+    dof_run_start.push_back(continues_run ? dof_run_start[static_cast<std::size_t>(nv + k - 1)] : nv + k);
     dof_lookup_[new_dofs[static_cast<std::size_t>(k)]] = nv + k;
     dof_names.push_back(new_dofs[static_cast<std::size_t>(k)]);
     dof_body.push_back(index);

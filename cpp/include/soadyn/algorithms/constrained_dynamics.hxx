@@ -197,19 +197,19 @@ Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<
   LoopData<S>& ld = d.loops;
   detail::substitute_prescribed(m, ld, d.mass_matrix);
   // M_rr = L' L with the tree's sparsity (tree_cholesky.hpp): O(n d^2), plain loops, no allocation.
-  const int bad_pivot = tree_ltl_in_place(ld.regular_mass, m.dof_parent);
+  const int bad_pivot = tree_ltl_in_place(ld.regular_mass, m.dof_parent, m.dof_run_start);
   if (bad_pivot >= 0) return {StatusCode::singular_articulated_inertia, bad_pivot};
-  const MatX<S>& L = ld.regular_mass;
+  const MatX<S>& U = ld.regular_mass;  // the factor, U = L' in the upper triangle
   // b: tau_r - h_r - M_rp qdd_p on regular rows, qdd_p on prescribed rows.
   for (int k = 0; k < m.nv; ++k) d.qdd[k] = m.is_prescribed(k) ? u[k] : S(0);
   ld.free_acceleration.noalias() = d.mass_matrix * d.qdd;  // M_rp qdd_p (a negated product would need a temporary)
   for (int k = 0; k < m.nv; ++k)
     ld.free_acceleration[k] = m.is_prescribed(k) ? u[k] : u[k] - ld.bias[k] - ld.free_acceleration[k];
-  tree_ltl_solve_transposed(L, m.dof_parent, ld.free_acceleration);
-  tree_ltl_solve(L, m.dof_parent, ld.free_acceleration);
+  tree_ltl_solve_transposed(U, m.dof_parent, m.dof_run_start, ld.free_acceleration);
+  tree_ltl_solve(U, m.dof_parent, m.dof_run_start, ld.free_acceleration);
   // Y = L'^-1 C_r', so that C_r M_rr^-1 C_r' = Y' Y (one half-solve per equation).
   ld.half_solved_ct = ld.constraint_jacobian_regular.transpose();
-  tree_ltl_solve_transposed(L, m.dof_parent, ld.half_solved_ct);
+  tree_ltl_solve_transposed(U, m.dof_parent, m.dof_run_start, ld.half_solved_ct);
   // lazyProduct: coefficient-wise, without the blocked product's workspace.
   ld.delassus.noalias() = ld.half_solved_ct.transpose().lazyProduct(ld.half_solved_ct);
   // rhs = kappa - C qdd_free: the free accelerations carry qdd_p on prescribed rows.
@@ -219,7 +219,7 @@ Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<
     return {StatusCode::non_finite_result, -1};
   // qdd = qdd_free + M_rr^-1 C_r' lambda = qdd_free + L^-1 (Y lambda).
   d.qdd.noalias() = ld.half_solved_ct * ld.multipliers;  // matrix-vector products need no workspace
-  tree_ltl_solve(L, m.dof_parent, d.qdd);
+  tree_ltl_solve(U, m.dof_parent, m.dof_run_start, d.qdd);
   d.qdd += ld.free_acceleration;
   // tau = M qdd + h - J' f_ext - C' lambda; regular entries are the given torques.
   d.tau = ld.bias;

@@ -35,7 +35,7 @@ struct LoopData {
   // Scratch.
   Mat6X<S> relative_jacobian;              // [omega_A - omega_B; v_A - v_B(P)] as a 6 x nv map of v
   MatX<S> regular_mass;                    // M with the prescribed rows and columns replaced by the identity,
-                                           // then its tree-sparse factor L, M_rr = L' L (lower triangle)
+                                           // then its tree-sparse factor, M_rr = L' L (U = L' in the upper triangle)
   MatX<S> constraint_jacobian_regular;     // C with the prescribed columns zeroed
   MatX<S> half_solved_ct;                  // Y = L'^-1 C_r' with M_rr = L' L (tree_cholesky.hpp)
   MatX<S> delassus;                        // C_r M_rr^-1 C_r' (m x m)
