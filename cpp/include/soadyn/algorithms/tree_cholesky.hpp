@@ -62,7 +62,9 @@ int tree_ltl_in_place(Eigen::MatrixBase<Derived>& M, const std::vector<int>& par
   return -1;
 }
 
-// x <- L'^-1 x = U^-1 x (the first half of a solve), every column of x.
+// x <- L'^-1 x = U^-1 x (the first half of a solve), every column of x. A
+// column nonzero only on some DOFs and their ancestors (a row of a loop's
+// constraint Jacobian) stays so, and costs only those DOFs.
 template <class FactorDerived, class Derived>
 void tree_ltl_solve_transposed(const Eigen::MatrixBase<FactorDerived>& U, const std::vector<int>& parent,
                                const std::vector<int>& run_start, Eigen::MatrixBase<Derived>& x) {
@@ -70,6 +72,7 @@ void tree_ltl_solve_transposed(const Eigen::MatrixBase<FactorDerived>& U, const 
   for (Eigen::Index c = 0; c < x.cols(); ++c)
     for (int i = static_cast<int>(U.rows()) - 1; i >= 0; --i) {
       S* const xc = &x(0, c);
+      if (xc[i] == S(0)) continue;  // the solve keeps x's support within its ancestors: skip the zeros
       const auto* const column_i = &U(0, i);
       const S xi = xc[i] /= column_i[i];
       for_each_ancestor_run(i, false, parent, run_start, [&](int first, int last) {
