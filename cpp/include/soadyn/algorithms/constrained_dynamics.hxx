@@ -62,7 +62,7 @@ int delassus_null_basis(LoopData<S>& ld) {
   return static_cast<int>(r);
 }
 
-// Redundant actuation: given d.tau = M qdd + h - J' f_ext - C' lambda0,
+// Redundant actuation: given d.tau's prescribed entries (M qdd + h - J' f_ext - C' lambda0)_p,
 // moves lambda along null(K) (which leaves qdd unchanged) to the minimum
 // ||tau_p||: lambda = lambda0 + N z, z = B^+ tau0 with B = C_p' N.
 template <class S>
@@ -201,8 +201,11 @@ Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<
   if (bad_pivot >= 0) return {StatusCode::singular_articulated_inertia, bad_pivot};
   const MatX<S>& U = ld.regular_mass;  // the factor, U = L' in the upper triangle
   // b: tau_r - h_r - M_rp qdd_p on regular rows, qdd_p on prescribed rows.
-  for (int k = 0; k < m.nv; ++k) d.qdd[k] = m.is_prescribed(k) ? u[k] : S(0);
-  ld.free_acceleration.noalias() = d.mass_matrix * d.qdd;  // M_rp qdd_p (a negated product would need a temporary)
+  ld.free_acceleration.setZero();  // M_rp qdd_p: the prescribed columns only
+  for (int k = 0; k < m.n_prescribed; ++k) {
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+    ld.free_acceleration.noalias() += d.mass_matrix.col(p) * u[p];
+  }
   for (int k = 0; k < m.nv; ++k)
     ld.free_acceleration[k] = m.is_prescribed(k) ? u[k] : u[k] - ld.bias[k] - ld.free_acceleration[k];
   tree_ltl_solve_transposed(U, m.dof_parent, m.dof_run_start, ld.free_acceleration);
@@ -221,13 +224,13 @@ Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<
   d.qdd.noalias() = ld.half_solved_ct * ld.multipliers;  // matrix-vector products need no workspace
   tree_ltl_solve(U, m.dof_parent, m.dof_run_start, d.qdd);
   d.qdd += ld.free_acceleration;
-  // tau = M qdd + h - J' f_ext - C' lambda; regular entries are the given torques.
-  d.tau = ld.bias;
-  d.tau.noalias() += d.mass_matrix * d.qdd;
-  d.tau.noalias() -= ld.jacobian.transpose() * ld.multipliers;
-  minimum_norm_actuation(m, d);
-  for (int k = 0; k < m.nv; ++k)
-    if (!m.is_prescribed(k)) d.tau[k] = u[k];
+  // tau: the given torques on regular rows; (M qdd + h - J' f_ext - C' lambda)_p on prescribed ones.
+  d.tau = u;
+  for (int k = 0; k < m.n_prescribed; ++k) {
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+    d.tau[p] = ld.bias[p] + d.mass_matrix.row(p).dot(d.qdd) - ld.jacobian.col(p).dot(ld.multipliers);
+  }
+  minimum_norm_actuation(m, d);  // B's regular rows are zero: it reads and moves the prescribed entries only
   detail::loop_wrenches_from_multipliers(m, d);
   Status status = check_finite(d.qdd);
   if (!status.ok()) return status;
