@@ -4,6 +4,7 @@
 #include "soadyn/algorithms/configuration.hpp"
 #include "soadyn/algorithms/crba.hpp"
 #include "soadyn/algorithms/energy.hpp"
+#include "soadyn/algorithms/frames.hpp"
 #include "soadyn/algorithms/hybrid.hpp"
 #include "soadyn/algorithms/kinematics.hpp"
 #include "soadyn/algorithms/constrained_dynamics.hpp"
