@@ -32,6 +32,24 @@ Reference reference_arg(const std::string& reference) {
   throw py::value_error("unknown reference '" + reference + "' (expected 'world', 'local' or 'local_world_aligned')");
 }
 
+// The checked arguments of a frame call, with the model version they were
+// checked against: q, v and qdd (None when the call takes none), the frame
+// and the reference (frame_pose takes none: any).
+struct FrameCall {
+  FrameCall(const ModelHandle& h, py::handle q_in, py::handle frame_in, const std::string& reference_in,
+            py::handle v_in = py::none(), py::handle qdd_in = py::none())
+      : version(h.model.version),
+        q(q_arg(h, q_in)),
+        v(v_in.is_none() ? Array() : v_arg(h, v_in, "v")),
+        qdd(qdd_in.is_none() ? Array() : v_arg(h, qdd_in, "qdd")),
+        frame(frame_arg(h, frame_in)),
+        reference(reference_arg(reference_in)) {}
+  std::uint64_t version;
+  Array q, v, qdd;
+  FrameLocation<double> frame;
+  Reference reference;
+};
+
 // A column-major rows x nv result as a fresh C-ordered array, its columns
 // checked finite (named by DOF).
 py::array_t<double> checked_columns(const char* what, const ModelHandle& h, const Eigen::MatrixXd& J) {
@@ -59,12 +77,10 @@ Eigen::VectorXd checked_vector6(const char* what, const soadyn::Vec6<double>& x)
 void bind_frames(py::module_& mod) {
   mod.def("frame_pose",
       [](ModelHandle& h, py::handle q, py::handle frame) {
-        const std::uint64_t version = h.model.version;
-        const Array qa = q_arg(h, q);
-        const FrameLocation<double> f = frame_arg(h, frame);
+        const FrameCall c(h, q, frame, "world");
         Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
-        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
-          const soadyn::Transform<double> X = soadyn::frame_pose<double>(m, d, Map(qa.data(), m.nq), f);
+        run_locked(h, c.version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          const soadyn::Transform<double> X = soadyn::frame_pose<double>(m, d, Map(c.q.data(), m.nq), c.frame);
           T.topLeftCorner<3, 3>() = X.rotation;
           T.topRightCorner<3, 1>() = X.translation;
         });
@@ -77,13 +93,10 @@ void bind_frames(py::module_& mod) {
 
   mod.def("frame_velocity",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle frame, const std::string& reference) {
-        const std::uint64_t version = h.model.version;
-        const Array qa = q_arg(h, q), va = v_arg(h, v, "v");
-        const FrameLocation<double> f = frame_arg(h, frame);
-        const Reference r = reference_arg(reference);
+        const FrameCall c(h, q, frame, reference, v);
         soadyn::Vec6<double> V;
-        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
-          V = soadyn::frame_velocity<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv), f, r);
+        run_locked(h, c.version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          V = soadyn::frame_velocity<double>(m, d, Map(c.q.data(), m.nq), Map(c.v.data(), m.nv), c.frame, c.reference);
         });
         return checked_vector6("frame_velocity", V);
       },
@@ -93,14 +106,11 @@ void bind_frames(py::module_& mod) {
   mod.def("frame_acceleration",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle frame, const std::string& reference,
          bool classical) {
-        const std::uint64_t version = h.model.version;
-        const Array qa = q_arg(h, q), va = v_arg(h, v, "v"), aa = v_arg(h, qdd, "qdd");
-        const FrameLocation<double> f = frame_arg(h, frame);
-        const Reference r = reference_arg(reference);
+        const FrameCall c(h, q, frame, reference, v, qdd);
         soadyn::Vec6<double> A;
-        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
-          A = soadyn::frame_acceleration<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv),
-                                                 Map(aa.data(), m.nv), f, r, classical);
+        run_locked(h, c.version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          A = soadyn::frame_acceleration<double>(m, d, Map(c.q.data(), m.nq), Map(c.v.data(), m.nv),
+                                                 Map(c.qdd.data(), m.nv), c.frame, c.reference, classical);
         });
         return checked_vector6("frame_acceleration", A);
       },
@@ -111,13 +121,10 @@ void bind_frames(py::module_& mod) {
 
   mod.def("frame_jacobian",
       [](ModelHandle& h, py::handle q, py::handle frame, const std::string& reference) {
-        const std::uint64_t version = h.model.version;
-        const Array qa = q_arg(h, q);
-        const FrameLocation<double> f = frame_arg(h, frame);
-        const Reference r = reference_arg(reference);
+        const FrameCall c(h, q, frame, reference);
         Eigen::MatrixXd J(6, h.model.nv);
-        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
-          soadyn::frame_jacobian<double>(m, d, Map(qa.data(), m.nq), f, r, J);
+        run_locked(h, c.version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          soadyn::frame_jacobian<double>(m, d, Map(c.q.data(), m.nq), c.frame, c.reference, J);
         });
         return checked_columns("frame_jacobian", h, J);
       },
@@ -126,13 +133,11 @@ void bind_frames(py::module_& mod) {
 
   mod.def("frame_jacobian_time_variation",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle frame, const std::string& reference) {
-        const std::uint64_t version = h.model.version;
-        const Array qa = q_arg(h, q), va = v_arg(h, v, "v");
-        const FrameLocation<double> f = frame_arg(h, frame);
-        const Reference r = reference_arg(reference);
+        const FrameCall c(h, q, frame, reference, v);
         Eigen::MatrixXd dJ(6, h.model.nv);
-        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
-          soadyn::frame_jacobian_time_variation<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv), f, r, dJ);
+        run_locked(h, c.version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          soadyn::frame_jacobian_time_variation<double>(m, d, Map(c.q.data(), m.nq), Map(c.v.data(), m.nv), c.frame,
+                                                        c.reference, dJ);
         });
         return checked_columns("frame_jacobian_time_variation", h, dJ);
       },

@@ -623,6 +623,10 @@ def center_of_mass(model: _Model, q: typing.Any) -> typing.Annotated[numpy.typin
     """
     Centre of mass of the whole tree in the world frame.
     """
+def center_of_mass_jacobian(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    Jacobian (3 x nv) of the centre of mass in the world frame: J v is its velocity.
+    """
 def forward_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, tau: numpy.typing.ArrayLike, f_ext: numpy.typing.ArrayLike | None = None) -> numpy.typing.NDArray[numpy.float64]:
     """
     Accelerations qdd = M^-1 (tau - h + J' f_ext) by the articulated-body algorithm (every DOF regular,
@@ -645,6 +649,41 @@ def forward_kinematics(model: _Model, q: typing.Any, v: typing.Any = None) -> ty
     """
     (poses, velocities): (nbodies, 4, 4) homogeneous body poses in the world and, with v, (nbodies, 6)
     body-frame spatial velocities [angular; linear].
+    """
+def frame_acceleration(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any, frame: str | int, reference: str = 'local', classical: bool = False) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    Spatial acceleration [angular; linear] of the frame, velocity products included, gravity
+    not. classical=True: linear rows w x v + (spatial linear), the classical acceleration.
+    reference: 'world' (world axes, about the world origin), 'local' (frame axes, about the frame origin) or
+    'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links
+    included) or a body index.
+    """
+def frame_jacobian(model: _Model, q: typing.Any, frame: str | int, reference: str = 'local') -> numpy.typing.NDArray[numpy.float64]:
+    """
+    Frame Jacobian (6 x nv, rows [angular; linear]): J v is frame_velocity.
+    reference: 'world' (world axes, about the world origin), 'local' (frame axes, about the frame origin) or
+    'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links
+    included) or a body index.
+    """
+def frame_jacobian_time_variation(model: _Model, q: typing.Any, v: typing.Any, frame: str | int, reference: str = 'local') -> numpy.typing.NDArray[numpy.float64]:
+    """
+    dJ/dt (6 x nv) of frame_jacobian along v: J qdd + dJ/dt v is frame_acceleration (world,
+    local), or its classical form (local_world_aligned).
+    reference: 'world' (world axes, about the world origin), 'local' (frame axes, about the frame origin) or
+    'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links
+    included) or a body index.
+    """
+def frame_pose(model: _Model, q: typing.Any, frame: str | int) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 4]"]:
+    """
+    4x4 homogeneous pose of the frame in the world at q. frame: a body name, a frame name (welded links
+    included) or a body index.
+    """
+def frame_velocity(model: _Model, q: typing.Any, v: typing.Any, frame: str | int, reference: str = 'local') -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    Spatial velocity [angular; linear] of the frame.
+    reference: 'world' (world axes, about the world origin), 'local' (frame axes, about the frame origin) or
+    'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links
+    included) or a body index.
     """
 def hybrid_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike, f_ext: numpy.typing.ArrayLike | None = None, joint_wrenches: bool = False) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]] | tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     """

@@ -101,6 +101,15 @@ def check_loop_sim_no_allocation(output: str) -> None:
     require(bool(lines(r"^test_loop_sim_no_allocation: PASS$", output)), "the PASS line")
 
 
+def check_frames_no_allocation(output: str) -> None:
+    """2000 rounds of the frame functions (6 calls each) on a tree of every joint type with a welded frame."""
+    require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
+    require(bool(lines(r"^calls: 12000 frame calls; finite results: yes; J v against frame_velocity: ", output)),
+            "12000 calls with finite results")
+    require(bool(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)), "zero allocations")
+    require(bool(lines(r"^test_frames_no_allocation: PASS$", output)), "the PASS line")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
@@ -108,6 +117,7 @@ CHECKS = {
     "test_sim_no_allocation": check_sim_no_allocation,
     "test_loops_no_allocation": check_loops_no_allocation,
     "test_loop_sim_no_allocation": check_loop_sim_no_allocation,
+    "test_frames_no_allocation": check_frames_no_allocation,
 }
 
 
