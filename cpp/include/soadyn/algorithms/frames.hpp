@@ -20,9 +20,12 @@
 // refused by locate_frame, and center_of_mass_jacobian refuses flexible
 // models: their Jacobians would need the modal columns and their rates.
 //
-// Every function runs forward kinematics into `data` and then writes only its
-// output: no heap allocation (the caller sizes J: 6 x nv, or 3 x nv) and no
-// exception. Frame lookup (locate_frame) is the only step that may throw.
+// The frame functions compute the kinematics of the frame's body and its
+// ancestors only (their pose_in_parent, pose_in_world, subspace and, given v,
+// body_velocity and Coriolis term in `data`; other bodies' entries are left as
+// they were); center_of_mass_jacobian runs forward kinematics of the whole
+// tree. None allocates (the caller sizes J: 6 x nv, or 3 x nv) or throws;
+// frame lookup (locate_frame) is the only step that may throw.
 #pragma once
 #include <string>
 #include "soadyn/algorithms/kinematics.hpp"

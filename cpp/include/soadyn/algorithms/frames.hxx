@@ -48,6 +48,27 @@ Vec6<S> motion_in_reference(const Vec6<S>& world, const Transform<S>& X, Referen
   return world;
 }
 
+// Forward kinematics of `body` and its ancestors only, root first (the
+// outward sweep of Jain & Rodriguez 1993, Eq. 1, along one path): their
+// pose_in_parent, pose_in_world, motion subspace and, with v, velocity and
+// Coriolis term. The path is walked without storage: the ancestor at each
+// depth is found from `body` again (O(depth^2) parent lookups, integers only).
+// Frames on flexible bodies being refused, the path is rigid.
+template <class S>
+void path_kinematics(const ModelTpl<S>& m, DataTpl<S>& d, int body, const S* q, const S* v) {
+  int depth = 0;
+  for (int j = body; j >= 0; j = m.parent[static_cast<std::size_t>(j)]) ++depth;
+  for (int level = depth - 1; level >= 0; --level) {
+    int j = body;
+    for (int k = 0; k < level; ++k) j = m.parent[static_cast<std::size_t>(j)];
+    const std::size_t b = static_cast<std::size_t>(j);
+    joint_step(m, d, b, q, v);
+    const int p = m.parent[b];
+    d.pose_in_world[b] = p >= 0 ? d.pose_in_world[static_cast<std::size_t>(p)] * d.pose_in_parent[b] : d.pose_in_parent[b];
+    if (v) velocity_step(m, d, b, v);
+  }
+}
+
 template <class S>
 Transform<S> frame_pose_in_world(const DataTpl<S>& d, const FrameLocation<S>& f) {
   return f.body >= 0 ? d.pose_in_world[static_cast<std::size_t>(f.body)] * f.placement : f.placement;
@@ -92,14 +113,14 @@ FrameLocation<S> locate_frame(const ModelTpl<S>& m, int body) {
 
 template <class S>
 Transform<S> frame_pose(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const FrameLocation<S>& f) {
-  forward_kinematics<S>(m, d, q.data(), nullptr);
+  detail::path_kinematics(m, d, f.body, q.data(), static_cast<const S*>(nullptr));
   return detail::frame_pose_in_world(d, f);
 }
 
 template <class S>
 Vec6<S> frame_velocity(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                        const FrameLocation<S>& f, Reference r) {
-  forward_kinematics<S>(m, d, q.data(), v.data());
+  detail::path_kinematics(m, d, f.body, q.data(), v.data());
   return detail::motion_in_reference(detail::frame_world_velocity(d, f), detail::frame_pose_in_world(d, f), r);
 }
 
@@ -110,7 +131,7 @@ Vec6<S> frame_velocity(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>
 template <class S>
 Vec6<S> frame_acceleration(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                            const ConstVecRef<S>& qdd, const FrameLocation<S>& f, Reference r, bool classical) {
-  forward_kinematics<S>(m, d, q.data(), v.data());
+  detail::path_kinematics(m, d, f.body, q.data(), v.data());
   Vec6<S> world = Vec6<S>::Zero();
   for (int j = f.body; j >= 0; j = m.parent[static_cast<std::size_t>(j)]) {
     const std::size_t b = static_cast<std::size_t>(j);
@@ -132,7 +153,7 @@ Vec6<S> frame_acceleration(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRe
 template <class S>
 void frame_jacobian(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const FrameLocation<S>& f,
                     Reference r, Mat6XRef<S> J) {
-  forward_kinematics<S>(m, d, q.data(), nullptr);
+  detail::path_kinematics(m, d, f.body, q.data(), static_cast<const S*>(nullptr));
   J.setZero();
   const Transform<S> X = detail::frame_pose_in_world(d, f);
   for (int j = f.body; j >= 0; j = m.parent[static_cast<std::size_t>(j)]) {
@@ -155,7 +176,7 @@ template <class S>
 void frame_jacobian_time_variation(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
                                    const ConstVecRef<S>& v, const FrameLocation<S>& f, Reference r,
                                    Mat6XRef<S> dJ) {
-  forward_kinematics<S>(m, d, q.data(), v.data());
+  detail::path_kinematics(m, d, f.body, q.data(), v.data());
   dJ.setZero();
   const Transform<S> X = detail::frame_pose_in_world(d, f);
   const Vec6<S> V_world = detail::frame_world_velocity(d, f);
