@@ -20,8 +20,13 @@ using soadyn::Reference;
 // A body name, a frame name or a body index.
 FrameLocation<double> frame_arg(const ModelHandle& h, py::handle frame) {
   if (py::isinstance<py::str>(frame)) return soadyn::locate_frame(h.model, frame.cast<std::string>());
-  if (py::isinstance<py::int_>(frame) && !py::isinstance<py::bool_>(frame))
-    return soadyn::locate_frame(h.model, frame.cast<int>());
+  if (PyIndex_Check(frame.ptr()) && !py::isinstance<py::bool_>(frame) && !py::isinstance<py::array>(frame)) {
+    const auto index = py::cast<py::ssize_t>(py::reinterpret_steal<py::object>(PyNumber_Index(frame.ptr())));
+    if (index < 0 || index >= h.model.nbodies())
+      throw py::value_error("frame index " + std::to_string(index) + " is not a body index (the model has " +
+                            std::to_string(h.model.nbodies()) + " bodies)");
+    return soadyn::locate_frame(h.model, static_cast<int>(index));
+  }
   throw py::type_error("frame must be a body or frame name (str) or a body index (int)");
 }
 

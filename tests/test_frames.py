@@ -338,6 +338,7 @@ def test_frames_by_index_and_world():
     q, v, _ = random_state(m, 0)
     for index, name in enumerate(m.body_names):
         assert np.array_equal(soadyn.frame_jacobian(m, q, index), soadyn.frame_jacobian(m, q, name))
+        assert np.array_equal(soadyn.frame_jacobian(m, q, np.int64(index)), soadyn.frame_jacobian(m, q, name))
     assert np.array_equal(soadyn.frame_pose(m, q, "world"), np.eye(4))
     assert not np.any(soadyn.frame_jacobian(m, q, "world", "world"))
     assert not np.any(soadyn.frame_velocity(m, q, v, "world"))
@@ -354,8 +355,11 @@ def test_bad_frames_and_references_are_named():
         soadyn.frame_velocity(m, q, v, -1)
     with pytest.raises(ValueError, match="'global'"):
         soadyn.frame_jacobian(m, q, "tip", "global")
-    with pytest.raises(TypeError, match="frame"):
-        soadyn.frame_pose(m, q, 1.5)
+    with pytest.raises(ValueError, match=r"frame index 4294967296 "):
+        soadyn.frame_pose(m, q, 2**32)
+    for not_a_frame in (1.5, True, None, np.array([0])):
+        with pytest.raises(TypeError, match="frame"):
+            soadyn.frame_pose(m, q, not_a_frame)
     with pytest.raises(ValueError, match="q has shape"):
         soadyn.frame_pose(m, q[:-1], "tip")
 
@@ -385,3 +389,20 @@ def _ancestors(parts, part):
     while part.parent is not None:
         part = by_name[part.parent]
         yield part
+
+
+def test_non_finite_results_raise_naming_the_call():
+    """Finite inputs whose results overflow raise DynamicsError, never return inf or NaN."""
+    m = soadyn.Model()
+    m.add_body("slider_a", None, soadyn.Joint.prismatic([1, 0, 0]), mass=1.0, inertia=[1, 1, 1])
+    m.add_body("slider_b", "slider_a", soadyn.Joint.prismatic([1, 0, 0]), mass=1.0, inertia=[1, 1, 1])
+    m.add_body("arm", "slider_b", soadyn.Joint.revolute([0, 0, 1]), mass=1.0, inertia=[1, 1, 1])
+    q, v = np.array([1e308, 1e308, 0.3]), np.array([1e308, 1e308, 1.0])
+    with pytest.raises(soadyn.DynamicsError, match="frame_pose"):
+        soadyn.frame_pose(m, q, "arm")
+    with pytest.raises(soadyn.DynamicsError, match=r"frame_jacobian: the column of 'slider_b' is not finite"):
+        soadyn.frame_jacobian(m, q, "arm", "world")
+    with pytest.raises(soadyn.DynamicsError, match="frame_velocity"):
+        soadyn.frame_velocity(m, np.zeros(3), v, "arm", "world")
+    with pytest.raises(soadyn.DynamicsError, match="center_of_mass_jacobian"):
+        soadyn.center_of_mass_jacobian(m, q)
