@@ -110,6 +110,14 @@ def check_frames_no_allocation(output: str) -> None:
     require(bool(lines(r"^test_frames_no_allocation: PASS$", output)), "the PASS line")
 
 
+def check_frames_float_vs_double(output: str) -> None:
+    """Every frame output of every body of a 20-body tree at 16 states, and the centre-of-mass Jacobian."""
+    match = re.search(r"^test_frames_float_vs_double: PASS: max relative error (\S+) \(tolerance 1e-04\), "
+                      r"336 comparisons, 0 failures$", output, re.MULTILINE)
+    require(match is not None, "the PASS line")
+    require(float(match.group(1)) <= 1e-4, "float within 1e-4 of double")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
@@ -118,6 +126,7 @@ CHECKS = {
     "test_loops_no_allocation": check_loops_no_allocation,
     "test_loop_sim_no_allocation": check_loop_sim_no_allocation,
     "test_frames_no_allocation": check_frames_no_allocation,
+    "test_frames_float_vs_double": check_frames_float_vs_double,
 }
 
 
