@@ -95,7 +95,6 @@ FrameLocation<S> locate_frame(const ModelTpl<S>& m, const std::string& name) {
     if (k < 0 && name == "world") return f;  // the world frame itself (as a parent name in add_body)
     if (k < 0) throw std::invalid_argument("unknown frame '" + name + "' (neither a body nor a frame of the model)");
     const Frame<S>& frame = m.frames[static_cast<std::size_t>(k)];
-    if (frame.node >= 0) detail::refuse_flexible_carrier(m, frame.body, name);
     f.body = frame.body;
     f.placement = frame.placement;
   }
@@ -147,9 +146,10 @@ Vec6<S> frame_acceleration(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRe
   return a;
 }
 
-// Column k of body j's DOFs: X(0, j) S(j) e_k, the frame's velocity per unit
-// qd_k in world axes (the frame's origin being rigidly carried by body j's
-// descendants, the column does not depend on where on the path it sits).
+// Column k of body j's DOFs: X(0, j) S(j) e_k, world axes about the world
+// origin. A unit rate of that DOF moves body j by the twist S(j) e_k (the
+// H*(k) qd(k) term of V(k), Jain & Rodriguez 1993, Eq. 1), and the frame,
+// carried rigidly by j's descendants, with the same world twist.
 template <class S>
 void frame_jacobian(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const FrameLocation<S>& f,
                     Reference r, Mat6XRef<S> J) {
