@@ -119,8 +119,9 @@ void bind_equation_terms(py::module_& mod) {
       py::arg("model"), py::arg("q"),
       "Gamma, (nv, nv, nv), with C(q, v)[i, j] = sum_k Gamma[i, j, k] v[k]. For DOFs whose coordinates\n"
       "integrate their velocities, Gamma[i, j, k] = 1/2 (dM[i,j]/dq_k + dM[i,k]/dq_j - dM[j,k]/dq_i) (symmetric in\n"
-      "j, k); for spherical and free joints (body-frame velocities) the derivatives are along q (+) eps e_k and\n"
-      "Gamma adds the Lie-bracket terms of that moving frame (README, \"Equations term by term\"). Rigid bodies only.");
+      "j, k); for spherical, planar and free joints (body-frame velocities) the derivatives are along\n"
+      "q (+) eps e_k and Gamma adds the Lie-bracket terms of that moving frame (README, \"Equations term by\n"
+      "term\"). Rigid bodies only.");
 }
 
 }  // namespace soadyn_py

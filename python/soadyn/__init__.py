@@ -32,6 +32,13 @@ from ._soadyn import (
     potential_energy,
     random_configuration,
 )
+from ._soadyn import (  # the equations of motion term by term
+    christoffel_symbols,
+    coriolis_matrix,
+    external_forces_to_generalized,
+    gravity_forces,
+    mass_matrix_derivative,
+)
 from .loops import assemble, project_velocity
 from .linearize import natural_frequencies, stiffness_matrix
 from .model import Model
@@ -52,3 +59,5 @@ __all__ = [
     "LoopError", "constrained_dynamics", "loop_residual", "loop_jacobian", "loop_rank",
     "assemble", "project_velocity", "independent_coordinates",
 ]
+__all__ += ["gravity_forces", "external_forces_to_generalized", "coriolis_matrix", "mass_matrix_derivative",
+            "christoffel_symbols"]

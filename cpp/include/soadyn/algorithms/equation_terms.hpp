@@ -10,10 +10,10 @@
 // Coriolis Matrix and Christoffel Symbols for Rigid-Body Systems", ASME J.
 // Computational and Nonlinear Dynamics 16(9), 2021: C v = h(q, v) - g(q) and
 // Mdot - 2 C is skew-symmetric. For joints whose coordinates are the
-// velocities' integrals (every joint but spherical and free) it is the
+// velocities' integrals (every joint but spherical, planar and free) it is the
 // Christoffel C, C(i, j) = sum_k Gamma(i, j, k) v_k with
 // Gamma(i, j, k) = 1/2 (dM(i,j)/dq_k + dM(i,k)/dq_j - dM(j,k)/dq_i), symmetric
-// in (j, k). For spherical and free joints v is a body-frame (quasi-)velocity;
+// in (j, k). For spherical, planar and free joints v is a body-frame (quasi-)velocity;
 // derivatives along DOF k are then taken along q (+) eps e_k (the model's
 // integrate), and Gamma(i, j, k) is the Levi-Civita connection in that moving
 // frame, 2 Gamma(i,j,k) = dM(i,j)/dq_k + dM(i,k)/dq_j - dM(j,k)/dq_i
