@@ -133,8 +133,9 @@ def test_random_tree_against_pinocchio(seed, floating):
     C = soadyn.coriolis_matrix(c.m, c.q, v)
     C_pin = c.map.matrix_from_pin(pin.computeCoriolisMatrix(c.model, c.data, c.q_pin, c.map.v(v)))
     # Pinocchio's computeCoriolisMatrix leaves out the rate of the universal joint's first axis in
-    # its body frame (its C v then misses h - g by that term: asserted below); every other column is
-    # the same matrix. The universal columns are checked by the identities (dM/dt by differences).
+    # its body frame (its C v then differs from nonLinearEffects - g); every other column is the same
+    # matrix. The universal columns are checked by the identities (dM/dt by differences) and by
+    # C v + g = nonLinearEffects below.
     universal = np.zeros(c.m.nv, dtype=bool)
     for i, kind in enumerate(c.m.joint_types):
         if kind == "universal":

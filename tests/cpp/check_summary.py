@@ -101,6 +101,17 @@ def check_loop_sim_no_allocation(output: str) -> None:
     require(bool(lines(r"^test_loop_sim_no_allocation: PASS$", output)), "the PASS line")
 
 
+def check_equation_terms_no_allocation(output: str) -> None:
+    """10^4 calls of each equation term (and 100 christoffel_symbols) on a 20-body tree of every joint kind."""
+    require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
+    require(bool(lines(r"^calls: 10000 of each term, 100 christoffel_symbols; failed statuses: 0$", output)),
+            "10^4 calls without a failed status")
+    match = re.search(r"^identities: 10000 states, max relative error (\S+) \(tolerance 1e-12\)$", output, re.MULTILINE)
+    require(match is not None and float(match.group(1)) <= 1e-12, "the identities within 1e-12")
+    require(bool(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)), "zero allocations and frees")
+    require(bool(lines(r"^test_equation_terms_no_allocation: PASS$", output)), "the PASS line")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
@@ -108,6 +119,7 @@ CHECKS = {
     "test_sim_no_allocation": check_sim_no_allocation,
     "test_loops_no_allocation": check_loops_no_allocation,
     "test_loop_sim_no_allocation": check_loop_sim_no_allocation,
+    "test_equation_terms_no_allocation": check_equation_terms_no_allocation,
 }
 
 
