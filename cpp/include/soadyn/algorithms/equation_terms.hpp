@@ -28,6 +28,11 @@
 // external_forces_to_generalized take every model (flexible bodies included;
 // g is gravity only, elastic forces are not part of it). On loop models every
 // term is the spanning tree's; the loop forces enter through loop_jacobian.
+//
+// C is formed in tree frames (tree_frame_steps.hpp) for every body: unlike
+// mass_matrix there is no body-frame fallback for a body beyond its
+// tree-frame reach (tree_frame_reach.hxx), whose entries then lose relative
+// precision as the tree-frame sweeps do there.
 #pragma once
 #include <stdexcept>
 #include <string>
