@@ -38,6 +38,13 @@ from ._soadyn import (
     potential_energy,
     random_configuration,
 )
+from ._soadyn import (  # the equations of motion term by term
+    christoffel_symbols,
+    coriolis_matrix,
+    external_forces_to_generalized,
+    gravity_forces,
+    mass_matrix_derivative,
+)
 from .loops import assemble, project_velocity
 from .linearize import natural_frequencies, stiffness_matrix
 from .model import Model
@@ -60,3 +67,5 @@ __all__ = [
     "frame_pose", "frame_velocity", "frame_acceleration", "frame_jacobian", "frame_jacobian_time_variation",
     "center_of_mass_jacobian",
 ]
+__all__ += ["gravity_forces", "external_forces_to_generalized", "coriolis_matrix", "mass_matrix_derivative",
+            "christoffel_symbols"]

@@ -619,6 +619,34 @@ def bias_forces(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDA
     """
     h(q, v): Coriolis, centrifugal and gravity generalized forces.
     """
+def christoffel_symbols(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    Gamma, (nv, nv, nv), with C(q, v)[i, j] = sum_k Gamma[i, j, k] v[k]. For DOFs whose coordinates
+    integrate their velocities, Gamma[i, j, k] = 1/2 (dM[i,j]/dq_k + dM[i,k]/dq_j - dM[j,k]/dq_i) (symmetric in
+    j, k); for spherical, planar and free joints (body-frame velocities) the derivatives are along
+    q (+) eps e_k and Gamma adds the Lie-bracket terms of that moving frame (README, "Equations term by
+    term"). Rigid bodies only.
+    """
+def coriolis_matrix(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    C(q, v), (nv, nv): C v = h(q, v) - g(q) and dM/dt - 2 C is skew-symmetric (Echeandia & Wensing 2021);
+    C(q, v) = sum_k christoffel_symbols(m, q)[:, :, k] v[k]. Rigid bodies only (ValueError naming a
+    flexible body).
+    """
+def external_forces_to_generalized(model: _Model, q: typing.Any, f_ext: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    J(q)' f_ext, (nv,): the generalized forces of (nbodies, 6) body-frame wrenches [torque; force] about each
+    body origin (the f_ext of forward_dynamics: M qdd + h = tau + J' f_ext).
+    """
+def gravity_forces(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    g(q), (nv,): the generalized gravity forces, h(q, 0) (bias_forces at rest). On a model with flexible
+    bodies, gravity only (their elastic forces are not part of it).
+    """
+def mass_matrix_derivative(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    dM/dt = C + C', (nv, nv): the rate of the mass matrix along the velocity v. Rigid bodies only.
+    """
 def center_of_mass(model: _Model, q: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
     """
     Centre of mass of the whole tree in the world frame.

@@ -116,6 +116,15 @@ def check_frames_float_vs_double(output: str) -> None:
                       r"336 comparisons, 0 failures$", output, re.MULTILINE)
     require(match is not None, "the PASS line")
     require(float(match.group(1)) <= 1e-4, "float within 1e-4 of double")
+def check_equation_terms_no_allocation(output: str) -> None:
+    """10^4 calls of each equation term (and 100 christoffel_symbols) on a 20-body tree of every joint kind."""
+    require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
+    require(bool(lines(r"^calls: 10000 of each term, 100 christoffel_symbols; failed statuses: 0$", output)),
+            "10^4 calls without a failed status")
+    match = re.search(r"^identities: 10000 states, max relative error (\S+) \(tolerance 1e-12\)$", output, re.MULTILINE)
+    require(match is not None and float(match.group(1)) <= 1e-12, "the identities within 1e-12")
+    require(bool(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)), "zero allocations and frees")
+    require(bool(lines(r"^test_equation_terms_no_allocation: PASS$", output)), "the PASS line")
 
 
 CHECKS = {
@@ -127,6 +136,7 @@ CHECKS = {
     "test_loop_sim_no_allocation": check_loop_sim_no_allocation,
     "test_frames_no_allocation": check_frames_no_allocation,
     "test_frames_float_vs_double": check_frames_float_vs_double,
+    "test_equation_terms_no_allocation": check_equation_terms_no_allocation,
 }
 
 
