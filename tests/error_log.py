@@ -3,6 +3,7 @@ end of a test module (run pytest with -s to see the table)."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 
 def rel_error(a, b) -> float:
@@ -24,3 +25,13 @@ class ErrorLog:
         print(f"\nlargest relative error vs {self.title}:")
         for quantity, err in sorted(self.worst.items()):
             print(f"  {quantity:28s} {err:.3e}")
+
+
+def report_fixture(log: ErrorLog):
+    """A module-scoped autouse fixture printing `log`'s table after the module's tests:
+    `report_errors = report_fixture(LOG)` at module level."""
+    @pytest.fixture(scope="module", autouse=True)
+    def report_errors():
+        yield
+        log.report()
+    return report_errors

@@ -29,7 +29,7 @@ import pinocchio as pin
 import pytest
 
 import soadyn
-from error_log import ErrorLog
+from error_log import ErrorLog, report_fixture
 from pinocchio_mapping import FREE_Q, FREE_V_PIN, JointMatch, PinocchioMapping
 from trees import random_inertia, random_rotation, random_unit
 
@@ -403,10 +403,7 @@ LOG = ErrorLog("Pinocchio (flexible trees)", RTOL)
 check = LOG.check
 
 
-@pytest.fixture(scope="module", autouse=True)
-def report_errors():
-    yield
-    LOG.report()
+report_errors = report_fixture(LOG)
 
 
 parametrize_cases = pytest.mark.parametrize("layout,seed,state", CASES, ids=CASE_IDS)

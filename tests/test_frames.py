@@ -19,7 +19,7 @@ import pinocchio as pin
 import pytest
 
 import soadyn
-from error_log import ErrorLog, rel_error
+from error_log import ErrorLog, rel_error, report_fixture
 from robots import robot
 from soadyn.oracles import PinocchioOracle
 from test_pinocchio_oracle import CASES, CASE_IDS, Mapping, build_pinocchio, build_soadyn, random_specs
@@ -33,10 +33,7 @@ LOG = ErrorLog("Pinocchio", RTOL)
 check = LOG.check
 
 
-@pytest.fixture(scope="module", autouse=True)
-def report_errors():
-    yield
-    LOG.report()
+report_errors = report_fixture(LOG)
 
 
 def swap(x):

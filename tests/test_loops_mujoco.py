@@ -40,7 +40,7 @@ import numpy as np
 import pytest
 
 import soadyn
-from error_log import ErrorLog
+from error_log import ErrorLog, report_fixture
 from test_pinocchio_oracle import BodySpec, build_soadyn, random_specs
 from trees import random_inertia, random_rotation
 
@@ -52,10 +52,7 @@ LOG = ErrorLog("MuJoCo", RTOL)
 check = LOG.check
 
 
-@pytest.fixture(scope="module", autouse=True)
-def report_errors():
-    yield
-    LOG.report()
+report_errors = report_fixture(LOG)
 
 
 # ---------------------------------------------------------------------------

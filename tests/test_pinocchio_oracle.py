@@ -18,7 +18,7 @@ import pinocchio as pin
 import pytest
 
 import soadyn
-from error_log import ErrorLog
+from error_log import ErrorLog, report_fixture
 from pinocchio_mapping import JointMatch, PinocchioMapping, free_joint_names
 from trees import JOINT_KINDS, random_inertia, random_rotation, random_unit
 
@@ -231,10 +231,7 @@ LOG = ErrorLog("Pinocchio", RTOL)
 check = LOG.check
 
 
-@pytest.fixture(scope="module", autouse=True)
-def report_errors():
-    yield
-    LOG.report()
+report_errors = report_fixture(LOG)
 
 
 parametrize_cases = pytest.mark.parametrize("seed,floating", CASES, ids=CASE_IDS)
