@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <string>
 #include <vector>
+#include "float_error_tracker.hpp"
 #include "random_tree.hpp"
 
 namespace {
@@ -24,37 +25,7 @@ using soadyn_test::JointKind;
 constexpr double kTolerance = 1e-4;
 constexpr int kStates = 20;
 
-// Worst relative error seen per quantity and overall.
-class ErrorTracker {
- public:
-  template <class FloatMatrix, class DoubleMatrix>
-  void compare(const std::string& quantity, const FloatMatrix& f, const DoubleMatrix& d) {
-    const double scale = std::max(1.0, d.cwiseAbs().maxCoeff());
-    const double error = (f.template cast<double>() - d).cwiseAbs().maxCoeff() / scale;
-    auto it = std::find_if(worst_.begin(), worst_.end(), [&](const auto& w) { return w.first == quantity; });
-    if (it == worst_.end()) it = worst_.insert(worst_.end(), {quantity, 0.0});
-    it->second = std::max(it->second, error);
-    if (!(error <= kTolerance)) ++failures_;  // NaN fails too
-  }
-  void fail_status(const std::string& what) {
-    std::printf("%s returned a failed Status\n", what.c_str());
-    ++failures_;
-  }
-
-  double max_error() const {
-    double worst = 0;
-    for (const auto& w : worst_) worst = std::max(worst, w.second);
-    return worst;
-  }
-  int failures() const { return failures_; }
-  void print() const {
-    for (const auto& w : worst_) std::printf("  %-28s max relative error %.3e\n", w.first.c_str(), w.second);
-  }
-
- private:
-  std::vector<std::pair<std::string, double>> worst_;
-  int failures_ = 0;
-};
+using ErrorTracker = soadyn_test::FloatErrorTracker;
 
 // Every output of every algorithm at one state, in scalar S.
 template <class S>
@@ -97,7 +68,7 @@ Results<S> run_algorithms(soadyn::ModelTpl<S>& model, soadyn::DataTpl<S>& data,
 }
 
 void compare(const Results<float>& f, const Results<double>& d, ErrorTracker& errors) {
-  if (!f.all_ok || !d.all_ok) return errors.fail_status(f.all_ok ? "double run" : "float run");
+  if (!f.all_ok || !d.all_ok) return errors.fail(std::string(f.all_ok ? "double run" : "float run") + " returned a failed Status");
   errors.compare("hybrid_dynamics qdd", f.hybrid_qdd, d.hybrid_qdd);
   errors.compare("hybrid_dynamics tau", f.hybrid_tau, d.hybrid_tau);
   errors.compare("hybrid_dynamics hinge forces", f.hybrid_hinge_forces, d.hybrid_hinge_forces);
@@ -134,7 +105,7 @@ int main() {
   const soadyn_test::TreeSpec spec = soadyn_test::chain_spec(kinds, 11);
   soadyn::Model model_d = soadyn_test::build_model<double>(spec);
   soadyn::ModelF model_f = soadyn_test::build_model<float>(spec);
-  ErrorTracker rigid, flexible;
+  ErrorTracker rigid(kTolerance), flexible(kTolerance);
   compare_models(model_d, model_f, rigid);
   rigid.print();
   soadyn_test::add_flexible_bodies(model_d);

@@ -36,6 +36,7 @@
 #include <cstdio>
 #include <string>
 #include <vector>
+#include "float_error_tracker.hpp"
 #include "random_tree.hpp"
 
 namespace {
@@ -52,35 +53,7 @@ constexpr int kMaxDraws = 200;
 const LoopKind kKinds[] = {LoopKind::point, LoopKind::revolute, LoopKind::prismatic, LoopKind::weld,
                            LoopKind::distance};
 
-// Worst relative error per quantity; counts failures.
-class ErrorTracker {
- public:
-  template <class FloatMatrix, class DoubleMatrix>
-  void compare(const std::string& quantity, const FloatMatrix& f, const DoubleMatrix& d, double scale) {
-    const double error = (f.template cast<double>() - d).cwiseAbs().maxCoeff() / scale;
-    auto it = std::find_if(worst_.begin(), worst_.end(), [&](const auto& w) { return w.first == quantity; });
-    if (it == worst_.end()) it = worst_.insert(worst_.end(), {quantity, 0.0});
-    it->second = std::max(it->second, error);
-    if (!(error <= kTolerance)) ++failures_;  // NaN fails too
-  }
-  void fail(const std::string& what) {
-    std::printf("%s\n", what.c_str());
-    ++failures_;
-  }
-  double max_error() const {
-    double worst = 0;
-    for (const auto& w : worst_) worst = std::max(worst, w.second);
-    return worst;
-  }
-  int failures() const { return failures_; }
-  void print() const {
-    for (const auto& w : worst_) std::printf("  %-22s max relative error %.3e\n", w.first.c_str(), w.second);
-  }
-
- private:
-  std::vector<std::pair<std::string, double>> worst_;
-  int failures_ = 0;
-};
+using ErrorTracker = soadyn_test::FloatErrorTracker;
 
 Transform<double> translation(const Eigen::Vector3d& p) {
   Transform<double> X;
@@ -259,7 +232,7 @@ void compare_draw(int draw, ErrorTracker& errors, Tally& tally) {
 }  // namespace
 
 int main() {
-  ErrorTracker errors;
+  ErrorTracker errors(kTolerance);
   Tally tally;
   for (int draw = 0; tally.accepted < kCases && draw < kMaxDraws; ++draw) compare_draw(draw, errors, tally);
   errors.print();
