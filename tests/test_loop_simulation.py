@@ -336,3 +336,27 @@ def test_soadyn_hil_runs_the_loop_scenes_from_a_closed_start(scene):
     assert abs(energy(m, sim.q, sim.v) - e0) <= 1e-6 * max(1.0, abs(e0))  # they fall, conserving energy
     assert np.max(np.abs(sim.v)) > 1e-2
     assert cli.main(["hil", "--scene", scene, "--duration", "0.05", "--as-fast-as-possible", "--no-progress"]) == 0
+
+
+def test_assembly_and_projection_refuse_bad_input_by_name():
+    m = four_bar("point")
+    q, v = four_bar_state(0.7, 1.0)
+    for bad_q, match in ((np.array([np.nan, 0.9, 1.9]), "crank"), (np.zeros(2), "q"), ("abc", "q")):
+        with pytest.raises((ValueError, TypeError), match=match):
+            soadyn.assemble(m, bad_q)
+        with pytest.raises((ValueError, TypeError), match=match):
+            soadyn.independent_coordinates(m, bad_q)
+    with pytest.raises(ValueError, match="v"):
+        soadyn.project_velocity(m, q, np.array([1.0, np.inf, 0.0]))
+    with pytest.raises(ValueError, match="v"):
+        soadyn.project_velocity(m, q, np.zeros(4))
+    for tolerance in (float("nan"), 0.0, -1.0, float("inf")):
+        with pytest.raises(ValueError, match="tolerance"):
+            soadyn.assemble(m, q, tolerance=tolerance)
+    with pytest.raises(ValueError, match="max_iterations"):
+        soadyn.assemble(m, q, max_iterations=0)
+    with pytest.raises(ValueError, match="unknown DOF or joint 'rod'"):
+        soadyn.project_velocity(m, q, v, hold=["crank", "rod"])
+    # Far from anything reachable, with a huge but finite start: a named failure, never NaN.
+    with pytest.raises(soadyn.DynamicsError, match="loop 'pin'"):
+        soadyn.assemble(m, np.array([0.0, 1e300, -1e300]), hold="crank", max_iterations=5)
