@@ -79,7 +79,7 @@ if __name__ == "__main__" and len(sys.argv) > 1 and sys.argv[1] == "--hybrid-chi
 import pinocchio as pin  # noqa: E402
 
 import soadyn  # noqa: E402
-from bench_robots import interleaved_per_call_us, median_ratio  # noqa: E402
+from bench_robots import interleaved_per_call_us, median_ratio, write_report  # noqa: E402
 from pinocchio_mapping import JointMatch, PinocchioMapping, free_joint_names  # noqa: E402
 from robots import robot  # noqa: E402
 from test_pinocchio_oracle import BodySpec, Mapping, build_pinocchio, build_soadyn  # noqa: E402
@@ -499,13 +499,9 @@ def main() -> int:
         f"of 7 repetitions of {hybrid_py_calls} calls. Ratio: median over rounds of after / before.", "",
         "| robot | C++ before | C++ after | **after / before** | Python before | Python after | **after / before** |",
         "|---|---:|---:|---:|---:|---:|---:|",
-        *hyb_rows, "",
-        "Times on a shared, possibly noisy machine: compare the ratios, measured in the same run.",
+        *hyb_rows,
     ]
-    out = HERE / "results" / "loops.md"
-    out.parent.mkdir(exist_ok=True)
-    out.write_text("\n".join(lines) + "\n")
-    print(f"wrote {out}")
+    write_report("loops.md", lines)
     return 0
 
 

@@ -254,14 +254,19 @@ def main() -> int:
         "(target <= 1) | soadyn.hybrid_dynamics (50 % joints prescribed) | DART hybrid (same mask) "
         "| **DART / soadyn** (target >= 5) |",
         "|---|---:|---:|---:|---:|---:|---:|---:|",
-        *rows_py, "",
-        "Times on a shared, possibly noisy machine: compare the ratios, measured in the same run.",
+        *rows_py,
     ]
-    out = HERE / "results" / "robots.md"
-    out.parent.mkdir(exist_ok=True)
-    out.write_text("\n".join(lines) + "\n")
-    print(f"wrote {out}")
+    write_report("robots.md", lines)
     return 0
+
+
+def write_report(name: str, lines: list) -> None:
+    """bench/results/<name>: the report's lines and the note every timing report ends with."""
+    out = HERE / "results" / name
+    out.parent.mkdir(exist_ok=True)
+    note = ["", "Times on a shared, possibly noisy machine: compare the ratios, measured in the same run."]
+    out.write_text("\n".join(list(lines) + note) + "\n")
+    print(f"wrote {out}")
 
 
 if __name__ == "__main__":
