@@ -16,17 +16,6 @@ namespace {
 
 using Map = Eigen::Map<const Eigen::VectorXd>;
 
-// f_ext: None or (nbodies, 6) body-frame wrenches [torque; force] about the body origin.
-// (`keep` holds the checked array; a default-constructed Array would itself
-// allocate an empty numpy array on every call.)
-const double* f_ext_arg(const ModelHandle& h, py::handle f, py::object& keep) {
-  if (f.is_none()) return nullptr;
-  Array checked = checked_matrix(f, "f_ext", 6, h.model.body_names);
-  const double* data = checked.data();
-  keep = std::move(checked);
-  return data;
-}
-
 py::array_t<double> vector_out(py::ssize_t n) { return fresh_array(n); }
 
 py::array_t<double> wrench_out(const ModelHandle& h) { return fresh_array(h.model.nbodies(), 6); }
@@ -53,22 +42,6 @@ std::vector<std::string> loop_names(const soadyn::Model& m) {
   for (const auto& l : m.loops) names.push_back(l.name);
   return names;
 }
-
-// The checked (q, v, x, f_ext) of a dynamics call; x is tau, qdd or u.
-// (The model's version is read first: converting an argument may run Python
-// code, and so let another thread change the model.)
-struct StateArgs {
-  std::uint64_t model_version;
-  Array q, v, x;
-  py::object f;
-  const double* f_ext = nullptr;
-  StateArgs(const ModelHandle& h, py::handle q_in, py::handle v_in, py::handle x_in, const char* x_name,
-            py::handle f_in)
-      : model_version(h.model.version), q(q_arg(h, q_in)), v(v_arg(h, v_in, "v")), x(v_arg(h, x_in, x_name)) {
-    f_ext = f_ext_arg(h, f_in, f);
-  }
-  StateBuffers buffers() const { return {q.data(), v.data(), x.data(), f_ext, model_version}; }
-};
 
 }  // namespace
 

@@ -58,4 +58,12 @@ soadyn::Status hybrid_dynamics_into(ModelHandle& h, const StateBuffers& s, doubl
   return status;
 }
 
+const double* f_ext_arg(const ModelHandle& h, py::handle f, py::object& keep) {
+  if (f.is_none()) return nullptr;
+  Array checked = checked_matrix(f, "f_ext", 6, h.model.body_names);
+  const double* data = checked.data();
+  keep = std::move(checked);
+  return data;
+}
+
 }  // namespace soadyn_py

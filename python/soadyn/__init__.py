@@ -45,6 +45,7 @@ from ._soadyn import (  # the equations of motion term by term
     gravity_forces,
     mass_matrix_derivative,
 )
+from .derivatives import dynamics_derivatives, inverse_dynamics_derivatives
 from .loops import assemble, project_velocity
 from .linearize import natural_frequencies, stiffness_matrix
 from .model import Model
@@ -69,3 +70,4 @@ __all__ = [
 ]
 __all__ += ["gravity_forces", "external_forces_to_generalized", "coriolis_matrix", "mass_matrix_derivative",
             "christoffel_symbols"]
+__all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives"]

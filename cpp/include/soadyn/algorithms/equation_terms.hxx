@@ -2,6 +2,7 @@
 #include "soadyn/algorithms/equation_terms.hpp"
 #include "soadyn/algorithms/rnea.hxx"
 #include "soadyn/algorithms/tree_frame_steps.hpp"
+#include "soadyn/spatial/coriolis_inertia.hpp"
 
 namespace soadyn {
 
@@ -21,31 +22,6 @@ EquationTermsWorkspace<S>::EquationTermsWorkspace(const ModelTpl<S>& m) {
 }
 
 namespace detail {
-
-// Matrices of the cross products: crm(V) m = V x m and crf(V) f = V x* f.
-template <class S>
-Mat6<S> motion_cross_matrix(const Vec6<S>& V) {
-  Mat6<S> x = Mat6<S>::Zero();
-  x.template topLeftCorner<3, 3>() = x.template bottomRightCorner<3, 3>() = skew(Vec3<S>(V.template head<3>()));
-  x.template bottomLeftCorner<3, 3>() = skew(Vec3<S>(V.template tail<3>()));
-  return x;
-}
-
-// The Coriolis factor of a spatial inertia (Echeandia & Wensing 2021, Eq. 20,
-// after Niemeyer & Slotine): B(I, V) = 1/2 [ (V x*) I + ((I V) xbar*) - I (V x) ],
-// where (f xbar*) V = V x* f. B V = V x* (I V) (the gyroscopic force) and
-// B + B' = (V x*) I - I (V x) = dI/dt, which makes Mdot - 2C skew-symmetric.
-template <class S>
-Mat6<S> coriolis_inertia(const Mat6<S>& inertia, const Vec6<S>& V) {
-  const Mat6<S> crm = motion_cross_matrix(V);
-  const Vec6<S> h = inertia * V;  // momentum
-  Mat6<S> momentum_cross = Mat6<S>::Zero();  // V -> V x* h
-  const Mat3<S> n_x = skew(Vec3<S>(h.template head<3>())), f_x = skew(Vec3<S>(h.template tail<3>()));
-  momentum_cross.template topLeftCorner<3, 3>() = -n_x;
-  momentum_cross.template topRightCorner<3, 3>() = -f_x;
-  momentum_cross.template bottomLeftCorner<3, 3>() = -f_x;
-  return S(0.5) * (-crm.transpose() * inertia + momentum_cross - inertia * crm);  // crf(V) = -crm(V)'
-}
 
 // dH*/dt of body i's hinge in the tree frame: V(i) x H* for a subspace that is
 // constant in the body frame, plus the body-frame rate carried to the tree

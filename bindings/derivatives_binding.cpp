@@ -1,0 +1,70 @@
+// Analytic derivatives of the dynamics (algorithms/dynamics_derivatives.hpp):
+// check arguments, run the C++ algorithm on the model's Data, copy out.
+#include "arrays.hpp"
+#include "dynamics_calls.hpp"
+#include "errors.hpp"
+#include "model_handle.hpp"
+#include "soadyn/algorithms/dynamics_derivatives.hpp"
+
+namespace soadyn_py {
+
+namespace {
+
+using Map = Eigen::Map<const Eigen::VectorXd>;
+using RowMajorMap = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+
+// Runs `fn(m, d, workspace, q, v, x)` on checked arguments and returns the
+// matrices `pick(m, d, workspace)` names, as fresh (nv, nv) arrays.
+template <std::size_t N, class Fn, class Pick>
+py::tuple derivative_call(ModelHandle& h, py::handle q, py::handle v, py::handle x, const char* x_name,
+                          py::handle f_ext, const char* what, Fn&& fn, Pick&& pick) {
+  const StateArgs a(h, q, v, x, x_name, f_ext);
+  soadyn::DynamicsDerivatives workspace(h.model);
+  std::array<py::array_t<double>, N> out;
+  for (auto& o : out) o = fresh_array(h.model.nv, h.model.nv);
+  soadyn::Status status;
+  run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
+    status = fn(m, d, workspace, Map(a.q.data(), m.nq), Map(a.v.data(), m.nv), Map(a.x.data(), m.nv), a.f_ext);
+    const std::array<const Eigen::MatrixXd*, N> results = pick(d, workspace);
+    for (std::size_t k = 0; k < N; ++k) RowMajorMap(out[k].mutable_data(), m.nv, m.nv) = *results[k];
+  });
+  raise_on(status, h.model, what);
+  py::tuple t(N);
+  for (std::size_t k = 0; k < N; ++k) t[k] = out[k];
+  return t;
+}
+
+}  // namespace
+
+void bind_derivatives(py::module_& mod) {
+  mod.def("_tree_inverse_dynamics_derivatives",
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext) {
+        return derivative_call<3>(
+            h, q, v, qdd, "qdd", f_ext, "inverse_dynamics_derivatives",
+            [](const soadyn::Model& m, soadyn::Data& d, soadyn::DynamicsDerivatives& w, const Map& qm,
+               const Map& vm, const Map& xm, const double* f) {
+              return soadyn::inverse_dynamics_derivatives<double>(m, d, w, qm, vm, xm, f);
+            },
+            [](const soadyn::Data& d, const soadyn::DynamicsDerivatives& w) {
+              return std::array<const Eigen::MatrixXd*, 3>{&w.inverse_dq, &w.inverse_dv, &d.mass_matrix};
+            });
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("qdd"), py::arg("f_ext") = py::none());
+
+  mod.def("_tree_dynamics_derivatives",
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext) {
+        return derivative_call<6>(
+            h, q, v, u, "u", f_ext, "dynamics_derivatives",
+            [](const soadyn::Model& m, soadyn::Data& d, soadyn::DynamicsDerivatives& w, const Map& qm,
+               const Map& vm, const Map& xm, const double* f) {
+              return soadyn::dynamics_derivatives<double>(m, d, w, qm, vm, xm, f);
+            },
+            [](const soadyn::Data&, const soadyn::DynamicsDerivatives& w) {
+              return std::array<const Eigen::MatrixXd*, 6>{&w.dqdd_dq, &w.dqdd_dv, &w.dqdd_du,
+                                                           &w.dtau_dq, &w.dtau_dv, &w.dtau_du};
+            });
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none());
+}
+
+}  // namespace soadyn_py

@@ -1,0 +1,230 @@
+#pragma once
+#include "soadyn/algorithms/dynamics_derivatives.hpp"
+#include "soadyn/algorithms/hybrid.hpp"
+#include "soadyn/algorithms/tree_cholesky.hpp"
+#include "soadyn/algorithms/tree_frame_steps.hpp"
+#include "soadyn/spatial/coriolis_inertia.hpp"
+
+namespace soadyn {
+
+template <class S>
+DynamicsDerivativesTpl<S>::DynamicsDerivativesTpl(const ModelTpl<S>& m) {
+  for (int i = 0; i < m.nbodies(); ++i)
+    if (m.is_flexible(i))
+      throw std::invalid_argument("body '" + m.body_names[static_cast<std::size_t>(i)] +
+                                  "' is flexible: the analytic derivatives of the dynamics are computed for rigid "
+                                  "bodies only");
+  const Eigen::Index nv = m.nv;
+  inverse_force.setZero(nv);
+  for (MatX<S>* x : {&inverse_dq, &inverse_dv, &dqdd_dq, &dqdd_dv, &dqdd_du, &dtau_dq, &dtau_dv, &dtau_du, &regular_mass})
+    x->setZero(nv, nv);
+  const std::size_t n = static_cast<std::size_t>(m.nbodies());
+  composite_inertia.resize(n);
+  composite_coriolis_inertia.resize(n);
+  composite_force.resize(n);
+  acceleration.resize(n);
+  for (Mat6X<S>* x : {&displacement_lever, &displacement_acceleration, &velocity_acceleration}) x->setZero(6, nv);
+}
+
+namespace detail {
+
+// Outward step of the derivative sweeps for rigid body i: tree-frame
+// kinematics (tree_frame_steps.hpp), alpha(i) = alpha(parent) + H* qdd + a(i)
+// (Jain & Rodriguez 1993, Eq. 1), the body's own inertia, Coriolis factor and
+// Newton-Euler force f = I alpha + V x* (I V) - f_ext, and the per-DOF terms of
+// DynamicsDerivativesTpl. A change e of DOF k's coordinate turns the bodies
+// outboard of it about H_k: their axes and forces by H_k x e, their velocities
+// by e H_k x (V - V-), and -- since the motion inboard of the hinge stays -- the
+// velocity products leave them the rigidly turned acceleration plus e y_k,
+// y_k = -H_k x A- + (H_k x V-) x V-, and the turned velocity minus e (H_k x V-).
+template <class S>
+void derivative_outward_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w, std::size_t i,
+                             const S* q, const S* v, const S* qdd, const S* f_ext, const Vec6<S>& world_acc) {
+  tree_velocity_step(m, d, i, q, v);
+  const int p = m.parent[i];
+  const Vec6<S> parent_velocity = p >= 0 ? d.sweep.tree_velocity[static_cast<std::size_t>(p)] : Vec6<S>::Zero();
+  const Vec6<S> parent_acceleration = p >= 0 ? w.acceleration[static_cast<std::size_t>(p)] : world_acc;
+  const Mat6N<S>& s = d.sweep.tree_subspace[i];
+  const Eigen::Index vi = m.v_index[i], ni = m.nv_body[i];
+  const Vec6<S>& velocity = d.sweep.tree_velocity[i];
+  Vec6<S>& acceleration = w.acceleration[i];
+  acceleration = parent_acceleration + d.sweep.tree_coriolis[i];
+  if (ni > 0) acceleration += subspace_times(s, qdd + vi);
+
+  Mat6<S>& inertia = w.composite_inertia[i];
+  spatial_inertia_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i], inertia);
+  w.composite_coriolis_inertia[i] = coriolis_inertia(inertia, velocity);
+  Vec6<S>& force = w.composite_force[i];
+  force = inertia * acceleration + force_cross(velocity, Vec6<S>(inertia * velocity));
+  if (f_ext) force -= d.sweep.tree_pose[i].force_to_parent(Eigen::Map<const Vec6<S>>(f_ext + 6 * i));
+
+  const bool universal = m.joint_kernel[i] == JointKernel::universal;
+  for (Eigen::Index c = 0; c < ni; ++c) {
+    const Vec6<S> axis = s.col(c);
+    Vec6<S> inboard_velocity = parent_velocity, inboard_acceleration = parent_acceleration;
+    // Axes constant in the body frame turn with the body (dH/dt = V(i) x H);
+    // a universal joint's first axis is fixed in the parent, its second in
+    // the body, whose middle frame moves with the first angle only.
+    Vec6<S> turning_velocity = velocity;
+    if (universal) {
+      if (c == 1) {
+        const Vec6<S> first_axis = s.col(0);
+        inboard_velocity += first_axis * v[vi];
+        inboard_acceleration += first_axis * qdd[vi] + motion_cross(parent_velocity, first_axis) * v[vi];
+      }
+      turning_velocity = inboard_velocity;
+    }
+    const Vec6<S> lever = motion_cross(axis, inboard_velocity);
+    w.displacement_lever.col(vi + c) = lever;
+    w.displacement_acceleration.col(vi + c) =
+        motion_cross(lever, inboard_velocity) - motion_cross(axis, inboard_acceleration);
+    w.velocity_acceleration.col(vi + c) = motion_cross(Vec6<S>(turning_velocity + inboard_velocity), axis);
+  }
+}
+
+// Inward step for body i, whose subtree sums are complete. With Ic, Bc, F the
+// subtree's inertia, Coriolis factor and force, and for a DOF k of body i
+//   f_q(k) = Ic y_k - 2 Bc (H_k x V-),       f_v(k) = 2 Bc H_k + Ic z_k
+// the change of the subtree's force per unit change of q_k and of qdot_k
+// (2 B W gathers the gyroscopic change and the velocity products, see
+// coriolis_inertia.hpp):
+//   dtau_j/dq_k = H_j' (f_q(k) + H_k x* F)   j inboard of k (its axis stays),
+//   dtau_k'/dq_k = H_k'' f_q(k) and dtau_k'/dqdot_k = H_k'' f_v(k) for DOFs k'
+//     of body i, whose axes turn with the body (the universal joint's first
+//     axis does not turn with its second angle: it keeps the H_k x* F term);
+//   dtau_i/dq_j = (Ic H_i)' y_j - 2 (Bc' H_i)' (H_j x V-_j) and
+//   dtau_i/dqdot_j = 2 (Bc' H_i)' H_j + (Ic H_i)' z_j for DOFs j inboard of body i;
+//   M(j, i) = H_j' Ic H_i (the composite-rigid-body algorithm).
+template <class S>
+void derivative_inward_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w, std::size_t i) {
+  const Eigen::Index vi = m.v_index[i], ni = m.nv_body[i];
+  const Mat6<S>& inertia = w.composite_inertia[i];
+  const Mat6<S>& coriolis = w.composite_coriolis_inertia[i];
+  const Vec6<S>& force = w.composite_force[i];
+  if (ni > 0) {
+    const Mat6N<S>& s = d.sweep.tree_subspace[i];
+    Mat6N<S> force_per_q(6, ni), force_per_v(6, ni), inboard_force_per_q(6, ni);
+    for (Eigen::Index c = 0; c < ni; ++c) {
+      force_per_q.col(c) = inertia * w.displacement_acceleration.col(vi + c) -
+                           S(2) * (coriolis * w.displacement_lever.col(vi + c));
+      force_per_v.col(c) = S(2) * (coriolis * s.col(c)) + inertia * w.velocity_acceleration.col(vi + c);
+      inboard_force_per_q.col(c) = force_per_q.col(c) + force_cross(Vec6<S>(s.col(c)), force);
+    }
+    const Mat6N<S> inertia_s = inertia * s;
+    const Mat6N<S> coriolis_t_s = coriolis.transpose() * s;
+    w.inverse_dq.block(vi, vi, ni, ni).noalias() = s.transpose().lazyProduct(force_per_q);
+    if (m.joint_kernel[i] == JointKernel::universal) w.inverse_dq(vi, vi + 1) = s.col(0).dot(inboard_force_per_q.col(1));
+    w.inverse_dv.block(vi, vi, ni, ni).noalias() = s.transpose().lazyProduct(force_per_v);
+    d.mass_matrix.block(vi, vi, ni, ni).noalias() = s.transpose().lazyProduct(inertia_s);
+    for (int j = m.parent[i]; j >= 0; j = m.parent[static_cast<std::size_t>(j)]) {
+      const std::size_t a = static_cast<std::size_t>(j);
+      const Eigen::Index vj = m.v_index[a], nj = m.nv_body[a];
+      if (nj == 0) continue;
+      const Mat6N<S>& sj = d.sweep.tree_subspace[a];
+      w.inverse_dq.block(vj, vi, nj, ni).noalias() = sj.transpose().lazyProduct(inboard_force_per_q);
+      w.inverse_dv.block(vj, vi, nj, ni).noalias() = sj.transpose().lazyProduct(force_per_v);
+      w.inverse_dq.block(vi, vj, ni, nj).noalias() =
+          inertia_s.transpose().lazyProduct(w.displacement_acceleration.middleCols(vj, nj)) -
+          S(2) * coriolis_t_s.transpose().lazyProduct(w.displacement_lever.middleCols(vj, nj));
+      w.inverse_dv.block(vi, vj, ni, nj).noalias() =
+          S(2) * coriolis_t_s.transpose().lazyProduct(sj) +
+          inertia_s.transpose().lazyProduct(w.velocity_acceleration.middleCols(vj, nj));
+      d.mass_matrix.block(vi, vj, ni, nj).noalias() = inertia_s.transpose().lazyProduct(sj);
+      d.mass_matrix.block(vj, vi, nj, ni) = d.mass_matrix.block(vi, vj, ni, nj).transpose();
+    }
+    w.inverse_force.segment(vi, ni).noalias() = s.transpose() * force;
+  }
+  const int p = m.parent[i];
+  if (p < 0) return;
+  const std::size_t a = static_cast<std::size_t>(p);
+  w.composite_inertia[a] += inertia;
+  w.composite_coriolis_inertia[a] += coriolis;
+  w.composite_force[a] += force;
+}
+
+template <class S>
+Status inverse_derivative_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w, const S* q,
+                                 const S* v, const S* qdd, const S* f_ext) {
+  const std::size_t n = static_cast<std::size_t>(m.nbodies());
+  const Vec6<S> world_acc = world_acceleration(m);
+  // Blocks between DOFs of different branches stay zero.
+  w.inverse_dq.setZero();
+  w.inverse_dv.setZero();
+  d.mass_matrix.setZero();
+  for (std::size_t i = 0; i < n; ++i) derivative_outward_step(m, d, w, i, q, v, qdd, f_ext, world_acc);
+  for (std::size_t i = n; i-- > 0;) derivative_inward_step(m, d, w, i);
+  for (const MatX<S>* x : {&w.inverse_dq, &w.inverse_dv})
+    for (Eigen::Index c = 0; c < x->cols(); ++c)
+      if (!x->col(c).allFinite()) return Status{StatusCode::non_finite_result, static_cast<int>(c)};
+  return check_finite(w.inverse_force);
+}
+
+// dtau/dx = dID/dx + M dqdd/dx on the prescribed rows, zero on the regular
+// rows (their torques are inputs): `partial` is dID/dx, null for x = u.
+template <class S>
+void prescribed_force_derivative(const ModelTpl<S>& m, const MatX<S>& mass, const MatX<S>* partial,
+                                 const MatX<S>& acceleration_derivative, MatX<S>& force_derivative) {
+  force_derivative.setZero();
+  for (int k = 0; k < m.n_prescribed; ++k) {
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+    force_derivative.row(p).noalias() = mass.row(p).lazyProduct(acceleration_derivative);
+    if (partial) force_derivative.row(p) += partial->row(p);
+  }
+}
+
+}  // namespace detail
+
+template <class S>
+Status inverse_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w,
+                                    const ConstVecRef<S>& q, const ConstVecRef<S>& v, const ConstVecRef<S>& qdd,
+                                    const S* f_ext) {
+  const Status status = detail::inverse_derivative_sweeps(m, d, w, q.data(), v.data(), qdd.data(), f_ext);
+  d.tau = w.inverse_force;
+  return status;
+}
+
+template <class S>
+Status dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w, const ConstVecRef<S>& q,
+                            const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext) {
+  Status status = hybrid_dynamics(m, d, q, v, u, f_ext);
+  if (!status.ok()) return status;
+  status = detail::inverse_derivative_sweeps(m, d, w, q.data(), v.data(), d.qdd.data(), f_ext);
+  if (!status.ok()) return status;
+  // M~: the prescribed rows and columns replaced by the identity.
+  w.regular_mass = d.mass_matrix;
+  for (int k = 0; k < m.n_prescribed; ++k) {
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+    w.regular_mass.row(p).setZero();
+    w.regular_mass.col(p).setZero();
+    w.regular_mass(p, p) = S(1);
+  }
+  const int bad_pivot = tree_ltl_in_place(w.regular_mass, m.dof_parent, m.dof_run_start);
+  if (bad_pivot >= 0) return {StatusCode::singular_articulated_inertia, bad_pivot};
+  // Right-hand sides: -dID_R/dx on regular rows, zero on prescribed rows;
+  // for u, the identity with -M_RP in the prescribed columns' regular rows.
+  w.dqdd_dq = -w.inverse_dq;
+  w.dqdd_dv = -w.inverse_dv;
+  w.dqdd_du.setIdentity();
+  for (int k = 0; k < m.n_prescribed; ++k) {
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+    w.dqdd_dq.row(p).setZero();
+    w.dqdd_dv.row(p).setZero();
+    for (int r = 0; r < m.nv; ++r)
+      if (!m.is_prescribed(r)) w.dqdd_du(r, p) = -d.mass_matrix(r, p);
+  }
+  for (MatX<S>* x : {&w.dqdd_dq, &w.dqdd_dv, &w.dqdd_du}) {
+    tree_ltl_solve_transposed(w.regular_mass, m.dof_parent, m.dof_run_start, *x);
+    tree_ltl_solve(w.regular_mass, m.dof_parent, m.dof_run_start, *x);
+  }
+  detail::prescribed_force_derivative(m, d.mass_matrix, &w.inverse_dq, w.dqdd_dq, w.dtau_dq);
+  detail::prescribed_force_derivative(m, d.mass_matrix, &w.inverse_dv, w.dqdd_dv, w.dtau_dv);
+  detail::prescribed_force_derivative(m, d.mass_matrix, static_cast<const MatX<S>*>(nullptr), w.dqdd_du, w.dtau_du);
+  for (int r = 0; r < m.nv; ++r)
+    if (!m.is_prescribed(r)) w.dtau_du(r, r) = S(1);
+  for (const MatX<S>* x : {&w.dqdd_dq, &w.dqdd_dv, &w.dqdd_du, &w.dtau_dq, &w.dtau_dv, &w.dtau_du})
+    for (Eigen::Index c = 0; c < x->cols(); ++c)
+      if (!x->col(c).allFinite()) return Status{StatusCode::non_finite_result, static_cast<int>(c)};
+  return Status{};
+}
+
+}  // namespace soadyn

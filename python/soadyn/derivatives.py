@@ -1,0 +1,40 @@
+"""Derivatives of the dynamics with respect to q, v and the inputs.
+
+Rigid trees use the analytic recursive algorithm in C++
+(cpp/include/soadyn/algorithms/dynamics_derivatives.hpp): the derivative of
+the Newton-Euler sweeps, O(N d) for tree depth d, and the hybrid problem's
+partitioned solve with the tree-sparse factor of the mass matrix.
+
+Derivatives with respect to q are taken in the tangent space: column k is
+d/de of the output at soadyn.integrate(q, e * e_k), so every derivative with
+respect to q has nv columns (a spherical or free joint's columns are
+body-frame rotations and translations, as its velocities are), the convention
+of Pinocchio's derivatives.
+"""
+from __future__ import annotations
+
+from . import _soadyn
+
+__all__ = ["inverse_dynamics_derivatives", "dynamics_derivatives"]
+
+
+def inverse_dynamics_derivatives(model, q, v, qdd, f_ext=None):
+    """(dtau_dq, dtau_dv, dtau_dqdd) of tau = inverse_dynamics(model, q, v, qdd, f_ext), each (nv, nv).
+
+    dtau_dqdd is the mass matrix M(q). f_ext: (nbodies, 6) body-frame wrenches, which
+    turn with their bodies when q changes. On a loop model these are the spanning
+    tree's (the loop forces are not part of inverse_dynamics).
+    """
+    return _soadyn._tree_inverse_dynamics_derivatives(model, q, v, qdd, f_ext)
+
+
+def dynamics_derivatives(model, q, v, u, f_ext=None):
+    """(dqdd_dq, dqdd_dv, dqdd_du, dtau_dq, dtau_dv, dtau_du) of the hybrid dynamics, each (nv, nv).
+
+    The outputs (qdd, tau) and the input u are those of hybrid_dynamics under the
+    model's prescribed flags: u is the torque of a regular DOF and the acceleration
+    of a prescribed one, so dqdd_du has the identity on prescribed rows and dtau_du
+    on regular rows. With every DOF regular, dqdd_dq and dqdd_dv are the derivatives
+    of forward dynamics and dqdd_du = M^-1.
+    """
+    return _soadyn._tree_dynamics_derivatives(model, q, v, u, f_ext)

@@ -1,0 +1,262 @@
+"""Analytic derivatives of inverse and hybrid dynamics (soadyn.inverse_dynamics_derivatives,
+soadyn.dynamics_derivatives) against Pinocchio: computeRNEADerivatives and
+computeABADerivatives, and central differences of pin.rnea and pin.aba on Pinocchio's own
+manifolds (pin.integrate), on the example-robot-data robots and the random trees of
+test_pinocchio_oracle.py (every joint type, fixed and floating bases, external forces).
+Hybrid masks, which Pinocchio has no counterpart for, are checked against central
+differences of soadyn.hybrid_dynamics and against the partitioned identities.
+
+Pinocchio's computeRNEADerivatives differs from central differences of its own rnea in the
+entries of universal joints (as its computeCoriolisMatrix leaves out the rate of the
+universal joint's first axis); those entries are checked against the differences of pin.rnea,
+every other entry against computeRNEADerivatives itself.
+"""
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import soadyn
+from robots import ROBOTS, robot
+from soadyn.oracles import PinocchioOracle
+from test_pinocchio_oracle import CASE_IDS, CASES, make_case
+
+RTOL = 1e-11      # against Pinocchio's analytic derivatives, relative to the largest reference entry
+FD_RTOL = 1e-7    # against central differences (eps = 1e-5), relative to the largest reference entry
+EPS = 1e-5
+
+
+def assert_close(actual, expected, rtol, what):
+    """max |actual - expected| <= rtol * max |expected|; an all-zero reference must be matched exactly."""
+    actual, expected = np.asarray(actual), np.asarray(expected)
+    assert actual.shape == expected.shape, what
+    scale = np.abs(expected).max(initial=0.0)
+    if scale == 0:
+        assert not actual.any(), f"{what}: expected zero"
+        return
+    error = np.abs(actual - expected).max(initial=0.0) / scale
+    assert error <= rtol, f"{what}: relative error {error:.2e} > {rtol:.0e}"
+
+
+def central_differences(f, x0, step, n):
+    """Columns (f(step(x0, +eps e_k)) - f(step(x0, -eps e_k))) / (2 eps), k < n."""
+    columns = []
+    for k in range(n):
+        e = np.zeros(n)
+        e[k] = EPS
+        columns.append((f(step(x0, e)) - f(step(x0, -e))) / (2 * EPS))
+    return np.stack(columns, axis=1)
+
+
+def universal_dofs(m):
+    mask = np.zeros(m.nv, dtype=bool)
+    for i, kind in enumerate(m.joint_types):
+        if kind == "universal":
+            mask[m.v_index[i]:m.v_index[i] + 2] = True
+    return mask
+
+
+# --- random trees: every joint type ---------------------------------------------------------------
+
+@pytest.mark.parametrize("seed,floating", CASES, ids=CASE_IDS)
+def test_random_tree_inverse_dynamics_derivatives_against_pinocchio(seed, floating):
+    c = make_case(seed, floating)
+    m = c.m
+    v, a = c.rng.normal(size=m.nv), c.rng.normal(size=m.nv)
+    f = c.rng.normal(size=(m.nbodies, 6))
+    dq, dv, M = soadyn.inverse_dynamics_derivatives(m, c.q, v, a, f)
+    vp, ap, fp = c.map.v(v), c.map.v(a), c.map.f_ext(f)
+    pin_dq, pin_dv, _ = pin.computeRNEADerivatives(c.model, c.data, c.q_pin, vp, ap, fp)
+    pin_dq, pin_dv = c.map.matrix_from_pin(pin_dq), c.map.matrix_from_pin(pin_dv)
+    plain = ~universal_dofs(m)
+    assert plain.sum() < m.nv  # the trees have universal joints
+    assert_close(dq[np.ix_(plain, plain)], pin_dq[np.ix_(plain, plain)], RTOL, "dtau/dq vs computeRNEADerivatives")
+    assert_close(dv[np.ix_(plain, plain)], pin_dv[np.ix_(plain, plain)], RTOL, "dtau/dv vs computeRNEADerivatives")
+    assert_close(M, soadyn.mass_matrix(m, c.q), 1e-14, "dtau/dqdd = M")
+    # Every entry against central differences of Pinocchio's rnea on its own manifold.
+    fd_dq = central_differences(lambda qp: pin.rnea(c.model, c.data, qp, vp, ap, fp), c.q_pin,
+                                lambda qp, e: pin.integrate(c.model, qp, e), m.nv)
+    fd_dv = central_differences(lambda vq: pin.rnea(c.model, c.data, c.q_pin, vq, ap, fp), vp,
+                                lambda x, e: x + e, m.nv)
+    assert_close(dq, c.map.matrix_from_pin(fd_dq), FD_RTOL, "dtau/dq vs differences of pin.rnea")
+    assert_close(dv, c.map.matrix_from_pin(fd_dv), FD_RTOL, "dtau/dv vs differences of pin.rnea")
+
+
+@pytest.mark.parametrize("seed,floating", CASES, ids=CASE_IDS)
+def test_random_tree_forward_dynamics_derivatives_against_pinocchio(seed, floating):
+    """All DOFs regular: dqdd/dq, dqdd/dv against central differences of pin.aba, dqdd/du = M^-1."""
+    c = make_case(seed, floating)
+    m = c.m
+    m.set_prescribed(np.zeros(m.nv, dtype=bool))
+    v, tau = c.rng.normal(size=m.nv), c.rng.normal(size=m.nv)
+    f = c.rng.normal(size=(m.nbodies, 6))
+    dqdd_dq, dqdd_dv, dqdd_du, dtau_dq, dtau_dv, dtau_du = soadyn.dynamics_derivatives(m, c.q, v, tau, f)
+    vp, tp, fp = c.map.v(v), c.map.v(tau), c.map.f_ext(f)
+    fd_dq = central_differences(lambda qp: pin.aba(c.model, c.data, qp, vp, tp, fp), c.q_pin,
+                                lambda qp, e: pin.integrate(c.model, qp, e), m.nv)
+    fd_dv = central_differences(lambda vq: pin.aba(c.model, c.data, c.q_pin, vq, tp, fp), vp,
+                                lambda x, e: x + e, m.nv)
+    assert_close(dqdd_dq, c.map.matrix_from_pin(fd_dq), 10 * FD_RTOL, "dqdd/dq vs differences of pin.aba")
+    assert_close(dqdd_dv, c.map.matrix_from_pin(fd_dv), 10 * FD_RTOL, "dqdd/dv vs differences of pin.aba")
+    pin.computeMinverse(c.model, c.data, c.q_pin)
+    Minv = np.triu(c.data.Minv) + np.triu(c.data.Minv, 1).T
+    assert_close(dqdd_du, c.map.matrix_from_pin(Minv), 1e-10, "dqdd/du = M^-1 (pin.computeMinverse)")
+    assert not dtau_dq.any() and not dtau_dv.any(), "no prescribed DOF: tau = u"
+    assert np.array_equal(dtau_du, np.eye(m.nv))
+
+
+# --- robots -----------------------------------------------------------------------------------
+
+@functools.lru_cache(maxsize=None)
+def _robot(name, floating):
+    path, _ = robot(name)
+    m = soadyn.load_urdf(path, floating_base=floating)
+    return m, PinocchioOracle(m, path, floating)
+
+
+def _from_pin(o, A):
+    out = np.empty_like(A)
+    out[np.ix_(o.v_of_pin, o.v_of_pin)] = A
+    return out
+
+
+@pytest.mark.parametrize("name", sorted(ROBOTS))
+@pytest.mark.parametrize("floating", [False, True], ids=["fixed", "floating"])
+def test_robot_derivatives_against_pinocchio(name, floating):
+    m, o = _robot(name, floating)
+    m.set_prescribed(np.zeros(m.nv, dtype=bool))
+    rng = np.random.default_rng(5)
+    for state in range(2):
+        q = soadyn.random_configuration(m, state)
+        v, a, tau = rng.normal(size=m.nv), rng.normal(size=m.nv), rng.normal(size=m.nv)
+        qp, vp = o.q(q), o.to_pin(v)
+        dq, dv, M = soadyn.inverse_dynamics_derivatives(m, q, v, a)
+        pin_dq, pin_dv, _ = pin.computeRNEADerivatives(o.model, o.data, qp, vp, o.to_pin(a))
+        assert_close(dq, _from_pin(o, pin_dq), RTOL, f"{name} dtau/dq")
+        assert_close(dv, _from_pin(o, pin_dv), RTOL, f"{name} dtau/dv")
+        dqdd_dq, dqdd_dv, dqdd_du = soadyn.dynamics_derivatives(m, q, v, tau)[:3]
+        pin_ddq_dq, pin_ddq_dv, pin_minv = pin.computeABADerivatives(o.model, o.data, qp, vp, o.to_pin(tau))
+        pin_minv = np.triu(pin_minv) + np.triu(pin_minv, 1).T
+        assert_close(dqdd_dq, _from_pin(o, pin_ddq_dq), 1e-9, f"{name} dqdd/dq vs computeABADerivatives")
+        assert_close(dqdd_dv, _from_pin(o, pin_ddq_dv), 1e-9, f"{name} dqdd/dv vs computeABADerivatives")
+        assert_close(dqdd_du, _from_pin(o, pin_minv), 1e-9, f"{name} dqdd/du vs computeABADerivatives' M^-1")
+
+
+# --- hybrid masks ------------------------------------------------------------------------------
+
+def hybrid_by_differences(m, q, v, u, f=None):
+    """The six derivatives of soadyn.hybrid_dynamics by central differences."""
+    def out(k):
+        return lambda args: soadyn.hybrid_dynamics(m, *args, f)[k]
+
+    columns = []
+    for k in (0, 1):
+        columns.append([
+            central_differences(lambda x: out(k)((x, v, u)), q, lambda x, e: soadyn.integrate(m, x, e, 1.0), m.nv),
+            central_differences(lambda x: out(k)((q, x, u)), v, lambda x, e: x + e, m.nv),
+            central_differences(lambda x: out(k)((q, v, x)), u, lambda x, e: x + e, m.nv)])
+    return columns[0] + columns[1]
+
+
+NAMES = ("dqdd_dq", "dqdd_dv", "dqdd_du", "dtau_dq", "dtau_dv", "dtau_du")
+
+
+def check_hybrid(m, q, v, u, f=None, rtol=FD_RTOL):
+    analytic = soadyn.dynamics_derivatives(m, q, v, u, f)
+    reference = hybrid_by_differences(m, q, v, u, f)
+    for name, a, r in zip(NAMES, analytic, reference):
+        scale = max(np.abs(r).max(initial=0.0), 1.0)
+        error = np.abs(a - r).max(initial=0.0) / scale
+        assert error <= rtol, f"{name}: relative error {error:.2e} > {rtol:.0e}"
+    return analytic
+
+
+def check_partition_identities(m, q, v, u, analytic):
+    """The hybrid derivatives from the dense partition of M and inverse-dynamics derivatives."""
+    dqdd_dq, dqdd_dv, dqdd_du, dtau_dq, dtau_dv, dtau_du = analytic
+    P = np.asarray(m.prescribed, dtype=bool)
+    R = ~P
+    qdd, _ = soadyn.hybrid_dynamics(m, q, v, u)
+    id_dq, id_dv, M = soadyn.inverse_dynamics_derivatives(m, q, v, qdd)
+    M_RR = M[np.ix_(R, R)]
+    for name, d_qdd, d_tau, partial in (("q", dqdd_dq, dtau_dq, id_dq), ("v", dqdd_dv, dtau_dv, id_dv)):
+        expected = np.zeros((m.nv, m.nv))
+        expected[R] = -np.linalg.solve(M_RR, partial[R])
+        assert_close(d_qdd, expected, 1e-10, f"dqdd/d{name} = -M_RR^-1 dID_R/d{name}")
+        tau_expected = np.zeros((m.nv, m.nv))
+        tau_expected[P] = partial[P] + M[P] @ expected
+        assert_close(d_tau, tau_expected, 1e-10, f"dtau/d{name}")
+    B = np.eye(m.nv)
+    B[np.ix_(R, P)] = -M[np.ix_(R, P)]
+    expected = np.zeros((m.nv, m.nv))
+    expected[R] = np.linalg.solve(M_RR, B[R])
+    expected[P] = B[P]
+    assert_close(dqdd_du, expected, 1e-10, "dqdd/du")
+    tau_expected = np.zeros((m.nv, m.nv))
+    tau_expected[np.ix_(R, R)] = np.eye(R.sum())
+    tau_expected[P] = M[P] @ expected
+    assert_close(dtau_du, tau_expected, 1e-10, "dtau/du")
+
+
+@pytest.mark.parametrize("seed,floating", CASES[:6], ids=CASE_IDS[:6])
+def test_random_tree_hybrid_masks(seed, floating):
+    c = make_case(seed, floating)
+    m = c.m
+    for fraction in (0.3, 0.7, 1.0):
+        mask = c.rng.random(m.nv) < fraction
+        m.set_prescribed(mask)
+        v, u = c.rng.normal(size=m.nv), c.rng.normal(size=m.nv)
+        f = c.rng.normal(size=(m.nbodies, 6))
+        check_hybrid(m, c.q, v, u, f, rtol=10 * FD_RTOL)
+        check_partition_identities(m, c.q, v, u, soadyn.dynamics_derivatives(m, c.q, v, u))
+    m.set_prescribed(np.zeros(m.nv, dtype=bool))
+
+
+@pytest.mark.parametrize("name", sorted(ROBOTS))
+def test_robot_hybrid_masks(name):
+    m, _ = _robot(name, True)
+    rng = np.random.default_rng(3)
+    try:
+        for fraction in (0.5, 1.0):
+            m.set_prescribed(rng.random(m.nv) < fraction)
+            q, v, u = soadyn.random_configuration(m, 2), rng.normal(size=m.nv), rng.normal(size=m.nv)
+            analytic = check_hybrid(m, q, v, u)
+            check_partition_identities(m, q, v, u, analytic)
+    finally:
+        m.set_prescribed(np.zeros(m.nv, dtype=bool))
+
+
+def test_all_prescribed_is_inverse_dynamics():
+    c = make_case(0, True)
+    m = c.m
+    m.set_prescribed(np.ones(m.nv, dtype=bool))
+    try:
+        v, qdd = c.rng.normal(size=m.nv), c.rng.normal(size=m.nv)
+        dqdd_dq, dqdd_dv, dqdd_du, dtau_dq, dtau_dv, dtau_du = soadyn.dynamics_derivatives(m, c.q, v, qdd)
+        id_dq, id_dv, M = soadyn.inverse_dynamics_derivatives(m, c.q, v, qdd)
+        assert not dqdd_dq.any() and not dqdd_dv.any()
+        assert np.array_equal(dqdd_du, np.eye(m.nv))
+        assert_close(dtau_dq, id_dq, 1e-14, "dtau/dq")
+        assert_close(dtau_dv, id_dv, 1e-14, "dtau/dv")
+        assert_close(dtau_du, M, 1e-14, "dtau/du = M")
+    finally:
+        m.set_prescribed(np.zeros(m.nv, dtype=bool))
+
+
+# --- bad input ---------------------------------------------------------------------------------
+
+def test_bad_input_is_named():
+    c = make_case(1, False)
+    m = c.m
+    q, v = c.q.copy(), np.zeros(m.nv)
+    bad = v.copy()
+    bad[3] = np.nan
+    with pytest.raises(ValueError, match=m.dof_names[3]):
+        soadyn.dynamics_derivatives(m, q, v, bad)
+    with pytest.raises(ValueError, match="f_ext"):
+        soadyn.inverse_dynamics_derivatives(m, q, v, v, np.zeros((m.nbodies, 5)))
+    with pytest.raises(ValueError):
+        soadyn.dynamics_derivatives(m, q[:-1], v, v)
