@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -55,6 +56,8 @@ void bind_timing(py::module_& mod) {
         std::lock_guard<std::mutex> lock(h.mutex);
         refuse_changed_model(h, version);
         soadyn::Data& d = h.scratch();
+        std::optional<soadyn::DynamicsDerivatives> derivatives;
+        if (algorithm == "dynamics_derivatives" || algorithm == "inverse_dynamics_derivatives") derivatives.emplace(m);
         std::function<void(int)> call;
         if (algorithm == "hybrid")
           call = [&](int i) { soadyn::hybrid_dynamics<double>(m, d, qs[i % n], vs[i % n], us[i % n]); };
@@ -64,13 +67,24 @@ void bind_timing(py::module_& mod) {
           call = [&](int i) { soadyn::inverse_dynamics<double>(m, d, qs[i % n], vs[i % n], us[i % n]); };
         else if (algorithm == "crba")
           call = [&](int i) { soadyn::mass_matrix<double>(m, d, qs[i % n]); };
+        else if (algorithm == "constrained")
+          call = [&](int i) { soadyn::constrained_dynamics<double>(m, d, qs[i % n], vs[i % n], us[i % n]); };
+        else if (algorithm == "dynamics_derivatives")
+          call = [&](int i) { soadyn::dynamics_derivatives<double>(m, d, *derivatives, qs[i % n], vs[i % n], us[i % n]); };
+        else if (algorithm == "inverse_dynamics_derivatives")
+          call = [&](int i) {
+            soadyn::inverse_dynamics_derivatives<double>(m, d, *derivatives, qs[i % n], vs[i % n], us[i % n]);
+          };
         else
-          throw std::invalid_argument("unknown algorithm '" + algorithm + "' (hybrid, aba, rnea, crba)");
+          throw std::invalid_argument("unknown algorithm '" + algorithm +
+                                      "' (hybrid, aba, rnea, crba, constrained, dynamics_derivatives, "
+                                      "inverse_dynamics_derivatives)");
         return median_microseconds_per_call(call, calls, repetitions);
       },
       py::arg("model"), py::arg("algorithm"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("calls") = 20000,
       py::arg("repetitions") = 7,
-      "Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea' or 'crba' over the given\n"
+      "Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea', 'crba', 'constrained'\n"
+      "(constrained_dynamics), 'dynamics_derivatives' (model's flags) or 'inverse_dynamics_derivatives' over the given\n"
       "states (rows), `calls` calls per repetition. For benchmarks; the GIL is released.");
 }
 

@@ -127,6 +127,17 @@ def check_equation_terms_no_allocation(output: str) -> None:
     require(bool(lines(r"^test_equation_terms_no_allocation: PASS$", output)), "the PASS line")
 
 
+def check_derivatives_no_allocation(output: str) -> None:
+    """2000 calls of each derivative function on a 20-body tree of every joint kind, two masks."""
+    require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
+    require(bool(lines(r"^calls: 2000 of each; failed statuses or checks: 0$", output)),
+            "2000 calls without a failed status or check")
+    match = re.search(r"^identities: max relative error (\S+) \(tolerance 1e-09\)$", output, re.MULTILINE)
+    require(match is not None and float(match.group(1)) <= 1e-9, "the identities within 1e-9")
+    require(bool(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)), "zero allocations and frees")
+    require(bool(lines(r"^test_derivatives_no_allocation: PASS$", output)), "the PASS line")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
@@ -137,6 +148,7 @@ CHECKS = {
     "test_frames_no_allocation": check_frames_no_allocation,
     "test_frames_float_vs_double": check_frames_float_vs_double,
     "test_equation_terms_no_allocation": check_equation_terms_no_allocation,
+    "test_derivatives_no_allocation": check_derivatives_no_allocation,
 }
 
 
