@@ -132,8 +132,8 @@ def check_derivatives_no_allocation(output: str) -> None:
     require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
     require(bool(lines(r"^calls: 2000 of each; failed statuses or checks: 0$", output)),
             "2000 calls without a failed status or check")
-    match = re.search(r"^identities: max relative error (\S+) \(tolerance 1e-09\)$", output, re.MULTILINE)
-    require(match is not None and float(match.group(1)) <= 1e-9, "the identities within 1e-9")
+    match = re.search(r"^identities: max relative error (\S+) \(tolerance 1e-11\)$", output, re.MULTILINE)
+    require(match is not None and float(match.group(1)) <= 1e-11, "the identities within 1e-11")
     require(bool(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)), "zero allocations and frees")
     require(bool(lines(r"^test_derivatives_no_allocation: PASS$", output)), "the PASS line")
 

@@ -23,7 +23,7 @@ namespace {
 
 constexpr int kCalls = 2000;
 constexpr int kStates = 16;
-constexpr double kTolerance = 1e-9;
+constexpr double kTolerance = 1e-11;
 
 double relative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(b.cwiseAbs().maxCoeff(), 1.0);

@@ -60,6 +60,7 @@ struct DynamicsDerivativesTpl {
   Mat6X<S> displacement_lever, displacement_acceleration, velocity_acceleration;
   MatX<S> regular_mass;  // M~, factored in place (tree_cholesky.hpp)
   VecX<S> inverse_force;  // ID(q, v, qdd) of the last derivative sweeps
+  MatX<S> transposed_rhs;  // the solves' right-hand sides for q, v and u, transposed (3nv x nv)
 };
 
 using DynamicsDerivatives = DynamicsDerivativesTpl<double>;

@@ -18,6 +18,7 @@ DynamicsDerivativesTpl<S>::DynamicsDerivativesTpl(const ModelTpl<S>& m) {
   inverse_force.setZero(nv);
   for (MatX<S>* x : {&inverse_dq, &inverse_dv, &dqdd_dq, &dqdd_dv, &dqdd_du, &dtau_dq, &dtau_dv, &dtau_du, &regular_mass})
     x->setZero(nv, nv);
+  transposed_rhs.setZero(3 * nv, nv);
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   composite_inertia.resize(n);
   composite_coriolis_inertia.resize(n);
@@ -200,22 +201,27 @@ Status dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivat
   }
   const int bad_pivot = tree_ltl_in_place(w.regular_mass, m.dof_parent, m.dof_run_start);
   if (bad_pivot >= 0) return {StatusCode::singular_articulated_inertia, bad_pivot};
-  // Right-hand sides: -dID_R/dx on regular rows, zero on prescribed rows;
-  // for u, the identity with -M_RP in the prescribed columns' regular rows.
-  w.dqdd_dq = -w.inverse_dq;
-  w.dqdd_dv = -w.inverse_dv;
-  w.dqdd_du.setIdentity();
+  // The three right-hand sides side by side, X = [X_q X_v X_u] (nv x 3nv),
+  // solved at once and stored transposed (tree_ltl_solve_rows: column i of
+  // transposed_rhs is row i of X): -dID_R/dx on regular rows, zero on
+  // prescribed rows; for u, the identity with -M_RP in the prescribed
+  // columns' regular rows.
+  const Eigen::Index nv = m.nv;
+  MatX<S>& rhs = w.transposed_rhs;
+  rhs.topRows(nv) = -w.inverse_dq.transpose();
+  rhs.middleRows(nv, nv) = -w.inverse_dv.transpose();
+  rhs.bottomRows(nv).setIdentity();
   for (int k = 0; k < m.n_prescribed; ++k) {
     const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
-    w.dqdd_dq.row(p).setZero();
-    w.dqdd_dv.row(p).setZero();
+    rhs.col(p).head(2 * nv).setZero();
     for (int r = 0; r < m.nv; ++r)
-      if (!m.is_prescribed(r)) w.dqdd_du(r, p) = -d.mass_matrix(r, p);
+      if (!m.is_prescribed(r)) rhs(2 * nv + p, r) = -d.mass_matrix(r, p);
   }
-  for (MatX<S>* x : {&w.dqdd_dq, &w.dqdd_dv, &w.dqdd_du}) {
-    tree_ltl_solve_transposed(w.regular_mass, m.dof_parent, m.dof_run_start, *x);
-    tree_ltl_solve(w.regular_mass, m.dof_parent, m.dof_run_start, *x);
-  }
+  tree_ltl_solve_transposed_rows(w.regular_mass, m.dof_parent, m.dof_run_start, rhs);
+  tree_ltl_solve_rows(w.regular_mass, m.dof_parent, m.dof_run_start, rhs);
+  w.dqdd_dq = rhs.topRows(nv).transpose();
+  w.dqdd_dv = rhs.middleRows(nv, nv).transpose();
+  w.dqdd_du = rhs.bottomRows(nv).transpose();
   detail::prescribed_force_derivative(m, d.mass_matrix, &w.inverse_dq, w.dqdd_dq, w.dtau_dq);
   detail::prescribed_force_derivative(m, d.mass_matrix, &w.inverse_dv, w.dqdd_dv, w.dtau_dv);
   detail::prescribed_force_derivative(m, d.mass_matrix, static_cast<const MatX<S>*>(nullptr), w.dqdd_du, w.dtau_du);
