@@ -47,7 +47,8 @@ from ._soadyn import (  # the equations of motion term by term
 )
 from .derivatives import dynamics_derivatives, inverse_dynamics_derivatives
 from .loops import assemble, project_velocity
-from .linearize import natural_frequencies, stiffness_matrix
+from .linearize import linearize
+from .modes import Modes, modes, natural_frequencies, stiffness_matrix
 from .model import Model
 from .simulator import MotionSource, Simulator, Trajectory
 from .urdf import UrdfError, load_urdf
@@ -70,4 +71,4 @@ __all__ = [
 ]
 __all__ += ["gravity_forces", "external_forces_to_generalized", "coriolis_matrix", "mass_matrix_derivative",
             "christoffel_symbols"]
-__all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives"]
+__all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives", "linearize", "modes", "Modes"]

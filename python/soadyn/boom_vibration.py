@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .linearize import natural_frequencies
+from .modes import natural_frequencies
 from .simulator import MotionSource, Simulator
 
 

@@ -1,0 +1,147 @@
+"""Small oscillations about a configuration at rest: stiffness, natural frequencies, modes.
+
+Linearised about (q, v = 0, qdd = 0), the regular DOFs obey
+    M e'' + D e' + K e = 0,
+M the mass matrix at q, K = d tau/dq the stiffness (the derivative of the
+generalized bias h(q, 0): gravity, elastic and spring forces, along each DOF's
+tangent direction) and D = d tau/dv at rest (dampers and modal damping; the
+velocity products vanish at rest), all from inverse_dynamics_derivatives at
+(q, 0, 0). Prescribed DOFs are held where they are (their accelerations are
+given, zero here), so only the regular DOFs oscillate. Models with flexible
+bodies take K by central differences of bias_forces (their elastic forces
+are linear in the modal coordinates, so that part is exact to rounding).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._soadyn import bias_forces, integrate, mass_matrix
+from .derivatives import inverse_dynamics_derivatives
+
+__all__ = ["Modes", "modes", "natural_frequencies", "stiffness_matrix"]
+
+_STEP = 1e-6  # central-difference step of the flexible models' stiffness
+
+
+def _is_flexible(model) -> bool:
+    return any(n > 0 for n in model.n_modes)
+
+
+def _at_rest_derivatives(model, q):
+    """(K, D, M) at (q, v = 0, qdd = 0)."""
+    zero = np.zeros(model.nv)
+    if not _is_flexible(model):
+        return inverse_dynamics_derivatives(model, q, zero, zero)
+    K = np.empty((model.nv, model.nv))
+    D = np.empty((model.nv, model.nv))
+    for k in range(model.nv):
+        step = np.zeros(model.nv)
+        step[k] = _STEP
+        K[:, k] = (bias_forces(model, integrate(model, q, step, 1.0), zero)
+                   - bias_forces(model, integrate(model, q, -step, 1.0), zero)) / (2 * _STEP)
+        D[:, k] = (bias_forces(model, q, step) - bias_forces(model, q, -step)) / (2 * _STEP)
+    return K, D, mass_matrix(model, q)
+
+
+def stiffness_matrix(model, q) -> np.ndarray:
+    """K = d h(q, 0) / dq (nv x nv) in the tangent space of soadyn.integrate: analytic
+    (inverse_dynamics_derivatives) for rigid models, central differences with flexible bodies."""
+    return _at_rest_derivatives(model, np.asarray(q, dtype=float))[0]
+
+
+def natural_frequencies(model, q) -> np.ndarray:
+    """Natural frequencies (rad/s, ascending) of the model linearised about q at rest.
+
+    One entry per regular DOF (prescribed DOFs are held). An entry is
+    sqrt(lambda) for each eigenvalue lambda of M^-1 K; a DOF without
+    stiffness (a free joint, a free hinge without gravity) gives 0, and a
+    negative entry -sqrt(-lambda) marks an unstable direction (for example
+    a pendulum linearised upside down). If q is not an equilibrium, the
+    result describes the linearised restoring forces about q all the same.
+    Damping is left out (see `modes` for damped modes).
+    """
+    q = np.asarray(q, dtype=float)
+    regular = ~np.asarray(model.prescribed, dtype=bool)
+    K, _, M = _at_rest_derivatives(model, q)
+    M, K = M[np.ix_(regular, regular)], K[np.ix_(regular, regular)]
+    lam = np.linalg.eigvals(np.linalg.solve(M, K)).real
+    scale = max(np.abs(lam).max(initial=0.0), 1.0)
+    lam[np.abs(lam) < 1e-9 * scale] = 0.0  # rigid-body directions: zero to rounding
+    return np.sort(np.sign(lam) * np.sqrt(np.abs(lam)))
+
+
+@dataclass
+class Modes:
+    """Modes of the regular DOFs about a configuration at rest, by increasing |frequency|.
+
+    Each mode is a root pair of s^2 + 2 zeta w s + w^2 of the linearised system
+    M e'' + D e' + K e = 0:
+    - angular_frequencies: w (rad/s), the undamped natural frequency; negative
+      (-sqrt(-w^2)) for an unstable mode, 0 for a rigid-body mode;
+    - frequencies_hz: w / (2 pi);
+    - damping_ratios: zeta (nan for a rigid-body mode);
+    - eigenvalues: (n, 2) complex roots of each mode;
+    - shapes: (n, len(dof_names)) real mode shapes (the eigenvector's position part,
+      turned so its largest entry is real and scaled to 1);
+    - dof_names: the regular DOFs the shapes' columns stand for.
+    """
+    angular_frequencies: np.ndarray
+    frequencies_hz: np.ndarray
+    damping_ratios: np.ndarray
+    eigenvalues: np.ndarray
+    shapes: np.ndarray
+    dof_names: list
+
+    def table(self, dofs_per_mode: int = 3) -> str:
+        """One line per mode: frequency, damping ratio and the DOFs that move most."""
+        lines = ["mode  frequency (Hz)  damping ratio  largest DOFs"]
+        for k, (f, z, shape) in enumerate(zip(self.frequencies_hz, self.damping_ratios, self.shapes)):
+            top = np.argsort(-np.abs(shape))[:dofs_per_mode]
+            dofs = ", ".join(f"{self.dof_names[j]} {shape[j]:+.3f}" for j in top)
+            lines.append(f"{k + 1:4d}  {f:14.6g}  {z:13.4g}  {dofs}")
+        return "\n".join(lines)
+
+
+def _pair_roots(roots: np.ndarray, n: int) -> np.ndarray:
+    """The 2n roots grouped into n modes: complex conjugate pairs, then the real roots
+    paired by increasing magnitude (rigid-body zeros together, +-sqrt of an unstable mode)."""
+    scale = max(np.abs(roots).max(initial=0.0), 1.0)
+    oscillating = roots[roots.imag > 1e-9 * scale]
+    real = np.sort_complex(roots[np.abs(roots.imag) <= 1e-9 * scale].real.astype(complex))
+    real = real[np.argsort(np.abs(real), kind="stable")]
+    pairs = [(r, r.conjugate()) for r in oscillating]
+    pairs += [(real[k], real[k + 1]) for k in range(0, len(real) - 1, 2)]
+    assert len(pairs) == n, "the roots of a second-order system come in n pairs"
+    return np.array(pairs)
+
+
+def modes(model, q) -> Modes:
+    """Frequencies (Hz and rad/s), damping ratios and DOF-labelled mode shapes of the
+    model linearised about q at rest (see Modes). Prescribed DOFs are held."""
+    q = np.asarray(q, dtype=float)
+    regular = ~np.asarray(model.prescribed, dtype=bool)
+    K, D, M = _at_rest_derivatives(model, q)
+    n = int(regular.sum())
+    M, K, D = (X[np.ix_(regular, regular)] for X in (M, K, D))
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -np.linalg.solve(M, K)
+    A[n:, n:] = -np.linalg.solve(M, D)
+    roots, vectors = np.linalg.eig(A)
+    pairs = _pair_roots(roots, n)
+    w2 = (pairs[:, 0] * pairs[:, 1]).real
+    scale = max(np.abs(w2).max(initial=0.0), 1.0)
+    w2[np.abs(w2) < 1e-9 * scale] = 0.0
+    w = np.sign(w2) * np.sqrt(np.abs(w2))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        zeta = np.where(w != 0, -(pairs[:, 0] + pairs[:, 1]).real / (2 * np.abs(w)), np.nan)
+    order = np.argsort(np.abs(w), kind="stable")
+    shapes = []
+    for root in pairs[order, 0]:
+        column = vectors[:, np.argmin(np.abs(roots - root))][:n]
+        peak = column[np.argmax(np.abs(column))]
+        shapes.append((column / peak).real if peak != 0 else column.real)
+    names = [name for name, r in zip(model.dof_names, regular) if r]
+    return Modes(w[order], w[order] / (2 * np.pi), zeta[order], pairs[order], np.array(shapes).reshape(n, n), names)
