@@ -140,9 +140,9 @@ def test_robot_derivatives_against_pinocchio(name, floating):
         dqdd_dq, dqdd_dv, dqdd_du = soadyn.dynamics_derivatives(m, q, v, tau)[:3]
         pin_ddq_dq, pin_ddq_dv, pin_minv = pin.computeABADerivatives(o.model, o.data, qp, vp, o.to_pin(tau))
         pin_minv = np.triu(pin_minv) + np.triu(pin_minv, 1).T
-        assert_close(dqdd_dq, _from_pin(o, pin_ddq_dq), 1e-9, f"{name} dqdd/dq vs computeABADerivatives")
-        assert_close(dqdd_dv, _from_pin(o, pin_ddq_dv), 1e-9, f"{name} dqdd/dv vs computeABADerivatives")
-        assert_close(dqdd_du, _from_pin(o, pin_minv), 1e-9, f"{name} dqdd/du vs computeABADerivatives' M^-1")
+        assert_close(dqdd_dq, _from_pin(o, pin_ddq_dq), RTOL, f"{name} dqdd/dq vs computeABADerivatives")
+        assert_close(dqdd_dv, _from_pin(o, pin_ddq_dv), RTOL, f"{name} dqdd/dv vs computeABADerivatives")
+        assert_close(dqdd_du, _from_pin(o, pin_minv), RTOL, f"{name} dqdd/du vs computeABADerivatives' M^-1")
 
 
 # --- hybrid masks ------------------------------------------------------------------------------
