@@ -1,10 +1,15 @@
 // Analytic derivatives of the dynamics (algorithms/dynamics_derivatives.hpp):
 // check arguments, run the C++ algorithm on the model's Data, copy out.
+#include <pybind11/complex.h>
+
 #include "arrays.hpp"
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
+#include "simulator_handle.hpp"
 #include "soadyn/algorithms/dynamics_derivatives.hpp"
+#include "soadyn/algorithms/modes.hpp"
+#include "soadyn/sim/linearization.hpp"
 
 namespace soadyn_py {
 
@@ -32,6 +37,18 @@ py::tuple derivative_call(ModelHandle& h, py::handle q, py::handle v, py::handle
   py::tuple t(N);
   for (std::size_t k = 0; k < N; ++k) t[k] = out[k];
   return t;
+}
+
+py::array_t<double> copy_out(const Eigen::MatrixXd& x) {
+  auto out = fresh_array(x.rows(), x.cols());
+  RowMajorMap(out.mutable_data(), x.rows(), x.cols()) = x;
+  return out;
+}
+
+py::array_t<double> copy_vector(const Eigen::VectorXd& x) {
+  auto out = fresh_array(x.size());
+  Eigen::Map<Eigen::VectorXd>(out.mutable_data(), x.size()) = x;
+  return out;
 }
 
 }  // namespace
@@ -65,6 +82,49 @@ void bind_derivatives(py::module_& mod) {
             });
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none());
+
+  mod.def("_linearize",
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::object dt, const std::string& integrator,
+         py::handle f_ext) {
+        const StateArgs a(h, q, v, u, "u", f_ext);
+        const bool discrete = !dt.is_none();
+        const double step = discrete ? dt.cast<double>() : 0.0;
+        const soadyn::Integrator chosen = integrator_from(integrator);
+        soadyn::Linearization workspace(h.model);
+        py::array_t<double> A, B;
+        soadyn::Status status;
+        run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          const Map qm(a.q.data(), m.nq), vm(a.v.data(), m.nv), um(a.x.data(), m.nv);
+          status = discrete ? soadyn::linearize_step<double>(m, d, workspace, qm, vm, um, step, chosen, a.f_ext)
+                            : soadyn::linearize<double>(m, d, workspace, qm, vm, um, a.f_ext);
+        });
+        raise_on(status, h.model, "linearize");
+        return py::make_tuple(copy_out(workspace.A), copy_out(workspace.B));
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("dt"), py::arg("integrator"),
+      py::arg("f_ext") = py::none());
+
+  mod.def("_modes",
+      [](ModelHandle& h, py::handle q) {
+        const std::uint64_t version = h.model.version;
+        const Array qa = q_arg(h, q);
+        soadyn::DynamicsDerivatives workspace(h.model);
+        soadyn::Modes result;
+        soadyn::Status status;
+        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
+          result = soadyn::modes(m, d, workspace, Map(qa.data(), m.nq), status);
+        });
+        raise_on(status, h.model, "modes");
+        py::list dofs;
+        for (int k : result.dofs) dofs.append(k);
+        py::array_t<std::complex<double>> roots({result.roots.rows(), result.roots.cols()});
+        auto r = roots.mutable_unchecked<2>();
+        for (Eigen::Index i = 0; i < result.roots.rows(); ++i)
+          for (Eigen::Index j = 0; j < result.roots.cols(); ++j) r(i, j) = result.roots(i, j);
+        return py::make_tuple(dofs, copy_vector(result.angular_frequency), copy_vector(result.damping_ratio), roots,
+                              copy_out(result.shapes));
+      },
+      py::arg("model"), py::arg("q"));
 }
 
 }  // namespace soadyn_py

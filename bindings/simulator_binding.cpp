@@ -19,6 +19,14 @@
 
 namespace soadyn_py {
 
+soadyn::Integrator integrator_from(const std::string& name) {
+  if (name == "euler" || name == "semi-implicit-euler") return soadyn::Integrator::semi_implicit_euler;
+  if (name == "rk4") return soadyn::Integrator::rk4;
+  if (name == "dopri5") return soadyn::Integrator::dopri5;
+  throw py::value_error("unknown integrator '" + name + "' (choose 'euler', 'rk4' or 'dopri5')");
+}
+
+
 using Sim = SimulatorHandle;
 
 // A motion source as a Python object (a struct, so pybind11 does not turn the
@@ -133,13 +141,6 @@ auto locked_read(Sim& sim, Fn&& fn) {
 double finite(double x, const char* what) {
   if (!std::isfinite(x)) throw py::value_error(std::string(what) + " is not finite");
   return x;
-}
-
-soadyn::Integrator integrator_from(const std::string& name) {
-  if (name == "euler" || name == "semi-implicit-euler") return soadyn::Integrator::semi_implicit_euler;
-  if (name == "rk4") return soadyn::Integrator::rk4;
-  if (name == "dopri5") return soadyn::Integrator::dopri5;
-  throw py::value_error("unknown integrator '" + name + "' (choose 'euler', 'rk4' or 'dopri5')");
 }
 
 const char* integrator_name(soadyn::Integrator i) {

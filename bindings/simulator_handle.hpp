@@ -13,6 +13,7 @@
 #include <atomic>
 #include <mutex>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include "soadyn/sim/simulator.hpp"
 
@@ -57,5 +58,9 @@ void raise_if_source_raised(const SimulatorHandle& sim, const soadyn::Status& s)
 // Forgets an exception a Python source raised earlier on this thread and
 // that was never reported; call with the GIL held before a step or loop.
 void forget_pending_source_error();
+
+// The integrator named "euler" (or "semi-implicit-euler"), "rk4" or "dopri5";
+// ValueError otherwise.
+soadyn::Integrator integrator_from(const std::string& name);
 
 }  // namespace soadyn_py

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _soadyn
 from ._soadyn import bias_forces, integrate, mass_matrix
 from .derivatives import inverse_dynamics_derivatives
 
@@ -104,44 +105,10 @@ class Modes:
         return "\n".join(lines)
 
 
-def _pair_roots(roots: np.ndarray, n: int) -> np.ndarray:
-    """The 2n roots grouped into n modes: complex conjugate pairs, then the real roots
-    paired by increasing magnitude (rigid-body zeros together, +-sqrt of an unstable mode)."""
-    scale = max(np.abs(roots).max(initial=0.0), 1.0)
-    oscillating = roots[roots.imag > 1e-9 * scale]
-    real = np.sort_complex(roots[np.abs(roots.imag) <= 1e-9 * scale].real.astype(complex))
-    real = real[np.argsort(np.abs(real), kind="stable")]
-    pairs = [(r, r.conjugate()) for r in oscillating]
-    pairs += [(real[k], real[k + 1]) for k in range(0, len(real) - 1, 2)]
-    assert len(pairs) == n, "the roots of a second-order system come in n pairs"
-    return np.array(pairs)
-
-
 def modes(model, q) -> Modes:
     """Frequencies (Hz and rad/s), damping ratios and DOF-labelled mode shapes of the
-    model linearised about q at rest (see Modes). Prescribed DOFs are held."""
-    q = np.asarray(q, dtype=float)
-    regular = ~np.asarray(model.prescribed, dtype=bool)
-    K, D, M = _at_rest_derivatives(model, q)
-    n = int(regular.sum())
-    M, K, D = (X[np.ix_(regular, regular)] for X in (M, K, D))
-    A = np.zeros((2 * n, 2 * n))
-    A[:n, n:] = np.eye(n)
-    A[n:, :n] = -np.linalg.solve(M, K)
-    A[n:, n:] = -np.linalg.solve(M, D)
-    roots, vectors = np.linalg.eig(A)
-    pairs = _pair_roots(roots, n)
-    w2 = (pairs[:, 0] * pairs[:, 1]).real
-    scale = max(np.abs(w2).max(initial=0.0), 1.0)
-    w2[np.abs(w2) < 1e-9 * scale] = 0.0
-    w = np.sign(w2) * np.sqrt(np.abs(w2))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        zeta = np.where(w != 0, -(pairs[:, 0] + pairs[:, 1]).real / (2 * np.abs(w)), np.nan)
-    order = np.argsort(np.abs(w), kind="stable")
-    shapes = []
-    for root in pairs[order, 0]:
-        column = vectors[:, np.argmin(np.abs(roots - root))][:n]
-        peak = column[np.argmax(np.abs(column))]
-        shapes.append((column / peak).real if peak != 0 else column.real)
-    names = [name for name, r in zip(model.dof_names, regular) if r]
-    return Modes(w[order], w[order] / (2 * np.pi), zeta[order], pairs[order], np.array(shapes).reshape(n, n), names)
+    model linearised about q at rest (see Modes; C++: soadyn/algorithms/modes.hpp).
+    Prescribed DOFs are held. Rigid models (flexible bodies: see natural_frequencies)."""
+    dofs, w, zeta, roots, shapes = _soadyn._modes(model, q)
+    names = [model.dof_names[k] for k in dofs]
+    return Modes(w, w / (2 * np.pi), zeta, roots, shapes, names)

@@ -1,5 +1,7 @@
 // inverse_dynamics_derivatives and dynamics_derivatives allocate nothing once
-// Data and the DynamicsDerivatives workspace are built: 2000 calls of each on a
+// Data and the DynamicsDerivatives workspace are built, nor do linearize and
+// linearize_step (rk4, euler) once a Linearization is: 2000 calls of each
+// derivative function and 200 of each linearization on a
 // random 20-body tree with every joint kind (free root), alternating the
 // all-regular model with a mixed prescribed/regular mask (flags flipped
 // between calls, itself allocation free), counted by the allocation counter
@@ -15,6 +17,7 @@
 #include "allocation_counter.hpp"
 #include "random_tree.hpp"
 #include "soadyn/algorithms/dynamics_derivatives.hpp"
+#include "soadyn/sim/linearization.hpp"
 #include "soadyn/soadyn.hpp"
 
 using namespace soadyn_test;
@@ -39,6 +42,7 @@ int main(int argc, char**) {
   soadyn::Model model = soadyn_test::build_model<double>(soadyn_test::random_tree_spec(2025, 20));
   soadyn::Data data(model);
   soadyn::DynamicsDerivatives derivatives(model);
+  soadyn::Linearization linearization(model);
   const Eigen::Index nv = model.nv;
   Eigen::MatrixXd product(nv, nv), identity = Eigen::MatrixXd::Identity(nv, nv), negated(nv, nv);
   std::vector<soadyn_test::State> states;
@@ -63,6 +67,15 @@ int main(int argc, char**) {
     }
     for (int k = 0; k < model.nv; ++k)
       if (!model.is_prescribed(k) && derivatives.dtau_du(k, k) != 1.0) ok = false;
+    if (call % 10 == 0) {  // linearizations: continuous, one rk4 step, one euler step
+      ok = ok && soadyn::linearize<double>(model, data, linearization, s.q, s.v, s.u).ok();
+      ok = ok && linearization.A.topRightCorner(nv, nv).isIdentity(0.0);
+      ok = ok && soadyn::linearize_step<double>(model, data, linearization, s.q, s.v, s.u, 1e-3,
+                                                soadyn::Integrator::rk4).ok();
+      ok = ok && soadyn::linearize_step<double>(model, data, linearization, s.q, s.v, s.u, 1e-3,
+                                                soadyn::Integrator::semi_implicit_euler).ok();
+      ok = ok && linearization.A.allFinite() && linearization.B.allFinite();
+    }
     if (!ok) ++failed;
   }
   const AllocationCounts counts = disarm_counter();

@@ -37,6 +37,32 @@ struct FreeSpace {
     Rotation::chart_rate(q + 3, xi, v, rate);
     Eigen::Map<Vec3<S>>{rate + 3} = quaternion_rotation(q + 3) * Vec3<S>(v[3], v[4], v[5]);
   }
+  // The chart's first-order maps (joints/vector_space.hpp): the rotation's as
+  // the spherical joint's; the position p = p0 + xi_p has body-frame tangent
+  // R(q)' dp, and its rate R(q) u turns with the rotation.
+  static void base_transport(const S* q0, const S* q, const S* xi, MatX<S>& T, int o) {
+    Rotation::base_transport(q0 + 3, q + 3, xi, T, o);
+    T.template block<3, 3>(o + 3, o + 3) = T.template block<3, 3>(o, o);  // R' R0 = exp(xi)'
+  }
+  static void chart_transport(const S* q0, const S* q, const S* xi, MatX<S>& T, int o) {
+    Rotation::chart_transport(q0 + 3, q + 3, xi, T, o);
+    T.template block<3, 3>(o + 3, o + 3) = quaternion_rotation(q + 3).transpose();
+  }
+  static void rate_jacobians(const S* q0, const S* q, const S* xi, const S* v, MatX<S>& d_base, MatX<S>& d_xi,
+                             MatX<S>& d_v, int o) {
+    Rotation::rate_jacobians(q0 + 3, q + 3, xi, v, d_base, d_xi, d_v, o);
+    const Mat3<S> R = quaternion_rotation(q + 3);
+    const Mat3<S> turn = -R * skew(Vec3<S>(v[3], v[4], v[5]));
+    d_v.template block<3, 3>(o + 3, o + 3) = R;
+    d_xi.template block<3, 3>(o + 3, o) = turn * so3_right_jacobian(Vec3<S>(xi[0], xi[1], xi[2]));
+    d_base.template block<3, 3>(o + 3, o) = turn * Rotation::exp_rotation(xi).transpose();
+  }
+  static void bracket(const S* v, MatX<S>& ad, int o) {  // se(3): [(w, u), (w', u')] = (w x w', w x u' - w' x u)
+    const Mat3<S> w = skew(Vec3<S>(v[0], v[1], v[2]));
+    ad.template block<3, 3>(o, o) = w;
+    ad.template block<3, 3>(o + 3, o + 3) = w;
+    ad.template block<3, 3>(o + 3, o) = skew(Vec3<S>(v[3], v[4], v[5]));
+  }
 };
 
 template <class S>

@@ -35,6 +35,36 @@ struct PlanarSpace {
     rate[1] = s * v[0] + c * v[1];
     rate[2] = v[2];
   }
+  // The chart's first-order maps (joints/vector_space.hpp): q = q0 + xi; the
+  // body-frame tangent of (x, y) at q is R(theta)' d(x, y), and the rate of
+  // (x, y) is R(theta) (vx, vy).
+  static Eigen::Matrix<S, 2, 2> rotation(const S& theta) {
+    using std::cos;
+    using std::sin;
+    Eigen::Matrix<S, 2, 2> r;
+    r << cos(theta), -sin(theta), sin(theta), cos(theta);
+    return r;
+  }
+  static void base_transport(const S* q0, const S* q, const S*, MatX<S>& T, int o) {
+    T.template block<2, 2>(o, o) = rotation(q[2]).transpose() * rotation(q0[2]);
+  }
+  static void chart_transport(const S*, const S* q, const S*, MatX<S>& T, int o) {
+    T.template block<2, 2>(o, o) = rotation(q[2]).transpose();
+  }
+  static void rate_jacobians(const S*, const S* q, const S*, const S* v, MatX<S>& d_base, MatX<S>& d_xi, MatX<S>& d_v,
+                             int o) {
+    const Eigen::Matrix<S, 2, 2> r = rotation(q[2]);
+    d_v.template block<2, 2>(o, o) = r;
+    const Eigen::Matrix<S, 2, 1> turned = rotation(q[2] + S(EIGEN_PI) / S(2)) * Eigen::Matrix<S, 2, 1>(v[0], v[1]);
+    d_xi.template block<2, 1>(o, o + 2) = turned;
+    d_base.template block<2, 1>(o, o + 2) = turned;
+  }
+  static void bracket(const S* v, MatX<S>& ad, int o) {  // se(2), v = (vx, vy, w)
+    ad(o, o + 1) = -v[2];
+    ad(o, o + 2) = v[1];
+    ad(o + 1, o) = v[2];
+    ad(o + 1, o + 2) = -v[0];
+  }
 };
 
 template <class S>

@@ -32,6 +32,27 @@ struct UnitQuaternionSpace {
   static void chart_rate(const S*, const S* xi, const S* w, S* rate) {
     Eigen::Map<Vec3<S>>{rate} = so3_right_jacobian_inverse(Vec3<S>(xi[0], xi[1], xi[2])) * Vec3<S>(w[0], w[1], w[2]);
   }
+  // The chart's first-order maps (joints/vector_space.hpp): q = q0 exp(xi), so
+  // q0 exp(e) exp(xi) = q exp(exp(xi)' e) and q0 exp(xi + d) = q exp(Jr(xi) d).
+  static Mat3<S> exp_rotation(const S* xi) {
+    const Eigen::Matrix<S, 4, 1> e = quaternion_exp(Vec3<S>(xi[0], xi[1], xi[2]));
+    return quaternion_rotation(e.data());
+  }
+  static void base_transport(const S*, const S*, const S* xi, MatX<S>& T, int o) {
+    T.template block<3, 3>(o, o) = exp_rotation(xi).transpose();
+  }
+  static void chart_transport(const S*, const S*, const S* xi, MatX<S>& T, int o) {
+    T.template block<3, 3>(o, o) = so3_right_jacobian(Vec3<S>(xi[0], xi[1], xi[2]));
+  }
+  static void rate_jacobians(const S*, const S*, const S* xi, const S* w, MatX<S>&, MatX<S>& d_xi, MatX<S>& d_v,
+                             int o) {
+    const Vec3<S> x(xi[0], xi[1], xi[2]);
+    d_v.template block<3, 3>(o, o) = so3_right_jacobian_inverse(x);
+    d_xi.template block<3, 3>(o, o) = so3_right_jacobian_inverse_derivative(x, Vec3<S>(w[0], w[1], w[2]));
+  }
+  static void bracket(const S* w, MatX<S>& ad, int o) {
+    ad.template block<3, 3>(o, o) = skew(Vec3<S>(w[0], w[1], w[2]));
+  }
 };
 
 template <class S>

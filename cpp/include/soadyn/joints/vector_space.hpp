@@ -30,6 +30,23 @@ struct VectorSpace {
   static void chart_rate(const S*, const S*, const S* v, S* rate) {
     for (int k = 0; k < N; ++k) rate[k] = v[k];
   }
+  // First-order maps of the chart (sim/linearization.hpp), written into the
+  // joint's N x N diagonal block at (o, o) of nv x nv matrices; q =
+  // retract(q0, xi). Tangent directions are those of integrate.
+  //   base_transport   d(tangent at q) / d(tangent at q0), xi fixed
+  //   chart_transport  d(tangent at q) / d xi
+  //   rate_jacobians   d chart_rate / d(tangent at q0), / d xi, / d v
+  //   bracket          ad_v: ad_v e = [v, e], the Lie bracket of the joint's group
+  static void base_transport(const S*, const S*, const S*, MatX<S>& T, int o) {
+    T.block(o, o, N, N).setIdentity();
+  }
+  static void chart_transport(const S*, const S*, const S*, MatX<S>& T, int o) {
+    T.block(o, o, N, N).setIdentity();
+  }
+  static void rate_jacobians(const S*, const S*, const S*, const S*, MatX<S>&, MatX<S>&, MatX<S>& d_v, int o) {
+    d_v.block(o, o, N, N).setIdentity();
+  }
+  static void bracket(const S*, MatX<S>&, int) {}
 };
 
 }  // namespace soadyn

@@ -105,6 +105,30 @@ Mat3<S> so3_right_jacobian_inverse(const Vec3<S>& xi) {
   return Mat3<S>::Identity() + k / S(2) + c * (k * k);
 }
 
+// d/dxi of Jr^-1(xi) w (3 x 3). With Jr^-1 = I + K/2 + c(t) K^2, K = [xi]x,
+// t = |xi|: -[w]x/2 + (c'(t)/t) (K^2 w) xi' + c ((xi.w) I + xi w' - 2 w xi'),
+// c'(t)/t = -2/t^4 + 1/(4 t^2 sin^2(t/2)) + cot(t/2)/(2 t^3), near zero 1/360.
+template <class S>
+Mat3<S> so3_right_jacobian_inverse_derivative(const Vec3<S>& xi, const Vec3<S>& w) {
+  using std::sin;
+  using std::sqrt;
+  using std::tan;
+  const S t2 = xi.squaredNorm();
+  S c, dc_over_t;
+  if (t2 < S(1e-6)) {
+    c = S(1) / S(12) + t2 / S(720);
+    dc_over_t = S(1) / S(360);
+  } else {
+    const S t = sqrt(t2), half_cot = S(1) / tan(t / S(2)), sh = sin(t / S(2));
+    c = S(1) / t2 - half_cot / (S(2) * t);
+    dc_over_t = (-S(2) / (t2 * t) + S(1) / (S(4) * t * sh * sh) + half_cot / (S(2) * t2)) / t;
+  }
+  const Mat3<S> k = skew(xi);
+  const Vec3<S> kkw = k * (k * w);
+  return -skew(w) / S(2) + dc_over_t * kkw * xi.transpose() +
+         c * (xi.dot(w) * Mat3<S>::Identity() + xi * w.transpose() - S(2) * w * xi.transpose());
+}
+
 // SE(2): planar displacement of the body-frame twist (vx, vy, w) * dt,
 // returned as (dx, dy) in the starting body frame.
 template <class S>

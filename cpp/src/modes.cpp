@@ -1,0 +1,92 @@
+#include "soadyn/algorithms/modes.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace soadyn {
+
+namespace {
+
+// The 2n roots grouped into n modes (see modes.hpp).
+Eigen::MatrixXcd pair_roots(const Eigen::VectorXcd& roots) {
+  const Eigen::Index n = roots.size() / 2;
+  const double scale = std::max(roots.cwiseAbs().maxCoeff(), 1.0);
+  std::vector<std::complex<double>> oscillating, real;
+  for (Eigen::Index k = 0; k < roots.size(); ++k) {
+    if (roots[k].imag() > 1e-9 * scale) oscillating.push_back(roots[k]);
+    else if (std::abs(roots[k].imag()) <= 1e-9 * scale) real.emplace_back(roots[k].real(), 0.0);
+  }
+  std::stable_sort(real.begin(), real.end(), [](auto a, auto b) { return std::abs(a) < std::abs(b); });
+  Eigen::MatrixXcd pairs(n, 2);
+  Eigen::Index row = 0;
+  for (const auto& r : oscillating) {
+    if (row < n) pairs.row(row) << r, std::conj(r);
+    ++row;
+  }
+  for (std::size_t k = 0; k + 1 < real.size(); k += 2) {
+    if (row < n) pairs.row(row) << real[k], real[k + 1];
+    ++row;
+  }
+  if (row != n) throw std::runtime_error("modes: the roots of the linearised system do not pair into modes");
+  return pairs;
+}
+
+}  // namespace
+
+Modes modes(const Model& m, Data& d, DynamicsDerivatives& w, const ConstVecRef<double>& q, Status& status) {
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(m.nv);
+  status = inverse_dynamics_derivatives<double>(m, d, w, q, zero, zero);
+  Modes out;
+  if (!status.ok()) return out;
+  for (int k = 0; k < m.nv; ++k)
+    if (!m.is_prescribed(k)) out.dofs.push_back(k);
+  const Eigen::Index n = static_cast<Eigen::Index>(out.dofs.size());
+  Eigen::MatrixXd M(n, n), K(n, n), D(n, n);
+  for (Eigen::Index r = 0; r < n; ++r)
+    for (Eigen::Index c = 0; c < n; ++c) {
+      M(r, c) = d.mass_matrix(out.dofs[r], out.dofs[c]);
+      K(r, c) = w.inverse_dq(out.dofs[r], out.dofs[c]);
+      D(r, c) = w.inverse_dv(out.dofs[r], out.dofs[c]);
+    }
+  const Eigen::LLT<Eigen::MatrixXd> mass(M);
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  A.topRightCorner(n, n).setIdentity();
+  A.bottomLeftCorner(n, n) = -mass.solve(K);
+  A.bottomRightCorner(n, n) = -mass.solve(D);
+  const Eigen::EigenSolver<Eigen::MatrixXd> eigen(A);
+  const Eigen::VectorXcd roots = eigen.eigenvalues();
+  const Eigen::MatrixXcd pairs = pair_roots(roots);
+  Eigen::VectorXd w2 = (pairs.col(0).array() * pairs.col(1).array()).real();
+  const double scale = std::max(w2.cwiseAbs().maxCoeff(), 1.0);
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  Eigen::VectorXd freq(n), zeta(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    if (std::abs(w2[k]) < 1e-9 * scale) w2[k] = 0.0;
+    freq[k] = (w2[k] > 0 ? 1.0 : w2[k] < 0 ? -1.0 : 0.0) * std::sqrt(std::abs(w2[k]));
+    zeta[k] = freq[k] != 0 ? -(pairs(k, 0) + pairs(k, 1)).real() / (2 * std::abs(freq[k])) : std::nan("");
+  }
+  std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return std::abs(freq[a]) < std::abs(freq[b]); });
+  out.angular_frequency.resize(n);
+  out.damping_ratio.resize(n);
+  out.roots.resize(n, 2);
+  out.shapes.resize(n, n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Index j = order[static_cast<std::size_t>(k)];
+    out.angular_frequency[k] = freq[j];
+    out.damping_ratio[k] = zeta[j];
+    out.roots.row(k) = pairs.row(j);
+    Eigen::Index nearest = 0;
+    (roots.array() - pairs(j, 0)).abs().minCoeff(&nearest);
+    const Eigen::VectorXcd column = eigen.eigenvectors().col(nearest).head(n);
+    Eigen::Index peak = 0;
+    column.cwiseAbs().maxCoeff(&peak);
+    const std::complex<double> scale_to_one = std::abs(column[peak]) > 0 ? 1.0 / column[peak] : 1.0;
+    out.shapes.row(k) = (column * scale_to_one).real().transpose();
+  }
+  return out;
+}
+
+}  // namespace soadyn
