@@ -27,7 +27,7 @@ from soadyn._soadyn import _time_cpp
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent / "tests"))
-from bench_robots import PEER, ROBOTS, random_states, write_report  # noqa: E402
+from bench_robots import PEER, ROBOTS, parse_peer_output, random_states, write_report  # noqa: E402
 from robots import robot  # noqa: E402
 
 PEER_DIR = Path(os.environ.get("PEER_BENCH_DIR", Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
@@ -47,13 +47,7 @@ def peer_program() -> Path | None:
 def pinocchio_timings(program: Path, paths: dict, calls: int) -> dict:
     out = subprocess.run([str(program), *map(str, paths.values())], capture_output=True, text=True,
                          env={**os.environ, "PEER_CALLS": str(calls)})
-    result = {}
-    for line in out.stdout.splitlines():
-        fields = line.split()
-        name = next((r for r, p in paths.items() if p.name == fields[0]), None) if fields else None
-        if name:
-            result[name] = {k: float(v.rstrip("us")) for k, v in (f.split("=") for f in fields[1:]) if k != "nv"}
-    return result
+    return parse_peer_output(out.stdout, paths)
 
 
 def main() -> int:

@@ -54,8 +54,13 @@ def peer_timings(paths: dict[str, Path]) -> dict[str, dict[str, float]]:
     if out.returncode == 2 and build.is_file():  # not built yet
         subprocess.run(["bash", str(build)], check=False)
         out = subprocess.run(["bash", str(run), *map(str, paths.values())], capture_output=True, text=True)
+    return parse_peer_output(out.stdout, paths)
+
+
+def parse_peer_output(stdout: str, paths: dict[str, Path]) -> dict[str, dict[str, float]]:
+    """{robot: {timing name: microseconds}} from the `file key=..us ...` lines of a peer program."""
     result = {}
-    for line in out.stdout.splitlines():
+    for line in stdout.splitlines():
         fields = line.split()
         name = next((r for r, p in paths.items() if p.name == fields[0]), None) if fields else None
         if name:

@@ -2,6 +2,7 @@
 the cmeel prefix it installs into (the package has no Python module)."""
 from __future__ import annotations
 
+import functools
 import sys
 from pathlib import Path
 
@@ -25,3 +26,23 @@ def robots_dir() -> Path:
 def robot(name: str) -> tuple[Path, bool]:
     relative, floating = ROBOTS[name]
     return robots_dir() / relative, floating
+
+
+@functools.lru_cache(maxsize=None)
+def robot_with_oracle(name: str, floating: bool):
+    """(soadyn model, PinocchioOracle) of an example-robot-data robot, built once per session."""
+    import soadyn
+    from soadyn.oracles import PinocchioOracle
+
+    path, _ = robot(name)
+    m = soadyn.load_urdf(path, floating_base=floating)
+    return m, PinocchioOracle(m, path, floating)
+
+
+def matrix_from_pin(oracle, A_pin):
+    """A Pinocchio (nv, nv) matrix with rows and columns in soadyn's DOF order."""
+    import numpy as np
+
+    out = np.empty_like(A_pin)
+    out[np.ix_(oracle.v_of_pin, oracle.v_of_pin)] = A_pin
+    return out

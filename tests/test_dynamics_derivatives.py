@@ -13,15 +13,12 @@ every other entry against computeRNEADerivatives itself.
 """
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 import pinocchio as pin
 import pytest
 
 import soadyn
-from robots import ROBOTS, robot
-from soadyn.oracles import PinocchioOracle
+from robots import ROBOTS, matrix_from_pin, robot_with_oracle
 from test_pinocchio_oracle import CASE_IDS, CASES, make_case
 
 RTOL = 1e-11      # against Pinocchio's analytic derivatives, relative to the largest reference entry
@@ -70,7 +67,7 @@ def test_random_tree_inverse_dynamics_derivatives_against_pinocchio(seed, floati
     dq, dv, M = soadyn.inverse_dynamics_derivatives(m, c.q, v, a, f)
     vp, ap, fp = c.map.v(v), c.map.v(a), c.map.f_ext(f)
     pin_dq, pin_dv, _ = pin.computeRNEADerivatives(c.model, c.data, c.q_pin, vp, ap, fp)
-    pin_dq, pin_dv = c.map.matrix_from_pin(pin_dq), c.map.matrix_from_pin(pin_dv)
+    pin_dq, pin_dv = c.map.matrixmatrix_from_pin(pin_dq), c.map.matrixmatrix_from_pin(pin_dv)
     plain = ~universal_dofs(m)
     assert plain.sum() < m.nv  # the trees have universal joints
     assert_close(dq[np.ix_(plain, plain)], pin_dq[np.ix_(plain, plain)], RTOL, "dtau/dq vs computeRNEADerivatives")
@@ -81,8 +78,8 @@ def test_random_tree_inverse_dynamics_derivatives_against_pinocchio(seed, floati
                                 lambda qp, e: pin.integrate(c.model, qp, e), m.nv)
     fd_dv = central_differences(lambda vq: pin.rnea(c.model, c.data, c.q_pin, vq, ap, fp), vp,
                                 lambda x, e: x + e, m.nv)
-    assert_close(dq, c.map.matrix_from_pin(fd_dq), FD_RTOL, "dtau/dq vs differences of pin.rnea")
-    assert_close(dv, c.map.matrix_from_pin(fd_dv), FD_RTOL, "dtau/dv vs differences of pin.rnea")
+    assert_close(dq, c.map.matrixmatrix_from_pin(fd_dq), FD_RTOL, "dtau/dq vs differences of pin.rnea")
+    assert_close(dv, c.map.matrixmatrix_from_pin(fd_dv), FD_RTOL, "dtau/dv vs differences of pin.rnea")
 
 
 @pytest.mark.parametrize("seed,floating", CASES, ids=CASE_IDS)
@@ -99,34 +96,21 @@ def test_random_tree_forward_dynamics_derivatives_against_pinocchio(seed, floati
                                 lambda qp, e: pin.integrate(c.model, qp, e), m.nv)
     fd_dv = central_differences(lambda vq: pin.aba(c.model, c.data, c.q_pin, vq, tp, fp), vp,
                                 lambda x, e: x + e, m.nv)
-    assert_close(dqdd_dq, c.map.matrix_from_pin(fd_dq), 10 * FD_RTOL, "dqdd/dq vs differences of pin.aba")
-    assert_close(dqdd_dv, c.map.matrix_from_pin(fd_dv), 10 * FD_RTOL, "dqdd/dv vs differences of pin.aba")
+    assert_close(dqdd_dq, c.map.matrixmatrix_from_pin(fd_dq), 10 * FD_RTOL, "dqdd/dq vs differences of pin.aba")
+    assert_close(dqdd_dv, c.map.matrixmatrix_from_pin(fd_dv), 10 * FD_RTOL, "dqdd/dv vs differences of pin.aba")
     pin.computeMinverse(c.model, c.data, c.q_pin)
     Minv = np.triu(c.data.Minv) + np.triu(c.data.Minv, 1).T
-    assert_close(dqdd_du, c.map.matrix_from_pin(Minv), 1e-10, "dqdd/du = M^-1 (pin.computeMinverse)")
+    assert_close(dqdd_du, c.map.matrixmatrix_from_pin(Minv), 1e-10, "dqdd/du = M^-1 (pin.computeMinverse)")
     assert not dtau_dq.any() and not dtau_dv.any(), "no prescribed DOF: tau = u"
     assert np.array_equal(dtau_du, np.eye(m.nv))
 
 
 # --- robots -----------------------------------------------------------------------------------
 
-@functools.lru_cache(maxsize=None)
-def _robot(name, floating):
-    path, _ = robot(name)
-    m = soadyn.load_urdf(path, floating_base=floating)
-    return m, PinocchioOracle(m, path, floating)
-
-
-def _from_pin(o, A):
-    out = np.empty_like(A)
-    out[np.ix_(o.v_of_pin, o.v_of_pin)] = A
-    return out
-
-
 @pytest.mark.parametrize("name", sorted(ROBOTS))
 @pytest.mark.parametrize("floating", [False, True], ids=["fixed", "floating"])
 def test_robot_derivatives_against_pinocchio(name, floating):
-    m, o = _robot(name, floating)
+    m, o = robot_with_oracle(name, floating)
     m.set_prescribed(np.zeros(m.nv, dtype=bool))
     rng = np.random.default_rng(5)
     for state in range(2):
@@ -135,14 +119,14 @@ def test_robot_derivatives_against_pinocchio(name, floating):
         qp, vp = o.q(q), o.to_pin(v)
         dq, dv, M = soadyn.inverse_dynamics_derivatives(m, q, v, a)
         pin_dq, pin_dv, _ = pin.computeRNEADerivatives(o.model, o.data, qp, vp, o.to_pin(a))
-        assert_close(dq, _from_pin(o, pin_dq), RTOL, f"{name} dtau/dq")
-        assert_close(dv, _from_pin(o, pin_dv), RTOL, f"{name} dtau/dv")
+        assert_close(dq, matrix_from_pin(o, pin_dq), RTOL, f"{name} dtau/dq")
+        assert_close(dv, matrix_from_pin(o, pin_dv), RTOL, f"{name} dtau/dv")
         dqdd_dq, dqdd_dv, dqdd_du = soadyn.dynamics_derivatives(m, q, v, tau)[:3]
         pin_ddq_dq, pin_ddq_dv, pin_minv = pin.computeABADerivatives(o.model, o.data, qp, vp, o.to_pin(tau))
         pin_minv = np.triu(pin_minv) + np.triu(pin_minv, 1).T
-        assert_close(dqdd_dq, _from_pin(o, pin_ddq_dq), RTOL, f"{name} dqdd/dq vs computeABADerivatives")
-        assert_close(dqdd_dv, _from_pin(o, pin_ddq_dv), RTOL, f"{name} dqdd/dv vs computeABADerivatives")
-        assert_close(dqdd_du, _from_pin(o, pin_minv), RTOL, f"{name} dqdd/du vs computeABADerivatives' M^-1")
+        assert_close(dqdd_dq, matrix_from_pin(o, pin_ddq_dq), RTOL, f"{name} dqdd/dq vs computeABADerivatives")
+        assert_close(dqdd_dv, matrix_from_pin(o, pin_ddq_dv), RTOL, f"{name} dqdd/dv vs computeABADerivatives")
+        assert_close(dqdd_du, matrix_from_pin(o, pin_minv), RTOL, f"{name} dqdd/du vs computeABADerivatives' M^-1")
 
 
 # --- hybrid masks ------------------------------------------------------------------------------
@@ -217,7 +201,7 @@ def test_random_tree_hybrid_masks(seed, floating):
 
 @pytest.mark.parametrize("name", sorted(ROBOTS))
 def test_robot_hybrid_masks(name):
-    m, _ = _robot(name, True)
+    m, _ = robot_with_oracle(name, True)
     rng = np.random.default_rng(3)
     try:
         for fraction in (0.5, 1.0):

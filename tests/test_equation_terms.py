@@ -21,8 +21,7 @@ import pytest
 
 import soadyn
 from flexible_trees import random_flexible_state, random_flexible_tree
-from robots import ROBOTS, robot
-from soadyn.oracles import PinocchioOracle
+from robots import ROBOTS, matrix_from_pin, robot_with_oracle
 from test_loops import assembled, four_bar
 from test_pinocchio_oracle import CASE_IDS, CASES, make_case
 
@@ -160,23 +159,10 @@ def test_random_tree_external_forces_against_pinocchio(seed, floating):
 
 # --- example-robot-data robots ----------------------------------------------------------------
 
-@functools.lru_cache(maxsize=None)
-def _robot(name, floating):
-    path, _ = robot(name)
-    m = soadyn.load_urdf(path, floating_base=floating)
-    return m, PinocchioOracle(m, path, floating)
-
-
-def _to_soadyn_matrix(oracle, A_pin):
-    out = np.empty_like(A_pin)
-    out[np.ix_(oracle.v_of_pin, oracle.v_of_pin)] = A_pin
-    return out
-
-
 @pytest.mark.parametrize("name", sorted(ROBOTS))
 @pytest.mark.parametrize("floating", [False, True], ids=["fixed", "floating"])
 def test_robot_against_pinocchio(name, floating):
-    m, o = _robot(name, floating)
+    m, o = robot_with_oracle(name, floating)
     rng = np.random.default_rng(11)
     for state in range(2):
         q, v = soadyn.random_configuration(m, state), rng.normal(size=m.nv)
@@ -185,7 +171,7 @@ def test_robot_against_pinocchio(name, floating):
         q_pin = o.q(q)
         assert_close(g, o.from_pin(pin.computeGeneralizedGravity(o.model, o.data, q_pin)), RTOL,
                      f"{name} gravity_forces")
-        C_pin = _to_soadyn_matrix(o, pin.computeCoriolisMatrix(o.model, o.data, q_pin, o.to_pin(v)))
+        C_pin = matrix_from_pin(o, pin.computeCoriolisMatrix(o.model, o.data, q_pin, o.to_pin(v)))
         assert_close(C, C_pin, RTOL, f"{name} coriolis_matrix")
 
 

@@ -18,14 +18,10 @@ namespace detail {
 template <class S>
 void substitute_prescribed(const ModelTpl<S>& m, LoopData<S>& ld, const MatX<S>& M) {
   ld.regular_mass = M;
+  replace_prescribed_by_identity(m, ld.regular_mass);
   ld.constraint_jacobian_regular = ld.jacobian;
-  for (int k = 0; k < m.n_prescribed; ++k) {
-    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
-    ld.regular_mass.row(p).setZero();
-    ld.regular_mass.col(p).setZero();
-    ld.regular_mass(p, p) = S(1);
-    ld.constraint_jacobian_regular.col(p).setZero();
-  }
+  for (int k = 0; k < m.n_prescribed; ++k)
+    ld.constraint_jacobian_regular.col(m.prescribed_dofs[static_cast<std::size_t>(k)]).setZero();
 }
 
 // Loop wrenches W lambda from the multipliers (loops/loop.hpp), from the

@@ -193,12 +193,7 @@ Status dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivat
   if (!status.ok()) return status;
   // M~: the prescribed rows and columns replaced by the identity.
   w.regular_mass = d.mass_matrix;
-  for (int k = 0; k < m.n_prescribed; ++k) {
-    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
-    w.regular_mass.row(p).setZero();
-    w.regular_mass.col(p).setZero();
-    w.regular_mass(p, p) = S(1);
-  }
+  replace_prescribed_by_identity(m, w.regular_mass);
   const int bad_pivot = tree_ltl_in_place(w.regular_mass, m.dof_parent, m.dof_run_start);
   if (bad_pivot >= 0) return {StatusCode::singular_articulated_inertia, bad_pivot};
   // The three right-hand sides side by side, X = [X_q X_v X_u] (nv x 3nv),

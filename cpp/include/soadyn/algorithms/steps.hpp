@@ -308,6 +308,19 @@ inline void push_articulated_to_parent(const ModelTpl<S>& m, DataTpl<S>& d, std:
   d.sweep.body_bias_and_children_z[p] += d.pose_in_parent[i].force_to_parent(z_plus);
 }
 
+// The mass matrix with every prescribed DOF's row and column replaced by the
+// identity's (M~ of the partitioned hybrid problem, Jain & Rodriguez 1993,
+// Eq. 12): factoring it factors M_RR, and it keeps the tree's sparsity.
+template <class S>
+inline void replace_prescribed_by_identity(const ModelTpl<S>& m, MatX<S>& mass) {
+  for (int k = 0; k < m.n_prescribed; ++k) {
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+    mass.row(p).setZero();
+    mass.col(p).setZero();
+    mass(p, p) = S(1);
+  }
+}
+
 template <class S>
 inline Status check_finite(const VecX<S>& x) {
   for (Eigen::Index k = 0; k < x.size(); ++k)
