@@ -67,7 +67,7 @@ def test_random_tree_inverse_dynamics_derivatives_against_pinocchio(seed, floati
     dq, dv, M = soadyn.inverse_dynamics_derivatives(m, c.q, v, a, f)
     vp, ap, fp = c.map.v(v), c.map.v(a), c.map.f_ext(f)
     pin_dq, pin_dv, _ = pin.computeRNEADerivatives(c.model, c.data, c.q_pin, vp, ap, fp)
-    pin_dq, pin_dv = c.map.matrixmatrix_from_pin(pin_dq), c.map.matrixmatrix_from_pin(pin_dv)
+    pin_dq, pin_dv = c.map.matrix_from_pin(pin_dq), c.map.matrix_from_pin(pin_dv)
     plain = ~universal_dofs(m)
     assert plain.sum() < m.nv  # the trees have universal joints
     assert_close(dq[np.ix_(plain, plain)], pin_dq[np.ix_(plain, plain)], RTOL, "dtau/dq vs computeRNEADerivatives")
@@ -78,8 +78,8 @@ def test_random_tree_inverse_dynamics_derivatives_against_pinocchio(seed, floati
                                 lambda qp, e: pin.integrate(c.model, qp, e), m.nv)
     fd_dv = central_differences(lambda vq: pin.rnea(c.model, c.data, c.q_pin, vq, ap, fp), vp,
                                 lambda x, e: x + e, m.nv)
-    assert_close(dq, c.map.matrixmatrix_from_pin(fd_dq), FD_RTOL, "dtau/dq vs differences of pin.rnea")
-    assert_close(dv, c.map.matrixmatrix_from_pin(fd_dv), FD_RTOL, "dtau/dv vs differences of pin.rnea")
+    assert_close(dq, c.map.matrix_from_pin(fd_dq), FD_RTOL, "dtau/dq vs differences of pin.rnea")
+    assert_close(dv, c.map.matrix_from_pin(fd_dv), FD_RTOL, "dtau/dv vs differences of pin.rnea")
 
 
 @pytest.mark.parametrize("seed,floating", CASES, ids=CASE_IDS)
@@ -96,11 +96,11 @@ def test_random_tree_forward_dynamics_derivatives_against_pinocchio(seed, floati
                                 lambda qp, e: pin.integrate(c.model, qp, e), m.nv)
     fd_dv = central_differences(lambda vq: pin.aba(c.model, c.data, c.q_pin, vq, tp, fp), vp,
                                 lambda x, e: x + e, m.nv)
-    assert_close(dqdd_dq, c.map.matrixmatrix_from_pin(fd_dq), 10 * FD_RTOL, "dqdd/dq vs differences of pin.aba")
-    assert_close(dqdd_dv, c.map.matrixmatrix_from_pin(fd_dv), 10 * FD_RTOL, "dqdd/dv vs differences of pin.aba")
+    assert_close(dqdd_dq, c.map.matrix_from_pin(fd_dq), 10 * FD_RTOL, "dqdd/dq vs differences of pin.aba")
+    assert_close(dqdd_dv, c.map.matrix_from_pin(fd_dv), 10 * FD_RTOL, "dqdd/dv vs differences of pin.aba")
     pin.computeMinverse(c.model, c.data, c.q_pin)
     Minv = np.triu(c.data.Minv) + np.triu(c.data.Minv, 1).T
-    assert_close(dqdd_du, c.map.matrixmatrix_from_pin(Minv), 1e-10, "dqdd/du = M^-1 (pin.computeMinverse)")
+    assert_close(dqdd_du, c.map.matrix_from_pin(Minv), 1e-10, "dqdd/du = M^-1 (pin.computeMinverse)")
     assert not dtau_dq.any() and not dtau_dv.any(), "no prescribed DOF: tau = u"
     assert np.array_equal(dtau_du, np.eye(m.nv))
 

@@ -608,7 +608,8 @@ def _slider_crank_state(crank_angle: typing.SupportsFloat | typing.SupportsIndex
     ...
 def _time_cpp(model: _Model, algorithm: str, q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], u: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], calls: typing.SupportsInt | typing.SupportsIndex = 20000, repetitions: typing.SupportsInt | typing.SupportsIndex = 7) -> float:
     """
-    Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea' or 'crba' over the given
+    Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea', 'crba', 'constrained'
+    (constrained_dynamics), 'dynamics_derivatives' (model's flags) or 'inverse_dynamics_derivatives' over the given
     states (rows), `calls` calls per repetition. For benchmarks; the GIL is released.
     """
 def _assemble(model: _Model, q: typing.Any, free: collections.abc.Sequence[bool], tolerance: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
@@ -780,3 +781,12 @@ def random_configuration(model: _Model, seed: typing.SupportsInt | typing.Suppor
     """
 QUATERNION_TOLERANCE: float = 1e-06
 _pybind11_version: str  # the pybind11 version the module was built with
+
+def _tree_inverse_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any, f_ext: typing.Any = None) -> tuple:
+    """(dtau_dq, dtau_dv, M) of inverse dynamics (soadyn.inverse_dynamics_derivatives)."""
+def _tree_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, f_ext: typing.Any = None) -> tuple:
+    """The six derivatives of hybrid dynamics (soadyn.dynamics_derivatives)."""
+def _linearize(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, dt: typing.Any, integrator: str, f_ext: typing.Any = None) -> tuple:
+    """(A, B) (soadyn.linearize)."""
+def _modes(model: _Model, q: typing.Any) -> tuple:
+    """(dofs, w, zeta, roots, shapes) (soadyn.modes)."""
