@@ -407,7 +407,7 @@ def test_urdf_damping_becomes_joint_dampers_and_friction_is_reported(tmp_path):
     path = tmp_path / "damped.urdf"
     path.write_text(URDF)
     with pytest.warns(soadyn.urdf.UrdfIgnoredWarning, match="'shoulder' \\(friction 0.2\\)") as record:
-        m = soadyn.load_urdf(path)
+        m = soadyn.load_urdf(path, joint_damping=True)
     assert len([w for w in record if issubclass(w.category, soadyn.urdf.UrdfIgnoredWarning)]) == 1
     assert [(e["name"], e["dof"], e["stiffness"], e["damping"]) for e in soadyn.force_elements(m)] == [
         ("shoulder", "shoulder", 0.0, 0.7), ("slide", "slide", 0.0, 1.5)]
@@ -428,4 +428,13 @@ def test_urdf_without_friction_warns_nothing(tmp_path):
     path.write_text(URDF.replace(' friction="0.2"', ""))
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        soadyn.load_urdf(path)
+        assert len(soadyn.force_elements(soadyn.load_urdf(path, joint_damping=True))) == 2
+
+
+def test_urdf_dynamics_are_ignored_by_default(tmp_path):
+    """The rigid-body model, as Pinocchio's algorithms use the same file: no dampers, no warning."""
+    path = tmp_path / "damped.urdf"
+    path.write_text(URDF)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert soadyn.force_elements(soadyn.load_urdf(path)) == []
