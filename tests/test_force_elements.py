@@ -438,3 +438,23 @@ def test_urdf_dynamics_are_ignored_by_default(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert soadyn.force_elements(soadyn.load_urdf(path)) == []
+
+
+def test_a_prescribed_crank_reports_its_actuators_share_on_the_four_bar():
+    """One prescribed DOF drives the four-bar (no redundant actuation): with a crank spring and a point spring,
+    its drive torque is the rigid one with the point spring's wrench as f_ext, minus the crank spring's force
+    -k (q - rest) - c v, and the accelerations are the same."""
+    k, c, rest = 5.0, 0.3, 0.2
+    sprung, rigid = soadyn.scenes.four_bar(), soadyn.scenes.four_bar()
+    crank = sprung.dof_names[0]
+    sprung.add_joint_spring("crank_spring", crank, k, damping=c, rest=rest)
+    for m in (sprung, rigid):
+        m.set_prescribed([crank])
+    q, v = soadyn.scenes.four_bar_state(0.9, 1.5)
+    u = np.zeros(sprung.nv)
+    u[0] = 0.7  # the crank's acceleration
+    qdd_s, tau_s, *_ = soadyn.constrained_dynamics(sprung, q, v, u)
+    qdd_r, tau_r, *_ = soadyn.constrained_dynamics(rigid, q, v, u)
+    np.testing.assert_allclose(qdd_s, qdd_r, rtol=0, atol=1e-10)
+    spring_force = -k * (q[0] - rest) - c * v[0]
+    assert tau_s[0] == pytest.approx(tau_r[0] - spring_force, rel=1e-12, abs=1e-12)
