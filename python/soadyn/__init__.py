@@ -45,6 +45,7 @@ from ._soadyn import (  # the equations of motion term by term
     gravity_forces,
     mass_matrix_derivative,
 )
+from ._soadyn import dissipated_power, force_element_potential, force_elements  # springs and dampers
 from .derivatives import dynamics_derivatives, inverse_dynamics_derivatives
 from .loops import assemble, project_velocity
 from .linearize import linearize
@@ -72,3 +73,4 @@ __all__ = [
 __all__ += ["gravity_forces", "external_forces_to_generalized", "coriolis_matrix", "mass_matrix_derivative",
             "christoffel_symbols"]
 __all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives", "linearize", "modes", "Modes"]
+__all__ += ["force_elements", "force_element_potential", "dissipated_power"]

@@ -596,6 +596,10 @@ class FlexibleBody:
     @property
     def stiffness(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
+def _add_joint_spring(arg0: _Model, arg1: str, arg2: typing.SupportsInt | typing.SupportsIndex, arg3: typing.SupportsFloat | typing.SupportsIndex, arg4: typing.SupportsFloat | typing.SupportsIndex, arg5: typing.SupportsFloat | typing.SupportsIndex) -> int:
+    ...
+def _add_point_spring(arg0: _Model, arg1: str, arg2: str, arg3: str, arg4: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg5: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg6: typing.SupportsFloat | typing.SupportsIndex, arg7: typing.SupportsFloat | typing.SupportsIndex, arg8: typing.SupportsFloat | typing.SupportsIndex | None, arg9: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], arg10: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex]) -> int:
+    ...
 def _delta_robot_state(position: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], velocity: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> tuple:
     ...
 def _four_bar_state(crank_angle: typing.SupportsFloat | typing.SupportsIndex, crank_rate: typing.SupportsFloat | typing.SupportsIndex) -> tuple:
@@ -741,6 +745,18 @@ def joint_wrenches(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any,
     closed loops the tree is also loaded by the loop forces, so loop_wrenches (nloops, 6) is required: the
     wrenches constrained_dynamics returns (each acts on frame_a's body about frame_a's origin, its opposite
     on frame_b's body with the force at frame_b's origin, frame_a's for a prismatic loop).
+    """
+def dissipated_power(model: _Model, q: typing.Any, v: typing.Any) -> float:
+    """
+    Power the dampers dissipate at (q, v), >= 0: the rate at which kinetic plus potential energy falls when no actuator or external force acts.
+    """
+def force_element_potential(model: _Model, q: typing.Any) -> float:
+    """
+    Potential energy of the springs alone (also included in potential_energy).
+    """
+def force_elements(model: _Model) -> list:
+    """
+    The model's force elements as dicts (joint springs first, then point springs).
     """
 def kinetic_energy(model: _Model, q: typing.Any, v: typing.Any) -> float:
     """

@@ -6,7 +6,7 @@ from typing import Iterable, Union
 
 import numpy as np
 
-from ._soadyn import FlexibleBody, Joint, LoopError, NonphysicalInertiaError, _Model
+from ._soadyn import FlexibleBody, Joint, LoopError, NonphysicalInertiaError, _Model, _add_joint_spring, _add_point_spring
 
 __all__ = ["Model", "Joint", "NonphysicalInertiaError"]
 
@@ -31,12 +31,12 @@ def _real_array(x, what: str, body: str, owner: str = "body") -> np.ndarray:
     return a.astype(float)
 
 
-def _real_scalar(x, what: str, body: str) -> float:
+def _real_scalar(x, what: str, body: str, owner: str = "body") -> float:
     if isinstance(x, (bool, np.bool_)) or not isinstance(x, (numbers.Real, np.ndarray)):
-        raise TypeError(f"body '{body}': {what} must be a real number, got {type(x).__name__}")
-    a = _real_array(x, what, body)
+        raise TypeError(f"{owner} '{body}': {what} must be a real number, got {type(x).__name__}")
+    a = _real_array(x, what, body, owner)
     if a.shape != ():
-        raise TypeError(f"body '{body}': {what} must be a real number, got an array of shape {a.shape}")
+        raise TypeError(f"{owner} '{body}': {what} must be a real number, got an array of shape {a.shape}")
     return float(a)
 
 
@@ -182,6 +182,66 @@ class Model(_Model):
             _soadyn.forward_kinematics(self, q)  # checks q: shape, finite, unit quaternions (named errors)
             q = np.ascontiguousarray(q, dtype=float)
         return self._add_loop(name, a_name, b_name, kind, Ra, pa, Rb, pb, length, q)
+
+    def add_joint_spring(self, name: str, dof, stiffness: float, damping: float = 0.0, rest: float = 0.0) -> int:
+        """Add a spring-damper on one DOF and return its index among the joint springs.
+
+        Generalized force on the DOF: -stiffness (q - rest) - damping v, q the DOF's coordinate. `dof` is a DOF
+        name (or the name of a one-DOF joint) or a velocity index. DOFs whose coordinate is not a scalar with
+        q' = v (planar, spherical and free joints) and modal DOFs are refused. The spring acts in every dynamics
+        call, in the Simulator, and its potential 1/2 stiffness (q - rest)^2 is part of potential_energy.
+        Raises ValueError naming the element (duplicate name, unknown DOF, negative or non-finite constants).
+        """
+        if not isinstance(name, str):
+            raise TypeError(f"force element name must be a str, got {type(name).__name__} ({name!r})")
+        try:
+            dofs = self._dof_indices(dof)
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"force element '{name}': {exc}") from exc
+        if len(dofs) != 1:
+            raise ValueError(f"force element '{name}': '{dof}' selects {len(dofs)} DOFs; name one DOF")
+        k, c, r = (_real_scalar(x, what, name, "force element") for x, what in
+                   ((stiffness, "stiffness"), (damping, "damping"), (rest, "rest")))
+        return _add_joint_spring(self, name, dofs[0], k, c, r)
+
+    def add_point_spring(self, name: str, frame_a, frame_b, stiffness: float, damping: float = 0.0,
+                         rest_length: float | None = None, placement_a=None, placement_b=None,
+                         force_law=None) -> int:
+        """Add a spring-damper along the line between two points and return its index among the point springs.
+
+        Point A is placement_a (a translation, or any placement soadyn accepts: only its translation matters)
+        in the frame of body or frame `frame_a`; point B likewise in `frame_b` (None or "world": the world).
+        Tension T = stiffness (L - rest_length) + F(L) + damping dL/dt, L the distance between the points;
+        A is pulled towards B by T and B towards A (equal and opposite forces). rest_length None: the length at
+        the neutral configuration. force_law: optional table (lengths, forces) of the tension F against length,
+        interpolated by the monotone piecewise-cubic Hermite spline (Fritsch-Carlson; the interpolant of
+        scipy.interpolate.PchipInterpolator, no overshoot, so jounce stops stay monotone) and continued
+        linearly with the end slopes outside the table. Potential: 1/2 stiffness (L - rest_length)^2 plus the
+        integral of F from the table's first length. Point springs on flexible bodies are refused.
+        Raises ValueError naming the element at fault.
+        """
+        if not isinstance(name, str):
+            raise TypeError(f"force element name must be a str, got {type(name).__name__} ({name!r})")
+        a_name = "" if frame_a == "world" else self._parent_name(frame_a, name)
+        b_name = "" if frame_b == "world" else self._parent_name(frame_b, name)
+        _, pa = _placement(placement_a, name, "force element")
+        _, pb = _placement(placement_b, name, "force element")
+        k = _real_scalar(stiffness, "stiffness", name, "force element")
+        c = _real_scalar(damping, "damping", name, "force element")
+        rest = None if rest_length is None else _real_scalar(rest_length, "rest_length", name, "force element")
+        lengths: list = []
+        forces: list = []
+        if force_law is not None:
+            try:
+                lengths, forces = force_law
+            except (TypeError, ValueError) as exc:
+                raise ValueError(f"force element '{name}': force_law must be a pair (lengths, forces)") from exc
+            lengths = _real_array(lengths, "force_law lengths", name, "force element")
+            forces = _real_array(forces, "force_law forces", name, "force element")
+            if lengths.ndim != 1 or forces.ndim != 1:
+                raise ValueError(f"force element '{name}': force_law lengths and forces must be 1-D")
+            lengths, forces = list(lengths), list(forces)
+        return _add_point_spring(self, name, a_name, b_name, pa, pb, k, c, rest, lengths, forces)
 
     def _parent_name(self, parent, name: str) -> str:
         if parent is None:

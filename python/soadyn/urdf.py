@@ -13,8 +13,14 @@ Decisions:
   and the root link; otherwise the root link is welded to the world. A root
   link named 'world' is the ground itself (with floating_base=True its single
   fixed joint is replaced by the free joint).
-- Dynamics parameters that are not rigid-body dynamics (damping, friction,
-  limits, mimic) are not modelled. package_dirs is accepted for
+- With joint_damping=True, a revolute, continuous or prismatic joint's
+  <dynamics damping> becomes a joint damper (Model.add_joint_spring with
+  stiffness 0) named after the joint. Coulomb friction (<dynamics
+  friction>) is not a viscous term and is not modelled, nor is damping on
+  planar and floating joints: one UrdfIgnoredWarning per load names the
+  joints whose values were ignored. By default (joint_damping=False) the
+  model is the rigid-body one, as Pinocchio's dynamics algorithms read the
+  same file, and <dynamics> is ignored. Limits and mimic are not modelled. package_dirs is accepted for
   compatibility; meshes are never loaded.
 
 Inertia (the README's "URDF inertia policy"): a body of the model is a moving
@@ -44,13 +50,36 @@ from .model import Model
 from .urdf_inertia import merge_parts, minimal_inertial, repaired_inertia
 from .urdf_reader import UrdfError, UrdfJoint, UrdfRobot, read_urdf
 
-__all__ = ["load_urdf", "UrdfError", "UrdfRepairWarning", "INERTIA_POLICIES"]
+__all__ = ["load_urdf", "UrdfError", "UrdfRepairWarning", "UrdfIgnoredWarning", "INERTIA_POLICIES"]
 
 INERTIA_POLICIES = ("strict", "repair", "accept")
 
 
 class UrdfRepairWarning(UserWarning):
     """load_urdf(..., inertia='repair') changed a link's inertia; the message names the link."""
+
+
+class UrdfIgnoredWarning(UserWarning):
+    """load_urdf ignored joint dynamics it cannot model (Coulomb friction); the message names the joints."""
+
+
+_DAMPED_TYPES = ("revolute", "continuous", "prismatic")
+
+
+def _add_joint_dampers(model: Model, joints, path) -> None:
+    """<dynamics damping> of one-DOF joints as joint dampers; one warning naming the joints whose friction (or
+    damping on a joint type without a scalar coordinate) is ignored."""
+    ignored = []
+    for joint in joints:
+        if joint.damping > 0 and joint.type in _DAMPED_TYPES:
+            model.add_joint_spring(joint.name, joint.name, 0.0, damping=joint.damping)
+        elif joint.damping > 0 and joint.type != "fixed":
+            ignored.append(f"'{joint.name}' (damping on a {joint.type} joint)")
+        if joint.friction > 0 and joint.type != "fixed":
+            ignored.append(f"'{joint.name}' (friction {joint.friction:g})")
+    if ignored:
+        warnings.warn(f"URDF '{path}': joint dynamics not modelled, ignored: {', '.join(ignored)}",
+                      UrdfIgnoredWarning, stacklevel=3)
 
 
 def _frame_with_z(axis: np.ndarray) -> np.ndarray:
@@ -244,7 +273,8 @@ class _Loader:
         return self.model
 
 
-def load_urdf(path, floating_base: bool = False, package_dirs=None, inertia: str = "strict") -> Model:
+def load_urdf(path, floating_base: bool = False, package_dirs=None, inertia: str = "strict",
+              joint_damping: bool = False) -> Model:
     """A Model from a URDF file (see the module documentation for the mapping).
 
     inertia: "strict" (default) refuses a body that is not physical once its
@@ -252,13 +282,21 @@ def load_urdf(path, floating_base: bool = False, package_dirs=None, inertia: str
     physical and warns (UrdfRepairWarning) naming the link; "accept" keeps
     the file's values (the dynamics may then be singular). Every failure to
     read or build the model is a UrdfError naming the file and the element.
+    joint_damping=True: each one-DOF joint's <dynamics damping> becomes a joint damper named after the joint
+    (soadyn.force_elements); friction is not modelled and is reported once (UrdfIgnoredWarning).
     """
     del package_dirs  # meshes are never loaded
     if not isinstance(inertia, str) or inertia not in INERTIA_POLICIES:
         raise ValueError(f"inertia must be one of {INERTIA_POLICIES}, got {inertia!r}")
     if not isinstance(floating_base, (bool, np.bool_)):
         raise TypeError(f"floating_base must be a bool, got {type(floating_base).__name__}")
+    if not isinstance(joint_damping, (bool, np.bool_)):
+        raise TypeError(f"joint_damping must be a bool, got {type(joint_damping).__name__}")
     path = Path(os.fspath(path))
     if not path.is_file():
         raise FileNotFoundError(f"URDF file '{path}' does not exist")
-    return _Loader(read_urdf(path), inertia).load(bool(floating_base))
+    robot = read_urdf(path)
+    model = _Loader(robot, inertia).load(bool(floating_base))
+    if joint_damping:
+        _add_joint_dampers(model, robot.joints, path)
+    return model

@@ -14,7 +14,8 @@ Read, per the URDF specification (wiki.ros.org/urdf/XML):
   everything else is ignored.
 - <joint name type>: <parent link>, <child link>, <origin xyz rpy> (default
   identity), <axis xyz> (default 1 0 0; read only for the types that have an
-  axis). Limits, dynamics, mimic, calibration and safety are ignored.
+  axis) and <dynamics> damping and friction. Limits, mimic, calibration and
+  safety are ignored.
 - rpy are fixed-axis roll, pitch, yaw: R = Rz(yaw) Ry(pitch) Rx(roll).
 """
 from __future__ import annotations
@@ -58,6 +59,8 @@ class UrdfJoint:
     rotation: np.ndarray  # child link frame in the parent link frame
     translation: np.ndarray
     axis: np.ndarray  # unit, in the child link frame
+    damping: float = 0.0   # <dynamics damping>: viscous, N m s/rad or N s/m
+    friction: float = 0.0  # <dynamics friction>: Coulomb (not modelled)
 
 
 @dataclass(frozen=True)
@@ -157,7 +160,21 @@ class _Reader:
             if not norm > 0:
                 raise self.error(where, f"axis {axis.tolist()} is zero")
             axis = axis / norm
-        return UrdfJoint(name, kind, parent, child, R, p, axis)
+        damping, friction = self.dynamics(element, where)
+        return UrdfJoint(name, kind, parent, child, R, p, axis, damping, friction)
+
+    def dynamics(self, element, where: str) -> tuple[float, float]:
+        """(damping, friction) of a joint's <dynamics>, 0 when absent; both finite and non-negative."""
+        dynamics = self.single(element, "dynamics", where, False)
+        if dynamics is None:
+            return 0.0, 0.0
+        values = []
+        for name in ("damping", "friction"):
+            value = self.numbers(dynamics, name, 1, where + " <dynamics>", default=(0.0,))[0]
+            if not value >= 0:
+                raise self.error(where, f"<dynamics> {name}={value} must be non-negative")
+            values.append(value)
+        return values[0], values[1]
 
     def robot(self) -> UrdfRobot:
         try:

@@ -138,6 +138,20 @@ def check_derivatives_no_allocation(output: str) -> None:
     require(bool(lines(r"^test_derivatives_no_allocation: PASS$", output)), "the PASS line")
 
 
+def check_force_elements_no_allocation(output: str) -> None:
+    """10^4 calls of each dynamics entry point and 10^4 Simulator steps on a 20-body tree with springs."""
+    require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
+    require(bool(lines(r"^force elements: [1-9]\d* joint springs, [1-9]\d* point springs$", output)),
+            "joint and point springs")
+    require(bool(lines(r"^calls: 10000 of each; failed statuses: 0$", output)), "10^4 calls without a failed status")
+    match = re.search(r"^identities: max relative error (\S+) \(tolerance 1e-09\)$", output, re.MULTILINE)
+    require(match is not None and float(match.group(1)) <= 1e-9, "the identities within 1e-9")
+    require(bool(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)), "zero allocations and frees")
+    require(bool(lines(r"^simulator: 10000 rk4 steps, 0 allocations, 0 frees, 0 failed statuses$", output)),
+            "10^4 allocation-free Simulator steps")
+    require(bool(lines(r"^test_force_elements_no_allocation: PASS$", output)), "the PASS line")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
@@ -149,6 +163,7 @@ CHECKS = {
     "test_frames_float_vs_double": check_frames_float_vs_double,
     "test_equation_terms_no_allocation": check_equation_terms_no_allocation,
     "test_derivatives_no_allocation": check_derivatives_no_allocation,
+    "test_force_elements_no_allocation": check_force_elements_no_allocation,
 }
 
 

@@ -110,6 +110,8 @@ struct DataTpl {
   SweepData<S> sweep;
   // Closed loops (loops/loop_data.hpp): closure equations, multipliers, loop wrenches.
   LoopData<S> loops;
+  // Force elements' values of the last dynamics call (force_elements/force_elements.hpp).
+  ForceElementDataTpl<S> force_elements;
 };
 
 using Data = DataTpl<double>;

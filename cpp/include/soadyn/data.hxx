@@ -67,6 +67,15 @@ DataTpl<S>::DataTpl(const ModelTpl<S>& model)
   qdd.setZero(model.nv);
   tau.setZero(model.nv);
   mass_matrix.setZero(model.nv, model.nv);
+  if (model.has_force_elements()) {
+    const Eigen::Index n_point = static_cast<Eigen::Index>(model.force_elements.point_springs.size());
+    force_elements.joint_force.setZero(static_cast<Eigen::Index>(model.force_elements.joint_springs.size()));
+    force_elements.length.setZero(n_point);
+    force_elements.length_rate.setZero(n_point);
+    force_elements.tension.setZero(n_point);
+    force_elements.body_wrench.setZero(6 * model.nbodies());
+    force_elements.input.setZero(model.nv);
+  }
 }
 
 }  // namespace soadyn

@@ -22,6 +22,7 @@
 #include <string>
 #include <unordered_map>
 #include "soadyn/flex/flexible_body.hpp"
+#include "soadyn/force_elements/force_elements.hpp"
 #include "soadyn/joints/joint.hpp"
 #include "soadyn/joints/joint_kernel.hpp"
 #include "soadyn/loops/loop.hpp"
@@ -127,6 +128,21 @@ class ModelTpl {
   int nloops() const { return static_cast<int>(loops.size()); }
   int loop_index(const std::string& name) const;
 
+  // Force elements (force_elements/force_elements.hpp). A joint spring on
+  // velocity index `dof`; a point spring between point_a, in the frame of
+  // body or frame `frame_a`, and point_b in `frame_b` ("" or "world": the
+  // world), rest_length null: the length at the neutral configuration, an
+  // optional force law table (empty vectors: none). Throw
+  // std::invalid_argument naming the element (duplicate name, unknown frame or
+  // DOF, a DOF without scalar coordinate, negative or non-finite constants, a
+  // bad table). Return the element's index in its list.
+  int add_joint_spring(const std::string& name, int dof, S stiffness, S damping = S(0), S rest = S(0));
+  int add_point_spring(const std::string& name, const std::string& frame_a, const std::string& frame_b,
+                       const Vec3<S>& point_a, const Vec3<S>& point_b, S stiffness, S damping = S(0),
+                       const S* rest_length = nullptr, const std::vector<S>& law_lengths = {},
+                       const std::vector<S>& law_forces = {});
+  bool has_force_elements() const { return !force_elements.empty(); }
+
   int nbodies() const { return static_cast<int>(parent.size()); }
   bool has_flexible_bodies() const { return !flexible_bodies.empty(); }
   bool is_flexible(int body) const { return flexible_index[static_cast<std::size_t>(body)] >= 0; }
@@ -207,6 +223,8 @@ class ModelTpl {
   // their rows(); each loop's equations start at its first_row).
   std::vector<LoopTpl<S>> loops;
   int nloop_equations = 0;
+  // Springs and dampers, in the order added; their constants may be changed in place.
+  ForceElementsTpl<S> force_elements;
   Vec3<S> gravity;
   // Incremented by every structural change (Data must then be rebuilt).
   std::uint64_t version = 0;

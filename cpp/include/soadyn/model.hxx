@@ -11,6 +11,7 @@
 #include "soadyn/tree_frame_reach.hxx"
 #include "soadyn/validation.hpp"
 #include "soadyn/loops/add_loop.hxx"
+#include "soadyn/force_elements/add_force_element.hxx"
 
 namespace soadyn {
 

@@ -6,6 +6,7 @@
 #include "soadyn/algorithms/dynamics_derivatives.hpp"
 #include "soadyn/algorithms/energy.hpp"
 #include "soadyn/algorithms/equation_terms.hpp"
+#include "soadyn/algorithms/force_elements.hpp"
 #include "soadyn/algorithms/frames.hpp"
 #include "soadyn/algorithms/hybrid.hpp"
 #include "soadyn/algorithms/kinematics.hpp"

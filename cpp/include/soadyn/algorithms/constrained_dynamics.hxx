@@ -2,7 +2,7 @@
 #include <algorithm>
 #include "soadyn/algorithms/constrained_dynamics.hpp"
 #include "soadyn/algorithms/crba.hpp"
-#include "soadyn/algorithms/hybrid.hpp"
+#include "soadyn/algorithms/hybrid.hxx"
 #include "soadyn/algorithms/kinematics.hpp"
 #include "soadyn/algorithms/loop_closure.hxx"
 #include "soadyn/algorithms/rnea.hxx"
@@ -236,12 +236,12 @@ Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<
   return status;
 }
 
-}  // namespace detail
-
+// constrained_dynamics of the model without its force elements.
 template <class S>
-Status constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                            const ConstVecRef<S>& u, const S* f_ext, DynamicsOutputs outputs) {
-  if (m.nloops() == 0) return hybrid_dynamics(m, d, q, v, u, f_ext, outputs);
+Status rigid_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
+                                  const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext,
+                                  DynamicsOutputs outputs) {
+  if (m.nloops() == 0) return rigid_hybrid_dynamics(m, d, q, v, u, f_ext, outputs);
   const Status inertia = mass_matrix(m, d, q);
   if (!inertia.ok()) return inertia;
   // h - J' f_ext, and the body accelerations of qdd = 0 that kappa needs.
@@ -260,9 +260,11 @@ Status constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
   return wrenches.ok() ? status : wrenches;
 }
 
+// loop_joint_wrenches of the model without its force elements.
 template <class S>
-Status loop_joint_wrenches(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
-                           const ConstVecRef<S>& qdd, const S* loop_wrenches, const S* f_ext) {
+Status rigid_loop_joint_wrenches(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
+                                 const ConstVecRef<S>& v, const ConstVecRef<S>& qdd, const S* loop_wrenches,
+                                 const S* f_ext) {
   detail::rnea(m, d, q.data(), v.data(), qdd.data(), f_ext);
   Status status = check_finite(d.tau);
   if (!status.ok()) return status;
@@ -272,6 +274,29 @@ Status loop_joint_wrenches(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRe
   for (const Vec6<S>& f : d.hinge_force)
     if (!f.allFinite()) return {StatusCode::non_finite_result, -1};
   return status;
+}
+
+}  // namespace detail
+
+template <class S>
+Status constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                            const ConstVecRef<S>& u, const S* f_ext, DynamicsOutputs outputs) {
+  if (!m.has_force_elements()) return detail::rigid_constrained_dynamics(m, d, q, v, u, f_ext, outputs);
+  return detail::with_force_elements(m, d, q.data(), v.data(), u.data(), f_ext, detail::SpringInputRows::regular,
+                                     [&](const S* input, const S* f) {
+                                       return detail::rigid_constrained_dynamics(
+                                           m, d, q, v, Eigen::Map<const VecX<S>>(input, m.nv), f, outputs);
+                                     });
+}
+
+template <class S>
+Status loop_joint_wrenches(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                           const ConstVecRef<S>& qdd, const S* loop_wrenches, const S* f_ext) {
+  if (!m.has_force_elements()) return detail::rigid_loop_joint_wrenches(m, d, q, v, qdd, loop_wrenches, f_ext);
+  return detail::with_force_elements(m, d, q.data(), v.data(), static_cast<const S*>(nullptr), f_ext,
+                                     detail::SpringInputRows::none, [&](const S*, const S* f) {
+                                       return detail::rigid_loop_joint_wrenches(m, d, q, v, qdd, loop_wrenches, f);
+                                     });
 }
 
 }  // namespace soadyn

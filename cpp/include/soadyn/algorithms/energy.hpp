@@ -8,7 +8,8 @@ namespace soadyn {
 template <class S>
 S kinetic_energy(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v);
 
-// -sum m g . c (zero at the world origin).
+// -sum m g . c (zero at the world origin), plus the flexible bodies' strain
+// energy and the force elements' potential (force_elements.hpp).
 template <class S>
 S potential_energy(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q);
 

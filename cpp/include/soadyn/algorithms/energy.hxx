@@ -1,5 +1,6 @@
 #pragma once
 #include "soadyn/algorithms/energy.hpp"
+#include "soadyn/algorithms/force_elements.hxx"
 #include "soadyn/algorithms/kinematics.hxx"
 
 namespace soadyn {
@@ -76,7 +77,8 @@ S potential_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q)
     const auto eta = modal_coordinates(m, static_cast<int>(i), q.data());
     for (Eigen::Index r = 0; r < eta.size(); ++r) strain += S(0.5) * eta[r] * K.row(r).dot(eta.transpose());
   }
-  return strain - mass * m.gravity.dot(c);
+  const S springs = m.has_force_elements() ? force_element_potential(m, d, q) : S(0);
+  return strain + springs - mass * m.gravity.dot(c);
 }
 
 template <class S>

@@ -1,5 +1,6 @@
 #pragma once
 #include "soadyn/algorithms/flexible_steps.hpp"
+#include "soadyn/algorithms/force_elements.hxx"
 #include "soadyn/algorithms/rnea.hpp"
 
 namespace soadyn {
@@ -46,14 +47,24 @@ void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* 
 template <class S>
 Status inverse_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                         const ConstVecRef<S>& qdd, const S* f_ext) {
-  detail::rnea(m, d, q.data(), velocities_unless_at_rest(m, v), qdd.data(), f_ext);
-  return check_finite(d.tau);
+  const auto rigid = [&](const S*, const S* f) {
+    detail::rnea(m, d, q.data(), velocities_unless_at_rest(m, v), qdd.data(), f);
+    return check_finite(d.tau);
+  };
+  if (!m.has_force_elements()) return rigid(nullptr, f_ext);
+  return detail::with_force_elements(m, d, q.data(), v.data(), static_cast<const S*>(nullptr), f_ext,
+                                     detail::SpringInputRows::none, rigid);
 }
 
 template <class S>
 Status bias_forces(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
-  detail::rnea<S>(m, d, q.data(), v.data(), nullptr, nullptr);
-  return check_finite(d.tau);
+  const auto rigid = [&](const S*, const S* f) {
+    detail::rnea<S>(m, d, q.data(), v.data(), nullptr, f);
+    return check_finite(d.tau);
+  };
+  if (!m.has_force_elements()) return rigid(nullptr, nullptr);
+  return detail::with_force_elements(m, d, q.data(), v.data(), static_cast<const S*>(nullptr),
+                                     static_cast<const S*>(nullptr), detail::SpringInputRows::none, rigid);
 }
 
 }  // namespace soadyn
