@@ -12,6 +12,7 @@ void bind_simulator(pybind11::module_& mod);
 void bind_hil(pybind11::module_& mod);
 void bind_flexible_body(pybind11::module_& mod);
 void bind_timing(pybind11::module_& mod);
+void bind_parameters(pybind11::module_& mod);
 }  // namespace soadyn_py
 
 PYBIND11_MODULE(_soadyn, mod) {
@@ -27,4 +28,5 @@ PYBIND11_MODULE(_soadyn, mod) {
   soadyn_py::bind_hil(mod);
   soadyn_py::bind_flexible_body(mod);
   soadyn_py::bind_timing(mod);
+  soadyn_py::bind_parameters(mod);
 }

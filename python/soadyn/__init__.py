@@ -49,6 +49,7 @@ from .derivatives import dynamics_derivatives, inverse_dynamics_derivatives
 from .loops import assemble, project_velocity
 from .linearize import natural_frequencies, stiffness_matrix
 from .model import Model
+from .parameters import ParameterError, parameter_sensitivity
 from .simulator import MotionSource, Simulator, Trajectory
 from .urdf import UrdfError, load_urdf
 from . import hil, scenes
@@ -71,3 +72,4 @@ __all__ = [
 __all__ += ["gravity_forces", "external_forces_to_generalized", "coriolis_matrix", "mass_matrix_derivative",
             "christoffel_symbols"]
 __all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives"]
+__all__ += ["parameter_sensitivity", "ParameterError"]

@@ -94,7 +94,7 @@ void minimum_norm_actuation(const ModelTpl<S>& m, DataTpl<S>& d) {
   const S largest = ld.actuation_gram.diagonal().maxCoeff();
   if (!(largest > reference)) return;
   // Pivots of B'B resolve singular values of B down to sqrt(eps) of the largest.
-  const S relative = std::max(reference / largest, S(10) * Eigen::NumTraits<S>::epsilon());
+  const S relative = std::max<S>(reference / largest, S(10) * Eigen::NumTraits<S>::epsilon());
   ld.actuation_rhs.setZero();
   ld.actuation_rhs.head(r).noalias() = B.transpose().lazyProduct(d.tau);
   if (semidefinite_min_norm_solve(ld.actuation_gram, ld.actuation_rhs, relative, ld.actuation_solve,
