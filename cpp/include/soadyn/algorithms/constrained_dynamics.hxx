@@ -86,7 +86,7 @@ void minimum_norm_actuation(const ModelTpl<S>& m, DataTpl<S>& d) {
   const MatX<S>& K_factor = ld.delassus_solve.factor;
   const Eigen::Index kept = ld.delassus_solve.rank;
   const S condition = kept == 0 ? S(1)
-                                : (K_factor(0, 0) * K_factor(0, 0)) / (K_factor(kept - 1, kept - 1) * K_factor(kept - 1, kept - 1));
+                                : S((K_factor(0, 0) * K_factor(0, 0)) / (K_factor(kept - 1, kept - 1) * K_factor(kept - 1, kept - 1)));
   S largest_null = S(0);
   for (int j = 0; j < r; ++j) largest_null = std::max(largest_null, N.col(j).squaredNorm());
   const S noise = S(10) * Eigen::NumTraits<S>::epsilon() * condition;
