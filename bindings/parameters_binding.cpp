@@ -1,6 +1,8 @@
 // Named parameters (parameters.hpp) and their sensitivities
 // (algorithms/parameter_sensitivity.hpp): convert values between numpy's
 // row-major shapes and the table's column-major storage, call the C++ code.
+#include <pybind11/stl.h>
+
 #include <string>
 #include <vector>
 

@@ -14,6 +14,7 @@ import pinocchio as pin
 import pytest
 
 import soadyn
+import soadyn.oracles
 from robots import robot
 from test_pinocchio_oracle import Mapping, build_pinocchio, build_soadyn, random_specs
 from trees import random_state, random_tree
@@ -72,19 +73,21 @@ def outputs(m, q, v, u):
 
 
 def central_differences(m, q, v, u, name):
-    """Central differences of every output of the dynamics along each direction of `name`."""
+    """Fourth-order central differences (f(-2h) - 8 f(-h) + 8 f(h) - f(2h)) / 12h of every output of the
+    dynamics along each direction of `name`."""
     value = m.get_parameter(name)
     shape, moves = directions(name, value)
-    scale = max(np.max(np.abs(value)), 1.0) if name.endswith((".mass", ".inertia")) else 1.0
-    h = 1e-5 * scale
+    # Steps relative to the value for masses and inertias (a 15 g finger, a 0.03 kg m^2 inertia).
+    h = 1e-3 * np.max(np.abs(value)) if name.endswith((".mass", ".inertia")) else 1e-4
     work = m.copy()
     columns = []
     for move in moves:
-        work.set_parameter(name, move(h))
-        plus = outputs(work, q, v, u)
-        work.set_parameter(name, move(-h))
-        minus = outputs(work, q, v, u)
-        columns.append([(a - b) / (2 * h) for a, b in zip(plus, minus)])
+        at = {}
+        for k in (-2, -1, 1, 2):
+            work.set_parameter(name, move(k * h))
+            at[k] = outputs(work, q, v, u)
+        columns.append([(at[-2][i] - 8 * at[-1][i] + 8 * at[1][i] - at[2][i]) / (12 * h)
+                        for i in range(len(at[1]))])
     return [np.stack([c[k] for c in columns], axis=-1).reshape(columns[0][k].shape + shape)
             for k in range(len(columns[0]))]
 
@@ -280,7 +283,7 @@ def test_welded_parts_and_flexible_bodies():
     path, floating = robot("panda")
     m = soadyn.load_urdf(str(path), floating_base=floating)
     hand = "panda_hand"
-    assert m.frame_index(hand) >= 0 and hand not in m.body_names
+    assert hand in m.frame_names and hand not in m.body_names
     with pytest.raises(soadyn.ParameterError, match="'panda_hand' is welded by a fixed joint to 'panda_link7'"):
         m.get_parameter("panda_hand.mass")
     from flexible_trees import random_flexible_tree
@@ -350,12 +353,20 @@ def test_sensitivity_robots(name):
 def test_sensitivity_four_bar(prescribe_crank):
     m = soadyn.scenes.four_bar()
     q, v = soadyn.scenes.four_bar_state(0.7, 1.3)
+    # The scene's links are planar rods (a zero principal moment): central differences of their inertia
+    # would leave the physical set, so the links are given some thickness first.
+    for body in m.body_names:
+        I = m.get_parameter(f"{body}.inertia")
+        m.set_parameter(f"{body}.inertia", I + 0.05 * np.max(np.diag(I)) * np.eye(3))
     u = np.zeros(m.nv)
     if prescribe_crank:
         m.set_prescribed([m.dof_names[0]], True)
         u[0] = 0.4
     else:
         u[0] = 2.0
-    check_against_differences(m, q, v, u, m.parameter_names, [])
+    # Placements are left out: turning a pin's axis out of the plane changes the rank of the redundant
+    # closure equations (5 equations of rank 2), where the dynamics are not differentiable.
+    names = [n for n in m.parameter_names if not n.endswith(".placement")]
+    check_against_differences(m, q, v, u, names, [])
     dqdd, dtau, dwrench = soadyn.parameter_sensitivity(m, q, v, u, ["gravity"])["gravity"]
     assert dqdd.shape == (m.nv, 3) and dtau.shape == (m.nv, 3) and dwrench.shape == (m.nloops, 6, 3)

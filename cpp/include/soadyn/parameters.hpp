@@ -12,8 +12,8 @@
 //   <body>.mass       1      mass of a rigid body
 //   <body>.com        3      centre of mass, body frame
 //   <body>.inertia    3 x 3  rotational inertia about the centre of mass, body
-//                            frame; symmetric (to rounding: the stored value is
-//                            symmetrised) and physical (check_physical_inertia
+//                            frame; symmetric to rounding (stored as given,
+//                            as add_body does) and physical (check_physical_inertia
 //                            in model.hxx), else NonphysicalInertiaError
 //   <body>.placement  4 x 4  the joint frame in the parent body's frame as a
 //                            homogeneous matrix [R p; 0 0 0 1] (for a body on

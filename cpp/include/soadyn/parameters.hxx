@@ -39,7 +39,8 @@ void store_mass_properties(ModelTpl<S>& model, const ParameterEntry<S>& e, S mas
   const std::size_t i = static_cast<std::size_t>(e.index);
   if (!is_physical(mass, com, inertia_com)) detail::check_physical_inertia(mass, com, inertia_com, "parameter '" + e.name + "'");
   const Mat6<S> M = spatial_inertia(mass, com, inertia_com);  // M(k), Jain & Rodriguez 1993
-  if (!M.allFinite()) detail::check_finite_spatial_inertia(M, "parameter '" + e.name + "'");
+  if (!M.allFinite())
+    refuse(e.name, "spatial inertia about the body frame origin is not finite (mass * com or mass * |com|^2 overflows)");
   model.mass[i] = mass;
   model.com[i] = com;
   model.inertia_com[i] = inertia_com;
@@ -81,7 +82,7 @@ void set_inertia(ModelTpl<S>& model, const ParameterEntry<S>& e, const S* in) {
   const S tol = detail::model_tolerance<S>() * std::max(I.cwiseAbs().maxCoeff(), S(std::numeric_limits<S>::min()));
   if ((I - I.transpose()).cwiseAbs().maxCoeff() > tol) refuse(e.name, "inertia is not symmetric");
   const std::size_t i = static_cast<std::size_t>(e.index);
-  store_mass_properties(model, e, model.mass[i], model.com[i], Mat3<S>(S(0.5) * (I + I.transpose())));
+  store_mass_properties(model, e, model.mass[i], model.com[i], I);
 }
 
 template <class S>
