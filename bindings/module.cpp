@@ -13,6 +13,7 @@ void bind_hil(pybind11::module_& mod);
 void bind_flexible_body(pybind11::module_& mod);
 void bind_timing(pybind11::module_& mod);
 void bind_force_elements(pybind11::module_& mod);
+void bind_parameters(pybind11::module_& mod);
 }  // namespace soadyn_py
 
 PYBIND11_MODULE(_soadyn, mod) {
@@ -29,4 +30,5 @@ PYBIND11_MODULE(_soadyn, mod) {
   soadyn_py::bind_flexible_body(mod);
   soadyn_py::bind_timing(mod);
   soadyn_py::bind_force_elements(mod);
+  soadyn_py::bind_parameters(mod);
 }

@@ -51,6 +51,7 @@ from .loops import assemble, project_velocity
 from .linearize import linearize
 from .modes import Modes, modes, natural_frequencies, stiffness_matrix
 from .model import Model
+from .parameters import ParameterError, parameter_sensitivity
 from .simulator import MotionSource, Simulator, Trajectory
 from .urdf import UrdfError, load_urdf
 from . import hil, scenes
@@ -74,3 +75,5 @@ __all__ += ["gravity_forces", "external_forces_to_generalized", "coriolis_matrix
             "christoffel_symbols"]
 __all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives", "linearize", "modes", "Modes"]
 __all__ += ["force_elements", "force_element_potential", "dissipated_power"]
+__all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives"]
+__all__ += ["parameter_sensitivity", "ParameterError"]

@@ -310,6 +310,24 @@ class Model(_Model):
         """Mark the named DOFs regular (torque given)."""
         self.set_prescribed(names, False)
 
+    @property
+    def parameter_names(self) -> list:
+        """Names of the model's parameters (soadyn.parameters): <body>.mass, .com, .inertia, .placement, gravity."""
+        from . import parameters
+        return parameters.parameter_names(self)
+
+    def get_parameter(self, name: str):
+        """The value of a named parameter: a float or a numpy array (see soadyn.parameters for shapes)."""
+        from . import parameters
+        return parameters.get_parameter(self, name)
+
+    def set_parameter(self, name: str, value) -> None:
+        """Change a named parameter in place (no structural change). ParameterError (a ValueError) names an
+        unknown parameter, a wrong shape or a non-finite or out-of-range value; NonphysicalInertiaError an
+        impossible mass distribution. A refused value changes nothing."""
+        from . import parameters
+        parameters.set_parameter(self, name, value)
+
     def copy(self) -> "Model":
         """An independent copy (same parameters and flags, its own scratch)."""
         other = Model()

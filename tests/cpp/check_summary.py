@@ -152,6 +152,16 @@ def check_force_elements_no_allocation(output: str) -> None:
     require(bool(lines(r"^test_force_elements_no_allocation: PASS$", output)), "the PASS line")
 
 
+def check_parameters_no_allocation(output: str) -> None:
+    """ParameterTable::set/get on every parameter of a 20-body tree, 2000 rounds, zero allocations."""
+    require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
+    require(bool(lines(r"^bodies: 20, parameters: [1-9]\d*$", output)), "a 20-body tree with parameters")
+    require(bool(lines(r"^rounds: 2000, sets: [1-9]\d*; failed checks: 0; restored qdd error", output)),
+            "2000 rounds without a failed check")
+    require(bool(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)), "zero allocations")
+    require(bool(lines(r"^test_parameters_no_allocation: PASS$", output)), "the PASS line")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
@@ -164,6 +174,7 @@ CHECKS = {
     "test_equation_terms_no_allocation": check_equation_terms_no_allocation,
     "test_derivatives_no_allocation": check_derivatives_no_allocation,
     "test_force_elements_no_allocation": check_force_elements_no_allocation,
+    "test_parameters_no_allocation": check_parameters_no_allocation,
 }
 
 

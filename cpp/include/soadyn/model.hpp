@@ -161,6 +161,11 @@ class ModelTpl {
   void set_all_prescribed(bool flag);
   bool is_prescribed(int dof) const { return prescribed[static_cast<std::size_t>(dof)] != 0; }
 
+  // After a change of mass, com, inertia_com / inertia or placement
+  // (parameters.hpp): refreshes what is derived from them (the tree-frame
+  // reach). Allocation free.
+  void refresh_derived_parameters() { refresh_tree_frame_reach(); }
+
   // Name lookups; -1 when absent.
   int body_index(const std::string& name) const;
   int dof_index(const std::string& name) const;
@@ -229,7 +234,15 @@ class ModelTpl {
   // Incremented by every structural change (Data must then be rebuilt).
   std::uint64_t version = 0;
 
+  // The same model in scalar T (model_cast.hxx), e.g. an automatic-
+  // differentiation scalar. Models with flexible bodies are refused
+  // (std::invalid_argument naming the first flexible body).
+  template <class T>
+  ModelTpl<T> cast() const;
+
  private:
+  template <class>
+  friend class ModelTpl;
   void refresh_modes();
   void refresh_body_modes(int body);
   void refresh_tree_frame_reach();
@@ -244,6 +257,8 @@ class ModelTpl {
   int resolve_loop_frame(const std::string& loop, const std::string& frame, const Transform<S>& placement,
                          const char* which, Transform<S>& in_body) const;
   std::unordered_map<std::string, int> body_lookup_, dof_lookup_, frame_lookup_;
+  // refresh_tree_frame_reach's scratch, kept so that a refresh allocates nothing.
+  std::vector<S> subtree_radius_, distance_bound_;
 };
 
 using Model = ModelTpl<double>;

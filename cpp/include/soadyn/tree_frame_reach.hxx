@@ -32,7 +32,8 @@ void ModelTpl<S>::refresh_tree_frame_reach() {
   const S infinity = std::numeric_limits<S>::infinity();
   // Smallest RMS radius, about its own origin, of a massive body in each subtree:
   // trace of the rotational inertia about the origin = 2 sum m |r|^2.
-  std::vector<S> radius(n, infinity);
+  std::vector<S>& radius = subtree_radius_;
+  radius.assign(n, infinity);
   for (std::size_t i = 0; i < n; ++i)
     if (mass[i] > S(0)) radius[i] = std::sqrt(inertia[i].template topLeftCorner<3, 3>().trace() / (S(2) * mass[i]));
   for (std::size_t i = n; i-- > 0;)
@@ -41,7 +42,8 @@ void ModelTpl<S>::refresh_tree_frame_reach() {
       r = std::min(r, radius[i]);
     }
   // An upper bound on each body's distance from its tree origin in any configuration.
-  std::vector<S> distance_bound(n, S(0));
+  std::vector<S>& distance_bound = distance_bound_;
+  distance_bound.assign(n, S(0));
   tree_frame_reach_squared.assign(n, infinity);
   check_tree_frame_reach.assign(n, 0);
   reach_checks_needed = false;

@@ -82,7 +82,7 @@ void minimum_norm_actuation(const ModelTpl<S>& m, DataTpl<S>& d) {
   const MatX<S>& K_factor = ld.delassus_solve.factor;
   const Eigen::Index kept = ld.delassus_solve.rank;
   const S condition = kept == 0 ? S(1)
-                                : (K_factor(0, 0) * K_factor(0, 0)) / (K_factor(kept - 1, kept - 1) * K_factor(kept - 1, kept - 1));
+                                : S((K_factor(0, 0) * K_factor(0, 0)) / (K_factor(kept - 1, kept - 1) * K_factor(kept - 1, kept - 1)));
   S largest_null = S(0);
   for (int j = 0; j < r; ++j) largest_null = std::max(largest_null, N.col(j).squaredNorm());
   const S noise = S(10) * Eigen::NumTraits<S>::epsilon() * condition;
@@ -90,7 +90,7 @@ void minimum_norm_actuation(const ModelTpl<S>& m, DataTpl<S>& d) {
   const S largest = ld.actuation_gram.diagonal().maxCoeff();
   if (!(largest > reference)) return;
   // Pivots of B'B resolve singular values of B down to sqrt(eps) of the largest.
-  const S relative = std::max(reference / largest, S(10) * Eigen::NumTraits<S>::epsilon());
+  const S relative = std::max<S>(reference / largest, S(10) * Eigen::NumTraits<S>::epsilon());
   ld.actuation_rhs.setZero();
   ld.actuation_rhs.head(r).noalias() = B.transpose().lazyProduct(d.tau);
   if (semidefinite_min_norm_solve(ld.actuation_gram, ld.actuation_rhs, relative, ld.actuation_solve,

@@ -324,7 +324,7 @@ inline void replace_prescribed_by_identity(const ModelTpl<S>& m, MatX<S>& mass) 
 template <class S>
 inline Status check_finite(const VecX<S>& x) {
   for (Eigen::Index k = 0; k < x.size(); ++k)
-    if (!std::isfinite(static_cast<double>(x[k]))) return Status{StatusCode::non_finite_result, static_cast<int>(k)};
+    if (!std::isfinite(scalar_value(x[k]))) return Status{StatusCode::non_finite_result, static_cast<int>(k)};
   return Status{};
 }
 
@@ -335,7 +335,7 @@ template <class S>
 inline Status check_prescribed_finite(const ModelTpl<S>& m, const VecX<S>& tau) {
   for (int k = 0; k < m.n_prescribed; ++k) {
     const int dof = m.prescribed_dofs[static_cast<std::size_t>(k)];
-    if (!std::isfinite(static_cast<double>(tau[dof]))) return Status{StatusCode::non_finite_result, dof};
+    if (!std::isfinite(scalar_value(tau[dof]))) return Status{StatusCode::non_finite_result, dof};
   }
   return Status{};
 }

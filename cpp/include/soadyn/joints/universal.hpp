@@ -61,8 +61,8 @@ struct UniversalJoint {
     const int k1 = coordinate_axis(axis1, sign1), k2 = coordinate_axis(axis2, sign2);
     if (k1 >= 0 && k2 >= 0) {  // both axes along coordinate axes: two column rotations
       Transform<S> first;
-      rotate_about_coordinate_axis(k1, base, sign1 * q[0], first);
-      rotate_about_coordinate_axis(k2, first, sign2 * q[1], pose);
+      rotate_about_coordinate_axis(k1, base, S(sign1 * q[0]), first);
+      rotate_about_coordinate_axis(k2, first, S(sign2 * q[1]), pose);
     } else {
       pose.rotation.noalias() = base.rotation * (axis_angle_rotation(axis1, q[0]) * axis_angle_rotation(axis2, q[1]));
     }

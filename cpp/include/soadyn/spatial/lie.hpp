@@ -15,7 +15,7 @@ Eigen::Matrix<S, 4, 1> quaternion_exp(const Vec3<S>& phi) {
   const S theta2 = phi.squaredNorm();
   const S theta = sqrt(theta2);
   // sin(theta/2)/theta with its Taylor series near zero.
-  const S k = theta2 < S(1e-8) ? S(0.5) - theta2 / S(48) : sin(theta / S(2)) / theta;
+  const S k = theta2 < S(1e-8) ? S(S(0.5) - theta2 / S(48)) : S(sin(theta / S(2)) / theta);
   Eigen::Matrix<S, 4, 1> q;
   q << k * phi, cos(theta / S(2));
   return q;
@@ -99,8 +99,8 @@ Mat3<S> so3_right_jacobian_inverse(const Vec3<S>& xi) {
   using std::sin;
   using std::sqrt;
   const S t2 = xi.squaredNorm();
-  const S c = t2 < S(1e-6) ? S(1) / S(12) + t2 / S(720)
-                           : S(1) / t2 - (S(1) + cos(sqrt(t2))) / (S(2) * sqrt(t2) * sin(sqrt(t2)));
+  const S c = t2 < S(1e-6) ? S(S(1) / S(12) + t2 / S(720))
+                           : S(S(1) / t2 - (S(1) + cos(sqrt(t2))) / (S(2) * sqrt(t2) * sin(sqrt(t2))));
   const Mat3<S> k = skew(xi);
   return Mat3<S>::Identity() + k / S(2) + c * (k * k);
 }

@@ -3,6 +3,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <type_traits>
 #include <vector>
 
 // Forces inlining of the small per-body kernels the sweeps call many times
@@ -18,6 +19,7 @@ namespace soadyn {
 
 template <class S> using Vec3 = Eigen::Matrix<S, 3, 1>;
 template <class S> using Mat3 = Eigen::Matrix<S, 3, 3>;
+template <class S> using Mat4 = Eigen::Matrix<S, 4, 4>;
 template <class S> using Vec6 = Eigen::Matrix<S, 6, 1>;
 template <class S> using Mat6 = Eigen::Matrix<S, 6, 6>;
 template <class S> using VecX = Eigen::Matrix<S, Eigen::Dynamic, 1>;
@@ -27,6 +29,16 @@ template <class S> using MatX = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>
 template <class S> using Mat6N = Eigen::Matrix<S, 6, Eigen::Dynamic, 0, 6, 6>;
 template <class S> using MatN = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 template <class S> using VecN = Eigen::Matrix<S, Eigen::Dynamic, 1, 0, 6, 1>;
+
+// The value of a scalar as a double: the number itself, or the value part of
+// an automatic-differentiation scalar (one with .value()).
+template <class S>
+double scalar_value(const S& x) {
+  if constexpr (std::is_arithmetic_v<S>)
+    return static_cast<double>(x);
+  else
+    return scalar_value(x.value());
+}
 
 template <class T> using aligned_vector = std::vector<T, Eigen::aligned_allocator<T>>;
 

@@ -1,0 +1,56 @@
+// Design sensitivity of the dynamics: derivatives of hybrid_dynamics (trees)
+// or constrained_dynamics (models with closed loops) with respect to a named
+// model parameter (parameters.hpp), the direct method of "Joint Coordinate
+// Method, Part 1" (Sects. 6-7, Eqs. 1.37 and 1.39) evaluated by forward-mode
+// automatic differentiation: the model is cast to a dual-number scalar
+// (Eigen's AutoDiffScalar with one derivative) and the scalar-templated core
+// runs once per parameter direction. Results are exact to rounding (no step
+// size). Rigid models only: a model with flexible bodies is refused.
+//
+// Directions of a parameter (the trailing axis of each derivative):
+//   mass       1
+//   com, gravity  3: the coordinates
+//   inertia    3 x 3 (column-major): entry (a, b) is the derivative along the
+//              symmetric change (E_ab + E_ba) / 2, so for any symmetric dI
+//              the first-order change is sum_ab d/dI[a, b] dI[a, b]
+//   placement  6: (dtheta, dp), the placement (R, p) moved to
+//              (R exp([dtheta]x), p + dp): dtheta in the joint frame,
+//              dp in the parent body's frame
+// Outputs per direction: dqdd (nv), dtau (nv) and, with loops, the loop
+// wrenches' derivative (6 per loop, data.loops.wrench's layout).
+#pragma once
+#include <memory>
+#include "soadyn/algorithms/steps.hpp"
+#include "soadyn/model.hpp"
+#include "soadyn/parameters.hpp"
+#include "soadyn/status.hpp"
+
+namespace soadyn {
+
+// How many directions parameter entry `e` has (see above).
+int parameter_directions(const ParameterEntry<double>& e);
+
+class ParameterSensitivity {
+ public:
+  // Casts `model` (allocates). Throws std::invalid_argument for flexible bodies.
+  explicit ParameterSensitivity(const Model& model);
+  ~ParameterSensitivity();
+  ParameterSensitivity(const ParameterSensitivity&) = delete;
+  ParameterSensitivity& operator=(const ParameterSensitivity&) = delete;
+
+  // Derivatives of the dynamics at (q, v, u) (u as hybrid_dynamics) of the
+  // model `model` (the one given to the constructor, possibly with changed
+  // parameters and flags) with respect to entry `k` of `table`: column j of
+  // dqdd (nv x directions), dtau (nv x directions) and dwrench
+  // (6 nloops x directions) is direction j. Returns the status of the
+  // dynamics (hybrid_dynamics / constrained_dynamics).
+  Status compute(const Model& model, const ParameterTable<double>& table, int k, const ConstVecRef<double>& q,
+                 const ConstVecRef<double>& v, const ConstVecRef<double>& u, Eigen::Ref<MatX<double>> dqdd,
+                 Eigen::Ref<MatX<double>> dtau, Eigen::Ref<MatX<double>> dwrench);
+
+ private:
+  struct Dual;
+  std::unique_ptr<Dual> dual_;
+};
+
+}  // namespace soadyn

@@ -1,0 +1,150 @@
+// Design sensitivity by forward-mode automatic differentiation
+// (algorithms/parameter_sensitivity.hpp): the one translation unit that
+// instantiates the model, Data, hybrid_dynamics and constrained_dynamics for
+// a dual-number scalar.
+#include <unsupported/Eigen/AutoDiff>
+
+// The sweeps' definitions, instantiated here for the dual scalar (the
+// flexible-body ones are reached by the dispatch, never run: cast() refuses
+// flexible bodies).
+#include "soadyn/algorithms/aba.hxx"
+#include "soadyn/algorithms/constrained_dynamics.hxx"
+#include "soadyn/algorithms/crba.hxx"
+#include "soadyn/algorithms/hybrid.hxx"
+#include "soadyn/algorithms/kinematics.hxx"
+#include "soadyn/flex/flexible_body.hxx"
+#include "soadyn/flex/modal_integrals.hxx"
+#include "soadyn/algorithms/parameter_sensitivity.hpp"
+#include "soadyn/data.hxx"
+#include "soadyn/model_cast.hxx"
+#include "soadyn/parameters.hxx"
+
+namespace soadyn {
+
+namespace {
+
+// A value and one directional derivative.
+using Dual = Eigen::AutoDiffScalar<Eigen::Matrix<double, 1, 1>>;
+
+Dual seeded(double value, double derivative) { return Dual(value, Eigen::Matrix<double, 1, 1>(derivative)); }
+
+enum class Kind { mass, com, inertia, placement, gravity };
+
+// Recognised by the entry's getter (parameters.hxx), not by its name.
+Kind kind_of(const ParameterEntry<double>& e) {
+  namespace p = parameter_detail;
+  if (e.get == &p::get_mass<double>) return Kind::mass;
+  if (e.get == &p::get_com<double>) return Kind::com;
+  if (e.get == &p::get_inertia<double>) return Kind::inertia;
+  if (e.get == &p::get_placement<double>) return Kind::placement;
+  if (e.get == &p::get_gravity<double>) return Kind::gravity;
+  throw ParameterError("parameter_sensitivity: parameter '" + e.name + "' has no derivative rule");
+}
+
+Mat3<Dual> skew(const Vec3<Dual>& w) {
+  Mat3<Dual> K;
+  K << Dual(0.0), -w[2], w[1], w[2], Dual(0.0), -w[0], -w[1], w[0], Dual(0.0);
+  return K;
+}
+
+}  // namespace
+
+int parameter_directions(const ParameterEntry<double>& e) {
+  return kind_of(e) == Kind::placement ? 6 : e.size();
+}
+
+struct ParameterSensitivity::Dual {
+  explicit Dual(const Model& model) : model(model.cast<soadyn::Dual>()), data(this->model) {}
+  ModelTpl<soadyn::Dual> model;
+  DataTpl<soadyn::Dual> data;
+  VecX<soadyn::Dual> q, v, u;
+};
+
+ParameterSensitivity::ParameterSensitivity(const Model& model) : dual_(std::make_unique<Dual>(model)) {}
+ParameterSensitivity::~ParameterSensitivity() = default;
+
+Status ParameterSensitivity::compute(const Model& model, const ParameterTable<double>& table, int k,
+                                     const ConstVecRef<double>& q, const ConstVecRef<double>& v,
+                                     const ConstVecRef<double>& u, Eigen::Ref<MatX<double>> dqdd,
+                                     Eigen::Ref<MatX<double>> dtau, Eigen::Ref<MatX<double>> dwrench) {
+  using D = soadyn::Dual;
+  ModelTpl<D>& m = dual_->model;
+  const ParameterEntry<double>& e = table.entry(k);
+  const Kind kind = kind_of(e);
+  const std::size_t b = static_cast<std::size_t>(std::max(e.index, 0));
+  // The current parameters and flags of `model`, as constants.
+  for (std::size_t i = 0; i < model.mass.size(); ++i) {
+    m.mass[i] = D(model.mass[i]);
+    m.com[i] = model.com[i].cast<D>();
+    m.inertia_com[i] = model.inertia_com[i].cast<D>();
+    m.inertia[i] = model.inertia[i].cast<D>();
+    m.placement[i].rotation = model.placement[i].rotation.cast<D>();
+    m.placement[i].translation = model.placement[i].translation.cast<D>();
+  }
+  m.gravity = model.gravity.cast<D>();
+  m.prescribed = model.prescribed;
+  m.modes = model.modes;
+  m.n_prescribed = model.n_prescribed;
+  m.prescribed_dofs = model.prescribed_dofs;
+  m.has_newton_euler_region = model.has_newton_euler_region;
+  m.tree_frame_reach_squared.assign(model.tree_frame_reach_squared.begin(), model.tree_frame_reach_squared.end());
+  m.check_tree_frame_reach = model.check_tree_frame_reach;
+  m.reach_checks_needed = model.reach_checks_needed;
+  dual_->q = q.cast<D>();
+  dual_->v = v.cast<D>();
+  dual_->u = u.cast<D>();
+  Status status;
+  const int directions = parameter_directions(e);
+  for (int j = 0; j < directions; ++j) {
+    // Seed direction j (parameter_sensitivity.hpp), then restore below.
+    switch (kind) {
+      case Kind::mass: m.mass[b] = seeded(model.mass[b], 1.0); break;
+      case Kind::com: m.com[b][j] = seeded(model.com[b][j], 1.0); break;
+      case Kind::inertia: {
+        const int r = j % 3, c = j / 3;
+        m.inertia_com[b](r, c) = seeded(model.inertia_com[b](r, c), r == c ? 1.0 : 0.5);
+        m.inertia_com[b](c, r) = seeded(model.inertia_com[b](c, r), r == c ? 1.0 : 0.5);
+        break;
+      }
+      case Kind::placement:
+        if (j < 3) {  // d/dt R exp([t e_j]x) at t = 0 is R [e_j]x
+          Vec3<D> w = Vec3<D>::Zero();
+          w[j] = seeded(0.0, 1.0);
+          m.placement[b].rotation = model.placement[b].rotation.cast<D>() * (Mat3<D>::Identity() + skew(w));
+        } else {
+          m.placement[b].translation[j - 3] = seeded(model.placement[b].translation[j - 3], 1.0);
+        }
+        break;
+      case Kind::gravity: m.gravity[j] = seeded(model.gravity[j], 1.0); break;
+    }
+    if (kind == Kind::mass || kind == Kind::com || kind == Kind::inertia)
+      m.inertia[b] = spatial_inertia(m.mass[b], m.com[b], m.inertia_com[b]);  // M(k), Jain & Rodriguez 1993
+
+    status = m.nloops() > 0 ? constrained_dynamics<D>(m, dual_->data, dual_->q, dual_->v, dual_->u)
+                            : hybrid_dynamics<D>(m, dual_->data, dual_->q, dual_->v, dual_->u);
+    for (int r = 0; r < model.nv; ++r) {
+      dqdd(r, j) = dual_->data.qdd[r].derivatives()[0];
+      dtau(r, j) = dual_->data.tau[r].derivatives()[0];
+    }
+    for (int l = 0; l < m.nloops(); ++l)
+      for (int r = 0; r < 6; ++r)
+        dwrench(6 * l + r, j) = dual_->data.loops.wrench[static_cast<std::size_t>(l)][r].derivatives()[0];
+
+    // Back to constants.
+    switch (kind) {
+      case Kind::mass: m.mass[b] = D(model.mass[b]); break;
+      case Kind::com: m.com[b] = model.com[b].cast<D>(); break;
+      case Kind::inertia: m.inertia_com[b] = model.inertia_com[b].cast<D>(); break;
+      case Kind::placement:
+        m.placement[b].rotation = model.placement[b].rotation.cast<D>();
+        m.placement[b].translation = model.placement[b].translation.cast<D>();
+        break;
+      case Kind::gravity: m.gravity = model.gravity.cast<D>(); break;
+    }
+    if (kind == Kind::mass || kind == Kind::com || kind == Kind::inertia) m.inertia[b] = model.inertia[b].cast<D>();
+    if (!status.ok()) return status;
+  }
+  return status;
+}
+
+}  // namespace soadyn
