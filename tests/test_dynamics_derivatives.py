@@ -244,3 +244,50 @@ def test_bad_input_is_named():
         soadyn.inverse_dynamics_derivatives(m, q, v, v, np.zeros((m.nbodies, 5)))
     with pytest.raises(ValueError):
         soadyn.dynamics_derivatives(m, q[:-1], v, v)
+
+
+# --- force elements ------------------------------------------------------------------------------
+
+def mass_on_spring(mass=2.0, stiffness=50.0, damping=0.7, rest=0.1):
+    m = soadyn.Model()
+    m.gravity = np.zeros(3)
+    m.add_body("cart", "world", soadyn.Joint.prismatic([1, 0, 0]), mass=mass, com=[0, 0, 0],
+               inertia=np.eye(3) * 0.01)
+    m.add_joint_spring("spring", "cart", stiffness, damping=damping, rest=rest)
+    return m
+
+
+def test_joint_spring_derivatives_are_the_oscillators():
+    """m x'' + c x' + k (x - rest) = u: dqdd/dq = -k/m, dqdd/dv = -c/m, dqdd/du = 1/m; and the
+    sensitivity to the stiffness is -(x - rest)/m."""
+    m = mass_on_spring()
+    q, v, u = np.array([0.4]), np.array([-1.2]), np.array([3.0])
+    dqdd_dq, dqdd_dv, dqdd_du = soadyn.dynamics_derivatives(m, q, v, u)[:3]
+    assert dqdd_dq[0, 0] == pytest.approx(-50.0 / 2.0, rel=1e-14)
+    assert dqdd_dv[0, 0] == pytest.approx(-0.7 / 2.0, rel=1e-14)
+    assert dqdd_du[0, 0] == pytest.approx(1 / 2.0, rel=1e-14)
+    dtau_dq, dtau_dv, M = soadyn.inverse_dynamics_derivatives(m, q, v, np.zeros(1))
+    assert dtau_dq[0, 0] == pytest.approx(50.0, rel=1e-14) and dtau_dv[0, 0] == pytest.approx(0.7, rel=1e-14)
+    dqdd_dk = soadyn.parameter_sensitivity(m, q, v, u, ["spring.stiffness"])["spring.stiffness"][0]
+    assert dqdd_dk[0] == pytest.approx(-(0.4 - 0.1) / 2.0, rel=1e-14)
+    assert soadyn.modes(m, np.zeros(1)).angular_frequencies[0] == pytest.approx(5.0, rel=1e-14)
+    assert soadyn.modes(m, np.zeros(1)).damping_ratios[0] == pytest.approx(0.7 / (2 * np.sqrt(50.0 * 2.0)), rel=1e-12)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_joint_springs_on_random_trees_against_differences(seed):
+    c = make_case(seed, True)
+    m = c.m.copy()
+    scalar = [i for i, kind in enumerate(m.joint_types) if kind in ("revolute", "prismatic", "helical", "universal")]
+    for k, i in enumerate(scalar[:4]):
+        m.add_joint_spring(f"spring{k}", m.dof_names[m.v_index[i]], 10.0 + k, damping=0.5 * k, rest=0.1 * k)
+    m.set_prescribed(c.rng.random(m.nv) < 0.3)
+    v, u = c.rng.normal(size=m.nv), c.rng.normal(size=m.nv)
+    check_hybrid(m, c.q, v, u, rtol=10 * FD_RTOL)
+
+
+def test_point_springs_are_refused_by_name():
+    m = mass_on_spring()
+    m.add_point_spring("strut", "cart", None, 10.0)
+    with pytest.raises(ValueError, match="strut"):
+        soadyn.dynamics_derivatives(m, np.zeros(1), np.zeros(1), np.zeros(1))

@@ -28,7 +28,7 @@ using Dual = Eigen::AutoDiffScalar<Eigen::Matrix<double, 1, 1>>;
 
 Dual seeded(double value, double derivative) { return Dual(value, Eigen::Matrix<double, 1, 1>(derivative)); }
 
-enum class Kind { mass, com, inertia, placement, gravity };
+enum class Kind { mass, com, inertia, placement, gravity, spring };
 
 // Recognised by the entry's getter (parameters.hxx), not by its name.
 Kind kind_of(const ParameterEntry<double>& e) {
@@ -38,7 +38,32 @@ Kind kind_of(const ParameterEntry<double>& e) {
   if (e.get == &p::get_inertia<double>) return Kind::inertia;
   if (e.get == &p::get_placement<double>) return Kind::placement;
   if (e.get == &p::get_gravity<double>) return Kind::gravity;
+  if (e.get == &p::get_spring<double, 0> || e.get == &p::get_spring<double, 1> || e.get == &p::get_spring<double, 2>)
+    return Kind::spring;
   throw ParameterError("parameter_sensitivity: parameter '" + e.name + "' has no derivative rule");
+}
+
+// The force elements' stiffness, damping and rest values of `model`, as constants.
+void copy_spring_values(const Model& model, ModelTpl<Dual>& m) {
+  const auto& from = model.force_elements;
+  auto& to = m.force_elements;
+  for (std::size_t k = 0; k < from.joint_springs.size(); ++k) {
+    to.joint_springs[k].stiffness = Dual(from.joint_springs[k].stiffness);
+    to.joint_springs[k].damping = Dual(from.joint_springs[k].damping);
+    to.joint_springs[k].rest = Dual(from.joint_springs[k].rest);
+  }
+  for (std::size_t k = 0; k < from.point_springs.size(); ++k) {
+    to.point_springs[k].stiffness = Dual(from.point_springs[k].stiffness);
+    to.point_springs[k].damping = Dual(from.point_springs[k].damping);
+    to.point_springs[k].rest_length = Dual(from.point_springs[k].rest_length);
+  }
+}
+
+// The dual model's value of spring parameter `e` (parameters.hxx: spring_value).
+Dual* spring_of(ModelTpl<Dual>& m, const ParameterEntry<double>& e) {
+  namespace p = parameter_detail;
+  const int field = e.get == &p::get_spring<double, 0> ? 0 : e.get == &p::get_spring<double, 1> ? 1 : 2;
+  return p::spring_value(m, e.index, field);
 }
 
 Mat3<Dual> skew(const Vec3<Dual>& w) {
@@ -82,6 +107,7 @@ Status ParameterSensitivity::compute(const Model& model, const ParameterTable<do
     m.placement[i].translation = model.placement[i].translation.cast<D>();
   }
   m.gravity = model.gravity.cast<D>();
+  copy_spring_values(model, m);
   m.prescribed = model.prescribed;
   m.modes = model.modes;
   m.n_prescribed = model.n_prescribed;
@@ -116,6 +142,11 @@ Status ParameterSensitivity::compute(const Model& model, const ParameterTable<do
         }
         break;
       case Kind::gravity: m.gravity[j] = seeded(model.gravity[j], 1.0); break;
+      case Kind::spring: {
+        D* value = spring_of(m, e);
+        *value = seeded(value->value(), 1.0);
+        break;
+      }
     }
     if (kind == Kind::mass || kind == Kind::com || kind == Kind::inertia)
       m.inertia[b] = spatial_inertia(m.mass[b], m.com[b], m.inertia_com[b]);  // M(k), Jain & Rodriguez 1993
@@ -140,6 +171,7 @@ Status ParameterSensitivity::compute(const Model& model, const ParameterTable<do
         m.placement[b].translation = model.placement[b].translation.cast<D>();
         break;
       case Kind::gravity: m.gravity = model.gravity.cast<D>(); break;
+      case Kind::spring: copy_spring_values(model, m); break;
     }
     if (kind == Kind::mass || kind == Kind::com || kind == Kind::inertia) m.inertia[b] = model.inertia[b].cast<D>();
     if (!status.ok()) return status;

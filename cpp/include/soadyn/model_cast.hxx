@@ -131,6 +131,25 @@ ModelTpl<T> ModelTpl<S>::cast() const {
     out.loops.push_back(o);
   }
   out.nloop_equations = nloop_equations;
+  for (const auto& e : force_elements.joint_springs)
+    out.force_elements.joint_springs.push_back(
+        JointSpringTpl<T>{e.name, e.dof, e.coordinate, T(e.stiffness), T(e.damping), T(e.rest)});
+  for (const auto& e : force_elements.point_springs) {
+    PointSpringTpl<T> o;
+    o.name = e.name;
+    o.body_a = e.body_a;
+    o.body_b = e.body_b;
+    o.point_a = e.point_a.template cast<T>();
+    o.point_b = e.point_b.template cast<T>();
+    o.stiffness = T(e.stiffness);
+    o.damping = T(e.damping);
+    o.rest_length = T(e.rest_length);
+    o.force_law.length = c::scalars<T>(e.force_law.length);
+    o.force_law.force = c::scalars<T>(e.force_law.force);
+    o.force_law.slope = c::scalars<T>(e.force_law.slope);
+    o.force_law.integral_to_knot = c::scalars<T>(e.force_law.integral_to_knot);
+    out.force_elements.point_springs.push_back(o);
+  }
   out.gravity = gravity.template cast<T>();
   out.version = version;
   out.body_lookup_ = body_lookup_;

@@ -1,5 +1,5 @@
 // Named model parameters (templated implementation of parameters.hpp): the
-// table, and the entries of rigid bodies and gravity.
+// table, and the entries of rigid bodies, force elements and gravity.
 #pragma once
 #include <Eigen/Eigenvalues>
 #include <cmath>
@@ -133,11 +133,56 @@ void append_body_parameters(const ModelTpl<S>& model, std::vector<ParameterEntry
   }
 }
 
+// Force elements (force_elements/force_elements.hpp): entry.index is the
+// element's index among the joint springs, or nj + its index among the point
+// springs (nj joint springs). Values: stiffness and damping >= 0; a joint
+// spring's rest any finite value; a point spring's rest length > 0.
+template <class S>
+S* spring_value(ModelTpl<S>& model, int index, int field) {
+  auto& f = model.force_elements;
+  const int nj = static_cast<int>(f.joint_springs.size());
+  if (index < nj) {
+    auto& e = f.joint_springs[static_cast<std::size_t>(index)];
+    return field == 0 ? &e.stiffness : field == 1 ? &e.damping : &e.rest;
+  }
+  auto& e = f.point_springs[static_cast<std::size_t>(index - nj)];
+  return field == 0 ? &e.stiffness : field == 1 ? &e.damping : &e.rest_length;
+}
+
+template <class S, int Field>
+void get_spring(const ModelTpl<S>& model, int index, S* out) {
+  *out = *spring_value(const_cast<ModelTpl<S>&>(model), index, Field);
+}
+
+template <class S, int Field>
+void set_spring(ModelTpl<S>& model, const ParameterEntry<S>& e, const S* in) {
+  require_finite(e, in);
+  const bool point = e.index >= static_cast<int>(model.force_elements.joint_springs.size());
+  if (Field < 2 && *in < S(0)) refuse(e.name, "must not be negative");
+  if (Field == 2 && point && !(*in > S(0))) refuse(e.name, "rest length must be positive");
+  *spring_value(model, e.index, Field) = *in;
+}
+
+template <class S>
+void append_spring_parameters(const ModelTpl<S>& model, std::vector<ParameterEntry<S>>& entries) {
+  const auto& f = model.force_elements;
+  int index = 0;
+  const auto add = [&](const std::string& name, bool point) {
+    entries.push_back({name + ".stiffness", 1, 1, index, &get_spring<S, 0>, &set_spring<S, 0>});
+    entries.push_back({name + ".damping", 1, 1, index, &get_spring<S, 1>, &set_spring<S, 1>});
+    entries.push_back({name + (point ? ".rest_length" : ".rest"), 1, 1, index, &get_spring<S, 2>, &set_spring<S, 2>});
+    ++index;
+  };
+  for (const auto& e : f.joint_springs) add(e.name, false);
+  for (const auto& e : f.point_springs) add(e.name, true);
+}
+
 }  // namespace parameter_detail
 
 template <class S>
 ParameterTable<S>::ParameterTable(const ModelTpl<S>& model) : model_version_(model.version) {
   parameter_detail::append_body_parameters(model, entries_);
+  parameter_detail::append_spring_parameters(model, entries_);
   entries_.push_back({"gravity", 3, 1, -1, &parameter_detail::get_gravity<S>, &parameter_detail::set_gravity<S>});
 }
 

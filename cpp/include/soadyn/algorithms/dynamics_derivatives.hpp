@@ -26,8 +26,10 @@
 // columns are body-frame rotations, as its velocities are), the convention of
 // Pinocchio's derivatives.
 //
-// Rigid bodies only: building the workspace of a model with a flexible body
-// throws std::invalid_argument naming the body. Loop models: the functions
+// Joint springs (force_elements/force_elements.hpp) are included: inverse
+// dynamics carries their -Q = k (q - rest) + c v. Rigid bodies only, and no
+// point springs: building the workspace of a model with a flexible body or a
+// point spring throws std::invalid_argument naming it. Loop models: the functions
 // differentiate the spanning tree's dynamics (constrained_dynamics'
 // derivatives are assembled from them and the closure terms in Python).
 #pragma once

@@ -9,6 +9,9 @@ namespace soadyn {
 
 template <class S>
 DynamicsDerivativesTpl<S>::DynamicsDerivativesTpl(const ModelTpl<S>& m) {
+  if (!m.force_elements.point_springs.empty())
+    throw std::invalid_argument("point spring '" + m.force_elements.point_springs.front().name +
+                                "': the analytic derivatives of the dynamics take joint springs, not point springs");
   for (int i = 0; i < m.nbodies(); ++i)
     if (m.is_flexible(i))
       throw std::invalid_argument("body '" + m.body_names[static_cast<std::size_t>(i)] +
@@ -154,6 +157,12 @@ Status inverse_derivative_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDe
   d.mass_matrix.setZero();
   for (std::size_t i = 0; i < n; ++i) derivative_outward_step(m, d, w, i, q, v, qdd, f_ext, world_acc);
   for (std::size_t i = n; i-- > 0;) derivative_inward_step(m, d, w, i);
+  // Joint springs (force_elements.hpp): ID carries -Q = k (q - rest) + c v on their DOF.
+  for (const JointSpringTpl<S>& e : m.force_elements.joint_springs) {
+    w.inverse_force[e.dof] += e.stiffness * (q[e.coordinate] - e.rest) + e.damping * v[e.dof];
+    w.inverse_dq(e.dof, e.dof) += e.stiffness;
+    w.inverse_dv(e.dof, e.dof) += e.damping;
+  }
   for (const MatX<S>* x : {&w.inverse_dq, &w.inverse_dv})
     for (Eigen::Index c = 0; c < x->cols(); ++c)
       if (!x->col(c).allFinite()) return Status{StatusCode::non_finite_result, static_cast<int>(c)};
