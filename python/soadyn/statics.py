@@ -144,10 +144,6 @@ def _check_arguments(model, q0, tol, max_iterations) -> np.ndarray:
         raise ValueError(f"static_equilibrium: tol must be positive and finite, got {tol!r}")
     if isinstance(max_iterations, bool) or not isinstance(max_iterations, (int, np.integer)) or max_iterations < 1:
         raise ValueError(f"static_equilibrium: max_iterations must be an integer >= 1, got {max_iterations!r}")
-    flexible = [name for name, n in zip(model.body_names, model.n_modes) if n > 0]
-    if flexible:
-        raise ValueError(f"static_equilibrium: body '{flexible[0]}' is flexible; the analytic stiffness covers "
-                         "rigid models only")
     q = np.array(q0, dtype=float)
     if q.shape != (model.nq,):
         raise ValueError(f"static_equilibrium: q0 has shape {q.shape}, expected ({model.nq},)")
@@ -200,6 +196,10 @@ def static_equilibrium(model, q0, hold=None, tol: float = 1e-12, max_iterations:
     """
     q = _check_arguments(model, q0, tol, max_iterations)
     free = _free_mask(model, hold)
+    flexible = [name for name, n in zip(model.body_names, model.n_modes) if n > 0]
+    if flexible:
+        raise ValueError(f"static_equilibrium: body '{flexible[0]}' is flexible; the analytic stiffness covers "
+                         "rigid models only")
     problem = _Problem(model, free)
     if problem.m:
         q = assemble(model, q, hold=[k for k in range(model.nv) if not free[k]], tolerance=tol)
@@ -242,9 +242,7 @@ def _result(model, problem: _Problem, q, nu, r, iterations) -> StaticEquilibrium
     held = np.flatnonzero(~problem.free)
     # Wrenches: the constrained dynamics at rest with the held DOFs prescribed (qdd = 0) and the free ones unforced.
     at_rest = model.copy()
-    at_rest.set_prescribed(list(range(model.nv)), False)
-    if held.size:
-        at_rest.set_prescribed([int(k) for k in held], True)
+    at_rest.set_prescribed(~problem.free, True)
     _, _, loop_wrenches, joint_wrenches = constrained_dynamics(at_rest, q, problem.zero, problem.zero,
                                                                joint_wrenches=True)
     R, _ = problem.reduced_stiffness(q, nu)
