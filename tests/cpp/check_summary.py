@@ -144,7 +144,7 @@ def check_loop_force_stiffness_no_allocation(output: str) -> None:
     require(bool(lines(r"^bodies: 20, nv = \d+, loops: 5 \(20 equations\)$", output)), "five loops, 20 equations")
     require(bool(lines(r"^calls: 2000; failed statuses: 0$", output)), "2000 calls without a failed status")
     match = re.search(r"^central differences: max relative error (\S+) \(tolerance 1e-06\)$", output, re.MULTILINE)
-    require(match is not None and float(match.group(1)) <= 1e-6, "central differences within 1e-6")
+    require(match is not None and float(match.group(1)) <= 1e-8, "central differences within 1e-8")
     require(bool(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)), "zero allocations and frees")
     require(bool(lines(r"^test_loop_force_stiffness_no_allocation: PASS$", output)), "the PASS line")
 
