@@ -617,6 +617,11 @@ def _loop_equation_names(model: _Model) -> list[str]:
     """
     'loop[i]' for each loop-closure equation, in the rows' order.
     """
+def _static_equilibrium(model: _Model, q0: typing.Any, free: collections.abc.Sequence[bool], tol: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex) -> tuple:
+    """
+    (q, nu, G - C' nu, stiffness eigenvalues, iterations, residual norm, stable) of the static equilibrium
+    nearest q0 with the DOFs whose `free` entry is False held (soadyn.static_equilibrium wraps it).
+    """
 def _project_velocity(model: _Model, q: typing.Any, v: typing.Any, free: collections.abc.Sequence[bool]) -> numpy.typing.NDArray[numpy.float64]:
     ...
 def bias_forces(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
