@@ -166,30 +166,24 @@ def _xyz(v) -> str:
     return " ".join(f"{x:.17g}" for x in v)
 
 
+def mj_hinge(name, pos, com, mass, damping, inner="") -> str:
+    """A body on a hinge about y with a point-like inertia at `com` (statics needs only mass and COM)."""
+    return (f'<body name="{name}" pos="{_xyz(pos)}"><joint name="{name}" type="hinge" axis="0 1 0" '
+            f'damping="{damping}"/><inertial pos="{_xyz(com)}" mass="{mass}" diaginertia="0.01 0.01 0.01"/>'
+            f'{inner}</body>')
+
+
+def mj_model(bodies: str, equality: str = "") -> str:
+    return (f'<mujoco><option timestep="0.001" gravity="0 0 -9.81" integrator="implicitfast"/>'
+            f'<worldbody>{bodies}</worldbody><equality>{equality}</equality></mujoco>')
+
+
 def mujoco_four_bar_xml() -> str:
     P, Q, O2 = FOUR_BAR_P, FOUR_BAR_Q, FOUR_BAR_O2
     ma, mb, mc = LINK_MASSES
-    return f"""
-<mujoco>
-  <option timestep="0.001" gravity="0 0 -9.81" integrator="implicitfast"/>
-  <worldbody>
-    <body name="crank">
-      <joint name="crank" type="hinge" axis="0 1 0" damping="0.5"/>
-      <inertial pos="{_xyz(P / 2)}" mass="{ma}" diaginertia="0.01 0.01 0.01"/>
-      <body name="coupler" pos="{_xyz(P)}">
-        <joint name="coupler" type="hinge" axis="0 1 0" damping="0.5"/>
-        <inertial pos="{_xyz((Q - P) / 2)}" mass="{mb}" diaginertia="0.01 0.01 0.01"/>
-      </body>
-    </body>
-    <body name="rocker" pos="{_xyz(O2)}">
-      <joint name="rocker" type="hinge" axis="0 1 0" damping="0.5"/>
-      <inertial pos="{_xyz((Q - O2) / 2)}" mass="{mc}" diaginertia="0.01 0.01 0.01"/>
-    </body>
-  </worldbody>
-  <equality>
-    <connect body1="coupler" body2="rocker" anchor="{_xyz(Q - P)}" solref="0.002 1"/>
-  </equality>
-</mujoco>"""
+    coupler = mj_hinge("coupler", P, (Q - P) / 2, mb, 0.5)
+    bodies = mj_hinge("crank", np.zeros(3), P / 2, ma, 0.5, coupler) + mj_hinge("rocker", O2, (Q - O2) / 2, mc, 0.5)
+    return mj_model(bodies, f'<connect body1="coupler" body2="rocker" anchor="{_xyz(Q - P)}" solref="0.002 1"/>')
 
 
 def soadyn_four_bar():
@@ -231,21 +225,8 @@ def test_four_bar_equilibrium_matches_mujoco_at_rest():
 
 
 def mujoco_arm_xml(coms) -> str:
-    (c1, c2) = coms
-    return f"""
-<mujoco>
-  <option timestep="0.001" gravity="0 0 -9.81" integrator="implicitfast"/>
-  <worldbody>
-    <body name="upper">
-      <joint name="upper" type="hinge" axis="0 1 0" damping="2"/>
-      <inertial pos="{_xyz(c1)}" mass="1.1" diaginertia="0.02 0.02 0.02"/>
-      <body name="lower" pos="0 0 -0.6">
-        <joint name="lower" type="hinge" axis="0 1 0" damping="2"/>
-        <inertial pos="{_xyz(c2)}" mass="0.6" diaginertia="0.01 0.01 0.01"/>
-      </body>
-    </body>
-  </worldbody>
-</mujoco>"""
+    lower = mj_hinge("lower", [0, 0, -0.6], coms[1], 0.6, 2)
+    return mj_model(mj_hinge("upper", np.zeros(3), coms[0], 1.1, 2, lower))
 
 
 def test_two_link_arm_with_offset_coms_matches_mujoco_at_rest():
@@ -253,7 +234,7 @@ def test_two_link_arm_with_offset_coms_matches_mujoco_at_rest():
     _, data = settle(mujoco_arm_xml(coms), 60.0)
     m = soadyn.Model()
     y = soadyn.Joint.revolute([0, 1, 0])
-    m.add_body("upper", None, y, mass=1.1, com=coms[0], inertia=np.eye(3) * 0.02)
+    m.add_body("upper", None, y, mass=1.1, com=coms[0], inertia=np.eye(3) * 0.01)
     m.add_body("lower", "upper", y, placement=(np.eye(3), [0, 0, -0.6]), mass=0.6, com=coms[1],
                inertia=np.eye(3) * 0.01)
     r = soadyn.static_equilibrium(m, [0.0, 0.0])

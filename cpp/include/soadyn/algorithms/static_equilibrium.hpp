@@ -66,6 +66,7 @@ struct StaticEquilibriumTpl {
 };
 
 using StaticEquilibrium = StaticEquilibriumTpl<double>;
+using StaticEquilibriumF = StaticEquilibriumTpl<float>;
 
 // Solves for the equilibrium nearest q0 with the DOFs whose `free` entry is
 // false held at their q0 values; results in `eq`. Throws (see above).
@@ -74,5 +75,6 @@ void static_equilibrium(const ModelTpl<S>& model, DataTpl<S>& data, StaticEquili
                         const ConstVecRef<S>& q0, const std::vector<bool>& free, S tol, int max_iterations);
 
 extern template struct StaticEquilibriumTpl<double>;
+extern template struct StaticEquilibriumTpl<float>;
 
 }  // namespace soadyn
