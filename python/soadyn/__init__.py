@@ -72,5 +72,5 @@ __all__ = [
 ]
 __all__ += ["gravity_forces", "external_forces_to_generalized", "coriolis_matrix", "mass_matrix_derivative",
             "christoffel_symbols"]
-__all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives", "linearize", "modes", "Modes"]
 __all__ += ["static_equilibrium", "StaticEquilibrium", "loop_force_stiffness"]
+__all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives", "linearize", "modes", "Modes"]
