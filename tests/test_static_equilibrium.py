@@ -143,9 +143,11 @@ def test_double_pendulum_hangs_straight_with_the_closed_form_stiffness():
     assert r.joint_wrenches[1][5] == pytest.approx(m2 * G, rel=1e-12)
 
 
-def test_double_pendulum_held_at_its_upper_joint():
+@pytest.mark.parametrize("hold", ["upper", 0, ["upper"]])
+def test_double_pendulum_held_at_its_upper_joint(hold):
     m, (m1, m2, l1, c1, c2) = double_pendulum()
-    r = soadyn.static_equilibrium(m, [0.5, 0.3], hold="upper")
+    m.set_prescribed("lower")  # the model's flags play no part: only `hold` fixes DOFs
+    r = soadyn.static_equilibrium(m, [0.5, 0.3], hold=hold)
     assert r.q[0] == 0.5 and r.q[1] == pytest.approx(-0.5, abs=1e-12)  # the lower link hangs vertically
     assert list(r.holding_forces) == ["upper"]
     assert r.holding_forces["upper"] == pytest.approx(G * (m1 * c1 + m2 * l1) * math.sin(0.5), rel=1e-12)

@@ -35,6 +35,7 @@ Decisions:
   (null(C_f); N = I for trees), in tangent units (N m/rad, N/m). It is the
   Hessian of the potential energy on the constraint manifold: stable iff
   every eigenvalue is > 0 (a hanging pendulum: m g l; upside down: -m g l).
+- Only `hold` fixes DOFs: the model's prescribed flags play no part.
 - Flexible bodies are refused (the analytic stiffness covers rigid models).
 """
 from __future__ import annotations
