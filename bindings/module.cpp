@@ -7,6 +7,7 @@ void bind_loop_kinematics(pybind11::module_& mod);
 void bind_frames(pybind11::module_& mod);
 void bind_equation_terms(pybind11::module_& mod);
 void bind_derivatives(pybind11::module_& mod);
+void bind_statics(pybind11::module_& mod);
 void add_fast_paths(pybind11::module_& mod);
 void bind_simulator(pybind11::module_& mod);
 void bind_hil(pybind11::module_& mod);
@@ -24,6 +25,7 @@ PYBIND11_MODULE(_soadyn, mod) {
   soadyn_py::bind_frames(mod);
   soadyn_py::bind_equation_terms(mod);
   soadyn_py::bind_derivatives(mod);
+  soadyn_py::bind_statics(mod);
   soadyn_py::add_fast_paths(mod);
   soadyn_py::bind_simulator(mod);
   soadyn_py::bind_hil(mod);

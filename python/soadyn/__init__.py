@@ -50,6 +50,7 @@ from .derivatives import dynamics_derivatives, inverse_dynamics_derivatives
 from .loops import assemble, project_velocity
 from .linearize import linearize
 from .modes import Modes, modes, natural_frequencies, stiffness_matrix
+from .statics import StaticEquilibrium, loop_force_stiffness, static_equilibrium
 from .model import Model
 from .parameters import ParameterError, parameter_sensitivity
 from .simulator import MotionSource, Simulator, Trajectory
@@ -73,6 +74,7 @@ __all__ = [
 ]
 __all__ += ["gravity_forces", "external_forces_to_generalized", "coriolis_matrix", "mass_matrix_derivative",
             "christoffel_symbols"]
+__all__ += ["static_equilibrium", "StaticEquilibrium", "loop_force_stiffness"]
 __all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives", "linearize", "modes", "Modes"]
 __all__ += ["force_elements", "force_element_potential", "dissipated_power"]
 __all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives"]

@@ -628,6 +628,15 @@ def _time_cpp(model: _Model, algorithm: str, q: typing.Annotated[numpy.typing.Ar
     """
 def _assemble(model: _Model, q: typing.Any, free: collections.abc.Sequence[bool], tolerance: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
     ...
+def _loop_equation_names(model: _Model) -> list[str]:
+    """
+    'loop[i]' for each loop-closure equation, in the rows' order.
+    """
+def _static_equilibrium(model: _Model, q0: typing.Any, free: collections.abc.Sequence[bool], tol: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex) -> tuple:
+    """
+    (q, nu, G - C' nu, stiffness eigenvalues, iterations, residual norm, stable) of the static equilibrium
+    nearest q0 with the DOFs whose `free` entry is False held (soadyn.static_equilibrium wraps it).
+    """
 def _project_velocity(model: _Model, q: typing.Any, v: typing.Any, free: collections.abc.Sequence[bool]) -> numpy.typing.NDArray[numpy.float64]:
     ...
 def bias_forces(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
@@ -771,6 +780,11 @@ def force_elements(model: _Model) -> list:
 def kinetic_energy(model: _Model, q: typing.Any, v: typing.Any) -> float:
     """
     Kinetic energy 1/2 v' M v.
+    """
+def loop_force_stiffness(model: _Model, q: typing.Any, nu: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    d(C(q)' nu)/dq at fixed multipliers nu (nv, nv), tangent-space columns (column k: d/de at
+    integrate(q, e e_k)): the stiffness of the cut-joint reactions C' nu, analytic.
     """
 def loop_jacobian(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """

@@ -89,6 +89,17 @@ def check_loops_no_allocation(output: str) -> None:
     require(bool(lines(r"^test_loops_no_allocation: PASS$", output)), "the PASS line")
 
 
+def check_loop_force_stiffness_no_allocation(output: str) -> None:
+    """2000 calls on a 20-body tree with one loop of every kind, against central differences."""
+    require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
+    require(bool(lines(r"^bodies: 20, nv = \d+, loops: 5 \(20 equations\)$", output)), "five loops, 20 equations")
+    require(bool(lines(r"^calls: 2000; failed statuses: 0$", output)), "2000 calls without a failed status")
+    match = re.search(r"^central differences: max relative error (\S+) \(tolerance 1e-08\)$", output, re.MULTILINE)
+    require(match is not None and float(match.group(1)) <= 1e-8, "central differences within 1e-8")
+    require(bool(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)), "zero allocations and frees")
+    require(bool(lines(r"^test_loop_force_stiffness_no_allocation: PASS$", output)), "the PASS line")
+
+
 def check_loop_sim_no_allocation(output: str) -> None:
     """10^4 steps of a five-bar and a four-bar with each integrator, locks and releases changing the loops'
     mobility, a drive taking over; then direct assembly and projection calls and named failures."""
@@ -168,6 +179,7 @@ CHECKS = {
     "test_loops_float_vs_double": check_loops_float_vs_double,
     "test_sim_no_allocation": check_sim_no_allocation,
     "test_loops_no_allocation": check_loops_no_allocation,
+    "test_loop_force_stiffness_no_allocation": check_loop_force_stiffness_no_allocation,
     "test_loop_sim_no_allocation": check_loop_sim_no_allocation,
     "test_frames_no_allocation": check_frames_no_allocation,
     "test_frames_float_vs_double": check_frames_float_vs_double,

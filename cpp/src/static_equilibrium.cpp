@@ -1,0 +1,10 @@
+#include "soadyn/algorithms/static_equilibrium.hxx"
+
+namespace soadyn {
+#define SOADYN_INSTANTIATE(S)                                                                                 \
+  template struct StaticEquilibriumTpl<S>;                                                                  \
+  template void static_equilibrium<S>(const ModelTpl<S>&, DataTpl<S>&, StaticEquilibriumTpl<S>&,            \
+                                      const ConstVecRef<S>&, const std::vector<bool>&, S, int);
+SOADYN_INSTANTIATE(double)
+SOADYN_INSTANTIATE(float)
+}  // namespace soadyn
