@@ -109,7 +109,8 @@ void bind_parameters(py::module_& mod) {
       py::arg("model"), py::arg("name"), py::arg("value"));
 
   mod.def("_parameter_sensitivity",
-      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, const std::vector<std::string>& params) {
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, const std::vector<std::string>& params,
+         bool spanning_tree) {
         const StateArgs a(h, q, v, u, "u", py::none());
         const soadyn::ParameterTable<double> table(h.model);
         std::vector<int> entries;
@@ -127,14 +128,14 @@ void bind_parameters(py::module_& mod) {
         run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data&) {
           for (std::size_t p = 0; p < entries.size() && status.ok(); ++p)
             status = sensitivity.compute(m, table, entries[p], Map(a.q.data(), m.nq), Map(a.v.data(), m.nv),
-                                         Map(a.x.data(), m.nv), dqdd[p], dtau[p], dwrench[p]);
+                                         Map(a.x.data(), m.nv), dqdd[p], dtau[p], dwrench[p], spanning_tree);
         });
         raise_on(status, h.model, "parameter_sensitivity");
         py::dict out;
         for (std::size_t p = 0; p < entries.size(); ++p) {
           const auto& e = table.entry(entries[p]);
           py::array_t<double> q_part = derivative_array(dqdd[p], {nv}, e), t_part = derivative_array(dtau[p], {nv}, e);
-          if (h.model.nloops() > 0)
+          if (h.model.nloops() > 0 && !spanning_tree)
             out[py::str(e.name)] =
                 py::make_tuple(q_part, t_part, derivative_array(dwrench[p], {h.model.nloops(), 6}, e));
           else
@@ -142,7 +143,8 @@ void bind_parameters(py::module_& mod) {
         }
         return out;
       },
-      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("params"));
+      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("params"),
+      py::arg("spanning_tree") = false);
 }
 
 }  // namespace soadyn_py

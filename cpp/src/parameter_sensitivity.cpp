@@ -91,7 +91,8 @@ ParameterSensitivity::~ParameterSensitivity() = default;
 Status ParameterSensitivity::compute(const Model& model, const ParameterTable<double>& table, int k,
                                      const ConstVecRef<double>& q, const ConstVecRef<double>& v,
                                      const ConstVecRef<double>& u, Eigen::Ref<MatX<double>> dqdd,
-                                     Eigen::Ref<MatX<double>> dtau, Eigen::Ref<MatX<double>> dwrench) {
+                                     Eigen::Ref<MatX<double>> dtau, Eigen::Ref<MatX<double>> dwrench,
+                                     bool spanning_tree) {
   using D = soadyn::Dual;
   ModelTpl<D>& m = dual_->model;
   const ParameterEntry<double>& e = table.entry(k);
@@ -151,13 +152,14 @@ Status ParameterSensitivity::compute(const Model& model, const ParameterTable<do
     if (kind == Kind::mass || kind == Kind::com || kind == Kind::inertia)
       m.inertia[b] = spatial_inertia(m.mass[b], m.com[b], m.inertia_com[b]);  // M(k), Jain & Rodriguez 1993
 
-    status = m.nloops() > 0 ? constrained_dynamics<D>(m, dual_->data, dual_->q, dual_->v, dual_->u)
+    status = m.nloops() > 0 && !spanning_tree ? constrained_dynamics<D>(m, dual_->data, dual_->q, dual_->v, dual_->u)
                             : hybrid_dynamics<D>(m, dual_->data, dual_->q, dual_->v, dual_->u);
     for (int r = 0; r < model.nv; ++r) {
       dqdd(r, j) = dual_->data.qdd[r].derivatives()[0];
       dtau(r, j) = dual_->data.tau[r].derivatives()[0];
     }
-    for (int l = 0; l < m.nloops(); ++l)
+    dwrench.col(j).setZero();
+    for (int l = 0; l < (spanning_tree ? 0 : m.nloops()); ++l)
       for (int r = 0; r < 6; ++r)
         dwrench(6 * l + r, j) = dual_->data.loops.wrench[static_cast<std::size_t>(l)][r].derivatives()[0];
 

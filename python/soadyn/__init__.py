@@ -50,7 +50,8 @@ from .derivatives import dynamics_derivatives, inverse_dynamics_derivatives
 from .loops import assemble, project_velocity
 from .linearize import linearize
 from .modes import Modes, modes, natural_frequencies, stiffness_matrix
-from .statics import StaticEquilibrium, loop_force_stiffness, static_equilibrium
+from .statics import (StaticEquilibrium, equilibrium_sensitivities, loop_force_stiffness, objective_gradient,
+                      static_equilibrium)
 from .model import Model
 from .parameters import ParameterError, parameter_sensitivity
 from .simulator import MotionSource, Simulator, Trajectory
@@ -79,3 +80,4 @@ __all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives", "linearize",
 __all__ += ["force_elements", "force_element_potential", "dissipated_power"]
 __all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives"]
 __all__ += ["parameter_sensitivity", "ParameterError"]
+__all__ += ["equilibrium_sensitivities", "objective_gradient"]

@@ -46,8 +46,10 @@ import numpy as np
 
 from . import _soadyn
 from ._soadyn import constrained_dynamics
+from .equilibrium_sensitivity import equilibrium_sensitivities, objective_gradient
 
-__all__ = ["StaticEquilibrium", "static_equilibrium", "loop_force_stiffness"]
+__all__ = ["StaticEquilibrium", "static_equilibrium", "loop_force_stiffness", "equilibrium_sensitivities",
+           "objective_gradient"]
 
 loop_force_stiffness = _soadyn.loop_force_stiffness
 
@@ -65,6 +67,8 @@ class StaticEquilibrium:
     residual_norm: float             # max |G_f - C_f' nu|, |Psi| at q
     stiffness_eigenvalues: np.ndarray  # ascending eigenvalues of the reduced stiffness
     stable: bool                     # every stiffness eigenvalue > 0
+    held: list                       # indices of the held DOFs
+    sensitivities: dict | None = None  # with static_equilibrium(..., sensitivities=params): equilibrium_sensitivities
 
 
 def _free_mask(model, hold) -> np.ndarray:
@@ -77,7 +81,8 @@ def _free_mask(model, hold) -> np.ndarray:
     return free
 
 
-def static_equilibrium(model, q0, hold=None, tol: float = 1e-12, max_iterations: int = 100) -> StaticEquilibrium:
+def static_equilibrium(model, q0, hold=None, tol: float = 1e-12, max_iterations: int = 100,
+                       sensitivities=None) -> StaticEquilibrium:
     """The static equilibrium nearest q0 (Newton's method, analytic stiffness; see the module docstring).
 
     hold: DOF or joint names (or indices) kept at their q0 values; their holding forces
@@ -86,6 +91,9 @@ def static_equilibrium(model, q0, hold=None, tol: float = 1e-12, max_iterations:
     tol * (1 + largest static force at q0). Raises ValueError for bad arguments and
     DynamicsError when Newton does not converge within max_iterations or the
     equilibrium is not isolated (naming the DOFs without stiffness).
+    sensitivities: parameter names (model.parameter_names); the result's .sensitivities is then
+    {name: {"q": dq*/dp, "multipliers": dnu/dp, "holding_forces": {...}}} by the direct method
+    (equilibrium_sensitivity.py; soadyn.objective_gradient gives a scalar objective's by the adjoint).
     """
     free = _free_mask(model, hold)
     q, nu, force, eigenvalues, iterations, residual_norm, stable = _soadyn._static_equilibrium(
@@ -95,8 +103,11 @@ def static_equilibrium(model, q0, hold=None, tol: float = 1e-12, max_iterations:
     at_rest.set_prescribed(~free, True)
     zero = np.zeros(model.nv)
     _, _, loop_wrenches, joint_wrenches = constrained_dynamics(at_rest, q, zero, zero, joint_wrenches=True)
-    return StaticEquilibrium(
+    result = StaticEquilibrium(
         q=q, loop_wrenches=loop_wrenches, joint_wrenches=joint_wrenches,
         holding_forces={model.dof_names[k]: float(force[k]) for k in np.flatnonzero(~free)}, multipliers=nu,
         iterations=iterations, converged=True, residual_norm=residual_norm,
-        stiffness_eigenvalues=eigenvalues, stable=stable)
+        stiffness_eigenvalues=eigenvalues, stable=stable, held=[int(k) for k in np.flatnonzero(~free)])
+    if sensitivities is not None:
+        result.sensitivities = equilibrium_sensitivities(model, result, sensitivities)
+    return result

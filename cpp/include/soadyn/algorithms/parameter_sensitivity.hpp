@@ -44,9 +44,13 @@ class ParameterSensitivity {
   // dqdd (nv x directions), dtau (nv x directions) and dwrench
   // (6 nloops x directions) is direction j. Returns the status of the
   // dynamics (hybrid_dynamics / constrained_dynamics).
+  // With `spanning_tree`, a loop model's spanning tree is differentiated
+  // (hybrid_dynamics, loops ignored, dwrench left zero): with every DOF
+  // prescribed and v = u = 0, dtau is then the static force's derivative
+  // dG/dp, G = inverse dynamics at rest (static_equilibrium's sensitivities).
   Status compute(const Model& model, const ParameterTable<double>& table, int k, const ConstVecRef<double>& q,
                  const ConstVecRef<double>& v, const ConstVecRef<double>& u, Eigen::Ref<MatX<double>> dqdd,
-                 Eigen::Ref<MatX<double>> dtau, Eigen::Ref<MatX<double>> dwrench);
+                 Eigen::Ref<MatX<double>> dtau, Eigen::Ref<MatX<double>> dwrench, bool spanning_tree = false);
 
  private:
   struct Dual;
