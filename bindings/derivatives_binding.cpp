@@ -9,6 +9,7 @@
 #include "simulator_handle.hpp"
 #include "soadyn/algorithms/dynamics_derivatives.hpp"
 #include "soadyn/algorithms/modes.hpp"
+#include "soadyn/algorithms/parameter_sensitivity.hpp"
 #include "soadyn/sim/linearization.hpp"
 
 namespace soadyn_py {
@@ -80,6 +81,25 @@ void bind_derivatives(py::module_& mod) {
               return std::array<const Eigen::MatrixXd*, 6>{&w.dqdd_dq, &w.dqdd_dv, &w.dqdd_du,
                                                            &w.dtau_dq, &w.dtau_dv, &w.dtau_du};
             });
+      },
+      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none());
+
+  mod.def("_loop_dynamics_derivatives",
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext) {
+        const StateArgs a(h, q, v, u, "u", f_ext);
+        soadyn::ParameterSensitivity dual(h.model);
+        const Eigen::Index nv = h.model.nv;
+        std::array<Eigen::MatrixXd, 6> d;
+        for (auto& x : d) x.setZero(nv, nv);
+        soadyn::Status status;
+        run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data&) {
+          status = dual.state_derivatives(m, Map(a.q.data(), m.nq), Map(a.v.data(), m.nv), Map(a.x.data(), m.nv),
+                                          a.f_ext, d[0], d[1], d[2], d[3], d[4], d[5]);
+        });
+        raise_on(status, h.model, "dynamics_derivatives");
+        py::tuple t(6);
+        for (std::size_t k = 0; k < 6; ++k) t[k] = copy_out(d[k]);
+        return t;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none());
 

@@ -291,3 +291,75 @@ def test_point_springs_are_refused_by_name():
     m.add_point_spring("strut", "cart", None, 10.0)
     with pytest.raises(ValueError, match="strut"):
         soadyn.dynamics_derivatives(m, np.zeros(1), np.zeros(1), np.zeros(1))
+
+
+# --- loop models and flexible bodies ---------------------------------------------------------------
+
+def constrained_by_differences(m, q, v, u, directions):
+    """Derivatives of constrained_dynamics' (qdd, tau) by central differences: along q in the given
+    tangent directions (columns), kept on the closure by soadyn.assemble (its correction is second
+    order), and along every v and u."""
+    def out(k):
+        return lambda args: soadyn.constrained_dynamics(m, *args)[k]
+
+    def along_q(k):
+        columns = []
+        for d in directions.T:
+            plus = soadyn.assemble(m, soadyn.integrate(m, q, d, EPS))
+            minus = soadyn.assemble(m, soadyn.integrate(m, q, d, -EPS))
+            columns.append((out(k)((plus, v, u)) - out(k)((minus, v, u))) / (2 * EPS))
+        return np.stack(columns, axis=1)
+
+    result = []
+    for k in (0, 1):
+        result.append([
+            along_q(k),
+            central_differences(lambda x: out(k)((q, x, u)), v, lambda x, e: x + e, m.nv),
+            central_differences(lambda x: out(k)((q, v, x)), u, lambda x, e: x + e, m.nv)])
+    return result[0] + result[1]
+
+
+LOOP_CASES = {
+    "four-bar": (soadyn.scenes.four_bar, lambda: soadyn.scenes.four_bar_state(0.7, 1.3), ["crank"]),
+    "four-bar-point": (lambda: soadyn.scenes.four_bar("point"), lambda: soadyn.scenes.four_bar_state(-0.4, 0.8),
+                       ["crank"]),
+    "slider-crank": (soadyn.scenes.slider_crank, lambda: soadyn.scenes.slider_crank_state(0.5, -2.0), ["crank"]),
+    "delta-robot": (soadyn.scenes.delta_robot,
+                    lambda: soadyn.scenes.delta_robot_state((0.05, -0.02, -0.6), (0.1, 0.2, -0.1)),
+                    ["arm_1", "arm_2", "arm_3"]),
+}
+
+
+@pytest.mark.parametrize("name", sorted(LOOP_CASES))
+@pytest.mark.parametrize("driven", [False, True], ids=["free", "driven"])
+def test_loop_model_derivatives_against_differences(name, driven):
+    build, state, drives = LOOP_CASES[name]
+    m = build()
+    q, v = state()
+    if driven:
+        m.set_prescribed(drives)
+    u = np.random.default_rng(8).normal(size=m.nv)
+    # Tangent directions that keep the loops closed: the null space of the loop Jacobian. (Off
+    # the closure a redundant cut's equations can change rank, so the dynamics are not smooth
+    # there: their derivative is taken along the closure.)
+    C = soadyn.loop_jacobian(m, q)
+    _, sv, vt = np.linalg.svd(C)
+    rank = int((sv > 1e-9 * sv.max()).sum())
+    directions = vt[rank:].T
+    assert directions.shape[1] >= 1
+    analytic = list(soadyn.dynamics_derivatives(m, q, v, u))
+    analytic[0], analytic[3] = analytic[0] @ directions, analytic[3] @ directions
+    reference = constrained_by_differences(m, q, v, u, directions)
+    for label, a, r in zip(NAMES, analytic, reference):
+        scale = max(np.abs(r).max(initial=0.0), 1.0)
+        error = np.abs(a - r).max(initial=0.0) / scale
+        assert error <= 10 * FD_RTOL, f"{name} {label}: relative error {error:.2e}"
+
+
+def test_flexible_models_are_refused_by_name():
+    from flexible_trees import random_flexible_tree
+    m = random_flexible_tree(0)[0] if isinstance(random_flexible_tree(0), tuple) else random_flexible_tree(0)
+    flexible = next(name for name, n in zip(m.body_names, m.n_modes) if n > 0)
+    z = np.zeros(m.nv)
+    with pytest.raises(ValueError, match=flexible):
+        soadyn.dynamics_derivatives(m, soadyn.neutral_configuration(m), z, z)

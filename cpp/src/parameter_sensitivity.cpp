@@ -11,6 +11,7 @@
 #include "soadyn/algorithms/constrained_dynamics.hxx"
 #include "soadyn/algorithms/crba.hxx"
 #include "soadyn/algorithms/hybrid.hxx"
+#include "soadyn/algorithms/configuration.hxx"
 #include "soadyn/algorithms/kinematics.hxx"
 #include "soadyn/flex/flexible_body.hxx"
 #include "soadyn/flex/modal_integrals.hxx"
@@ -88,17 +89,9 @@ struct ParameterSensitivity::Dual {
 ParameterSensitivity::ParameterSensitivity(const Model& model) : dual_(std::make_unique<Dual>(model)) {}
 ParameterSensitivity::~ParameterSensitivity() = default;
 
-Status ParameterSensitivity::compute(const Model& model, const ParameterTable<double>& table, int k,
-                                     const ConstVecRef<double>& q, const ConstVecRef<double>& v,
-                                     const ConstVecRef<double>& u, Eigen::Ref<MatX<double>> dqdd,
-                                     Eigen::Ref<MatX<double>> dtau, Eigen::Ref<MatX<double>> dwrench,
-                                     bool spanning_tree) {
+void ParameterSensitivity::load(const Model& model) {
   using D = soadyn::Dual;
   ModelTpl<D>& m = dual_->model;
-  const ParameterEntry<double>& e = table.entry(k);
-  const Kind kind = kind_of(e);
-  const std::size_t b = static_cast<std::size_t>(std::max(e.index, 0));
-  // The current parameters and flags of `model`, as constants.
   for (std::size_t i = 0; i < model.mass.size(); ++i) {
     m.mass[i] = D(model.mass[i]);
     m.com[i] = model.com[i].cast<D>();
@@ -117,6 +110,19 @@ Status ParameterSensitivity::compute(const Model& model, const ParameterTable<do
   m.tree_frame_reach_squared.assign(model.tree_frame_reach_squared.begin(), model.tree_frame_reach_squared.end());
   m.check_tree_frame_reach = model.check_tree_frame_reach;
   m.reach_checks_needed = model.reach_checks_needed;
+}
+
+Status ParameterSensitivity::compute(const Model& model, const ParameterTable<double>& table, int k,
+                                     const ConstVecRef<double>& q, const ConstVecRef<double>& v,
+                                     const ConstVecRef<double>& u, Eigen::Ref<MatX<double>> dqdd,
+                                     Eigen::Ref<MatX<double>> dtau, Eigen::Ref<MatX<double>> dwrench,
+                                     bool spanning_tree) {
+  using D = soadyn::Dual;
+  ModelTpl<D>& m = dual_->model;
+  const ParameterEntry<double>& e = table.entry(k);
+  const Kind kind = kind_of(e);
+  const std::size_t b = static_cast<std::size_t>(std::max(e.index, 0));
+  load(model);
   dual_->q = q.cast<D>();
   dual_->v = v.cast<D>();
   dual_->u = u.cast<D>();
@@ -177,6 +183,47 @@ Status ParameterSensitivity::compute(const Model& model, const ParameterTable<do
     }
     if (kind == Kind::mass || kind == Kind::com || kind == Kind::inertia) m.inertia[b] = model.inertia[b].cast<D>();
     if (!status.ok()) return status;
+  }
+  return status;
+}
+
+Status ParameterSensitivity::state_derivatives(const Model& model, const ConstVecRef<double>& q,
+                                               const ConstVecRef<double>& v, const ConstVecRef<double>& u,
+                                               const double* f_ext, Eigen::Ref<MatX<double>> dqdd_dq,
+                                               Eigen::Ref<MatX<double>> dqdd_dv, Eigen::Ref<MatX<double>> dqdd_du,
+                                               Eigen::Ref<MatX<double>> dtau_dq, Eigen::Ref<MatX<double>> dtau_dv,
+                                               Eigen::Ref<MatX<double>> dtau_du) {
+  using D = soadyn::Dual;
+  load(model);
+  ModelTpl<D>& m = dual_->model;
+  const int nv = model.nv;
+  VecX<D> q0 = q.cast<D>(), step = VecX<D>::Zero(nv), f;
+  if (f_ext) f = Eigen::Map<const VecX<double>>(f_ext, 6 * model.nbodies()).cast<D>();
+  const D* f_dual = f_ext ? f.data() : nullptr;
+  dual_->q = q0;
+  Status status;
+  for (int x = 0; x < 3; ++x) {       // q, v, u
+    for (int k = 0; k < nv; ++k) {
+      dual_->v = v.cast<D>();
+      dual_->u = u.cast<D>();
+      if (x == 0) {  // q (+) e e_k, e dual
+        step.setZero();
+        step[k] = seeded(0.0, 1.0);
+        integrate<D>(m, q0, step, D(1.0), dual_->q);
+      } else {
+        dual_->q = q0;
+        (x == 1 ? dual_->v : dual_->u)[k] = seeded(x == 1 ? v[k] : u[k], 1.0);
+      }
+      status = m.nloops() > 0 ? constrained_dynamics<D>(m, dual_->data, dual_->q, dual_->v, dual_->u, f_dual)
+                              : hybrid_dynamics<D>(m, dual_->data, dual_->q, dual_->v, dual_->u, f_dual);
+      if (!status.ok()) return status;
+      Eigen::Ref<MatX<double>>& qdd_out = x == 0 ? dqdd_dq : x == 1 ? dqdd_dv : dqdd_du;
+      Eigen::Ref<MatX<double>>& tau_out = x == 0 ? dtau_dq : x == 1 ? dtau_dv : dtau_du;
+      for (int r = 0; r < nv; ++r) {
+        qdd_out(r, k) = dual_->data.qdd[r].derivatives()[0];
+        tau_out(r, k) = dual_->data.tau[r].derivatives()[0];
+      }
+    }
   }
   return status;
 }

@@ -3,7 +3,10 @@
 Rigid trees use the analytic recursive algorithm in C++
 (cpp/include/soadyn/algorithms/dynamics_derivatives.hpp): the derivative of
 the Newton-Euler sweeps, O(N d) for tree depth d, and the hybrid problem's
-partitioned solve with the tree-sparse factor of the mass matrix.
+partitioned solve with the tree-sparse factor of the mass matrix. Models with
+closed loops are differentiated by forward-mode automatic differentiation of
+constrained_dynamics' own sweeps (exact to rounding, one evaluation per
+column). Flexible bodies and point springs are refused by name.
 
 Derivatives with respect to q are taken in the tangent space: column k is
 d/de of the output at soadyn.integrate(q, e * e_k), so every derivative with
@@ -36,5 +39,11 @@ def dynamics_derivatives(model, q, v, u, f_ext=None):
     of a prescribed one, so dqdd_du has the identity on prescribed rows and dtau_du
     on regular rows. With every DOF regular, dqdd_dq and dqdd_dv are the derivatives
     of forward dynamics and dqdd_du = M^-1.
+
+    Loop models: the derivatives of constrained_dynamics (the same outputs and inputs), by
+    forward-mode automatic differentiation of its sweeps (one dual-number evaluation per column,
+    exact to rounding; soadyn/algorithms/parameter_sensitivity.hpp).
     """
+    if model.nloops:
+        return _soadyn._loop_dynamics_derivatives(model, q, v, u, f_ext)
     return _soadyn._tree_dynamics_derivatives(model, q, v, u, f_ext)

@@ -52,7 +52,20 @@ class ParameterSensitivity {
                  const ConstVecRef<double>& v, const ConstVecRef<double>& u, Eigen::Ref<MatX<double>> dqdd,
                  Eigen::Ref<MatX<double>> dtau, Eigen::Ref<MatX<double>> dwrench, bool spanning_tree = false);
 
+ // The derivatives of the dynamics with respect to the state and the inputs
+  // by the same dual-number sweeps (one direction per column): dqdd_dq ...
+  // dtau_du as DynamicsDerivativesTpl defines them (q-derivatives in the
+  // tangent space of integrate), of constrained_dynamics for a loop model and
+  // of hybrid_dynamics otherwise. `f_ext`: nbodies x 6 body-frame wrenches or
+  // null. Each output nv x nv. Returns the dynamics' status.
+  Status state_derivatives(const Model& model, const ConstVecRef<double>& q, const ConstVecRef<double>& v,
+                           const ConstVecRef<double>& u, const double* f_ext, Eigen::Ref<MatX<double>> dqdd_dq,
+                           Eigen::Ref<MatX<double>> dqdd_dv, Eigen::Ref<MatX<double>> dqdd_du,
+                           Eigen::Ref<MatX<double>> dtau_dq, Eigen::Ref<MatX<double>> dtau_dv,
+                           Eigen::Ref<MatX<double>> dtau_du);
+
  private:
+  void load(const Model& model);  // the current parameters and flags of `model`, as constants
   struct Dual;
   std::unique_ptr<Dual> dual_;
 };

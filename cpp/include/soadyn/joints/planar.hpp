@@ -18,7 +18,7 @@ struct PlanarSpace {
   static void integrate(const S* q, const S* v, const S& dt, S* out) {
     using std::cos;
     using std::sin;
-    const Eigen::Matrix<S, 2, 1> d = se2_exp_translation(v[0] * dt, v[1] * dt, v[2] * dt);
+    const Eigen::Matrix<S, 2, 1> d = se2_exp_translation<S>(S(v[0] * dt), S(v[1] * dt), S(v[2] * dt));
     const S c = cos(q[2]), s = sin(q[2]);
     out[0] = q[0] + c * d[0] - s * d[1];
     out[1] = q[1] + s * d[0] + c * d[1];

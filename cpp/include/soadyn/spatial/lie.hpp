@@ -13,11 +13,20 @@ Eigen::Matrix<S, 4, 1> quaternion_exp(const Vec3<S>& phi) {
   using std::sin;
   using std::sqrt;
   const S theta2 = phi.squaredNorm();
-  const S theta = sqrt(theta2);
-  // sin(theta/2)/theta with its Taylor series near zero.
-  const S k = theta2 < S(1e-8) ? S(S(0.5) - theta2 / S(48)) : S(sin(theta / S(2)) / theta);
+  // sin(theta/2)/theta and cos(theta/2) with their Taylor series near zero
+  // (no square root there: its derivative at zero is not finite, which a
+  // dual-number scalar would carry).
+  S k, w;
+  if (theta2 < S(1e-8)) {
+    k = S(0.5) - theta2 / S(48);
+    w = S(1) - theta2 / S(8);
+  } else {
+    const S theta = sqrt(theta2);
+    k = sin(theta / S(2)) / theta;
+    w = cos(theta / S(2));
+  }
   Eigen::Matrix<S, 4, 1> q;
-  q << k * phi, cos(theta / S(2));
+  q << k * phi, w;
   return q;
 }
 
