@@ -84,8 +84,8 @@ void bind_derivatives(py::module_& mod) {
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none());
 
-  mod.def("_loop_dynamics_derivatives",
-      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext) {
+  mod.def("_dual_dynamics_derivatives",
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext, bool spanning_tree) {
         const StateArgs a(h, q, v, u, "u", f_ext);
         soadyn::ParameterSensitivity dual(h.model);
         const Eigen::Index nv = h.model.nv;
@@ -94,14 +94,15 @@ void bind_derivatives(py::module_& mod) {
         soadyn::Status status;
         run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data&) {
           status = dual.state_derivatives(m, Map(a.q.data(), m.nq), Map(a.v.data(), m.nv), Map(a.x.data(), m.nv),
-                                          a.f_ext, d[0], d[1], d[2], d[3], d[4], d[5]);
+                                          a.f_ext, d[0], d[1], d[2], d[3], d[4], d[5], spanning_tree);
         });
         raise_on(status, h.model, "dynamics_derivatives");
         py::tuple t(6);
         for (std::size_t k = 0; k < 6; ++k) t[k] = copy_out(d[k]);
         return t;
       },
-      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none());
+      py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none(),
+      py::arg("spanning_tree") = false);
 
   mod.def("_linearize",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::object dt, const std::string& integrator,

@@ -192,7 +192,7 @@ Status ParameterSensitivity::state_derivatives(const Model& model, const ConstVe
                                                const double* f_ext, Eigen::Ref<MatX<double>> dqdd_dq,
                                                Eigen::Ref<MatX<double>> dqdd_dv, Eigen::Ref<MatX<double>> dqdd_du,
                                                Eigen::Ref<MatX<double>> dtau_dq, Eigen::Ref<MatX<double>> dtau_dv,
-                                               Eigen::Ref<MatX<double>> dtau_du) {
+                                               Eigen::Ref<MatX<double>> dtau_du, bool spanning_tree) {
   using D = soadyn::Dual;
   load(model);
   ModelTpl<D>& m = dual_->model;
@@ -214,7 +214,8 @@ Status ParameterSensitivity::state_derivatives(const Model& model, const ConstVe
         dual_->q = q0;
         (x == 1 ? dual_->v : dual_->u)[k] = seeded(x == 1 ? v[k] : u[k], 1.0);
       }
-      status = m.nloops() > 0 ? constrained_dynamics<D>(m, dual_->data, dual_->q, dual_->v, dual_->u, f_dual)
+      status = m.nloops() > 0 && !spanning_tree
+                   ? constrained_dynamics<D>(m, dual_->data, dual_->q, dual_->v, dual_->u, f_dual)
                               : hybrid_dynamics<D>(m, dual_->data, dual_->q, dual_->v, dual_->u, f_dual);
       if (!status.ok()) return status;
       Eigen::Ref<MatX<double>>& qdd_out = x == 0 ? dqdd_dq : x == 1 ? dqdd_dv : dqdd_du;

@@ -6,7 +6,9 @@ the Newton-Euler sweeps, O(N d) for tree depth d, and the hybrid problem's
 partitioned solve with the tree-sparse factor of the mass matrix. Models with
 closed loops are differentiated by forward-mode automatic differentiation of
 constrained_dynamics' own sweeps (exact to rounding, one evaluation per
-column). Flexible bodies and point springs are refused by name.
+column), and so are models with point springs (whose line-of-action
+stiffness the analytic sweeps do not carry). Flexible bodies are refused by
+name.
 
 Derivatives with respect to q are taken in the tangent space: column k is
 d/de of the output at soadyn.integrate(q, e * e_k), so every derivative with
@@ -16,9 +18,15 @@ of Pinocchio's derivatives.
 """
 from __future__ import annotations
 
+import numpy as np
+
 from . import _soadyn
 
 __all__ = ["inverse_dynamics_derivatives", "dynamics_derivatives"]
+
+
+def _has_point_springs(model) -> bool:
+    return any(e["kind"] == "point_spring" for e in _soadyn.force_elements(model))
 
 
 def inverse_dynamics_derivatives(model, q, v, qdd, f_ext=None):
@@ -28,6 +36,11 @@ def inverse_dynamics_derivatives(model, q, v, qdd, f_ext=None):
     turn with their bodies when q changes. On a loop model these are the spanning
     tree's (the loop forces are not part of inverse_dynamics).
     """
+    if _has_point_springs(model):  # by the dual-number sweeps: every DOF prescribed, u = qdd
+        at_rest = model.copy()
+        at_rest.set_prescribed(np.ones(model.nv, dtype=bool))
+        d = _soadyn._dual_dynamics_derivatives(at_rest, q, v, qdd, f_ext, True)
+        return d[3], d[4], d[5]
     return _soadyn._tree_inverse_dynamics_derivatives(model, q, v, qdd, f_ext)
 
 
@@ -44,6 +57,6 @@ def dynamics_derivatives(model, q, v, u, f_ext=None):
     forward-mode automatic differentiation of its sweeps (one dual-number evaluation per column,
     exact to rounding; soadyn/algorithms/parameter_sensitivity.hpp).
     """
-    if model.nloops:
-        return _soadyn._loop_dynamics_derivatives(model, q, v, u, f_ext)
+    if model.nloops or _has_point_springs(model):
+        return _soadyn._dual_dynamics_derivatives(model, q, v, u, f_ext)
     return _soadyn._tree_dynamics_derivatives(model, q, v, u, f_ext)

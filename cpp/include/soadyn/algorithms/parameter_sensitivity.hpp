@@ -56,13 +56,14 @@ class ParameterSensitivity {
   // by the same dual-number sweeps (one direction per column): dqdd_dq ...
   // dtau_du as DynamicsDerivativesTpl defines them (q-derivatives in the
   // tangent space of integrate), of constrained_dynamics for a loop model and
-  // of hybrid_dynamics otherwise. `f_ext`: nbodies x 6 body-frame wrenches or
-  // null. Each output nv x nv. Returns the dynamics' status.
+  // of hybrid_dynamics otherwise (and with `spanning_tree`). `f_ext`: nbodies
+  // x 6 body-frame wrenches or null. Each output nv x nv. Returns the
+  // dynamics' status. Point springs included (they enter the sweeps).
   Status state_derivatives(const Model& model, const ConstVecRef<double>& q, const ConstVecRef<double>& v,
                            const ConstVecRef<double>& u, const double* f_ext, Eigen::Ref<MatX<double>> dqdd_dq,
                            Eigen::Ref<MatX<double>> dqdd_dv, Eigen::Ref<MatX<double>> dqdd_du,
                            Eigen::Ref<MatX<double>> dtau_dq, Eigen::Ref<MatX<double>> dtau_dv,
-                           Eigen::Ref<MatX<double>> dtau_du);
+                           Eigen::Ref<MatX<double>> dtau_du, bool spanning_tree = false);
 
  private:
   void load(const Model& model);  // the current parameters and flags of `model`, as constants
