@@ -139,3 +139,16 @@ def test_placements_of_loop_models_are_refused():
     eq = soadyn.static_equilibrium(m, assembled(m, -1.0))
     with pytest.raises(ValueError, match="coupler.placement"):
         soadyn.objective_gradient(m, eq, ["coupler.placement"], np.zeros(m.nv))
+
+
+def test_hostile_inputs_are_named():
+    m = four_bar_with_spring()
+    eq = soadyn.static_equilibrium(m, assembled(m, -1.0))
+    with pytest.raises(ValueError, match="no_such.mass"):
+        soadyn.objective_gradient(m, eq, ["no_such.mass"], np.zeros(m.nv))
+    with pytest.raises(ValueError, match="no_such.mass"):
+        soadyn.static_equilibrium(m, assembled(m, -1.0), sensitivities=["no_such.mass"])
+    with pytest.raises(ValueError, match="dphi_dq"):
+        soadyn.objective_gradient(m, eq, ["coupler.mass"], np.zeros(m.nv + 2))
+    with pytest.raises(ValueError, match="dphi_nu|dphi_dnu"):
+        soadyn.objective_gradient(m, eq, ["coupler.mass"], np.zeros(m.nv), np.full(m.nloop_equations, np.nan))

@@ -183,3 +183,40 @@ def test_stiffness_matrix_is_the_gradient_of_gravity():
                       - soadyn.gravity_forces(m, soadyn.integrate(m, c.q, e, -1e-6))) / 2e-6
                      for e in np.eye(m.nv)], axis=1)
     assert relative_error(K, K_fd) < 1e-7
+
+
+def test_hostile_inputs_are_named():
+    c = make_case(1, True)
+    m, z = c.m, np.zeros(c.m.nv)
+    bad = z.copy()
+    bad[2] = np.nan
+    with pytest.raises(ValueError, match=m.dof_names[2]):
+        soadyn.linearize(m, c.q, bad, z)
+    with pytest.raises(ValueError, match=m.dof_names[2]):
+        soadyn.linearize(m, c.q, z, bad, dt=1e-3)
+    with pytest.raises(ValueError):
+        soadyn.linearize(m, c.q, z[:-1], z)
+    with pytest.raises(ValueError, match="dt"):
+        soadyn.linearize(m, c.q, z, z, dt=float("nan"))
+    q_bad = c.q.copy()
+    q_bad[0] = np.inf
+    with pytest.raises(ValueError, match=m.coordinate_names[0]):
+        soadyn.modes(m, q_bad)
+    with pytest.raises(ValueError):
+        soadyn.modes(m, c.q[:-1])
+
+
+def test_derivatives_from_many_threads_agree():
+    """Calls from several threads on one model give the single-threaded results (each call runs on
+    the model's own Data under its lock)."""
+    from concurrent.futures import ThreadPoolExecutor
+    c = make_case(2, True)
+    m = c.m
+    states = [(soadyn.random_configuration(m, k), c.rng.normal(size=m.nv), c.rng.normal(size=m.nv))
+              for k in range(6)]
+    expected = [soadyn.dynamics_derivatives(m, *s) for s in states]
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        results = list(pool.map(lambda s: soadyn.dynamics_derivatives(m, *s), states * 4))
+    for k, result in enumerate(results):
+        for a, b in zip(result, expected[k % len(states)]):
+            assert np.array_equal(a, b)

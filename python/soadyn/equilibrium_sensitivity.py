@@ -65,6 +65,15 @@ def _newton_matrix(model, equilibrium):
     return J, K, C, free
 
 
+def _gradient(x, n, name) -> np.ndarray:
+    x = np.asarray(x, dtype=float)
+    if x.shape != (n,):
+        raise ValueError(f"{name} must have shape ({n},), got {x.shape}")
+    if not np.isfinite(x).all():
+        raise ValueError(f"{name} entry {int(np.flatnonzero(~np.isfinite(x))[0])} is not finite")
+    return x
+
+
 def _flat(x, nv):
     """(nv, *dirs) -> (nv, ndirs) and the direction shape."""
     return x.reshape(nv, -1), x.shape[1:]
@@ -100,12 +109,14 @@ def objective_gradient(model, equilibrium, params, dphi_dq, dphi_dnu=None) -> di
     space (held DOFs' entries are ignored: they do not move); dphi_dnu: (nloop_equations,) or None."""
     params = [params] if isinstance(params, str) else list(params)
     _refuse_closure_parameters(model, params)
+    dphi_dq = _gradient(dphi_dq, model.nv, "dphi_dq")
+    dphi_dnu = None if dphi_dnu is None else _gradient(dphi_dnu, model.nloop_equations, "dphi_dnu")
     J, _, C, free = _newton_matrix(model, equilibrium)
     nv, nf = model.nv, int(free.sum())
     g = np.zeros(J.shape[0])
-    g[:nf] = np.asarray(dphi_dq, dtype=float)[free]
+    g[:nf] = dphi_dq[free]
     if dphi_dnu is not None:
-        g[nf:] = np.asarray(dphi_dnu, dtype=float)
+        g[nf:] = dphi_dnu
     adjoint = np.linalg.pinv(J.T) @ g
     out = {}
     for name, dG in static_force_sensitivity(model, equilibrium.q, params).items():
