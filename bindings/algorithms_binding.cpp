@@ -199,13 +199,9 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("loop_rank",
       [](ModelHandle& h, py::handle q) {
-        const std::uint64_t version = h.model.version;
-        const Array qa = q_arg(h, q);
-        int rank = 0;
-        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
-          rank = soadyn::loop_rank<double>(m, d, Map(qa.data(), m.nq));
+        return at_configuration(h, q, [](const soadyn::Model& m, soadyn::Data& d, const Map& qm) {
+          return soadyn::loop_rank<double>(m, d, qm);
         });
-        return rank;
       },
       py::arg("model"), py::arg("q"),
       "Rank of the loop constraint Jacobian C(q) (column-pivoted QR; pivots below 1e3 machine epsilons times\n"
@@ -258,14 +254,11 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("potential_energy",
       [](ModelHandle& h, py::handle q) {
-        const std::uint64_t version = h.model.version;
-        const Array qa = q_arg(h, q);
-        double e = 0;
-        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
-          e = soadyn::potential_energy<double>(m, d, Map(qa.data(), m.nq));
+        return at_configuration(h, q, [](const soadyn::Model& m, soadyn::Data& d, const Map& qm) {
+          const double e = soadyn::potential_energy<double>(m, d, qm);
           if (!std::isfinite(e)) raise_non_finite_total("potential_energy", m, d, false);
+          return e;
         });
-        return e;
       },
       py::arg("model"), py::arg("q"), "Gravitational potential energy -sum m g.c (zero at the world origin).");
 
@@ -285,14 +278,11 @@ void bind_algorithms(py::module_& mod) {
 
   mod.def("center_of_mass",
       [](ModelHandle& h, py::handle q) {
-        const std::uint64_t version = h.model.version;
-        const Array qa = q_arg(h, q);
-        Eigen::Vector3d c;
-        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
-          c = soadyn::center_of_mass<double>(m, d, Map(qa.data(), m.nq));
+        return at_configuration(h, q, [](const soadyn::Model& m, soadyn::Data& d, const Map& qm) {
+          const Eigen::Vector3d c = soadyn::center_of_mass<double>(m, d, qm);
           if (!c.allFinite()) raise_non_finite_total("center_of_mass", m, d, false);
+          return c;
         });
-        return c;
       },
       py::arg("model"), py::arg("q"), "Centre of mass of the whole tree in the world frame.");
 

@@ -2,6 +2,8 @@
 // checked buffers. Both the general pybind11 functions and the vectorcall
 // fast path (fast_calls.cpp) run these, so the two cannot drift apart.
 #pragma once
+#include <utility>
+
 #include "arrays.hpp"
 #include "model_handle.hpp"
 #include "soadyn/status.hpp"
@@ -37,6 +39,19 @@ soadyn::Status inverse_dynamics_into(ModelHandle& h, const StateBuffers& s, doub
 // wrenches (nbodies x 6) when `wrenches` is not nullptr.
 soadyn::Status hybrid_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd, double* tau,
                                     double* wrenches);
+
+// fn(model, data, q) on the model's Data with q checked (q_arg), under the
+// model's lock (run_locked); returns fn's result (a value, not a view of Data).
+template <class Fn>
+auto at_configuration(ModelHandle& h, py::handle q, Fn&& fn) {
+  using ConfigurationMap = Eigen::Map<const Eigen::VectorXd>;
+  const std::uint64_t version = h.model.version;
+  const Array qa = q_arg(h, q);
+  decltype(fn(std::declval<const soadyn::Model&>(), std::declval<soadyn::Data&>(),
+              std::declval<const ConfigurationMap&>())) result{};
+  run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) { result = fn(m, d, ConfigurationMap(qa.data(), m.nq)); });
+  return result;
+}
 
 // f_ext: None or (nbodies, 6) body-frame wrenches [torque; force] about the
 // body origin; nullptr for None. (`keep` holds the checked array; a

@@ -69,13 +69,9 @@ void bind_force_elements(py::module_& mod) {
       py::arg("model"), "The model's force elements as dicts (joint springs first, then point springs).");
   mod.def("force_element_potential",
       [](ModelHandle& h, py::handle q) {
-        const std::uint64_t version = h.model.version;
-        const Array qa = q_arg(h, q);
-        double e = 0;
-        run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
-          e = soadyn::force_element_potential<double>(m, d, Map(qa.data(), m.nq));
+        return at_configuration(h, q, [](const soadyn::Model& m, soadyn::Data& d, const Map& qm) {
+          return soadyn::force_element_potential<double>(m, d, qm);
         });
-        return e;
       },
       py::arg("model"), py::arg("q"),
       "Potential energy of the springs alone (also included in potential_energy).");
