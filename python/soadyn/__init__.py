@@ -56,6 +56,7 @@ from .model import Model
 from .parameters import ParameterError, parameter_sensitivity
 from .simulator import MotionSource, Simulator, Trajectory
 from .urdf import UrdfError, load_urdf
+from .visuals import Visual
 from . import hil, scenes
 
 from ._version import __version__  # written by the build from pyproject.toml
@@ -81,3 +82,4 @@ __all__ += ["force_elements", "force_element_potential", "dissipated_power"]
 __all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives"]
 __all__ += ["parameter_sensitivity", "ParameterError"]
 __all__ += ["equilibrium_sensitivities", "objective_gradient"]
+__all__ += ["Visual"]

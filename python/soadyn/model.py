@@ -1,6 +1,7 @@
 """Model: the multibody tree, with Python argument handling on top of the C++ core."""
 from __future__ import annotations
 
+import copy
 import numbers
 from typing import Iterable, Union
 
@@ -328,10 +329,28 @@ class Model(_Model):
         from . import parameters
         parameters.set_parameter(self, name, value)
 
+    @property
+    def visuals(self) -> list:
+        """How the model is drawn: a list of soadyn.Visual (description data the dynamics never use)."""
+        visuals = self.__dict__.get("_visuals")
+        if visuals is None:
+            visuals = self.__dict__["_visuals"] = []
+        return visuals
+
+    @visuals.setter
+    def visuals(self, visuals) -> None:
+        from .visuals import Visual
+        visuals = list(visuals)
+        for v in visuals:
+            if not isinstance(v, Visual):
+                raise TypeError(f"visuals must be soadyn.Visual objects, got {type(v).__name__}")
+        self.__dict__["_visuals"] = visuals
+
     def copy(self) -> "Model":
-        """An independent copy (same parameters and flags, its own scratch)."""
+        """An independent copy (same parameters, flags and visuals, its own scratch)."""
         other = Model()
         other._copy_from(self)
+        other.visuals = [copy.deepcopy(v) for v in self.visuals]
         return other
 
     def __repr__(self) -> str:
