@@ -149,6 +149,18 @@ void bind_model(py::module_& mod) {
              for (int d : dofs) refuse_modal(h.model, d, flag);
              for (int d : dofs) h.model.set_prescribed(d, flag);
            })
+      .def("_set_armature",
+           [](ModelHandle& h, const std::vector<int>& dofs, double value) {
+             const auto lock = h.lock_for_change();
+             soadyn::Model trial = h.model;  // all or nothing
+             for (int d : dofs) trial.set_armature(d, value);
+             for (int d : dofs) h.model.set_armature(d, value);
+           })
+      .def_property_readonly("armature",
+                             [](const ModelHandle& h) {
+                               return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(h.model.armature.data(), h.model.nv));
+                             },
+                             "Float array (nv): each DOF's armature (rotor inertia on the DOF; zero by default).")
       .def("_require_regular_modal_dofs",
            [](const ModelHandle& h, const std::vector<int>& dofs) {
              for (int d : dofs) refuse_modal(h.model, d, true);

@@ -104,6 +104,8 @@ class _Model:
         """
         Raises ValueError naming the first of `dofs` that is a modal coordinate (always regular).
         """
+    def _set_armature(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], arg1: typing.SupportsFloat) -> None:
+        ...
     def _set_prescribed_indices(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], arg1: bool) -> None:
         ...
     def _set_prescribed_mask(self, arg0: collections.abc.Sequence[bool]) -> None:
@@ -190,6 +192,11 @@ class _Model:
     def prescribed(self) -> numpy.typing.NDArray[numpy.bool]:
         """
         Bool array (nv): True where the DOF is prescribed.
+        """
+    @property
+    def armature(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        Float array (nv): each DOF's armature (rotor inertia on the DOF; zero by default).
         """
     @property
     def q_index(self) -> list[int]:

@@ -307,6 +307,17 @@ class Model(_Model):
             _refuse_ambiguous_indices(arr, self.nv)
         self._set_prescribed_indices(self._dof_indices(mask_or_names), bool(flag))
 
+    def set_armature(self, dof, value: float) -> None:
+        """Give DOFs an armature: a rotor inertia on the DOF itself (MuJoCo's ``armature``).
+
+        ``dof`` is a DOF name, a joint name (all its DOFs), an index, or a list of them. The mass
+        matrix carries the armature on its diagonal (tau_k = ... + armature_k qdd_k) in every
+        dynamics call, and kinetic energy gains armature_k v_k^2 / 2. Finite and non-negative;
+        modal coordinates have none. A refused value changes nothing.
+        """
+        value = _real_scalar(value, "armature", str(dof), "DOF")
+        self._set_armature(self._dof_indices(dof), value)
+
     def set_regular(self, names) -> None:
         """Mark the named DOFs regular (torque given)."""
         self.set_prescribed(names, False)

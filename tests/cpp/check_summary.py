@@ -29,14 +29,16 @@ def lines(pattern: str, output: str) -> list:
 def check_no_allocation(output: str) -> None:
     # The counter proved it sees std::vector, aligned new and libc's malloc...
     require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
-    # ...and then saw nothing during 10^5 hybrid calls with flag changes, on a rigid tree and on the
-    # same tree with flexible bodies.
+    # ...and then saw nothing during 10^5 hybrid calls with flag changes, on a rigid tree, on the
+    # same tree with flexible bodies, and on that one with armatures.
     require(bool(lines(r"^tree with flexible bodies: \d+ bodies \([1-9]\d* flexible\)", output)),
             "a tree with flexible bodies")
     require(len(lines(r"^calls: 100000 hybrid_dynamics, \d+ other, \d+ flag changes; failed statuses: 0$",
-                      output)) == 2, "10^5 hybrid calls without a failed status, on both models")
-    require(len(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)) == 2,
-            "zero allocations and frees, on both models")
+                      output)) == 3, "10^5 hybrid calls without a failed status, on the three models")
+    require(bool(lines(r"^flexible tree with armature: \d+ bodies \([1-9]\d* flexible\)", output)),
+            "the model with armatures")
+    require(len(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)) == 3,
+            "zero allocations and frees, on the three models")
     require(bool(lines(r"^test_no_allocation: PASS: 100000 hybrid_dynamics calls per model$", output)),
             "the PASS line")
 

@@ -126,7 +126,11 @@ int main(int argc, char**) {
   }
   soadyn::Model flexible = rigid;
   soadyn_test::add_flexible_bodies(flexible);
-  const bool pass = run_counted("rigid tree", rigid) && run_counted("tree with flexible bodies", flexible);
+  soadyn::Model with_armature = flexible;  // rotor inertias on every other hinge DOF
+  for (int d = 0; d < with_armature.nv; d += 2)
+    if (!with_armature.is_modal(d)) with_armature.set_armature(d, 0.25 + 0.01 * d);
+  const bool pass = run_counted("rigid tree", rigid) && run_counted("tree with flexible bodies", flexible) &&
+                    run_counted("flexible tree with armature", with_armature);
   std::printf("test_no_allocation: %s: %d hybrid_dynamics calls per model\n", pass ? "PASS" : "FAIL", kHybridCalls);
   return pass ? 0 : 1;
 }

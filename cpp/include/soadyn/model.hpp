@@ -68,6 +68,8 @@ struct HingeModes {
   // is regular: only then does the body need an articulated inertia P.
   // Bodies without one are handled as in inverse dynamics (RNEA).
   bool needs_articulated_inertia = true;
+  // True when some DOF of this hinge has a nonzero armature (ModelTpl::armature).
+  bool has_armature = false;
 };
 
 // Which sweeps forward dynamics, hybrid dynamics and its impulse form run
@@ -161,6 +163,14 @@ class ModelTpl {
   void set_all_prescribed(bool flag);
   bool is_prescribed(int dof) const { return prescribed[static_cast<std::size_t>(dof)] != 0; }
 
+  // Armature of velocity index `dof`: a rotor inertia on the DOF itself (a
+  // motor's inertia reflected through its gearbox, MuJoCo's `armature`). The
+  // mass matrix carries it on its diagonal, so the hinge equation becomes
+  // T_k = H_k f + armature_k qdd_k, and kinetic energy gains
+  // armature_k v_k^2 / 2; momenta do not. Finite and non-negative; modal
+  // DOFs have none. Throws std::invalid_argument naming the DOF. Allocation free.
+  void set_armature(int dof, S value);
+
   // After a change of mass, com, inertia_com / inertia or placement
   // (parameters.hpp): refreshes what is derived from them (the tree-frame
   // reach). Allocation free.
@@ -205,6 +215,8 @@ class ModelTpl {
   std::vector<int> dof_run_start;
   std::vector<std::uint8_t> prescribed;
   std::vector<std::uint8_t> modal_dof;  // 1 for modal coordinates
+  std::vector<S> armature;              // per DOF, zero by default (set_armature)
+  bool has_armature = false;            // some DOF's armature is nonzero
   int n_prescribed = 0;  // how many DOFs are prescribed
   // The first n_prescribed entries: the prescribed DOFs in increasing order
   // (sized nv when DOFs are added, rewritten in place when a flag flips).

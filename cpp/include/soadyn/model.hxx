@@ -281,6 +281,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
     dof_names.push_back(new_dofs[static_cast<std::size_t>(k)]);
     dof_body.push_back(index);
     prescribed.push_back(0);
+    armature.push_back(S(0));
     prescribed_dofs.push_back(0);
     modal_dof.push_back(k >= jv ? 1 : 0);
   }
@@ -341,6 +342,26 @@ void ModelTpl<S>::set_prescribed(int dof, bool flag) {
   prescribed[d] = static_cast<std::uint8_t>(flag);
   refresh_body_modes(dof_body[d]);
   refresh_modes();
+}
+
+template <class S>
+void ModelTpl<S>::set_armature(int dof, S value) {
+  if (dof < 0 || dof >= nv)
+    throw std::invalid_argument("set_armature: DOF index " + std::to_string(dof) + " is out of range (nv = " +
+                                std::to_string(nv) + ")");
+  const std::size_t d = static_cast<std::size_t>(dof);
+  if (!(std::isfinite(value) && value >= S(0)))
+    throw std::invalid_argument("DOF '" + dof_names[d] + "': armature must be finite and non-negative");
+  if (modal_dof[d] && value != S(0))
+    throw std::invalid_argument("DOF '" + dof_names[d] + "' is a modal coordinate: it has no armature");
+  armature[d] = value;
+  const int body = dof_body[d];
+  const int v0 = v_index[static_cast<std::size_t>(body)];
+  bool body_has = false;
+  for (int k = 0; k < nv_body[static_cast<std::size_t>(body)]; ++k)
+    body_has = body_has || armature[static_cast<std::size_t>(v0 + k)] != S(0);
+  modes[static_cast<std::size_t>(body)].has_armature = body_has;
+  has_armature = std::any_of(armature.begin(), armature.end(), [](const S& a) { return a != S(0); });
 }
 
 template <class S>

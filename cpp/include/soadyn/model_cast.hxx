@@ -110,6 +110,8 @@ ModelTpl<T> ModelTpl<S>::cast() const {
   out.dof_run_start = dof_run_start;
   out.prescribed = prescribed;
   out.modal_dof = modal_dof;
+  out.armature = c::scalars<T>(armature);
+  out.has_armature = has_armature;
   out.n_prescribed = n_prescribed;
   out.prescribed_dofs = prescribed_dofs;
   out.has_newton_euler_region = has_newton_euler_region;

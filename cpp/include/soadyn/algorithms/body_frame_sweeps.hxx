@@ -77,6 +77,7 @@ Status body_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
       const int vi = m.v_index[i], ni = m.nv_body[i];
       d.qdd.segment(vi, ni) = Eigen::Map<const VecX<S>>(u + vi, ni);
       subspace_transpose_times(d.sweep.body_subspace[i], d.hinge_force[i], d.tau.segment(vi, ni));
+      add_armature_torques(m, i, u, d.tau.data());
       push_force_to_parent(m, d, i, d.hinge_force[i]);
     }
   }

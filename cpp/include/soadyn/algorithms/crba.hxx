@@ -39,6 +39,7 @@ bool composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef
       d.sweep.tree_articulated_inertia[static_cast<std::size_t>(p)] += d.sweep.tree_articulated_inertia[i];
   }
   d.mass_matrix.template triangularView<Eigen::StrictlyLower>() = d.mass_matrix.transpose();
+  if (m.has_armature) d.mass_matrix.diagonal() += Eigen::Map<const VecX<S>>(m.armature.data(), m.nv);
   return true;
 }
 

@@ -157,6 +157,12 @@ Status inverse_derivative_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDe
   d.mass_matrix.setZero();
   for (std::size_t i = 0; i < n; ++i) derivative_outward_step(m, d, w, i, q, v, qdd, f_ext, world_acc);
   for (std::size_t i = n; i-- > 0;) derivative_inward_step(m, d, w, i);
+  if (m.has_armature) {  // T += A qdd and M += A (ModelTpl::set_armature); constant in q and v
+    for (Eigen::Index k = 0; k < m.nv; ++k) {
+      w.inverse_force[k] += m.armature[static_cast<std::size_t>(k)] * qdd[k];
+      d.mass_matrix(k, k) += m.armature[static_cast<std::size_t>(k)];
+    }
+  }
   // Joint springs (force_elements.hpp): ID carries -Q = k (q - rest) + c v on their DOF.
   for (const JointSpringTpl<S>& e : m.force_elements.joint_springs) {
     w.inverse_force[e.dof] += e.stiffness * (q[e.coordinate] - e.rest) + e.damping * v[e.dof];

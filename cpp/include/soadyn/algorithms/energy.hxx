@@ -49,6 +49,8 @@ S kinetic_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, c
       }
     }
   }
+  for (int k = 0; k < m.nv; ++k)  // rotor inertias (ModelTpl::set_armature)
+    if (m.armature[static_cast<std::size_t>(k)] != S(0)) energy += S(0.5) * m.armature[static_cast<std::size_t>(k)] * v[k] * v[k];
   return energy;
 }
 

@@ -77,6 +77,7 @@ SOADYN_ALWAYS_INLINE void prescribed_hinge_outward(const ModelTpl<S>& m, DataTpl
     d.qdd[vi + k] = given[k];
     d.tau[vi + k] = s.col(k).dot(f);
   }
+  add_armature_torques(m, i, d.qdd.data(), d.tau.data());
 }
 
 // Tip-to-base hinge step of a body with an articulated inertia (Eq. 28):
@@ -105,6 +106,7 @@ SOADYN_ALWAYS_INLINE int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::
   const S* ui = u + m.v_index[i];
   VecN<S> torque(n_regular);
   const Mat6N<S>* Sr = &s;
+  S regular_armature[6];
   if (n_prescribed > 0) {  // mixed hinge: gather the regular columns and torques
     Mat6N<S>& gathered = frame_regular_subspace<F>(d)[i];
     gathered.resize(6, n_regular);
@@ -116,8 +118,11 @@ SOADYN_ALWAYS_INLINE int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::
   } else {
     torque = Eigen::Map<const VecN<S>>(ui, n_regular);
   }
-  const int bad =
-      articulated_hinge_step<Mode>(P, *Sr, z, torque, frame_gain<F>(d)[i], d.sweep.innovation[i], P_plus, z_plus);
+  if (h.has_armature)
+    for (int k = 0; k < n_regular; ++k)
+      regular_armature[k] = m.armature[static_cast<std::size_t>(m.v_index[i] + (n_prescribed > 0 ? h.regular[k] : k))];
+  const int bad = articulated_hinge_step<Mode>(P, *Sr, z, torque, h.has_armature ? regular_armature : nullptr,
+                                               frame_gain<F>(d)[i], d.sweep.innovation[i], P_plus, z_plus);
   if (bad < 0) return -1;
   return m.v_index[i] + (n_prescribed > 0 ? h.regular[bad] : bad);
 }
@@ -174,7 +179,11 @@ SOADYN_ALWAYS_INLINE void hinge_outward(const ModelTpl<S>& m, DataTpl<S>& d, std
     Vec6<S>& f = frame_hinge_force<F>(d)[i];
     f = frame_bias_and_children_z<F>(d)[i];
     f.noalias() += frame_articulated_inertia<F>(d)[i] * alpha;
-    for (int k = 0; k < n_prescribed; ++k) tau[h.prescribed[k]] = s.col(h.prescribed[k]).dot(f);
+    for (int k = 0; k < n_prescribed; ++k) {
+      const int p = h.prescribed[k];
+      tau[p] = s.col(p).dot(f);
+      if (h.has_armature) tau[p] += m.armature[static_cast<std::size_t>(vi + p)] * qdd[p];
+    }
   }
 }
 

@@ -28,6 +28,7 @@ void newton_euler_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
   for (std::size_t i = n; i-- > 0;) {  // tip to base: hinge forces
     subspace_transpose_times(d.sweep.body_subspace[i], d.hinge_force[i],
                              d.tau.segment(m.v_index[i], m.nv_body[i]));
+    if (qdd) add_armature_torques(m, i, qdd, d.tau.data());
     if constexpr (Flex)
       if (m.is_flexible(static_cast<int>(i)))
         d.tau.segment(m.modal_v_index(static_cast<int>(i)), m.n_modes[i]) = flexible_data(m, d, i).modal_force;

@@ -227,15 +227,17 @@ SOADYN_ALWAYS_INLINE void deliver_p_plus(const Mat6<S>& P, const Gain& G, const 
 // compile time: universal (2), spherical (3) and free (6) joints.
 template <int N, PlusMode Mode, class S>
 inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z,
-                                        const VecN<S>& torque, Mat6N<S>& G, VecN<S>& nu, Mat6<S>& P_plus,
-                                        Vec6<S>& z_plus, const S& threshold) {
+                                        const VecN<S>& torque, const S* armature, Mat6N<S>& G, VecN<S>& nu,
+                                        Mat6<S>& P_plus, Vec6<S>& z_plus, const S& threshold) {
   using Mat6n = Eigen::Matrix<S, 6, N>;
   using Vecn = Eigen::Matrix<S, N, 1>;
   const Mat6n s = Sr;
   const Mat6n U = P * s;
   Vecn e = torque.template head<N>();  // eps = T - S' z
   e.noalias() -= s.transpose() * z;
-  Eigen::Matrix<S, N, N> L = s.transpose() * U;  // D = S' P S, factored in place
+  Eigen::Matrix<S, N, N> L = s.transpose() * U;  // D = S' P S (+ armature), factored in place
+  if (armature)
+    for (int k = 0; k < N; ++k) L(k, k) += armature[k];
   const int bad = cholesky_in_place(L, threshold);
   if (bad >= 0) return bad;
   Eigen::Matrix<S, N, 6> gain_transpose = U.transpose();  // G' = D^-1 (P S)'
@@ -252,18 +254,22 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
 }
 
 // The regular part of a hinge in the tip-to-base sweep (Jain & Rodriguez 1993, Eqs. 14, 28):
-//   D = S' P S,  G = P S D^-1,  eps = T - S' z,  nu = D^-1 eps,
-//   P+ = (I - G S') P,  z+ = z + G eps.
+//   D = S' P S + A,  G = P S D^-1,  eps = T - S' z,  nu = D^-1 eps,
+//   P+ = (I - G S') P,  z+ = z + G eps,
+// with A the diagonal of the regular DOFs' armatures (`armature`, null: none;
+// ModelTpl::set_armature): the hinge equation T = S' f + A qdd adds A to D
+// and leaves G's role in P+ and in qdd = nu - G' alpha+ unchanged.
 // `z` already holds b + children + P (S_p qdd_p + a); `torque` holds the
 // regular hinge torques T. P+ goes to `P_plus` as `Mode` says. Returns the
 // local column of a singular D, or -1.
 template <PlusMode Mode = PlusMode::store, class S>
 inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z, const VecN<S>& torque,
-                                  Mat6N<S>& G, VecN<S>& nu, Mat6<S>& P_plus, Vec6<S>& z_plus) {
+                                  const S* armature, Mat6N<S>& G, VecN<S>& nu, Mat6<S>& P_plus, Vec6<S>& z_plus) {
   const S threshold = singular_pivot_threshold(P);
   if (Sr.cols() == 1) {  // the common case, in fixed-size arithmetic: a scalar D
     const Vec6<S> u = P * Sr.col(0);
-    const S D = Sr.col(0).dot(u);
+    S D = Sr.col(0).dot(u);
+    if (armature) D += armature[0];
     if (!(D > threshold)) return 0;
     const Vec6<S> g = u / D;
     const S e = torque[0] - Sr.col(0).dot(z);
@@ -274,16 +280,18 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     return -1;
   }
   switch (Sr.cols()) {  // multi-DOF hinges in fixed-size arithmetic
-    case 2: return articulated_hinge_step_fixed<2, Mode>(P, Sr, z, torque, G, nu, P_plus, z_plus, threshold);
-    case 3: return articulated_hinge_step_fixed<3, Mode>(P, Sr, z, torque, G, nu, P_plus, z_plus, threshold);
-    case 6: return articulated_hinge_step_fixed<6, Mode>(P, Sr, z, torque, G, nu, P_plus, z_plus, threshold);
+    case 2: return articulated_hinge_step_fixed<2, Mode>(P, Sr, z, torque, armature, G, nu, P_plus, z_plus, threshold);
+    case 3: return articulated_hinge_step_fixed<3, Mode>(P, Sr, z, torque, armature, G, nu, P_plus, z_plus, threshold);
+    case 6: return articulated_hinge_step_fixed<6, Mode>(P, Sr, z, torque, armature, G, nu, P_plus, z_plus, threshold);
     default: break;
   }
   const Mat6N<S> U = P * Sr;  // 6 x nr
   VecN<S> eps = torque;
   eps.noalias() -= Sr.transpose() * z;
   {
-    const MatN<S> D = Sr.transpose() * U;
+    MatN<S> D = Sr.transpose() * U;
+    if (armature)
+      for (Eigen::Index k = 0; k < D.rows(); ++k) D(k, k) += armature[k];
     const Eigen::LLT<MatN<S>> llt(D);
     if (llt.info() != Eigen::Success) return 0;
     const VecN<S> pivots = llt.matrixLLT().diagonal();
@@ -319,6 +327,15 @@ inline void replace_prescribed_by_identity(const ModelTpl<S>& m, MatX<S>& mass) 
     mass.col(p).setZero();
     mass(p, p) = S(1);
   }
+}
+
+// T_k += armature_k qdd_k for body i's hinge DOFs (ModelTpl::set_armature),
+// on top of T = H f: the rotor's own share of the hinge torque.
+template <class S>
+inline void add_armature_torques(const ModelTpl<S>& m, std::size_t i, const S* qdd, S* tau) {
+  if (!m.modes[i].has_armature) return;
+  const int vi = m.v_index[i];
+  for (int k = 0; k < m.nv_body[i]; ++k) tau[vi + k] += m.armature[static_cast<std::size_t>(vi + k)] * qdd[vi + k];
 }
 
 template <class S>

@@ -60,7 +60,8 @@ inline void hinge_forces_to_body_frames(DataTpl<S>& d) {
 
 template <ModePolicy Modes, class S>
 inline bool is_regular_free_root(const ModelTpl<S>& m, std::size_t i) {
-  return m.parent[i] < 0 && m.joint_kernel[i] == JointKernel::free && regular_hinge<Modes>(m, i);
+  return m.parent[i] < 0 && m.joint_kernel[i] == JointKernel::free && regular_hinge<Modes>(m, i) &&
+         !m.modes[i].has_armature;  // armature: D = H P H* + A, the general step
 }
 
 // The tree-frame hinge step of body i (Jain & Rodriguez 1993, Eq. 28): P+
@@ -116,6 +117,7 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
       const int vi = m.v_index[i], ni = m.nv_body[i];
       for (int k = 0; k < ni; ++k) d.qdd[vi + k] = u[vi + k];
       subspace_transpose_times(w.tree_subspace[i], w.tree_hinge_force[i], d.tau.segment(vi, ni));
+      add_armature_torques(m, i, u, d.tau.data());
       if (p >= 0) w.tree_hinge_force[pp] += w.tree_hinge_force[i];
       continue;
     }
