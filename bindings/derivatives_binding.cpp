@@ -52,6 +52,18 @@ py::array_t<double> copy_vector(const Eigen::VectorXd& x) {
   return out;
 }
 
+// (dofs, w, zeta, roots, shapes) of soadyn::Modes for the Python Modes class.
+py::tuple modes_tuple(const soadyn::Modes& result) {
+  py::list dofs;
+  for (int k : result.dofs) dofs.append(k);
+  py::array_t<std::complex<double>> roots({result.roots.rows(), result.roots.cols()});
+  auto r = roots.mutable_unchecked<2>();
+  for (Eigen::Index i = 0; i < result.roots.rows(); ++i)
+    for (Eigen::Index j = 0; j < result.roots.cols(); ++j) r(i, j) = result.roots(i, j);
+  return py::make_tuple(dofs, copy_vector(result.angular_frequency), copy_vector(result.damping_ratio), roots,
+                        copy_out(result.shapes));
+}
+
 }  // namespace
 
 void bind_derivatives(py::module_& mod) {
@@ -136,16 +148,25 @@ void bind_derivatives(py::module_& mod) {
           result = soadyn::modes(m, d, workspace, Map(qa.data(), m.nq), status);
         });
         raise_on(status, h.model, "modes");
-        py::list dofs;
-        for (int k : result.dofs) dofs.append(k);
-        py::array_t<std::complex<double>> roots({result.roots.rows(), result.roots.cols()});
-        auto r = roots.mutable_unchecked<2>();
-        for (Eigen::Index i = 0; i < result.roots.rows(); ++i)
-          for (Eigen::Index j = 0; j < result.roots.cols(); ++j) r(i, j) = result.roots(i, j);
-        return py::make_tuple(dofs, copy_vector(result.angular_frequency), copy_vector(result.damping_ratio), roots,
-                              copy_out(result.shapes));
+        return modes_tuple(result);
       },
       py::arg("model"), py::arg("q"));
+  mod.def("_modes_of",
+      [](ModelHandle& h, py::handle M, py::handle K, py::handle D) {
+        using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+        const soadyn::Model& m = h.model;
+        const auto matrix = [&](py::handle obj, const char* arg) -> Eigen::MatrixXd {
+          const Array a = checked_matrix(obj, arg, m.nv, m.dof_names);
+          return Eigen::Map<const RowMajor>(a.data(), m.nv, m.nv);
+        };
+        const Eigen::MatrixXd mass = matrix(M, "mass_matrix"), stiffness = matrix(K, "stiffness"),
+                              damping = matrix(D, "damping");
+        std::vector<int> regular;
+        for (int k = 0; k < m.nv; ++k)
+          if (!m.is_prescribed(k)) regular.push_back(k);
+        return modes_tuple(soadyn::modes_of(mass, stiffness, damping, regular));
+      },
+      py::arg("model"), py::arg("mass_matrix"), py::arg("stiffness"), py::arg("damping"));
 }
 
 }  // namespace soadyn_py

@@ -302,8 +302,14 @@ def test_point_spring_derivatives_are_the_oscillators():
     assert dqdd_du[0, 0] == pytest.approx(0.5, rel=1e-12)
     dtau_dq, dtau_dv, M = soadyn.inverse_dynamics_derivatives(m, q, v, np.zeros(1))
     assert dtau_dq[0, 0] == pytest.approx(30.0, rel=1e-12) and M[0, 0] == pytest.approx(2.0, rel=1e-12)
-    with pytest.raises(ValueError, match="strut"):  # the analytic C++ paths refuse it by name
-        soadyn.linearize(m, q, v, u)
+    A, B = soadyn.linearize(m, q, v, u)  # through the dual-number sweeps too
+    np.testing.assert_allclose(A, [[0.0, 1.0], [-15.0, -0.2]], rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(B, [[0.0], [0.5]], rtol=1e-12, atol=1e-15)
+    md = soadyn.modes(m, q)  # m x'' + c x' + k x = 0: w = sqrt(k/m), zeta = c / (2 sqrt(k m))
+    assert md.angular_frequencies[0] == pytest.approx(np.sqrt(15.0), rel=1e-12)
+    assert md.damping_ratios[0] == pytest.approx(0.4 / (2 * np.sqrt(60.0)), rel=1e-12)
+    with pytest.raises(ValueError, match="strut"):  # the analytic C++ path refuses it by name
+        soadyn.static_equilibrium(m, q)
 
 
 @pytest.mark.parametrize("seed", [0, 1])
@@ -388,10 +394,32 @@ def test_loop_model_derivatives_against_differences(name, driven):
         assert error <= 10 * FD_RTOL, f"{name} {label}: relative error {error:.2e}"
 
 
-def test_flexible_models_are_refused_by_name():
+FLEXIBLE_CASES = {  # random flexible trees: bodies on nodes (body-frame sweeps) and appendages (tree frames)
+    "on-nodes": dict(), "appendages-floating-damped": dict(appendages=True, floating=True, damping=True),
+    "on-nodes-floating": dict(floating=True),
+}
+
+
+@pytest.mark.parametrize("name", sorted(FLEXIBLE_CASES))
+@pytest.mark.parametrize("masked", [False, True], ids=["regular", "mixed"])
+def test_flexible_model_derivatives_against_differences(name, masked):
+    """Flexible bodies (modal coordinates among the DOFs) by the dual-number sweeps, against central
+    differences of hybrid_dynamics; and inverse_dynamics_derivatives against those of inverse_dynamics."""
     from flexible_trees import random_flexible_tree
-    m = random_flexible_tree(0)[0] if isinstance(random_flexible_tree(0), tuple) else random_flexible_tree(0)
-    flexible = next(name for name, n in zip(m.body_names, m.n_modes) if n > 0)
-    z = np.zeros(m.nv)
-    with pytest.raises(ValueError, match=flexible):
-        soadyn.dynamics_derivatives(m, soadyn.neutral_configuration(m), z, z)
+    seed = sorted(FLEXIBLE_CASES).index(name)
+    m = random_flexible_tree(seed, **FLEXIBLE_CASES[name])[0]
+    assert any(m.n_modes)
+    rng = np.random.default_rng(seed)
+    q = soadyn.integrate(m, soadyn.neutral_configuration(m), 0.3 * rng.normal(size=m.nv), 1.0)
+    v, u = rng.normal(size=m.nv), rng.normal(size=m.nv)
+    if masked:
+        m.set_prescribed((rng.random(m.nv) < 0.4) & ~m.modal)
+    for label, a, r in zip(NAMES, soadyn.dynamics_derivatives(m, q, v, u), hybrid_by_differences(m, q, v, u)):
+        assert_close(a, r, FD_RTOL, f"{name} {label}")
+    qdd = rng.normal(size=m.nv)
+    dq, dv, M = soadyn.inverse_dynamics_derivatives(m, q, v, qdd)
+    assert_close(dq, central_differences(lambda x: soadyn.inverse_dynamics(m, x, v, qdd), q,
+                                         lambda x, e: soadyn.integrate(m, x, e, 1.0), m.nv), FD_RTOL, "dtau/dq")
+    assert_close(dv, central_differences(lambda x: soadyn.inverse_dynamics(m, q, x, qdd), v,
+                                         lambda x, e: x + e, m.nv), FD_RTOL, "dtau/dv")
+    assert_close(M, soadyn.mass_matrix(m, q), 1e-12, "M")

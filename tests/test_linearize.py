@@ -220,3 +220,74 @@ def test_derivatives_from_many_threads_agree():
     for k, result in enumerate(results):
         for a, b in zip(result, expected[k % len(states)]):
             assert np.array_equal(a, b)
+
+
+def test_cantilever_modes_are_euler_bernoulli():
+    """A clamped flexible beam (modal coordinates only): modes gives the clamped-free bending
+    frequencies of Euler-Bernoulli theory (to the lumped model's discretisation error), in pairs
+    labelled by the beam's modal DOFs, and matches the beam's own clamped frequencies to rounding."""
+    from test_flexible_body import euler_bernoulli_frequencies
+    length, EI, mu = 2.0, 3.0e3, 1.5
+    m = soadyn.scenes.cantilever_beam(length, EI, mu, n_modes=3, n_nodes=120)
+    md = soadyn.modes(m, soadyn.neutral_configuration(m))
+    assert md.dof_names == m.dof_names
+    beam = m.flexible_body("beam")
+    np.testing.assert_allclose(md.angular_frequencies, np.sort(beam.natural_frequencies_clamped()), rtol=1e-10)
+    beta_l = np.array([1.8751040687, 4.6940911330, 7.8547574382])
+    np.testing.assert_allclose(md.angular_frequencies[::2], euler_bernoulli_frequencies(beta_l, length, EI, mu),
+                               rtol=2e-3)
+    np.testing.assert_allclose(md.damping_ratios, 0.0, atol=1e-12)
+
+
+def test_flexible_stiffness_is_the_gradient_of_the_bias_at_rest():
+    """cassini (flexible appendages, gravity-free but with elastic modes): the exact K and D at rest
+    against central differences of bias_forces, and modes labelled by DOF name."""
+    m = soadyn.scenes.cassini()
+    rng = np.random.default_rng(4)
+    q = soadyn.integrate(m, soadyn.neutral_configuration(m), 0.2 * rng.normal(size=m.nv), 1.0)
+    K = soadyn.stiffness_matrix(m, q)
+    zero = np.zeros(m.nv)
+    K_fd = np.stack([(soadyn.bias_forces(m, soadyn.integrate(m, q, e, 1e-6), zero)
+                      - soadyn.bias_forces(m, soadyn.integrate(m, q, e, -1e-6), zero)) / 2e-6
+                     for e in np.eye(m.nv)], axis=1)
+    assert relative_error(K, K_fd) < 1e-7
+    D = soadyn.inverse_dynamics_derivatives(m, q, zero, zero)[1]
+    D_fd = np.stack([(soadyn.bias_forces(m, q, 1e-6 * e) - soadyn.bias_forces(m, q, -1e-6 * e)) / 2e-6
+                     for e in np.eye(m.nv)], axis=1)
+    assert relative_error(D, D_fd) < 1e-7
+    md = soadyn.modes(m, q)
+    assert md.dof_names == [n for n, held in zip(m.dof_names, m.prescribed) if not held]
+    elastic = np.abs(md.angular_frequencies) > 0
+    assert elastic.sum() == int(m.modal.sum())  # one elastic mode per modal coordinate, the rest rigid
+    assert np.all((md.damping_ratios[elastic] > 0) & (md.damping_ratios[elastic] < 0.05))
+
+
+@pytest.mark.parametrize("integrator", ["rk4", "euler", None])
+@pytest.mark.parametrize("kind", ["on-nodes", "appendages-damped"])
+def test_flexible_linearization_against_differences(kind, integrator):
+    """Fixed-base flexible trees (revolute, prismatic and modal coordinates: vector spaces, so states
+    difference coordinate by coordinate): the discrete map against central differences of one
+    Simulator step, the continuous one (with a hybrid mask) against central differences of
+    hybrid_dynamics."""
+    from flexible_trees import random_flexible_tree
+    options = {"on-nodes": {}, "appendages-damped": {"appendages": True, "damping": True}}[kind]
+    m = random_flexible_tree(5, **options)[0]
+    assert m.nq == m.nv and any(m.n_modes)
+    rng = np.random.default_rng(6)
+    q, v, u = 0.3 * rng.normal(size=m.nv), rng.normal(size=m.nv), rng.normal(size=m.nv)
+    mask = (rng.random(m.nv) < 0.3) & ~m.modal
+    if integrator is None:  # (a Simulator starts prescribed DOFs locked: the steps are taken all-regular)
+        m.set_prescribed(mask)
+    nv, dt = m.nv, 2e-3
+    if integrator is None:
+        def f(x):
+            return np.concatenate([x[nv:2 * nv], soadyn.hybrid_dynamics(m, x[:nv], x[nv:2 * nv], x[2 * nv:])[0]])
+    else:
+        def f(x):
+            return np.concatenate(simulator_step(m, x[:nv], x[nv:2 * nv], x[2 * nv:], dt, integrator))
+    x0 = np.concatenate([q, v, u])
+    J = np.stack([(f(x0 + EPS * e) - f(x0 - EPS * e)) / (2 * EPS) for e in np.eye(3 * nv)], axis=1)
+    A, B = soadyn.linearize(m, q, v, u) if integrator is None else \
+        soadyn.linearize(m, q, v, u, dt=dt, integrator=integrator)
+    assert relative_error(A, J[:, :2 * nv]) < 1e-7
+    assert relative_error(B, J[:, 2 * nv:]) < 1e-7

@@ -295,9 +295,25 @@ def test_welded_parts_and_flexible_bodies():
         assert f"{b}.placement" in names
         with pytest.raises(soadyn.ParameterError, match=f"flexible body '{b}' has only a placement parameter"):
             fm.get_parameter(f"{b}.mass")
-    with pytest.raises(ValueError, match=f"flexible body '{flex_bodies[0]}'"):
-        q = soadyn.neutral_configuration(fm)
-        soadyn.parameter_sensitivity(fm, q, np.zeros(fm.nv), np.zeros(fm.nv), ["gravity"])
+
+
+@pytest.mark.parametrize("masked", [False, True], ids=["regular", "mixed"])
+def test_sensitivity_flexible_tree(masked):
+    """Models with flexible bodies: gravity, the flexible bodies' placements and the rigid bodies'
+    parameters, against central differences."""
+    from flexible_trees import random_flexible_tree
+    m = random_flexible_tree(1, n_bodies=5)[0]
+    rng = np.random.default_rng(3)
+    q = soadyn.integrate(m, soadyn.neutral_configuration(m), 0.3 * rng.normal(size=m.nv), 1.0)
+    v, u = rng.normal(size=m.nv), rng.normal(size=m.nv)
+    if masked:
+        m.set_prescribed((rng.random(m.nv) < 0.4) & ~m.modal)
+    flexible = [b for b, n in zip(m.body_names, m.n_modes) if n > 0]
+    rigid = [b for b, n in zip(m.body_names, m.n_modes) if n == 0]
+    names = ["gravity"] + [f"{b}.placement" for b in flexible] + [f"{rigid[-1]}.mass", f"{rigid[-1]}.com"]
+    errors = []
+    check_against_differences(m, q, v, u, names, errors)
+    assert len(errors) == 2 * len(names)
 
 
 def test_sensitivity_hostile_input():

@@ -38,17 +38,24 @@ Eigen::MatrixXcd pair_roots(const Eigen::VectorXcd& roots) {
 Modes modes(const Model& m, Data& d, DynamicsDerivatives& w, const ConstVecRef<double>& q, Status& status) {
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(m.nv);
   status = inverse_dynamics_derivatives<double>(m, d, w, q, zero, zero);
-  Modes out;
-  if (!status.ok()) return out;
+  if (!status.ok()) return Modes{};
+  std::vector<int> regular;
   for (int k = 0; k < m.nv; ++k)
-    if (!m.is_prescribed(k)) out.dofs.push_back(k);
+    if (!m.is_prescribed(k)) regular.push_back(k);
+  return modes_of(d.mass_matrix, w.inverse_dq, w.inverse_dv, regular);
+}
+
+Modes modes_of(const Eigen::MatrixXd& mass_matrix, const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& damping,
+               const std::vector<int>& dofs) {
+  Modes out;
+  out.dofs = dofs;
   const Eigen::Index n = static_cast<Eigen::Index>(out.dofs.size());
   Eigen::MatrixXd M(n, n), K(n, n), D(n, n);
   for (Eigen::Index r = 0; r < n; ++r)
     for (Eigen::Index c = 0; c < n; ++c) {
-      M(r, c) = d.mass_matrix(out.dofs[r], out.dofs[c]);
-      K(r, c) = w.inverse_dq(out.dofs[r], out.dofs[c]);
-      D(r, c) = w.inverse_dv(out.dofs[r], out.dofs[c]);
+      M(r, c) = mass_matrix(out.dofs[r], out.dofs[c]);
+      K(r, c) = stiffness(out.dofs[r], out.dofs[c]);
+      D(r, c) = damping(out.dofs[r], out.dofs[c]);
     }
   const Eigen::LLT<Eigen::MatrixXd> mass(M);
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 2 * n);

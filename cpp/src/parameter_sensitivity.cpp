@@ -4,9 +4,8 @@
 // a dual-number scalar.
 #include <unsupported/Eigen/AutoDiff>
 
-// The sweeps' definitions, instantiated here for the dual scalar (the
-// flexible-body ones are reached by the dispatch, never run: cast() refuses
-// flexible bodies).
+// The sweeps' definitions, instantiated here for the dual scalar, flexible
+// bodies included (ModelTpl::cast converts them).
 #include "soadyn/algorithms/aba.hxx"
 #include "soadyn/algorithms/constrained_dynamics.hxx"
 #include "soadyn/algorithms/crba.hxx"

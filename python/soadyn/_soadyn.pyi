@@ -837,5 +837,7 @@ def _linearize(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, dt: t
     """(A, B) (soadyn.linearize)."""
 def _modes(model: _Model, q: typing.Any) -> tuple:
     """(dofs, w, zeta, roots, shapes) (soadyn.modes)."""
+def _modes_of(model: _Model, mass_matrix: typing.Any, stiffness: typing.Any, damping: typing.Any) -> tuple:
+    """(dofs, w, zeta, roots, shapes) of the regular DOFs from given M, K, D at rest (soadyn.modes)."""
 def _dual_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, f_ext: typing.Any = None, spanning_tree: bool = False) -> tuple:
     """The six derivatives of constrained (or hybrid) dynamics by forward-mode AD (soadyn.dynamics_derivatives)."""

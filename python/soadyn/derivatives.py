@@ -7,8 +7,8 @@ partitioned solve with the tree-sparse factor of the mass matrix. Models with
 closed loops are differentiated by forward-mode automatic differentiation of
 constrained_dynamics' own sweeps (exact to rounding, one evaluation per
 column), and so are models with point springs (whose line-of-action
-stiffness the analytic sweeps do not carry). Flexible bodies are refused by
-name.
+stiffness the analytic sweeps do not carry) and models with flexible bodies
+(whose modal coordinates' columns come out of the same dual-number sweeps).
 
 Derivatives with respect to q are taken in the tangent space: column k is
 d/de of the output at soadyn.integrate(q, e * e_k), so every derivative with
@@ -29,6 +29,11 @@ def _has_point_springs(model) -> bool:
     return any(e["kind"] == "point_spring" for e in _soadyn.force_elements(model))
 
 
+def _by_dual_numbers(model) -> bool:
+    """Whether the model needs the dual-number sweeps: loops, point springs or flexible bodies."""
+    return bool(model.nloops) or any(model.n_modes) or _has_point_springs(model)
+
+
 def inverse_dynamics_derivatives(model, q, v, qdd, f_ext=None):
     """(dtau_dq, dtau_dv, dtau_dqdd) of tau = inverse_dynamics(model, q, v, qdd, f_ext), each (nv, nv).
 
@@ -36,6 +41,15 @@ def inverse_dynamics_derivatives(model, q, v, qdd, f_ext=None):
     turn with their bodies when q changes. On a loop model these are the spanning
     tree's (the loop forces are not part of inverse_dynamics).
     """
+    if any(model.n_modes):
+        # Modal DOFs are always regular, so differentiate forward dynamics at tau = ID(q, v, qdd):
+        # FD(q, v, ID(q, v, qdd)) = qdd gives dID/dx = -M dFD/dx (x = q, v) and dID/dqdd = M.
+        regular = model.copy()
+        regular.set_prescribed(np.zeros(model.nv, dtype=bool))
+        tau = _soadyn.inverse_dynamics(model, q, v, qdd, f_ext)
+        dq, dv, _, *_ = _soadyn._dual_dynamics_derivatives(regular, q, v, tau, f_ext)
+        M = _soadyn.mass_matrix(model, q)
+        return -M @ dq, -M @ dv, M
     if _has_point_springs(model):  # by the dual-number sweeps: every DOF prescribed, u = qdd
         at_rest = model.copy()
         at_rest.set_prescribed(np.ones(model.nv, dtype=bool))
@@ -57,6 +71,6 @@ def dynamics_derivatives(model, q, v, u, f_ext=None):
     forward-mode automatic differentiation of its sweeps (one dual-number evaluation per column,
     exact to rounding; soadyn/algorithms/parameter_sensitivity.hpp).
     """
-    if model.nloops or _has_point_springs(model):
+    if _by_dual_numbers(model):
         return _soadyn._dual_dynamics_derivatives(model, q, v, u, f_ext)
     return _soadyn._tree_dynamics_derivatives(model, q, v, u, f_ext)

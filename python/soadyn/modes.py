@@ -8,8 +8,8 @@ tangent direction) and D = d tau/dv at rest (dampers and modal damping; the
 velocity products vanish at rest), all from inverse_dynamics_derivatives at
 (q, 0, 0). Prescribed DOFs are held where they are (their accelerations are
 given, zero here), so only the regular DOFs oscillate. Models with flexible
-bodies take K by central differences of bias_forces (their elastic forces
-are linear in the modal coordinates, so that part is exact to rounding).
+bodies or point springs take K, D and M from the dual-number sweeps
+(soadyn.inverse_dynamics_derivatives), exact to rounding as for rigid models.
 """
 from __future__ import annotations
 
@@ -18,37 +18,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _soadyn
-from ._soadyn import bias_forces, integrate, mass_matrix
-from .derivatives import inverse_dynamics_derivatives
+from .derivatives import _by_dual_numbers, inverse_dynamics_derivatives
 
 __all__ = ["Modes", "modes", "natural_frequencies", "stiffness_matrix"]
-
-_STEP = 1e-6  # central-difference step of the flexible models' stiffness
-
-
-def _is_flexible(model) -> bool:
-    return any(n > 0 for n in model.n_modes)
-
 
 def _at_rest_derivatives(model, q):
     """(K, D, M) at (q, v = 0, qdd = 0)."""
     zero = np.zeros(model.nv)
-    if not _is_flexible(model):
-        return inverse_dynamics_derivatives(model, q, zero, zero)
-    K = np.empty((model.nv, model.nv))
-    D = np.empty((model.nv, model.nv))
-    for k in range(model.nv):
-        step = np.zeros(model.nv)
-        step[k] = _STEP
-        K[:, k] = (bias_forces(model, integrate(model, q, step, 1.0), zero)
-                   - bias_forces(model, integrate(model, q, -step, 1.0), zero)) / (2 * _STEP)
-        D[:, k] = (bias_forces(model, q, step) - bias_forces(model, q, -step)) / (2 * _STEP)
-    return K, D, mass_matrix(model, q)
+    return inverse_dynamics_derivatives(model, q, zero, zero)
 
 
 def stiffness_matrix(model, q) -> np.ndarray:
-    """K = d h(q, 0) / dq (nv x nv) in the tangent space of soadyn.integrate: analytic
-    (inverse_dynamics_derivatives) for rigid models, central differences with flexible bodies."""
+    """K = d h(q, 0) / dq (nv x nv) in the tangent space of soadyn.integrate, exact
+    (inverse_dynamics_derivatives at rest)."""
     return _at_rest_derivatives(model, np.asarray(q, dtype=float))[0]
 
 
@@ -108,7 +90,13 @@ class Modes:
 def modes(model, q) -> Modes:
     """Frequencies (Hz and rad/s), damping ratios and DOF-labelled mode shapes of the
     model linearised about q at rest (see Modes; C++: soadyn/algorithms/modes.hpp).
-    Prescribed DOFs are held. Rigid models (flexible bodies: see natural_frequencies)."""
-    dofs, w, zeta, roots, shapes = _soadyn._modes(model, q)
+    Prescribed DOFs are held. Models with flexible bodies or point springs: from the dual-number
+    derivatives (soadyn.inverse_dynamics_derivatives) through the same eigen-analysis."""
+    if _by_dual_numbers(model) and not model.nloops:
+        q = np.asarray(q, dtype=float)
+        K, D, M = _at_rest_derivatives(model, q)
+        dofs, w, zeta, roots, shapes = _soadyn._modes_of(model, M, K, D)
+    else:
+        dofs, w, zeta, roots, shapes = _soadyn._modes(model, q)
     names = [model.dof_names[k] for k in dofs]
     return Modes(w, w / (2 * np.pi), zeta, roots, shapes, names)

@@ -45,7 +45,7 @@ def parameter_sensitivity(model, q, v, u, params) -> dict:
     mass: none; com, gravity: (3,); inertia: (3, 3), entry [a, b] the derivative along the symmetric
     change (E_ab + E_ba)/2 (so d = sum_ab dI[a, b] * deriv[..., a, b] for a symmetric dI);
     placement: (6,), (dtheta, dp) moving (R, p) to (R expm([dtheta]x), p + dp): dtheta in the joint frame,
-    dp in the parent body's frame. Rigid models only (ValueError naming a flexible body).
+    dp in the parent body's frame. Flexible bodies included (their placements are their parameters).
     """
     if isinstance(params, str):
         params = [params]

@@ -247,8 +247,8 @@ class ModelTpl {
   std::uint64_t version = 0;
 
   // The same model in scalar T (model_cast.hxx), e.g. an automatic-
-  // differentiation scalar. Models with flexible bodies are refused
-  // (std::invalid_argument naming the first flexible body).
+  // differentiation scalar. Flexible bodies are converted, not validated
+  // again (FlexibleBodyTpl::converted).
   template <class T>
   ModelTpl<T> cast() const;
 

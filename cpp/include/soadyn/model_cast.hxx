@@ -76,10 +76,6 @@ std::vector<T> scalars(const std::vector<S>& x) {
 template <class S>
 template <class T>
 ModelTpl<T> ModelTpl<S>::cast() const {
-  for (int i = 0; i < nbodies(); ++i)
-    if (is_flexible(i))
-      throw std::invalid_argument("model cast: flexible body '" + body_names[static_cast<std::size_t>(i)] +
-                                  "' is not supported");
   namespace c = cast_detail;
   ModelTpl<T> out;
   out.body_names = body_names;
@@ -99,6 +95,7 @@ ModelTpl<T> ModelTpl<S>::cast() const {
   out.nv_body = nv_body;
   out.modes = modes;
   out.flexible_index = flexible_index;
+  for (const FlexibleBodyTpl<S>& body : flexible_bodies) out.flexible_bodies.push_back(body.template converted<T>());
   out.n_modes = n_modes;
   out.attachment_node = attachment_node;
   out.nq = nq;

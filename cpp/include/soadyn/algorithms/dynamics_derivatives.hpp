@@ -39,9 +39,15 @@
 
 namespace soadyn {
 
+// Tag of the workspace that holds the eight output matrices only, for
+// derivatives computed elsewhere (LinearizationTpl with the dual-number
+// sweeps); no model is refused.
+struct OutputsOnly {};
+
 template <class S>
 struct DynamicsDerivativesTpl {
   explicit DynamicsDerivativesTpl(const ModelTpl<S>& model);
+  DynamicsDerivativesTpl(const ModelTpl<S>& model, OutputsOnly);
 
   // inverse_dynamics_derivatives: dID/dq and dID/dv (nv x nv); dID/dqdd = M
   // is written to data.mass_matrix.

@@ -30,6 +30,12 @@ DynamicsDerivativesTpl<S>::DynamicsDerivativesTpl(const ModelTpl<S>& m) {
   for (Mat6X<S>* x : {&displacement_lever, &displacement_acceleration, &velocity_acceleration}) x->setZero(6, nv);
 }
 
+template <class S>
+DynamicsDerivativesTpl<S>::DynamicsDerivativesTpl(const ModelTpl<S>& m, OutputsOnly) {
+  for (MatX<S>* x : {&inverse_dq, &inverse_dv, &dqdd_dq, &dqdd_dv, &dqdd_du, &dtau_dq, &dtau_dv, &dtau_du})
+    x->setZero(m.nv, m.nv);
+}
+
 namespace detail {
 
 // Outward step of the derivative sweeps for rigid body i: tree-frame

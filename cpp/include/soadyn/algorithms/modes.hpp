@@ -34,4 +34,11 @@ struct Modes {
 Modes modes(const Model& model, Data& data, DynamicsDerivatives& derivatives, const ConstVecRef<double>& q,
             Status& status);
 
+// The same from the full (nv x nv) mass matrix M, stiffness K = dtau/dq and
+// damping D = dtau/dv at rest, keeping the DOFs `dofs` (the regular ones):
+// for models whose derivatives come from elsewhere (flexible bodies and
+// point springs, by the dual-number sweeps of parameter_sensitivity.hpp).
+Modes modes_of(const Eigen::MatrixXd& mass_matrix, const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& damping,
+               const std::vector<int>& dofs);
+
 }  // namespace soadyn

@@ -5,7 +5,7 @@
 // automatic differentiation: the model is cast to a dual-number scalar
 // (Eigen's AutoDiffScalar with one derivative) and the scalar-templated core
 // runs once per parameter direction. Results are exact to rounding (no step
-// size). Rigid models only: a model with flexible bodies is refused.
+// size). Flexible bodies included (ModelTpl::cast converts them).
 //
 // Directions of a parameter (the trailing axis of each derivative):
 //   mass       1
@@ -32,7 +32,7 @@ int parameter_directions(const ParameterEntry<double>& e);
 
 class ParameterSensitivity {
  public:
-  // Casts `model` (allocates). Throws std::invalid_argument for flexible bodies.
+  // Casts `model` (allocates).
   explicit ParameterSensitivity(const Model& model);
   ~ParameterSensitivity();
   ParameterSensitivity(const ParameterSensitivity&) = delete;

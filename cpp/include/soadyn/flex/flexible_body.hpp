@@ -135,7 +135,23 @@ class FlexibleBodyTpl {
     return FlexibleBodyTpl<T>(description_.template cast<T>());
   }
 
+  // The same body in scalar T with its invariants converted, not recomputed
+  // and not validated again (this body is valid): for scalars the
+  // validation's eigen-decompositions do not serve, such as the
+  // automatic-differentiation scalar of ModelTpl::cast.
+  template <class T>
+  FlexibleBodyTpl<T> converted() const {
+    FlexibleBodyTpl<T> out;
+    out.description_ = description_.template cast<T>();
+    out.integrals_ = integrals_.template cast<T>();
+    out.diagonal_elastic_forces_ = diagonal_elastic_forces_;
+    return out;
+  }
+
  private:
+  template <class>
+  friend class FlexibleBodyTpl;
+  FlexibleBodyTpl() = default;
   FlexibleBodyDescription<S> description_;
   ModalIntegrals<S> integrals_;
   bool diagonal_elastic_forces_ = false;

@@ -105,6 +105,27 @@ struct ModalIntegrals {
   // at eta. No allocation.
   void inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, const Vec6<S>& V, const Vec6<S>& momentum,
                      const MatX<S>& rates, Eigen::Ref<VecX<S>> out) const;
+
+  // The same integrals in scalar T (e.g. an automatic-differentiation scalar).
+  template <class T>
+  ModalIntegrals<T> cast() const {
+    ModalIntegrals<T> out;
+    out.n_modes = n_modes;
+    out.mass = T(mass);
+    out.first_moment = first_moment.template cast<T>();
+    out.second_moment = second_moment.template cast<T>();
+    out.rotary_inertia = rotary_inertia.template cast<T>();
+    out.modal_first_moment = modal_first_moment.template cast<T>();
+    out.second_moment_linear = second_moment_linear.template cast<T>();
+    out.second_moment_quadratic = second_moment_quadratic.template cast<T>();
+    out.angular_coupling = angular_coupling.template cast<T>();
+    out.angular_coupling_linear = angular_coupling_linear.template cast<T>();
+    out.modal_mass = modal_mass.template cast<T>();
+    out.modal_mass_inverse = modal_mass_inverse.template cast<T>();
+    out.modal_first_moment_gain = modal_first_moment_gain.template cast<T>();
+    out.translational_appendage_inertia = translational_appendage_inertia.template cast<T>();
+    return out;
+  }
 };
 
 // M_ee of Eq. (6) straight from the nodes (also used to validate them).

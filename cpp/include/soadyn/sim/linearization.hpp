@@ -20,10 +20,15 @@
 // chart's first-order maps (joints/vector_space.hpp and the curved spaces).
 // Dormand-Prince adapts its sub-steps, so its step has no fixed map: refused.
 //
-// Rigid models without loops (those of DynamicsDerivativesTpl). Everything
-// is allocated in the constructor; the calls allocate nothing.
+// Models without loops. Rigid models take the analytic derivatives
+// (DynamicsDerivativesTpl): everything is allocated in the constructor and
+// the calls allocate nothing. Models with flexible bodies or point springs
+// take the dual-number sweeps (ParameterSensitivity::state_derivatives,
+// exact to rounding; analysis only: those calls allocate).
 #pragma once
+#include <memory>
 #include "soadyn/algorithms/dynamics_derivatives.hpp"
+#include "soadyn/algorithms/parameter_sensitivity.hpp"
 #include "soadyn/sim/simulator.hpp"
 
 namespace soadyn {
@@ -34,6 +39,8 @@ struct LinearizationTpl {
 
   MatX<S> A, B;  // (2nv x 2nv), (2nv x nv)
   DynamicsDerivativesTpl<S> derivatives;
+  // The dual-number sweeps, for models the analytic ones do not take (null otherwise).
+  std::unique_ptr<ParameterSensitivity> dual;
 
   // Scratch. One stage of an explicit Runge-Kutta step: its chart point xi,
   // velocity v, rate dxi/dt and acceleration, and their Jacobians with respect

@@ -1,5 +1,6 @@
 #pragma once
 #include <cmath>
+#include <type_traits>
 
 #include "soadyn/algorithms/dynamics_derivatives.hxx"
 #include "soadyn/sim/chart.hpp"
@@ -7,8 +8,19 @@
 
 namespace soadyn {
 
+namespace detail {
 template <class S>
-LinearizationTpl<S>::LinearizationTpl(const ModelTpl<S>& m) : derivatives(m) {
+bool needs_dual_derivatives(const ModelTpl<S>& m) {
+  return m.has_flexible_bodies() || !m.force_elements.point_springs.empty();
+}
+}  // namespace detail
+
+template <class S>
+LinearizationTpl<S>::LinearizationTpl(const ModelTpl<S>& m)
+    : derivatives(detail::needs_dual_derivatives(m) ? DynamicsDerivativesTpl<S>(m, OutputsOnly{})
+                                                    : DynamicsDerivativesTpl<S>(m)) {
+  static_assert(std::is_same_v<S, double>, "the dual-number sweeps are instantiated for double");
+  if (detail::needs_dual_derivatives(m)) dual = std::make_unique<ParameterSensitivity>(m);
   const Eigen::Index nv = m.nv;
   A.setZero(2 * nv, 2 * nv);
   B.setZero(2 * nv, nv);
@@ -24,6 +36,19 @@ LinearizationTpl<S>::LinearizationTpl(const ModelTpl<S>& m) : derivatives(m) {
 
 namespace detail {
 
+// The hybrid dynamics (d.qdd, d.tau) and its six derivatives (w.derivatives)
+// at (q, v, u): analytic, or by the dual-number sweeps (see linearization.hpp).
+template <class S>
+Status hybrid_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, LinearizationTpl<S>& w, const ConstVecRef<S>& q,
+                          const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext) {
+  if (!w.dual) return dynamics_derivatives(m, d, w.derivatives, q, v, u, f_ext);
+  const Status status = hybrid_dynamics(m, d, q, v, u, f_ext);
+  if (!status.ok()) return status;
+  DynamicsDerivativesTpl<S>& x = w.derivatives;
+  return w.dual->state_derivatives(m, q, v, u, f_ext, x.dqdd_dq, x.dqdd_dv, x.dqdd_du, x.dtau_dq, x.dtau_dv,
+                                   x.dtau_du);
+}
+
 // The stage at (retract(q0, xi), v) with the Jacobians d_xi, d_v already in
 // `s`: its acceleration, rate and their Jacobians. Columns: (e, v, u).
 template <class S>
@@ -32,7 +57,7 @@ Status linearization_stage(const ModelTpl<S>& m, DataTpl<S>& d, LinearizationTpl
                            const S* f_ext) {
   const Eigen::Index nv = m.nv;
   model_chart_retract(m, q0, s.xi.data(), w.q_stage.data());
-  const Status status = dynamics_derivatives(m, d, w.derivatives, w.q_stage, s.v, u, f_ext);
+  const Status status = hybrid_derivatives(m, d, w, w.q_stage, s.v, u, f_ext);
   if (!status.ok()) return status;
   s.acceleration = d.qdd;
   chart_transports(m, q0, w.q_stage.data(), s.xi.data(), w.base_transport, w.chart_transport);
@@ -81,7 +106,7 @@ void start_stage(const ModelTpl<S>& m, typename LinearizationTpl<S>::Stage& s, c
 template <class S>
 Status linearize(const ModelTpl<S>& m, DataTpl<S>& d, LinearizationTpl<S>& w, const ConstVecRef<S>& q,
                  const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext) {
-  const Status status = dynamics_derivatives(m, d, w.derivatives, q, v, u, f_ext);
+  const Status status = detail::hybrid_derivatives(m, d, w, q, v, u, f_ext);
   if (!status.ok()) return status;
   const Eigen::Index nv = m.nv;
   lie_bracket_matrix(m, v.data(), w.bracket);
