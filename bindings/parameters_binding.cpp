@@ -10,6 +10,7 @@
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
+#include "soadyn/algorithms/equilibrium_sensitivity.hpp"
 #include "soadyn/algorithms/parameter_sensitivity.hpp"
 #include "soadyn/parameters.hpp"
 
@@ -76,6 +77,23 @@ py::array_t<double> derivative_array(const Eigen::MatrixXd& d, std::vector<py::s
     }
   return out;
 }
+
+// An equilibrium's (q, nu) and free mask, checked against the model.
+struct EquilibriumArgs {
+  EquilibriumArgs(ModelHandle& h, py::handle q_in, py::handle nu_in, const std::vector<bool>& free)
+      : model_version(h.model.version) {
+    const soadyn::Model& m = h.model;
+    for (int k = 0; k < m.nloop_equations; ++k) equation_names.push_back("loop equation " + std::to_string(k));
+    q = checked_vector(q_in, "q", m.coordinate_names);
+    nu = checked_vector(nu_in, "multipliers", equation_names);
+    if (free.size() != static_cast<std::size_t>(m.nv))
+      throw py::value_error("free mask has " + std::to_string(free.size()) + " entries, expected nv = " +
+                            std::to_string(m.nv));
+  }
+  std::uint64_t model_version;
+  std::vector<std::string> equation_names;
+  Array q, nu;
+};
 
 }  // namespace
 
@@ -145,6 +163,64 @@ void bind_parameters(py::module_& mod) {
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("params"),
       py::arg("spanning_tree") = false);
+
+  mod.def("_equilibrium_sensitivities",
+      [](ModelHandle& h, py::handle q, py::handle nu, const std::vector<bool>& free,
+         const std::vector<std::string>& params) {
+        const EquilibriumArgs a(h, q, nu, free);
+        const soadyn::ParameterTable<double> table(h.model);
+        std::vector<int> entries;
+        for (const auto& name : params) entries.push_back(table.require(h.model, name));
+        py::dict out;
+        soadyn::Status status;
+        run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data&) {
+          soadyn::EquilibriumSensitivity sensitivity(m, Map(a.q.data(), m.nq), Map(a.nu.data(), m.nloop_equations),
+                                                     free);
+          const Eigen::Index nheld = static_cast<Eigen::Index>(sensitivity.held().size());
+          for (int k : entries) {
+            const auto& e = table.entry(k);
+            const int n = soadyn::parameter_directions(e);
+            Eigen::MatrixXd dq(m.nv, n), dnu(m.nloop_equations, n), dheld(nheld, n);
+            status = sensitivity.direct(m, table, k, dq, dnu, dheld);
+            if (!status.ok()) return;
+            out[py::str(e.name)] = py::make_tuple(derivative_array(dq, {m.nv}, e),
+                                                  derivative_array(dnu, {m.nloop_equations}, e),
+                                                  derivative_array(dheld, {nheld}, e));
+          }
+        });
+        raise_on(status, h.model, "equilibrium_sensitivities");
+        return out;
+      },
+      py::arg("model"), py::arg("q"), py::arg("multipliers"), py::arg("free"), py::arg("params"),
+      "{name: (dq/dp, dnu/dp, dH/dp of the held DOFs)} at a static equilibrium, direct method.");
+  mod.def("_objective_gradient",
+      [](ModelHandle& h, py::handle q, py::handle nu, const std::vector<bool>& free,
+         const std::vector<std::string>& params, py::handle dphi_dq, py::handle dphi_dnu) {
+        const EquilibriumArgs a(h, q, nu, free);
+        const Array gq = checked_vector(dphi_dq, "dphi_dq", h.model.dof_names);
+        const Array gnu = dphi_dnu.is_none() ? Array(0) : checked_vector(dphi_dnu, "dphi_dnu", a.equation_names);
+        const soadyn::ParameterTable<double> table(h.model);
+        std::vector<int> entries;
+        for (const auto& name : params) entries.push_back(table.require(h.model, name));
+        py::dict out;
+        soadyn::Status status;
+        run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data&) {
+          soadyn::EquilibriumSensitivity sensitivity(m, Map(a.q.data(), m.nq), Map(a.nu.data(), m.nloop_equations),
+                                                     free);
+          sensitivity.set_objective(Map(gq.data(), m.nv), Map(gnu.data(), gnu.size()));
+          for (int k : entries) {
+            const auto& e = table.entry(k);
+            Eigen::VectorXd gradient(soadyn::parameter_directions(e));
+            status = sensitivity.objective_gradient(m, table, k, gradient);
+            if (!status.ok()) return;
+            out[py::str(e.name)] = derivative_array(gradient.transpose(), {}, e);
+          }
+        });
+        raise_on(status, h.model, "objective_gradient");
+        return out;
+      },
+      py::arg("model"), py::arg("q"), py::arg("multipliers"), py::arg("free"), py::arg("params"), py::arg("dphi_dq"),
+      py::arg("dphi_dnu") = py::none(), "{name: dphi/dp} of a scalar objective at a static equilibrium, adjoint method.");
 }
 
 }  // namespace soadyn_py

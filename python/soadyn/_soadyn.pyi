@@ -837,6 +837,10 @@ def _linearize(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, dt: t
     """(A, B) (soadyn.linearize)."""
 def _modes(model: _Model, q: typing.Any) -> tuple:
     """(dofs, w, zeta, roots, shapes) (soadyn.modes)."""
+def _equilibrium_sensitivities(model: _Model, q: typing.Any, multipliers: typing.Any, free: collections.abc.Sequence[bool], params: collections.abc.Sequence[str]) -> dict:
+    """{name: (dq/dp, dnu/dp, dH/dp of the held DOFs)} at a static equilibrium, direct method."""
+def _objective_gradient(model: _Model, q: typing.Any, multipliers: typing.Any, free: collections.abc.Sequence[bool], params: collections.abc.Sequence[str], dphi_dq: typing.Any, dphi_dnu: typing.Any = None) -> dict:
+    """{name: dphi/dp} of a scalar objective at a static equilibrium, adjoint method."""
 def _modes_of(model: _Model, mass_matrix: typing.Any, stiffness: typing.Any, damping: typing.Any) -> tuple:
     """(dofs, w, zeta, roots, shapes) of the regular DOFs from given M, K, D at rest (soadyn.modes)."""
 def _dual_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, f_ext: typing.Any = None, spanning_tree: bool = False) -> tuple:
