@@ -308,8 +308,9 @@ def test_point_spring_derivatives_are_the_oscillators():
     md = soadyn.modes(m, q)  # m x'' + c x' + k x = 0: w = sqrt(k/m), zeta = c / (2 sqrt(k m))
     assert md.angular_frequencies[0] == pytest.approx(np.sqrt(15.0), rel=1e-12)
     assert md.damping_ratios[0] == pytest.approx(0.4 / (2 * np.sqrt(60.0)), rel=1e-12)
-    with pytest.raises(ValueError, match="strut"):  # the analytic C++ path refuses it by name
-        soadyn.static_equilibrium(m, q)
+    eq = soadyn.static_equilibrium(m, q)  # the spring at its rest length: x = d - L0, stiffness k
+    assert eq.q[0] == pytest.approx(1.5, rel=1e-12)
+    np.testing.assert_allclose(eq.stiffness_eigenvalues, [30.0], rtol=1e-12)
 
 
 @pytest.mark.parametrize("seed", [0, 1])

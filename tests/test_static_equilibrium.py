@@ -342,11 +342,42 @@ def test_bad_arguments_are_refused(kwargs, error, message):
         soadyn.static_equilibrium(m, **kwargs)
 
 
-def test_hold_on_a_modal_dof_and_flexible_models_are_refused():
+def test_hold_on_a_modal_dof_is_refused():
     m = soadyn.scenes.cantilever_beam(1.0, 100.0, 1.0, 2)
     modal = [n for n, f in zip(m.dof_names, m.modal) if f][0]
     q0 = soadyn.neutral_configuration(m)
     with pytest.raises(ValueError, match="modal"):
         soadyn.static_equilibrium(m, q0, hold=modal)
-    with pytest.raises(ValueError, match="flexible"):
-        soadyn.static_equilibrium(m, q0)
+
+
+def test_flexible_cantilever_sags_as_euler_bernoulli():
+    """A clamped beam under its own weight (stiffness from the dual-number sweeps): the tip deflection
+    is Euler-Bernoulli's mu g L^4 / (8 EI), to the modal model's truncation; gravity's modal force does
+    not depend on the deflection, so Newton converges in one step."""
+    length, EI, mu, g = 2.0, 3.0e3, 1.5, 9.81
+    m = soadyn.scenes.cantilever_beam(length, EI, mu, n_modes=4, n_nodes=200)
+    m.gravity = np.array([0.0, 0.0, -g])
+    eq = soadyn.static_equilibrium(m, soadyn.neutral_configuration(m))
+    beam = m.flexible_body("beam")
+    tip = beam.node_pose(beam.attachments["tip"], eq.q)[:3, 3]
+    assert tip[2] == pytest.approx(-mu * g * length**4 / (8 * EI), rel=2e-4)
+    assert eq.iterations == 1 and eq.stable and np.all(eq.stiffness_eigenvalues > 0)
+    # The modal stiffness is the beam's own K: the reduced stiffness's eigenvalues are K's.
+    np.testing.assert_allclose(eq.stiffness_eigenvalues, np.sort(np.linalg.eigvalsh(beam.stiffness)), rtol=1e-9)
+
+
+def test_point_spring_hanging_slider_and_its_sensitivities():
+    """A slider on a vertical rail hanging from a point spring (rest length L0, stiffness k) rests at
+    z = -(L0 + m g / k); dz/dk = m g / k^2 and dz/dm = -g / k by the direct and the adjoint method."""
+    mass, k, L0, g = 2.0, 200.0, 0.5, 9.81
+    m = soadyn.Model()
+    m.add_body("slider", None, soadyn.Joint.prismatic([0, 0, 1]), mass=mass, com=[0, 0, 0],
+               inertia=np.eye(3) * 0.01)
+    m.add_point_spring("strut", "slider", None, k, rest_length=L0)
+    eq = soadyn.static_equilibrium(m, np.array([-0.3]), sensitivities=["strut.stiffness", "slider.mass"])
+    assert eq.q[0] == pytest.approx(-(L0 + mass * g / k), rel=1e-12)
+    np.testing.assert_allclose(eq.stiffness_eigenvalues, [k], rtol=1e-12)
+    assert eq.sensitivities["strut.stiffness"]["q"][0] == pytest.approx(mass * g / k**2, rel=1e-10)
+    assert eq.sensitivities["slider.mass"]["q"][0] == pytest.approx(-g / k, rel=1e-10)
+    adjoint = soadyn.objective_gradient(m, eq, ["strut.stiffness"], np.array([1.0]))
+    assert float(adjoint["strut.stiffness"]) == pytest.approx(mass * g / k**2, rel=1e-10)

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "soadyn/algorithms/dynamics_derivatives.hpp"
+#include "soadyn/algorithms/static_stiffness.hpp"
 #include "soadyn/algorithms/loop_closure.hpp"
 #include "soadyn/algorithms/loop_force_stiffness.hpp"
 
@@ -25,11 +25,10 @@ EquilibriumSensitivity::EquilibriumSensitivity(const Model& m, const ConstVecRef
     throw std::invalid_argument("equilibrium sensitivities: q, the multipliers or the free mask do not match the model");
   for (int k = 0; k < m.nv; ++k) (free[static_cast<std::size_t>(k)] ? free_ : held_).push_back(k);
   Data data(m);
-  DynamicsDerivatives derivatives(m);
-  const VecX<double> zero = VecX<double>::Zero(m.nv);
-  Status status = inverse_dynamics_derivatives<double>(m, data, derivatives, q, zero, zero);
+  StaticStiffness static_stiffness(m);
   Factors& f = *factors_;
-  f.stiffness = derivatives.inverse_dq;
+  f.stiffness.resize(m.nv, m.nv);
+  Status status = static_stiffness.compute(m, data, q, f.stiffness);
   f.jacobian.setZero(m.nloop_equations, m.nv);
   if (status.ok() && m.nloops() > 0) {
     MatX<double> loop_stiffness(m.nv, m.nv);

@@ -36,7 +36,8 @@ Decisions:
   Hessian of the potential energy on the constraint manifold: stable iff
   every eigenvalue is > 0 (a hanging pendulum: m g l; upside down: -m g l).
 - Only `hold` fixes DOFs: the model's prescribed flags play no part.
-- Flexible bodies are refused (the analytic stiffness covers rigid models).
+- Models with flexible bodies or point springs take the stiffness from the
+  dual-number sweeps (soadyn/algorithms/static_stiffness.hpp).
 """
 from __future__ import annotations
 

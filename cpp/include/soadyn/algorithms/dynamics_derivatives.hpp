@@ -39,6 +39,14 @@
 
 namespace soadyn {
 
+// Whether the analytic sweeps refuse `model` (a flexible body or a point
+// spring): its derivatives then come from the dual-number sweeps
+// (parameter_sensitivity.hpp), as LinearizationTpl and StaticStiffness do.
+template <class S>
+bool needs_dual_derivatives(const ModelTpl<S>& model) {
+  return model.has_flexible_bodies() || !model.force_elements.point_springs.empty();
+}
+
 // Tag of the workspace that holds the eight output matrices only, for
 // derivatives computed elsewhere (LinearizationTpl with the dual-number
 // sweeps); no model is refused.

@@ -31,13 +31,18 @@
 // is an analysis call, not a real-time one: it may allocate (the
 // decompositions); the workspace is built once per model and the per-
 // iteration kernels (inverse_dynamics_derivatives, loop_force_stiffness)
-// allocate nothing.
+// allocate nothing. Models with flexible bodies or point springs take the
+// stiffness from the dual-number sweeps (StaticStiffness; double only: the
+// float workspace refuses them by name).
 #pragma once
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include <memory>
+
 #include "soadyn/algorithms/dynamics_derivatives.hpp"
+#include "soadyn/algorithms/static_stiffness.hpp"
 
 namespace soadyn {
 
@@ -58,8 +63,10 @@ struct StaticEquilibriumTpl {
   S residual_norm = S(0);         // max |residual| at q
   bool stable = false;
 
-  // Scratch.
+  // Scratch. Models with flexible bodies or point springs (double only) take
+  // their stiffness from `dual_stiffness` (static_stiffness.hpp).
   DynamicsDerivativesTpl<S> derivatives;
+  std::unique_ptr<StaticStiffness> dual_stiffness;
   MatX<S> loop_stiffness, newton;
   VecX<S> residual, trial_residual, step, tangent, q_trial, nu_trial, zero, mask;
   std::vector<Eigen::Index> free;  // velocity indices of the free DOFs

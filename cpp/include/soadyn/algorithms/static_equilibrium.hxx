@@ -4,6 +4,7 @@
 #include <Eigen/SVD>
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 
 #include "soadyn/algorithms/configuration.hpp"
 #include "soadyn/algorithms/loop_assembly.hpp"
@@ -14,12 +15,24 @@
 
 namespace soadyn {
 
+namespace detail {
+template <class S>
+bool stiffness_by_dual_numbers(const ModelTpl<S>& m) {
+  return std::is_same_v<S, double> && needs_dual_derivatives(m);
+}
+}  // namespace detail
+
 template <class S>
 StaticEquilibriumTpl<S>::StaticEquilibriumTpl(const ModelTpl<S>& m)
     : q(VecX<S>::Zero(m.nq)), multipliers(VecX<S>::Zero(m.nloop_equations)), generalized_force(VecX<S>::Zero(m.nv)),
-      derivatives(m), loop_stiffness(MatX<S>::Zero(m.nv, m.nv)), tangent(VecX<S>::Zero(m.nv)),
+      derivatives(detail::stiffness_by_dual_numbers(m) ? DynamicsDerivativesTpl<S>(m, OutputsOnly{})
+                                                       : DynamicsDerivativesTpl<S>(m)),
+      loop_stiffness(MatX<S>::Zero(m.nv, m.nv)), tangent(VecX<S>::Zero(m.nv)),
       q_trial(VecX<S>::Zero(m.nq)), nu_trial(VecX<S>::Zero(m.nloop_equations)), zero(VecX<S>::Zero(m.nv)),
-      mask(VecX<S>::Zero(m.nv)) {}
+      mask(VecX<S>::Zero(m.nv)) {
+  if constexpr (std::is_same_v<S, double>)
+    if (detail::stiffness_by_dual_numbers(m)) dual_stiffness = std::make_unique<StaticStiffness>(m);
+}
 
 namespace detail {
 
@@ -53,7 +66,14 @@ void equilibrium_residual(const ModelTpl<S>& m, DataTpl<S>& d, StaticEquilibrium
 template <class S>
 void equilibrium_stiffness(const ModelTpl<S>& m, DataTpl<S>& d, StaticEquilibriumTpl<S>& eq, const VecX<S>& q,
                            const VecX<S>& nu) {
-  inverse_dynamics_derivatives<S>(m, d, eq.derivatives, q, eq.zero, eq.zero);
+  bool by_dual = false;
+  if constexpr (std::is_same_v<S, double>) {
+    if (eq.dual_stiffness) {
+      eq.dual_stiffness->compute(m, d, q, eq.derivatives.inverse_dq);
+      by_dual = true;
+    }
+  }
+  if (!by_dual) inverse_dynamics_derivatives<S>(m, d, eq.derivatives, q, eq.zero, eq.zero);
   if (m.nloop_equations > 0) {
     loop_force_stiffness<S>(m, d, q, nu, eq.loop_stiffness);
     eq.loop_stiffness = eq.derivatives.inverse_dq - eq.loop_stiffness;
@@ -131,10 +151,6 @@ void check_equilibrium_arguments(const ModelTpl<S>& m, const ConstVecRef<S>& q0,
     if (!std::isfinite(q0[i]))
       throw std::invalid_argument("static_equilibrium: q0 entry " + std::to_string(i) + " ('" +
                                   m.coordinate_names[static_cast<std::size_t>(i)] + "') is not finite");
-  for (std::size_t b = 0; b < m.n_modes.size(); ++b)
-    if (m.n_modes[b] > 0)
-      throw std::invalid_argument("static_equilibrium: body '" + m.body_names[b] +
-                                  "' is flexible; the analytic stiffness covers rigid models only");
 }
 
 }  // namespace detail

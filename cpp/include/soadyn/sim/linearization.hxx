@@ -8,19 +8,12 @@
 
 namespace soadyn {
 
-namespace detail {
-template <class S>
-bool needs_dual_derivatives(const ModelTpl<S>& m) {
-  return m.has_flexible_bodies() || !m.force_elements.point_springs.empty();
-}
-}  // namespace detail
-
 template <class S>
 LinearizationTpl<S>::LinearizationTpl(const ModelTpl<S>& m)
-    : derivatives(detail::needs_dual_derivatives(m) ? DynamicsDerivativesTpl<S>(m, OutputsOnly{})
+    : derivatives(needs_dual_derivatives(m) ? DynamicsDerivativesTpl<S>(m, OutputsOnly{})
                                                     : DynamicsDerivativesTpl<S>(m)) {
   static_assert(std::is_same_v<S, double>, "the dual-number sweeps are instantiated for double");
-  if (detail::needs_dual_derivatives(m)) dual = std::make_unique<ParameterSensitivity>(m);
+  if (needs_dual_derivatives(m)) dual = std::make_unique<ParameterSensitivity>(m);
   const Eigen::Index nv = m.nv;
   A.setZero(2 * nv, 2 * nv);
   B.setZero(2 * nv, nv);
