@@ -56,6 +56,7 @@ from .model import Model
 from .parameters import ParameterError, parameter_sensitivity
 from .simulator import MotionSource, Simulator, Trajectory
 from .urdf import UrdfError, load_urdf
+from .mjcf import MjcfError, MjcfIgnoredWarning, load_mjcf
 from .visuals import Visual
 from . import hil, scenes
 
@@ -82,4 +83,4 @@ __all__ += ["force_elements", "force_element_potential", "dissipated_power"]
 __all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives"]
 __all__ += ["parameter_sensitivity", "ParameterError"]
 __all__ += ["equilibrium_sensitivities", "objective_gradient"]
-__all__ += ["Visual"]
+__all__ += ["Visual", "load_mjcf", "MjcfError", "MjcfIgnoredWarning"]

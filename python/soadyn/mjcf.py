@@ -1,0 +1,464 @@
+"""MJCF loading: MuJoCo's own compiler reads the file, the compiled MjModel becomes a Model.
+
+The `mujoco` package parses and compiles the XML (defaults, include files,
+inertia inferred from geoms, mesh processing, `<compiler angle=...>`); no XML
+is read here. From the compiled model:
+
+- Bodies keep their names (an unnamed body is 'body<k>', k its MuJoCo id).
+  A body with no joint is welded to its parent (a soadyn frame: its inertia
+  merges into the parent's). Inertia: body_mass, body_ipos and the principal
+  moments body_inertia along body_iquat, as MuJoCo compiled them.
+- Joints: hinge -> revolute, slide -> prismatic, ball -> spherical, free ->
+  free, each named after the MuJoCo joint (an unnamed one '<body>:joint<i>').
+  A joint's anchor (jnt_pos) and axis (jnt_axis) are honoured. Several joints
+  in one body become a chain: the first joints move massless intermediate
+  bodies named '<body>:<joint>', the last one moves the body itself; MuJoCo
+  composes them in the same order (each joint's anchor and axis in the body
+  frame as the previous joints left it).
+- Coordinates (q, v) and MuJoCo's (qpos, qvel): hinge and slide q = qpos -
+  qpos0 (the joint's `ref` is soadyn's zero: the placement absorbs it), v =
+  qvel. Ball: q = (x, y, z, w) of qpos's (w, x, y, z), v = qvel (body-frame
+  angular velocity in both). Free: q = (position, quaternion x y z w), v =
+  (body-frame angular velocity, body-frame linear velocity), while MuJoCo's
+  qvel is (world-frame linear velocity, body-frame angular velocity).
+  `mjcf_state` and `mujoco_state` convert; `velocity_map` gives the matrix T
+  with qvel = T v.
+- Springs and dampers: a hinge or slide joint's stiffness (rest springref,
+  qpos_spring, measured from ref) and damping become a joint spring named
+  after the joint; damping on ball and free joints becomes no element
+  (soadyn's joint springs act on scalar coordinates) and is reported.
+- armature -> Model.set_armature on every DOF of the joint.
+- gravity -> Model.gravity.
+- equality connect -> a "point" loop, weld -> a "weld" loop (active ones;
+  inactive ones are reported), named after the equality ('eq<k>' if
+  unnamed). A weld's torquescale is not modelled (reported when not 1).
+- Sites become frames named after the site (welded, massless).
+- Geoms become model.visuals (soadyn.Visual; meshes as vertices and faces).
+
+What is not multibody dynamics is reported once per load, by name, in an
+MjcfIgnoredWarning: contacts (geoms with contype/conaffinity), joint limits,
+friction loss, actuators, tendons, sensors, fluid forces (density,
+viscosity), gravity compensation, other equality types.
+
+floating_base: None keeps the file's joints; True gives every body attached
+to the world without a joint a free joint named '<body>:root'; False welds
+bodies attached to the world by a free joint at their qpos0 pose.
+"""
+from __future__ import annotations
+
+import os
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._soadyn import Joint
+from .model import Model
+from .visuals import Visual
+
+__all__ = ["load_mjcf", "MjcfError", "MjcfIgnoredWarning", "MjcfModel", "load_mjcf_with_map"]
+
+FREE, BALL, SLIDE, HINGE = 0, 1, 2, 3
+CONNECT, WELD = 0, 1
+GEOM_SHAPES = {0: "plane", 2: "sphere", 3: "capsule", 4: "ellipsoid", 5: "cylinder", 6: "box", 7: "mesh"}
+
+
+class MjcfError(ValueError):
+    """An MJCF file or string MuJoCo cannot compile, or that has no soadyn counterpart; names the item."""
+
+
+class MjcfIgnoredWarning(UserWarning):
+    """Parts of an MJCF model that are not multibody dynamics (contacts, actuators, ...), named."""
+
+
+def _quat_matrix(wxyz) -> np.ndarray:
+    w, x, y, z = np.asarray(wxyz, dtype=float) / np.linalg.norm(wxyz)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+class _Pose:
+    """A rigid transform (R, p): x_parent = R x + p."""
+
+    def __init__(self, R=None, p=None):
+        self.R = np.eye(3) if R is None else np.asarray(R, dtype=float)
+        self.p = np.zeros(3) if p is None else np.asarray(p, dtype=float)
+
+    def __mul__(self, other: "_Pose") -> "_Pose":
+        return _Pose(self.R @ other.R, self.R @ other.p + self.p)
+
+    def inverse(self) -> "_Pose":
+        return _Pose(self.R.T, -self.R.T @ self.p)
+
+    def pair(self):
+        return self.R.copy(), self.p.copy()
+
+
+@dataclass
+class MjcfModel:
+    """A loaded model and its correspondence with the MuJoCo model it came from."""
+    model: Model
+    mujoco_model: object      # the compiled mujoco.MjModel
+    joints: list              # per MuJoCo joint id: (kind, soadyn DOF index of its first DOF, soadyn q index)
+
+    def soadyn_state(self, qpos, qvel):
+        """(q, v) of soadyn from MuJoCo's (qpos, qvel)."""
+        return mjcf_state(self, qpos, qvel)
+
+    def mujoco_state(self, q, v):
+        """(qpos, qvel) of MuJoCo from soadyn's (q, v)."""
+        return mujoco_state(self, q, v)
+
+    def velocity_map(self, q) -> np.ndarray:
+        """T (nv x nv) with qvel = T v at q (the identity but for free joints' linear rows)."""
+        return velocity_map(self, q)
+
+
+def _free_rotation(mj, q, qi) -> np.ndarray:
+    x, y, z, w = q[qi + 3:qi + 7]
+    return _quat_matrix([w, x, y, z])
+
+
+def mjcf_state(loaded: MjcfModel, qpos, qvel):
+    mj, m = loaded.mujoco_model, loaded.model
+    qpos, qvel = np.asarray(qpos, dtype=float), np.asarray(qvel, dtype=float)
+    q, v = np.zeros(m.nq), np.zeros(m.nv)
+    for j, (kind, vi, qi) in enumerate(loaded.joints):
+        if kind is None:
+            continue
+        a, d = mj.jnt_qposadr[j], mj.jnt_dofadr[j]
+        if kind in (HINGE, SLIDE):
+            q[qi], v[vi] = qpos[a] - mj.qpos0[a], qvel[d]
+        elif kind == BALL:
+            w, x, y, z = qpos[a:a + 4]
+            q[qi:qi + 4], v[vi:vi + 3] = (x, y, z, w), qvel[d:d + 3]
+        else:
+            w, x, y, z = qpos[a + 3:a + 7]
+            q[qi:qi + 3], q[qi + 3:qi + 7] = qpos[a:a + 3], (x, y, z, w)
+            R = _quat_matrix([w, x, y, z])
+            v[vi:vi + 3], v[vi + 3:vi + 6] = qvel[d + 3:d + 6], R.T @ qvel[d:d + 3]
+    return q, v
+
+
+def mujoco_state(loaded: MjcfModel, q, v):
+    mj = loaded.mujoco_model
+    q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
+    qpos, qvel = mj.qpos0.copy(), np.zeros(mj.nv)
+    for j, (kind, vi, qi) in enumerate(loaded.joints):
+        if kind is None:
+            continue
+        a, d = mj.jnt_qposadr[j], mj.jnt_dofadr[j]
+        if kind in (HINGE, SLIDE):
+            qpos[a], qvel[d] = q[qi] + mj.qpos0[a], v[vi]
+        elif kind == BALL:
+            x, y, z, w = q[qi:qi + 4]
+            qpos[a:a + 4], qvel[d:d + 3] = (w, x, y, z), v[vi:vi + 3]
+        else:
+            x, y, z, w = q[qi + 3:qi + 7]
+            qpos[a:a + 3], qpos[a + 3:a + 7] = q[qi:qi + 3], (w, x, y, z)
+            qvel[d:d + 3] = _quat_matrix([w, x, y, z]) @ v[vi + 3:vi + 6]
+            qvel[d + 3:d + 6] = v[vi:vi + 3]
+    return qpos, qvel
+
+
+def velocity_map(loaded: MjcfModel, q) -> np.ndarray:
+    mj, m = loaded.mujoco_model, loaded.model
+    T = np.zeros((mj.nv, m.nv))
+    for j, (kind, vi, qi) in enumerate(loaded.joints):
+        if kind is None:
+            continue
+        d = mj.jnt_dofadr[j]
+        if kind in (HINGE, SLIDE):
+            T[d, vi] = 1.0
+        elif kind == BALL:
+            T[d:d + 3, vi:vi + 3] = np.eye(3)
+        else:
+            x, y, z, w = np.asarray(q, dtype=float)[qi + 3:qi + 7]
+            T[d:d + 3, vi + 3:vi + 6] = _quat_matrix([w, x, y, z])
+            T[d + 3:d + 6, vi:vi + 3] = np.eye(3)
+    return T
+
+
+def _compile(path_or_xml):
+    """(MjModel, label) by MuJoCo's compiler; MjcfError naming the file on failure."""
+    import mujoco
+
+    text = str(path_or_xml) if not isinstance(path_or_xml, os.PathLike) else None
+    if text is not None and "<mujoco" in text:
+        label = "MJCF string"
+        try:
+            return mujoco.MjModel.from_xml_string(text), label
+        except Exception as exc:  # mujoco raises ValueError with the compiler's message
+            raise MjcfError(f"{label}: MuJoCo cannot compile it: {exc}") from exc
+    path = os.fspath(path_or_xml)
+    if not os.path.isfile(path):
+        raise MjcfError(f"MJCF file '{path}' does not exist")
+    try:
+        return mujoco.MjModel.from_xml_path(path), f"MJCF file '{path}'"
+    except Exception as exc:
+        raise MjcfError(f"MJCF file '{path}': MuJoCo cannot compile it: {exc}") from exc
+
+
+def _name(mj, kind, index: int, fallback: str) -> str:
+    import mujoco
+
+    name = mujoco.mj_id2name(mj, kind, index)
+    return name if name else fallback
+
+
+class _Loader:
+    def __init__(self, mj, label: str, floating_base):
+        import mujoco
+
+        self.mj, self.label, self.floating_base = mj, label, floating_base
+        self.mjt = mujoco.mjtObj
+        self.m = Model()
+        self.m.gravity = np.array(mj.opt.gravity, dtype=float)
+        # Per MuJoCo body: the soadyn body or frame it became and the MuJoCo body frame in it.
+        self.frame_of = {0: ("world", _Pose())}
+        self.joints: list = [(None, -1, -1)] * mj.njnt
+        self.joint_names: list = [""] * mj.njnt
+        self.ignored: dict = {}
+        self.body_names = [self.body_name(b) for b in range(mj.nbody)]
+
+    def body_name(self, b: int) -> str:
+        return "world" if b == 0 else _name(self.mj, self.mjt.mjOBJ_BODY, b, f"body{b}")
+
+    def joint_name(self, j: int, body: str, i: int) -> str:
+        return _name(self.mj, self.mjt.mjOBJ_JOINT, j, f"{body}:joint{i}")
+
+    def ignore(self, what: str, name: str) -> None:
+        self.ignored.setdefault(what, []).append(name)
+
+    def inertia(self, b: int, offset: _Pose):
+        """(mass, com, inertia about the com) of MuJoCo body b in a soadyn frame where the MuJoCo body
+        frame is `offset`."""
+        mj = self.mj
+        Ri = _quat_matrix(mj.body_iquat[b])
+        com = offset.R @ mj.body_ipos[b] + offset.p
+        I = offset.R @ Ri @ np.diag(mj.body_inertia[b]) @ Ri.T @ offset.R.T
+        return float(mj.body_mass[b]), com, 0.5 * (I + I.T)
+
+    def add_body(self, b: int) -> None:
+        mj = self.mj
+        name = self.body_names[b]
+        parent_name, parent_offset = self.frame_of[int(mj.body_parentid[b])]
+        parent = None if parent_name == "world" else parent_name
+        # The MuJoCo body frame in the parent soadyn frame before the body's joints move it.
+        here = parent_offset * _Pose(_quat_matrix(mj.body_quat[b]), mj.body_pos[b])
+        joints = list(range(mj.body_jntadr[b], mj.body_jntadr[b] + mj.body_jntnum[b]))
+        kinds = [int(mj.jnt_type[j]) for j in joints]
+        if self.floating_base is True and parent is None and not joints:
+            self.add_free_root(b, name, here)
+            return
+        if self.floating_base is False and parent is None and kinds == [FREE]:
+            here = self.free_pose(joints[0])  # welded where qpos0 puts it
+            joints, kinds = [], []
+        if not joints:
+            mass, com, inertia = self.inertia(b, _Pose())
+            self.m.add_body(name, parent, Joint.fixed(), placement=here.pair(), mass=mass, com=com, inertia=inertia)
+            self.frame_of[b] = (name, _Pose())
+            return
+        if FREE in kinds and (len(joints) > 1 or parent is not None):
+            raise MjcfError(f"{self.label}: body '{name}': a free joint must be the only joint of a body "
+                            "attached to the world")
+        for i, (j, kind) in enumerate(zip(joints, kinds)):
+            last = i == len(joints) - 1
+            joint_name = self.joint_name(j, name, i)
+            child = name if last else f"{name}:{joint_name}"
+            if kind == FREE:
+                joint, anchor = Joint.free(name=joint_name), _Pose()
+                here = _Pose()  # a free joint's coordinates are the body's world pose
+            else:
+                anchor = _Pose(None, mj.jnt_pos[j])
+                joint = self.scalar_or_ball_joint(j, kind, joint_name)
+            # MuJoCo moves a hinge or slide by qpos - qpos0 from the compiled body pose (the file's
+            # pose, at ref): soadyn's zero is that pose, so the placement needs no ref term.
+            placement = here * anchor
+            # The MuJoCo body frame in the new soadyn body's frame: the anchor taken back out.
+            offset = anchor.inverse()
+            mass, com, inertia = self.inertia(b, offset) if last else (0.0, np.zeros(3), np.zeros((3, 3)))
+            self.m.add_body(child, parent, joint, placement=placement.pair(), mass=mass, com=com, inertia=inertia)
+            self.record_joint(j, kind, child, joint_name)
+            parent, here = child, offset
+        self.frame_of[b] = (name, here)
+
+    def free_pose(self, j: int) -> _Pose:
+        a = self.mj.jnt_qposadr[j]
+        return _Pose(_quat_matrix(self.mj.qpos0[a + 3:a + 7]), self.mj.qpos0[a:a + 3])
+
+    def add_free_root(self, b: int, name: str, here: _Pose) -> None:
+        mass, com, inertia = self.inertia(b, _Pose())
+        # The body starts at its file pose: the free joint's zero is the world frame, so put the pose in q0.
+        self.m.add_body(name, None, Joint.free(name=f"{name}:root"), placement=here.pair(), mass=mass, com=com,
+                        inertia=inertia)
+        self.frame_of[b] = (name, _Pose())
+
+    def scalar_or_ball_joint(self, j: int, kind: int, joint_name: str):
+        axis = np.asarray(self.mj.jnt_axis[j], dtype=float)
+        if kind == HINGE:
+            return Joint.revolute(axis, name=joint_name)
+        if kind == SLIDE:
+            return Joint.prismatic(axis, name=joint_name)
+        return Joint.spherical(name=joint_name)
+
+    def record_joint(self, j: int, kind: int, body: str, joint_name: str) -> None:
+        k = self.m.body_index(body)
+        self.joints[j] = (kind, self.m.v_index[k], self.m.q_index[k])
+        self.joint_names[j] = joint_name
+
+    def add_joint_forces(self) -> None:
+        mj, m = self.mj, self.m
+        for j, (kind, vi, _) in enumerate(self.joints):
+            if kind is None:
+                continue
+            joint_name = self.joint_names[j]
+            d, nd = mj.jnt_dofadr[j], {HINGE: 1, SLIDE: 1, BALL: 3, FREE: 6}[kind]
+            armature = mj.dof_armature[d:d + nd]
+            for k in range(nd):
+                if armature[k] != 0.0:
+                    m.set_armature(vi + k, float(armature[k]))
+            stiffness, damping = float(mj.jnt_stiffness[j]), mj.dof_damping[d:d + nd]
+            if kind in (HINGE, SLIDE):
+                if stiffness != 0.0 or damping[0] != 0.0:
+                    a = mj.jnt_qposadr[j]
+                    rest = float(mj.qpos_spring[a] - mj.qpos0[a])
+                    m.add_joint_spring(joint_name, vi, stiffness, damping=float(damping[0]), rest=rest)
+            else:
+                if stiffness != 0.0:
+                    self.ignore("stiffness of ball and free joints", joint_name)
+                if np.any(damping != 0.0):
+                    self.ignore("damping of ball and free joints", joint_name)
+            if mj.jnt_limited[j]:
+                self.ignore("joint limits", joint_name)
+            if np.any(mj.dof_frictionloss[d:d + nd] != 0.0):
+                self.ignore("friction loss", joint_name)
+
+    def add_sites(self) -> None:
+        mj = self.mj
+        taken = set(self.m.body_names) | set(self.m.frame_names)
+        for s in range(mj.nsite):
+            name = _name(mj, self.mjt.mjOBJ_SITE, s, f"site{s}")
+            if name in taken:
+                self.ignore("sites whose name is taken by a body", name)
+                continue
+            frame, offset = self.frame_of[int(mj.site_bodyid[s])]
+            pose = offset * _Pose(_quat_matrix(mj.site_quat[s]), mj.site_pos[s])
+            self.m.add_body(name, None if frame == "world" else frame, Joint.fixed(), placement=pose.pair())
+            taken.add(name)
+
+    def add_loops(self) -> None:
+        mj = self.mj
+        for e in range(mj.neq):
+            name = _name(mj, self.mjt.mjOBJ_EQUALITY, e, f"eq{e}")
+            kind = int(mj.eq_type[e])
+            if kind not in (CONNECT, WELD) or int(mj.eq_objtype[e]) != int(self.mjt.mjOBJ_BODY):
+                self.ignore("equality constraints other than connect and weld between bodies", name)
+                continue
+            if not mj.eq_active0[e]:
+                self.ignore("inactive equality constraints", name)
+                continue
+            b1, b2 = int(mj.eq_obj1id[e]), int(mj.eq_obj2id[e])
+            f1, o1 = self.frame_of[b1]
+            f2, o2 = self.frame_of[b2]
+            data = mj.eq_data[e]
+            if kind == CONNECT:  # anchor in body 1 (data[0:3]) and the same point in body 2 (data[3:6])
+                pa, pb = _Pose(None, data[0:3]), _Pose(None, data[3:6])
+                self.m.add_loop(name, f1, None if f2 == "world" else f2, "point",
+                                placement_a=(o1 * pa).pair(), placement_b=(o2 * pb).pair())
+                continue
+            # weld: frame B = body 2 at anchor data[0:3]; frame A = body 1 at relpose (data[3:6], quat data[6:10])
+            # of body 2 in body 1, moved to the same anchor.
+            if data[10] != 1.0:
+                self.ignore("weld torquescale (modelled as 1)", name)
+            rel = _Pose(_quat_matrix(data[6:10]), data[3:6])
+            anchor = _Pose(None, data[0:3])
+            self.m.add_loop(name, f1, None if f2 == "world" else f2, "weld",
+                            placement_a=(o1 * rel * anchor).pair(), placement_b=(o2 * anchor).pair())
+
+    def add_visuals(self) -> None:
+        mj, visuals = self.mj, []
+        for g in range(mj.ngeom):
+            name = _name(self.mj, self.mjt.mjOBJ_GEOM, g, f"geom{g}")
+            shape = GEOM_SHAPES.get(int(mj.geom_type[g]))
+            if mj.geom_contype[g] or mj.geom_conaffinity[g]:
+                self.ignore("contacts", name)
+            if shape is None:
+                self.ignore("geoms without a drawing (height fields, signed distance fields)", name)
+                continue
+            frame, offset = self.frame_of[int(mj.geom_bodyid[g])]
+            pose = offset * _Pose(_quat_matrix(mj.geom_quat[g]), mj.geom_pos[g])
+            size = np.asarray(mj.geom_size[g], dtype=float)
+            extra = {}
+            if shape == "box":
+                size = 2 * size
+            elif shape == "sphere":
+                size = size[:1]
+            elif shape in ("cylinder", "capsule"):
+                size = np.array([size[0], 2 * size[1]])
+            elif shape == "plane":
+                size = 2 * size[:2]
+            elif shape == "mesh":
+                mesh = int(mj.geom_dataid[g])
+                v0, nvert = mj.mesh_vertadr[mesh], mj.mesh_vertnum[mesh]
+                f0, nface = mj.mesh_faceadr[mesh], mj.mesh_facenum[mesh]
+                extra = {"vertices": np.array(mj.mesh_vert[v0:v0 + nvert]), "faces": np.array(mj.mesh_face[f0:f0 + nface])}
+                size = np.ones(3)
+            visuals.append(Visual(name=name, frame=frame, shape=shape, size=size, rotation=pose.R,
+                                  translation=pose.p, rgba=np.array(mj.geom_rgba[g], dtype=float), **extra))
+        self.m.visuals = visuals
+
+    def report_rest(self) -> None:
+        mj = self.mj
+        for k in range(mj.nu):  # an unnamed actuator is named by the joint it drives, if it drives one
+            target = mj.actuator_trnid[k, 0] if int(mj.actuator_trntype[k]) == 0 else -1
+            driven = f":{_name(mj, self.mjt.mjOBJ_JOINT, target, f'joint{target}')}" if target >= 0 else ""
+            self.ignore("actuators", _name(mj, self.mjt.mjOBJ_ACTUATOR, k, f"actuator{k}{driven}"))
+        for what, count, kind in (("tendons", mj.ntendon, self.mjt.mjOBJ_TENDON),
+                                  ("sensors", mj.nsensor, self.mjt.mjOBJ_SENSOR)):
+            for k in range(count):
+                self.ignore(what, _name(mj, kind, k, f"{what[:-1]}{k}"))
+        if mj.opt.density or mj.opt.viscosity:
+            self.ignore("fluid forces", f"density {mj.opt.density:g}, viscosity {mj.opt.viscosity:g}")
+        for b in range(1, mj.nbody):
+            if mj.body_gravcomp[b]:
+                self.ignore("gravity compensation", self.body_names[b])
+        if self.ignored:
+            parts = [f"{len(names)} {what} ({', '.join(names[:6])}{', ...' if len(names) > 6 else ''})"
+                     for what, names in self.ignored.items()]
+            warnings.warn(f"{self.label}: not modelled (not multibody dynamics, or no soadyn counterpart): "
+                          + "; ".join(parts), MjcfIgnoredWarning, stacklevel=3)
+
+    def load(self) -> MjcfModel:
+        for b in range(1, self.mj.nbody):  # MuJoCo orders bodies parent before child
+            self.add_body(b)
+        self.add_joint_forces()
+        self.add_sites()
+        self.add_loops()
+        self.add_visuals()
+        self.report_rest()
+        return MjcfModel(self.m, self.mj, self.joints)
+
+
+def load_mjcf_with_map(path_or_xml, floating_base=None) -> MjcfModel:
+    """load_mjcf, returning the MjcfModel (the model, the MjModel and the state maps)."""
+    if floating_base not in (None, True, False):
+        raise TypeError(f"floating_base must be None, True or False, got {floating_base!r}")
+    mj, label = _compile(path_or_xml)
+    try:
+        return _Loader(mj, label, floating_base).load()
+    except (ValueError, TypeError) as exc:
+        if isinstance(exc, MjcfError):
+            raise
+        raise MjcfError(f"{label}: {exc}") from exc
+
+
+def load_mjcf(path_or_xml, floating_base=None) -> Model:
+    """A Model from an MJCF file path or an MJCF XML string (see the module docstring).
+
+    MuJoCo's compiler reads the file; joints, springs, dampers, armature, gravity and
+    connect/weld equalities become soadyn's; what is not dynamics is reported once in an
+    MjcfIgnoredWarning. MjcfError (a ValueError) names a file MuJoCo cannot compile or an
+    item without a soadyn counterpart."""
+    return load_mjcf_with_map(path_or_xml, floating_base).model
