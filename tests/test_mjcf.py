@@ -56,17 +56,6 @@ def random_qpos(mj, rng) -> np.ndarray:
     return qpos
 
 
-def velocity_map_rate(loaded, q, v) -> np.ndarray:
-    """Tdot v: a free joint's MuJoCo linear velocity R v_body changes by R (w x v_body) at fixed v."""
-    out = np.zeros(loaded.mujoco_model.nv)
-    T = loaded.velocity_map(q)
-    for j, (kind, vi, _) in enumerate(loaded.joints):
-        if kind == 0:
-            d = loaded.mujoco_model.jnt_dofadr[j]
-            out[d:d + 3] = T[d:d + 3, vi + 3:vi + 6] @ np.cross(v[vi:vi + 3], v[vi + 3:vi + 6])
-    return out
-
-
 def relative(a, b) -> float:
     return float(np.abs(a - b).max(initial=0.0) / max(np.abs(b).max(initial=0.0), 1.0))
 
@@ -97,7 +86,7 @@ def test_gymnasium_model_matches_mujoco(name):
         T = loaded.velocity_map(q)
         M = full_mass_matrix(mj, data)
         assert relative(soadyn.mass_matrix(m, q), T.T @ M @ T) < RTOL, "M"
-        bias = T.T @ (data.qfrc_bias + M @ velocity_map_rate(loaded, q, v))
+        bias = T.T @ (data.qfrc_bias + M @ loaded.velocity_map_rate(q, v))
         assert relative(soadyn.inverse_dynamics(bare, q, v, zero), bias) < RTOL, "qfrc_bias"
         passive = soadyn.inverse_dynamics(bare, q, v, zero) - soadyn.inverse_dynamics(m, q, v, zero)
         assert relative(passive, T.T @ (data.qfrc_spring + data.qfrc_damper)) < RTOL, "qfrc_spring + qfrc_damper"

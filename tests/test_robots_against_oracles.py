@@ -1,6 +1,7 @@
-"""soadyn on real robots (example-robot-data) against Pinocchio and DART.
+"""soadyn on real robots (example-robot-data) against Pinocchio, DART and MuJoCo.
 
-Forward, inverse dynamics and the mass matrix against Pinocchio; hybrid
+Forward, inverse dynamics and the mass matrix against Pinocchio and MuJoCo's URDF importer
+(anymal_c: MuJoCo's compiler refuses one of its inertias, which the check reports); hybrid
 dynamics with random prescribed masks (whole joints, as DART switches them)
 against DART's ACCELERATION actuators. DOFs are matched by name. 1e-9
 relative everywhere; what is actually seen is near 1e-15.
@@ -21,9 +22,11 @@ TOLERANCE = 1e-9
 def test_robot_against_pinocchio_and_dart(name, floating):
     path, _ = robot(name)
     rows = cross_check(path, floating_base=floating, states=4, seed=7)
-    assert {(r.quantity, r.oracle) for r in rows} == {
-        ("forward dynamics", "pinocchio"), ("inverse dynamics", "pinocchio"), ("mass matrix", "pinocchio"),
-        ("hybrid qdd", "dart"), ("hybrid tau", "dart")}
+    tree = {("forward dynamics", "pinocchio"), ("inverse dynamics", "pinocchio"), ("mass matrix", "pinocchio"),
+            ("hybrid qdd", "dart"), ("hybrid tau", "dart")}
+    if name != "anymal_c":
+        tree |= {("forward dynamics", "mujoco"), ("inverse dynamics", "mujoco"), ("mass matrix", "mujoco")}
+    assert {(r.quantity, r.oracle) for r in rows} == tree
     worst = {f"{r.quantity} ({r.oracle})": r.max_relative for r in rows}
     print(name, "floating" if floating else "fixed", worst)
     assert max(worst.values()) <= TOLERANCE, worst

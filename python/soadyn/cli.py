@@ -37,9 +37,11 @@ def main(argv: list[str] | None = None) -> int:
     demo.add_argument("--plot", metavar="OUT.png", nargs="?", const="",
                       help="plot (needs matplotlib): cassini the booms' tip deflections, four-bar the joint angles "
                            "and crank torque; without a file name: " + ", ".join(DEMO_PLOTS.values()))
-    check = sub.add_parser("check", help="compare soadyn with DART and Pinocchio on a URDF")
-    check.add_argument("urdf", help="path of the URDF file")
-    check.add_argument("--floating", action="store_true", help="add a free-floating root joint")
+    check = sub.add_parser("check", help="compare soadyn with every oracle (Pinocchio, DART, MuJoCo) that can load "
+                                         "a URDF or MJCF file")
+    check.add_argument("file", help="path of the URDF or MJCF file")
+    check.add_argument("--floating", action="store_true",
+                       help="add a free-floating root joint (MJCF: to bodies attached to the world without a joint)")
     check.add_argument("--states", type=int, default=3, help="random states to compare (default 3)")
     check.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     check.add_argument("--tolerance", type=float, default=1e-9,
@@ -246,21 +248,22 @@ def write_hil_outputs(args, events, sim, report) -> None:
 
 
 def run_check(args, parser) -> int:
-    from .check import cross_check, format_table
+    from .check import cross_check_report, format_report
 
     if args.states < 1:
         parser.error(f"argument --states: must be >= 1, got {args.states}")
     if not (math.isfinite(args.tolerance) and args.tolerance >= 0):
         parser.error(f"argument --tolerance: must be a finite number >= 0, got {args.tolerance}")
     try:
-        rows = cross_check(args.urdf, floating_base=args.floating, states=args.states, seed=args.seed)
-    except (OSError, ValueError, ImportError) as error:  # unreadable or bad URDF (UrdfError), or a missing oracle
-        parser.exit(2, f"soadyn check: error: {args.urdf}: {one_line(error)}\n")
+        report = cross_check_report(args.file, floating_base=args.floating, states=args.states, seed=args.seed)
+    except (OSError, ValueError, ImportError) as error:  # unreadable or bad file (UrdfError, MjcfError), or no oracle
+        parser.exit(2, f"soadyn check: error: {args.file}: {one_line(error)}\n")
     except Exception as error:  # noqa: BLE001 - a model one of the libraries cannot compute: one line, exit 1
-        parser.exit(1, f"soadyn check: error: {args.urdf}: {type(error).__name__}: {one_line(error)}\n")
-    print(f"{args.urdf} ({'floating' if args.floating else 'fixed'} base), {args.states} random states")
-    print(format_table(rows, args.tolerance))
-    return 0 if all(r.max_relative <= args.tolerance for r in rows) else 1
+        parser.exit(1, f"soadyn check: error: {args.file}: {type(error).__name__}: {one_line(error)}\n")
+    base = "floating base" if args.floating else "base as in the file"
+    print(f"{args.file}: {report.format}, {base}, {args.states} random states")
+    print(format_report(report, args.tolerance))
+    return 0 if report.passed(args.tolerance) else 1
 
 
 def one_line(error: BaseException) -> str:

@@ -114,6 +114,17 @@ class MjcfModel:
         """T (nv x nv) with qvel = T v at q (the identity but for free joints' linear rows)."""
         return velocity_map(self, q)
 
+    def velocity_map_rate(self, q, v) -> np.ndarray:
+        """Tdot v, so that qacc = T qdd + Tdot v: a free joint's linear rows R (w x u), (w, u) its
+        body-frame angular and linear velocity."""
+        out = np.zeros(self.mujoco_model.nv)
+        for j, (kind, vi, qi) in enumerate(self.joints):
+            if kind == FREE:
+                d = self.mujoco_model.jnt_dofadr[j]
+                x, y, z, w = np.asarray(q, dtype=float)[qi + 3:qi + 7]
+                out[d:d + 3] = _quat_matrix([w, x, y, z]) @ np.cross(v[vi:vi + 3], v[vi + 3:vi + 6])
+        return out
+
 
 def _free_rotation(mj, q, qi) -> np.ndarray:
     x, y, z, w = q[qi + 3:qi + 7]
