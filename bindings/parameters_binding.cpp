@@ -78,10 +78,11 @@ py::array_t<double> derivative_array(const Eigen::MatrixXd& d, std::vector<py::s
   return out;
 }
 
-// An equilibrium's (q, nu) and free mask, checked against the model.
+// An equilibrium's (q, nu), free mask and parameter names, checked against the model.
 struct EquilibriumArgs {
-  EquilibriumArgs(ModelHandle& h, py::handle q_in, py::handle nu_in, const std::vector<bool>& free)
-      : model_version(h.model.version) {
+  EquilibriumArgs(ModelHandle& h, py::handle q_in, py::handle nu_in, const std::vector<bool>& free_mask,
+                  const std::vector<std::string>& params)
+      : model_version(h.model.version), free(free_mask), table(h.model) {
     const soadyn::Model& m = h.model;
     for (int k = 0; k < m.nloop_equations; ++k) equation_names.push_back("loop equation " + std::to_string(k));
     q = checked_vector(q_in, "q", m.coordinate_names);
@@ -89,10 +90,18 @@ struct EquilibriumArgs {
     if (free.size() != static_cast<std::size_t>(m.nv))
       throw py::value_error("free mask has " + std::to_string(free.size()) + " entries, expected nv = " +
                             std::to_string(m.nv));
+    for (const auto& name : params) entries.push_back(table.require(m, name));
+  }
+  // The sensitivities' workspace at this equilibrium of `m` (the locked model).
+  soadyn::EquilibriumSensitivity at(const soadyn::Model& m) const {
+    return soadyn::EquilibriumSensitivity(m, Map(q.data(), m.nq), Map(nu.data(), m.nloop_equations), free);
   }
   std::uint64_t model_version;
+  std::vector<bool> free;
   std::vector<std::string> equation_names;
   Array q, nu;
+  soadyn::ParameterTable<double> table;
+  std::vector<int> entries;
 };
 
 }  // namespace
@@ -167,21 +176,17 @@ void bind_parameters(py::module_& mod) {
   mod.def("_equilibrium_sensitivities",
       [](ModelHandle& h, py::handle q, py::handle nu, const std::vector<bool>& free,
          const std::vector<std::string>& params) {
-        const EquilibriumArgs a(h, q, nu, free);
-        const soadyn::ParameterTable<double> table(h.model);
-        std::vector<int> entries;
-        for (const auto& name : params) entries.push_back(table.require(h.model, name));
+        const EquilibriumArgs a(h, q, nu, free, params);
         py::dict out;
         soadyn::Status status;
         run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data&) {
-          soadyn::EquilibriumSensitivity sensitivity(m, Map(a.q.data(), m.nq), Map(a.nu.data(), m.nloop_equations),
-                                                     free);
+          soadyn::EquilibriumSensitivity sensitivity = a.at(m);
           const Eigen::Index nheld = static_cast<Eigen::Index>(sensitivity.held().size());
-          for (int k : entries) {
-            const auto& e = table.entry(k);
+          for (int k : a.entries) {
+            const auto& e = a.table.entry(k);
             const int n = soadyn::parameter_directions(e);
             Eigen::MatrixXd dq(m.nv, n), dnu(m.nloop_equations, n), dheld(nheld, n);
-            status = sensitivity.direct(m, table, k, dq, dnu, dheld);
+            status = sensitivity.direct(m, a.table, k, dq, dnu, dheld);
             if (!status.ok()) return;
             out[py::str(e.name)] = py::make_tuple(derivative_array(dq, {m.nv}, e),
                                                   derivative_array(dnu, {m.nloop_equations}, e),
@@ -196,22 +201,18 @@ void bind_parameters(py::module_& mod) {
   mod.def("_objective_gradient",
       [](ModelHandle& h, py::handle q, py::handle nu, const std::vector<bool>& free,
          const std::vector<std::string>& params, py::handle dphi_dq, py::handle dphi_dnu) {
-        const EquilibriumArgs a(h, q, nu, free);
+        const EquilibriumArgs a(h, q, nu, free, params);
         const Array gq = checked_vector(dphi_dq, "dphi_dq", h.model.dof_names);
         const Array gnu = dphi_dnu.is_none() ? Array(0) : checked_vector(dphi_dnu, "dphi_dnu", a.equation_names);
-        const soadyn::ParameterTable<double> table(h.model);
-        std::vector<int> entries;
-        for (const auto& name : params) entries.push_back(table.require(h.model, name));
         py::dict out;
         soadyn::Status status;
         run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data&) {
-          soadyn::EquilibriumSensitivity sensitivity(m, Map(a.q.data(), m.nq), Map(a.nu.data(), m.nloop_equations),
-                                                     free);
+          soadyn::EquilibriumSensitivity sensitivity = a.at(m);
           sensitivity.set_objective(Map(gq.data(), m.nv), Map(gnu.data(), gnu.size()));
-          for (int k : entries) {
-            const auto& e = table.entry(k);
+          for (int k : a.entries) {
+            const auto& e = a.table.entry(k);
             Eigen::VectorXd gradient(soadyn::parameter_directions(e));
-            status = sensitivity.objective_gradient(m, table, k, gradient);
+            status = sensitivity.objective_gradient(m, a.table, k, gradient);
             if (!status.ok()) return;
             out[py::str(e.name)] = derivative_array(gradient.transpose(), {}, e);
           }

@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 import soadyn
+from soadyn.check import rigid_part
 from soadyn.mjcf import MjcfError, MjcfIgnoredWarning, load_mjcf_with_map
 from test_loops_mujoco import full_mass_matrix
 
@@ -60,20 +61,12 @@ def relative(a, b) -> float:
     return float(np.abs(a - b).max(initial=0.0) / max(np.abs(b).max(initial=0.0), 1.0))
 
 
-def without_force_elements(m):
-    bare = m.copy()
-    for e in soadyn.force_elements(bare):
-        bare.set_parameter(e["name"] + ".stiffness", 0.0)
-        bare.set_parameter(e["name"] + ".damping", 0.0)
-    return bare
-
-
 @pytest.mark.parametrize("name", GYMNASIUM)
 def test_gymnasium_model_matches_mujoco(name):
     loaded = load_quietly(os.path.join(gymnasium_assets(), name))
     m, mj = loaded.model, loaded.mujoco_model
     assert m.nv == mj.nv and m.nq == mj.nq
-    bare = without_force_elements(m)
+    bare = rigid_part(m)
     data = mujoco.MjData(mj)
     rng = np.random.default_rng(len(name))
     zero = np.zeros(m.nv)

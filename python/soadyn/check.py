@@ -85,6 +85,14 @@ def is_mjcf(path) -> bool:
     return "<mujoco" in head and "<robot" not in head
 
 
+def random_states(model, states: int, seed: int):
+    """(q, v, tau, qdd, rng) at `states` seeded random states."""
+    rng = np.random.default_rng(seed)
+    for k in range(states):
+        v, tau, qdd = rng.normal(size=(3, model.nv))
+        yield core.random_configuration(model, seed + k), v, tau, qdd, rng
+
+
 class _Worst:
     def __init__(self):
         self.worst: dict = {}
@@ -121,10 +129,7 @@ def _check_urdf(path, floating_base, states, seed) -> CheckReport:
     dart_oracle = DartOracle(model, path, floating_base)
     mujoco_oracle = _try_oracle(report, "mujoco", lambda: MujocoOracle(urdf_in_mujoco(model, path, floating_base)))
     worst = _Worst()
-    rng = np.random.default_rng(seed)
-    for k in range(states):
-        q = core.random_configuration(model, seed + k)
-        v, tau, qdd = rng.normal(size=(3, model.nv))
+    for q, v, tau, qdd, rng in random_states(model, states, seed):
         worst.tree_dynamics("pinocchio", model, pin_oracle, q, v, tau, qdd)
         if mujoco_oracle is not None:
             worst.tree_dynamics("mujoco", model, mujoco_oracle, q, v, tau, qdd)
@@ -141,7 +146,8 @@ def _check_urdf(path, floating_base, states, seed) -> CheckReport:
     return report
 
 
-def _rigid_part(model):
+def rigid_part(model):
+    """A copy of `model` with every force element's stiffness and damping set to zero."""
     bare = model.copy()
     for e in core.force_elements(bare):
         bare.set_parameter(e["name"] + ".stiffness", 0.0)
@@ -158,15 +164,12 @@ def _check_mjcf(path, floating_base, states, seed) -> CheckReport:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", MjcfIgnoredWarning)
         loaded = load_mjcf_with_map(path, floating_base=True if floating_base else None)
-    model, rigid = loaded.model, _rigid_part(loaded.model)
+    model, rigid = loaded.model, rigid_part(loaded.model)
     mujoco_oracle = MujocoOracle(loaded)
     pin_oracle = _try_oracle(report, "pinocchio", lambda: PinocchioMjcfOracle(loaded, path))
     report.not_compared.append(("dart", DART_MJCF))
     worst = _Worst()
-    rng = np.random.default_rng(seed)
-    for k in range(states):
-        q = core.random_configuration(model, seed + k)
-        v, tau, qdd = rng.normal(size=(3, model.nv))
+    for q, v, tau, qdd, _ in random_states(model, states, seed):
         worst.tree_dynamics("mujoco", model, mujoco_oracle, q, v, tau, qdd)
         if pin_oracle is not None:
             worst.tree_dynamics("pinocchio", rigid, pin_oracle, q, v, tau, qdd)
