@@ -8,6 +8,7 @@
 #include <utility>
 #include <variant>
 
+#include "soadyn/model_file.hpp"
 #include "arrays.hpp"
 #include "model_handle.hpp"
 #include "soadyn/modal_rule.hpp"
@@ -73,6 +74,8 @@ void load_scene(ModelHandle& h, Build build) {
     scene = build();
   } catch (const soadyn::LoopError&) {
     throw;  // soadyn.LoopError, naming the loop
+  } catch (const soadyn::ModelFileError&) {
+    throw;  // soadyn.ModelFileError, naming the file and the item
   } catch (const std::invalid_argument& e) {
     throw py::value_error(e.what());
   }
@@ -180,6 +183,20 @@ void bind_model(py::module_& mod) {
       .def("dof_index", [](const ModelHandle& h, const std::string& n) { return h.model.dof_index(n); },
            "Velocity index of the named DOF, or -1.")
       .def("_load_cassini", [](ModelHandle& h) { load_scene(h, [] { return soadyn::cassini_model<double>(); }); })
+      .def("_to_json", [](const ModelHandle& h) { return soadyn::model_to_json(h.model); },
+           "The model as model-file JSON text (soadyn/model_file.hpp).")
+      .def("_load_json",
+           [](ModelHandle& h, const std::string& text, const std::string& source) {
+             load_scene(h, [&] { return soadyn::model_from_json(text, source); });
+           },
+           py::arg("text"), py::arg("source"), "Replaces this model by the one model-file JSON `text` holds.")
+      .def_property(
+          "_description", [](const ModelHandle& h) { return h.model.description; },
+          [](ModelHandle& h, const std::string& text) {
+            const auto lock = h.lock_for_change();
+            h.model.description = text;
+          },
+          "The description (visuals, metadata) as JSON text: kept by model files, unused by the dynamics.")
       .def("_load_pendulum_chain", [](ModelHandle& h, int links, double length, double mass) {
         load_scene(h, [&] { return soadyn::pendulum_chain_model<double>(links, length, mass); });
       })
@@ -243,6 +260,7 @@ void bind_model(py::module_& mod) {
 
   py::register_exception<soadyn::NonphysicalInertiaError>(mod, "NonphysicalInertiaError", PyExc_ValueError);
   py::register_exception<soadyn::LoopError>(mod, "LoopError", PyExc_ValueError);
+  py::register_exception<soadyn::ModelFileError>(mod, "ModelFileError", PyExc_ValueError);
 
   // Closed states of the loop scenes (std::invalid_argument: ValueError).
   const auto state = [](const soadyn::SceneState<double>& s) { return py::make_tuple(s.q, s.v); };

@@ -58,6 +58,7 @@ from .simulator import MotionSource, Simulator, Trajectory
 from .urdf import UrdfError, load_urdf
 from .mjcf import MjcfError, MjcfIgnoredWarning, load_mjcf
 from .visuals import Visual
+from .model_file import ModelFileError, load_model, save_model
 from . import hil, scenes
 
 from ._version import __version__  # written by the build from pyproject.toml
@@ -84,3 +85,4 @@ __all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives"]
 __all__ += ["parameter_sensitivity", "ParameterError"]
 __all__ += ["equilibrium_sensitivities", "objective_gradient"]
 __all__ += ["Visual", "load_mjcf", "MjcfError", "MjcfIgnoredWarning"]
+__all__ += ["save_model", "load_model", "ModelFileError"]

@@ -364,5 +364,16 @@ class Model(_Model):
         other.visuals = [copy.deepcopy(v) for v in self.visuals]
         return other
 
+    def __copy__(self) -> "Model":
+        return self.copy()
+
+    def __deepcopy__(self, memo) -> "Model":
+        return self.copy()
+
+    def __reduce__(self):
+        """A Model pickles as its model-file text (soadyn.save_model's format), never as pointers."""
+        from .model_file import reduce_model
+        return reduce_model(self)
+
     def __repr__(self) -> str:
         return f"<soadyn.Model nbodies={self.nbodies} nq={self.nq} nv={self.nv}>"

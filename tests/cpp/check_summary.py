@@ -175,6 +175,13 @@ def check_parameters_no_allocation(output: str) -> None:
     require(bool(lines(r"^test_parameters_no_allocation: PASS$", output)), "the PASS line")
 
 
+def check_model_file(output: str) -> None:
+    """Save/load/save of 14 models (scenes, random trees with flexible bodies, masks, springs) and hostile texts."""
+    require(bool(lines(r"^round trips: 14 models, text and dynamics identical$", output)), "14 round trips")
+    require(bool(lines(r"^hostile texts refused with a named item: 15$", output)), "15 hostile texts refused")
+    require(bool(lines(r"^test_model_file: PASS$", output)), "the PASS line")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
@@ -189,6 +196,7 @@ CHECKS = {
     "test_derivatives_no_allocation": check_derivatives_no_allocation,
     "test_force_elements_no_allocation": check_force_elements_no_allocation,
     "test_parameters_no_allocation": check_parameters_no_allocation,
+    "test_model_file": check_model_file,
 }
 
 

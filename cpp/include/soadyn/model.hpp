@@ -243,6 +243,10 @@ class ModelTpl {
   // Springs and dampers, in the order added; their constants may be changed in place.
   ForceElementsTpl<S> force_elements;
   Vec3<S> gravity;
+  // What describes the model without entering the dynamics (how it is drawn,
+  // where it came from): a JSON object as text, kept by model files
+  // (model_file.hpp) and read by viewers. "{}" when there is none.
+  std::string description = "{}";
   // Incremented by every structural change (Data must then be rebuilt).
   std::uint64_t version = 0;
 

@@ -20,6 +20,7 @@
 #include "soadyn/flex/cantilever_beam.hpp"
 #include "soadyn/flex/flexible_body.hpp"
 #include "soadyn/model.hpp"
+#include "soadyn/model_file.hpp"
 #include "soadyn/scenes.hpp"
 #include "soadyn/sim/linearization.hpp"
 #include "soadyn/sim/simulator.hpp"

@@ -23,6 +23,7 @@
 #include <array>
 #include <cstdint>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -41,6 +42,11 @@ Vec3<S> checked_joint_axis(const Vec3<S>& axis, const std::string& joint, const 
   const S n = axis.norm();
   if (!(n > detail::validation_tolerance<S>()))
     throw std::invalid_argument("joint '" + joint + "': " + which + " is zero");
+  // An axis already unit to rounding is kept as given: normalising is then
+  // idempotent, so a model rebuilt from its own parameters (model files) has
+  // the same axes bit for bit.
+  using std::abs;
+  if (abs(n - S(1)) <= S(4) * std::numeric_limits<S>::epsilon()) return axis;
   return axis / n;
 }
 
