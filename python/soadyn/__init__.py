@@ -59,6 +59,7 @@ from .urdf import UrdfError, load_urdf
 from .mjcf import MjcfError, MjcfIgnoredWarning, load_mjcf
 from .visuals import Visual
 from .model_file import ModelFileError, load_model, save_model
+from .urdf_export import UrdfExportWarning, save_urdf
 from . import hil, scenes
 
 from ._version import __version__  # written by the build from pyproject.toml
@@ -86,3 +87,4 @@ __all__ += ["parameter_sensitivity", "ParameterError"]
 __all__ += ["equilibrium_sensitivities", "objective_gradient"]
 __all__ += ["Visual", "load_mjcf", "MjcfError", "MjcfIgnoredWarning"]
 __all__ += ["save_model", "load_model", "ModelFileError"]
+__all__ += ["save_urdf", "UrdfExportWarning"]
