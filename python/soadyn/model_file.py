@@ -20,6 +20,7 @@ from typing import Optional
 
 from ._soadyn import ModelFileError
 from .model import Model
+from .text_files import write_text
 from .visuals import Visual
 
 __all__ = ["save_model", "load_model", "model_to_json", "model_from_json", "ModelFileError"]
@@ -122,11 +123,7 @@ def model_from_json(text: str, source: str = "model JSON") -> Model:
 def save_model(m: Model, path, metadata: Optional[dict] = None) -> None:
     """Write `m` to `path` in soadyn's model-file format (JSON; see the README's "Model files")."""
     text = model_to_json(m, metadata)
-    try:
-        with open(os.fspath(path), "w", encoding="utf-8") as f:
-            f.write(text)
-    except OSError as exc:
-        raise ModelFileError(f"{os.fspath(path)}: cannot write the model file: {exc.strerror or exc}") from exc
+    write_text(path, text, ModelFileError, "model file")
 
 
 def load_model(path) -> Model:

@@ -26,13 +26,13 @@ visuals URDF cannot draw (capsule, ellipsoid, plane, inline meshes).
 from __future__ import annotations
 
 import json
-import os
 import warnings
 import xml.etree.ElementTree as ET
 
 import numpy as np
 
 from .model import Model
+from .text_files import write_text
 from .urdf import UrdfError
 
 __all__ = ["save_urdf", "urdf_text", "UrdfExportWarning"]
@@ -168,8 +168,4 @@ def urdf_text(m: Model, robot_name: str = "soadyn_model") -> str:
 def save_urdf(m: Model, path, robot_name: str = "soadyn_model") -> None:
     """Write the URDF of the rigid part of `m` to `path` (see the module's documentation)."""
     text = urdf_text(m, robot_name)
-    try:
-        with open(os.fspath(path), "w", encoding="utf-8") as f:
-            f.write(text)
-    except OSError as exc:
-        raise UrdfError(f"{os.fspath(path)}: cannot write the URDF: {exc.strerror or exc}") from exc
+    write_text(path, text, UrdfError, "URDF")
