@@ -61,6 +61,7 @@ from .visuals import Visual
 from .model_file import ModelFileError, load_model, save_model
 from .urdf_export import UrdfExportWarning, save_urdf
 from . import hil, scenes
+from .viewer import Viewer  # viser is imported when a Viewer is made
 
 from ._version import __version__  # written by the build from pyproject.toml
 
@@ -88,3 +89,4 @@ __all__ += ["equilibrium_sensitivities", "objective_gradient"]
 __all__ += ["Visual", "load_mjcf", "MjcfError", "MjcfIgnoredWarning"]
 __all__ += ["save_model", "load_model", "ModelFileError"]
 __all__ += ["save_urdf", "UrdfExportWarning"]
+__all__ += ["Viewer"]

@@ -23,7 +23,7 @@ def main(argv: list[str] | None = None) -> int:
 
     parser = argparse.ArgumentParser(prog="soadyn", description="O(N) hybrid multibody dynamics.")
     parser.add_argument("--version", action="version", version=f"soadyn {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{demo,check,hil}")
+    sub = parser.add_subparsers(dest="command", metavar="{demo,check,hil,view}")
     demo = sub.add_parser("demo", help="fly a built-in scene for a few seconds and report")
     demo.add_argument("--scene", default="cassini", choices=list(DEMO_PLOTS),
                       help="built-in scene (default cassini); four-bar: the crank-rocker of Saha, Shah & Nandihal 2013")
@@ -46,14 +46,25 @@ def main(argv: list[str] | None = None) -> int:
     check.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     check.add_argument("--tolerance", type=float, default=1e-9,
                        help="largest accepted relative difference (default 1e-9); above it the exit code is 1")
+    view = sub.add_parser("view", help="draw a model in the browser (viser): a scene name, a model file (.json), "
+                                       "an MJCF (.xml) or a URDF (.urdf)")
+    view.add_argument("model", help="cassini, four-bar, slider-crank, delta-robot, or a .json, .xml or .urdf file")
+    view.add_argument("--host", default="127.0.0.1", help="address to serve on (default 127.0.0.1)")
+    view.add_argument("--port", type=int, default=8080, help="port (default 8080; 0: any free port)")
+    view.add_argument("--simulate", type=float, default=0.0, metavar="SECONDS",
+                      help="simulate this long from the shown state (RK4, 1 ms) and replay it with a time slider")
+    view.add_argument("--duration", type=float, default=None,
+                      help="serve this many seconds, then exit (default: until Ctrl-C)")
     hil_parser = add_hil_parser(sub)
     args = parser.parse_args(argv)
     if args.command is None:
-        parser.error("a command is required: demo, check or hil (soadyn COMMAND --help for its options)")
+        parser.error("a command is required: demo, check, hil or view (soadyn COMMAND --help for its options)")
     if args.command == "check":
         return run_check(args, check)
     if args.command == "hil":
         return run_hil_command(args, hil_parser)
+    if args.command == "view":
+        return run_view(args, view)
     return run_demo_command(args, demo)
 
 
@@ -272,3 +283,48 @@ def one_line(error: BaseException) -> str:
 
 if __name__ == "__main__":
     sys.exit(main())
+
+
+def run_view(args, parser) -> int:
+    """soadyn view: serve the model (and an optional simulated run) until Ctrl-C or --duration."""
+    import time
+
+    from .viewer import Viewer, load_any, start_state
+
+    if not 0 <= args.port <= 65535:
+        parser.error(f"argument --port: {args.port} is not a port number (0-65535)")
+    finite(parser, "--simulate", args.simulate, 0.0, inclusive=True)
+    if args.duration is not None:
+        finite(parser, "--duration", args.duration, 0.0, inclusive=True)
+    try:
+        model = load_any(args.model)
+    except (ValueError, OSError) as exc:
+        parser.error(f"argument model: {exc}")
+    from ._soadyn import DynamicsError
+    try:
+        q, v = start_state(args.model, model)
+        viewer = Viewer(model, host=args.host, port=args.port, q=q)
+    except (OSError, ValueError, DynamicsError) as exc:
+        print(f"soadyn view: {args.model}: cannot start: {exc}", file=sys.stderr)
+        return 1
+    if args.simulate > 0:
+        from .simulator import Simulator
+        sim = Simulator(model, dt=1e-3)
+        sim.set_state(q, v)
+        try:
+            viewer.play(sim.run(args.simulate))
+        except DynamicsError as exc:
+            viewer.close()
+            print(f"soadyn view: {args.model}: the simulation failed: {exc}", file=sys.stderr)
+            return 1
+    print(f"soadyn view: {args.model} at {viewer.url} ({model.nbodies} bodies, {len(model.visuals)} visuals)",
+          flush=True)
+    try:
+        deadline = math.inf if args.duration is None else time.monotonic() + args.duration
+        while time.monotonic() < deadline:
+            time.sleep(min(0.1, max(0.0, deadline - time.monotonic())))
+    except KeyboardInterrupt:
+        pass
+    finally:
+        viewer.close()
+    return 0

@@ -1,0 +1,277 @@
+"""A 3D viewer on viser (a maintained web viewer: the browser draws, no WebGL of ours).
+
+Two layers:
+- `scene_poses(m, q)`: the scene graph at a state, headless — the world pose
+  (4x4) of every node the viewer draws, keyed by its viser path:
+  ``/bodies/<body>`` (the body frame), ``/frames/<frame>``,
+  ``/visuals/<visual>`` (the shape's frame: its frame's pose times its own
+  placement), and the two ends of every loop (``/loops/<loop>/a``, ``/b``).
+  Bodies come from `forward_kinematics`, frames from `frame_pose`: what is
+  drawn is what the dynamics use.
+  Attachment frames of flexible bodies are not drawn: flexible bodies are
+  drawn rigid, by their body frame (their deformed shape is not drawn yet).
+- `Viewer(m)`: a viser server drawing those nodes — each Visual as its shape
+  (box, sphere, ellipsoid, cylinder, capsule as a cylinder with end spheres,
+  mesh from vertices/faces or a mesh file trimesh can read), body and frame
+  axes, a stick figure (parent origin to child origin) for bodies without
+  visuals, loops as a line between their two frames — moved by
+  `show(q)`; `play(trajectory)` adds a time slider and a play button.
+
+Decisions: the viewer never runs in a real-time thread; it reads states it is
+given. Visual shapes URDF/MJCF loaders kept with a mesh file that cannot be
+read are drawn as their frame's axes and named once in a warning.
+"""
+from __future__ import annotations
+
+import json
+import os
+import threading
+import time
+import warnings
+
+import numpy as np
+
+from ._soadyn import forward_kinematics, frame_pose
+from .model import Model
+
+__all__ = ["Viewer", "scene_poses"]
+
+
+def _transform(R, p) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, p
+    return T
+
+
+def _loop_anchors(m: Model) -> list[tuple[str, str, np.ndarray, str, np.ndarray]]:
+    """(loop, frame_a, placement_a, frame_b, placement_b) of every loop, from the model-file view."""
+    data = json.loads(m._to_json()) if m.nloops else {"loops": []}
+    return [(x["name"], x["frame_a"], _transform(x["placement_a"]["rotation"], x["placement_a"]["translation"]),
+             x["frame_b"], _transform(x["placement_b"]["rotation"], x["placement_b"]["translation"]))
+            for x in data["loops"]]
+
+
+class _Poser:
+    """World poses of named bodies and frames at one state (forward kinematics once)."""
+
+    def __init__(self, m: Model, q):
+        self.m, self.q = m, np.asarray(q, dtype=float)
+        self.bodies = forward_kinematics(m, self.q)
+        self.bodies = self.bodies[0] if isinstance(self.bodies, tuple) else self.bodies
+        self.index = {name: i for i, name in enumerate(m.body_names)}
+
+    def __call__(self, name: str) -> np.ndarray:
+        if name in ("world", "", None):
+            return np.eye(4)
+        if name in self.index:
+            return self.bodies[self.index[name]]
+        return frame_pose(self.m, self.q, name)
+
+
+def drawn_frames(m: Model) -> list[str]:
+    """The frames the viewer draws: every frame that is not a body, except attachment frames of flexible
+    bodies (their nodes move with the modal coordinates, which frame_pose does not follow)."""
+    q0, bodies = _neutral(m), set(m.body_names)
+    drawn = []
+    for name in m.frame_names:
+        if name in bodies:
+            continue
+        try:
+            frame_pose(m, q0, name)
+        except ValueError:  # carried by a flexible body
+            continue
+        drawn.append(name)
+    return drawn
+
+
+def scene_poses(m: Model, q, loops=None, frames=None) -> dict[str, np.ndarray]:
+    """World pose (4x4) of every node the viewer draws at configuration q, keyed by viser path."""
+    pose = _Poser(m, q)
+    out = {f"/bodies/{name}": pose.bodies[i] for i, name in enumerate(m.body_names)}
+    for name in drawn_frames(m) if frames is None else frames:
+        out[f"/frames/{name}"] = pose(name)
+    for v in m.visuals:
+        out[f"/visuals/{v.name}"] = pose(v.frame) @ _transform(v.rotation, v.translation)
+    for name, frame_a, Xa, frame_b, Xb in (_loop_anchors(m) if loops is None else loops):
+        out[f"/loops/{name}/a"] = pose(frame_a) @ Xa
+        out[f"/loops/{name}/b"] = pose(frame_b) @ Xb
+    return out
+
+
+def _wxyz(R) -> np.ndarray:
+    from viser import transforms
+    return transforms.SO3.from_matrix(np.asarray(R)).wxyz
+
+
+def _colour(rgba) -> tuple:
+    return tuple(int(round(255 * c)) for c in np.clip(rgba[:3], 0, 1))
+
+
+class Viewer:
+    """A viser server drawing model `m` (see the module documentation); open `viewer.url` in a browser."""
+
+    def __init__(self, m: Model, host: str = "127.0.0.1", port: int = 8080, q=None, frames: bool = True):
+        import viser
+
+        if not isinstance(m, Model):
+            raise TypeError(f"Viewer needs a soadyn.Model, got {type(m).__name__}")
+        self.model = m
+        self.server = viser.ViserServer(host=host, port=port, verbose=False)
+        self._loops = _loop_anchors(m)
+        self._lock = threading.Lock()
+        self.handles: dict = {}
+        self._add_nodes(frames)
+        self.q = None
+        self.show(np.asarray(q, dtype=float) if q is not None else _neutral(m))
+
+    @property
+    def url(self) -> str:
+        return f"http://{self.server.get_host()}:{self.server.get_port()}"
+
+    def _add_nodes(self, frames: bool) -> None:
+        scene = self.server.scene
+        drawn = {v.frame for v in self.model.visuals}
+        unreadable = []
+        for name in self.model.body_names:
+            self.handles[f"/bodies/{name}"] = scene.add_frame(f"/bodies/{name}", show_axes=frames,
+                                                              axes_length=0.1, axes_radius=0.004)
+        self._frames = drawn_frames(self.model)
+        for name in self._frames:
+            self.handles[f"/frames/{name}"] = scene.add_frame(f"/frames/{name}", show_axes=frames,
+                                                              axes_length=0.05, axes_radius=0.002)
+        for v in self.model.visuals:
+            handle = self._add_visual(v)
+            if handle is None:
+                unreadable.append(f"'{v.name}' ({v.mesh_file})")
+                handle = scene.add_frame(f"/visuals/{v.name}", axes_length=0.05, axes_radius=0.002)
+            self.handles[f"/visuals/{v.name}"] = handle
+        self._sticks = [(i, p) for i, p in enumerate(self.model.parents)
+                        if self.model.body_names[i] not in drawn]
+        self.handles["/sticks"] = None
+        if unreadable:
+            warnings.warn(f"viewer: meshes that cannot be read are drawn as axes: {', '.join(unreadable)}",
+                          stacklevel=3)
+
+    def _add_visual(self, v):
+        scene, path, colour = self.server.scene, f"/visuals/{v.name}", _colour(v.rgba)
+        if v.shape == "box":
+            return scene.add_box(path, color=colour, dimensions=tuple(v.size))
+        if v.shape in ("sphere", "ellipsoid"):
+            scale = (v.size[0],) * 3 if v.shape == "sphere" else tuple(v.size)
+            return scene.add_icosphere(path, radius=1.0, color=colour, scale=scale)
+        if v.shape in ("cylinder", "capsule"):
+            handle = scene.add_cylinder(path, radius=float(v.size[0]), height=float(v.size[1]), color=colour)
+            if v.shape == "capsule":
+                for end, z in (("top", 0.5), ("bottom", -0.5)):
+                    scene.add_icosphere(f"{path}/{end}", radius=float(v.size[0]), color=colour,
+                                        position=(0.0, 0.0, z * float(v.size[1])))
+            return handle
+        if v.shape == "plane":
+            size = [s if s > 0 else 10.0 for s in v.size[:2]]
+            return scene.add_box(path, color=colour, dimensions=(size[0], size[1], 1e-3))
+        if v.vertices is not None:
+            return scene.add_mesh_simple(path, vertices=v.vertices.astype(np.float32),
+                                         faces=v.faces.astype(np.uint32), color=colour)
+        try:
+            import trimesh
+            mesh = trimesh.load(v.mesh_file, force="mesh")
+            mesh.apply_scale(v.size if v.size.size == 3 else 1.0)
+            return scene.add_mesh_trimesh(path, mesh)
+        except Exception:  # a missing or unreadable mesh file: drawn as axes, named once
+            return None
+
+    def show(self, q) -> None:
+        """Move every node to its pose at configuration q."""
+        q = np.asarray(q, dtype=float)
+        if q.shape != (self.model.nq,) or not np.all(np.isfinite(q)):
+            raise ValueError(f"viewer: q must be {self.model.nq} finite numbers, got shape {q.shape}")
+        poses = scene_poses(self.model, q, self._loops, self._frames)
+        with self._lock, self.server.atomic():
+            for path, T in poses.items():
+                handle = self.handles.get(path)
+                if handle is not None:
+                    handle.wxyz, handle.position = _wxyz(T[:3, :3]), T[:3, 3]
+            self._draw_lines(poses)
+            self.q = q.copy()
+
+    def _draw_lines(self, poses) -> None:
+        names = self.model.body_names
+        segments = [(np.zeros(3) if p < 0 else poses[f"/bodies/{names[p]}"][:3, 3], poses[f"/bodies/{names[i]}"][:3, 3])
+                    for i, p in self._sticks]
+        if segments:
+            self.handles["/sticks"] = self.server.scene.add_line_segments(
+                "/sticks", points=np.array(segments, dtype=np.float32), colors=(90, 90, 90), thickness=3.0, thickness_units="screen")
+        for name, *_ in self._loops:
+            a, b = poses[f"/loops/{name}/a"][:3, 3], poses[f"/loops/{name}/b"][:3, 3]
+            self.handles[f"/loops/{name}"] = self.server.scene.add_line_segments(
+                f"/loops/{name}", points=np.array([[a, b]], dtype=np.float32), colors=(220, 40, 40), thickness=4.0, thickness_units="screen")
+
+    def play(self, trajectory, speed: float = 1.0):
+        """A time slider and a play button over `trajectory` (a soadyn.Trajectory or an object with t and q)."""
+        t, qs = np.asarray(trajectory.t, dtype=float), np.asarray(trajectory.q, dtype=float)
+        if len(t) == 0 or qs.shape != (len(t), self.model.nq):
+            raise ValueError(f"viewer: a trajectory of {self.model.nq} coordinates per sample is needed, "
+                             f"got q of shape {qs.shape}")
+        slider = self.server.gui.add_slider("time (s)", min=float(t[0]), max=float(max(t[-1], t[0] + 1e-9)),
+                                            step=float(np.min(np.diff(t))) if len(t) > 1 else 1.0,
+                                            initial_value=float(t[0]))
+        playing = self.server.gui.add_checkbox("play", initial_value=False)
+
+        @slider.on_update
+        def _(_event) -> None:
+            self.show(qs[min(int(np.searchsorted(t, slider.value)), len(t) - 1)])
+
+        def run() -> None:
+            while True:
+                time.sleep(0.03)
+                if playing.value:
+                    slider.value = float(t[0]) if slider.value >= t[-1] else min(slider.value + 0.03 * speed,
+                                                                                 float(t[-1]))
+
+        threading.Thread(target=run, daemon=True).start()
+        self.show(qs[0])
+        return slider
+
+    def close(self) -> None:
+        self.server.stop()
+
+
+def _neutral(m: Model) -> np.ndarray:
+    from ._soadyn import neutral_configuration
+    return neutral_configuration(m)
+
+
+def load_any(source: str) -> Model:
+    """A model from a built-in scene name, a model file (.json), an MJCF (.xml) or a URDF (.urdf)."""
+    from . import scenes
+    from .mjcf import load_mjcf
+    from .model_file import load_model
+    from .urdf import load_urdf
+
+    builders = {"cassini": scenes.cassini, "four-bar": scenes.four_bar, "slider-crank": scenes.slider_crank,
+                "delta-robot": scenes.delta_robot}
+    if source in builders:
+        return builders[source]()
+    extension = os.path.splitext(source)[1].lower()
+    if extension == ".json":
+        return load_model(source)
+    if extension == ".xml":
+        return load_mjcf(source)
+    if extension == ".urdf":
+        return load_urdf(source)
+    raise ValueError(f"'{source}': not a built-in scene ({', '.join(builders)}) nor a .json, .xml or .urdf file")
+
+
+def start_state(source: str, m: Model) -> tuple[np.ndarray, np.ndarray]:
+    """The state `soadyn view` shows first: the loop scenes closed, every other model at rest in q0."""
+    from . import scenes
+    closed = {"four-bar": lambda: scenes.four_bar_state(0.5), "slider-crank": lambda: scenes.slider_crank_state(0.5),
+              "delta-robot": lambda: scenes.delta_robot_state([0.0, 0.0, -0.6])}
+    if source in closed:
+        q, v = closed[source]()
+        return np.asarray(q, dtype=float), np.asarray(v, dtype=float)
+    q = _neutral(m)
+    if m.nloops:  # any other loop model: closed from q0 by Gauss-Newton
+        from .loops import assemble
+        q = assemble(m, q)
+    return q, np.zeros(m.nv)
