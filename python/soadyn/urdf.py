@@ -20,8 +20,9 @@ Decisions:
   planar and floating joints: one UrdfIgnoredWarning per load names the
   joints whose values were ignored. By default (joint_damping=False) the
   model is the rigid-body one, as Pinocchio's dynamics algorithms read the
-  same file, and <dynamics> is ignored. Limits and mimic are not modelled. package_dirs is accepted for
-  compatibility; meshes are never loaded.
+  same file, and <dynamics> is ignored. Limits and mimic are not modelled.
+- <visual> shapes become model.visuals (urdf_visuals.py; package_dirs
+  resolves package:// mesh names); meshes are referenced by path, not read.
 
 Inertia (the README's "URDF inertia policy"): a body of the model is a moving
 link together with every link welded to it through fixed joints; their
@@ -49,6 +50,7 @@ from ._soadyn import Joint, NonphysicalInertiaError
 from .model import Model
 from .urdf_inertia import merge_parts, minimal_inertial, repaired_inertia
 from .urdf_reader import UrdfError, UrdfJoint, UrdfRobot, read_urdf
+from .urdf_visuals import read_visuals
 
 __all__ = ["load_urdf", "UrdfError", "UrdfRepairWarning", "UrdfIgnoredWarning", "INERTIA_POLICIES"]
 
@@ -285,7 +287,10 @@ def load_urdf(path, floating_base: bool = False, package_dirs=None, inertia: str
     joint_damping=True: each one-DOF joint's <dynamics damping> becomes a joint damper named after the joint
     (soadyn.force_elements); friction is not modelled and is reported once (UrdfIgnoredWarning).
     """
-    del package_dirs  # meshes are never loaded
+    if package_dirs is None:
+        package_dirs = ()
+    elif isinstance(package_dirs, (str, os.PathLike)):
+        package_dirs = (package_dirs,)
     if not isinstance(inertia, str) or inertia not in INERTIA_POLICIES:
         raise ValueError(f"inertia must be one of {INERTIA_POLICIES}, got {inertia!r}")
     if not isinstance(floating_base, (bool, np.bool_)):
@@ -299,4 +304,14 @@ def load_urdf(path, floating_base: bool = False, package_dirs=None, inertia: str
     model = _Loader(robot, inertia).load(bool(floating_base))
     if joint_damping:
         _add_joint_dampers(model, robot.joints, path)
+    _add_visuals(model, path, package_dirs)
     return model
+
+
+def _add_visuals(model: Model, path: Path, package_dirs) -> None:
+    """The links' <visual> shapes on the bodies and frames named after them (urdf_visuals.py)."""
+    visuals, ignored = read_visuals(path, package_dirs)
+    places = set(model.body_names) | set(model.frame_names) | {"world"}
+    model.visuals = [v for v in visuals if v.frame in places]
+    if ignored:
+        warnings.warn(f"URDF '{path}': visuals not read: {'; '.join(ignored)}", UrdfIgnoredWarning, stacklevel=3)

@@ -10,8 +10,8 @@ is guessed or broadcast (a general URDF parser happily turns xyz="1" into
 
 Read, per the URDF specification (wiki.ros.org/urdf/XML):
 - <link name>: its <inertial> (<origin xyz rpy>, <mass value>, <inertia ixx
-  ixy ixz iyy iyz izz>, all required but the origin); visual, collision and
-  everything else is ignored.
+  ixy ixz iyy iyz izz>, all required but the origin); <visual> is read by
+  urdf_visuals.py, collision and everything else is ignored.
 - <joint name type>: <parent link>, <child link>, <origin xyz rpy> (default
   identity), <axis xyz> (default 1 0 0; read only for the types that have an
   axis) and <dynamics> damping and friction. Limits, mimic, calibration and
