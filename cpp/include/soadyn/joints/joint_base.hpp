@@ -28,6 +28,7 @@
 #include <stdexcept>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include "soadyn/joints/joint_kernel.hpp"
 #include "soadyn/joints/vector_space.hpp"
 #include "soadyn/spatial/lie.hpp"
@@ -42,11 +43,13 @@ Vec3<S> checked_joint_axis(const Vec3<S>& axis, const std::string& joint, const 
   const S n = axis.norm();
   if (!(n > detail::validation_tolerance<S>()))
     throw std::invalid_argument("joint '" + joint + "': " + which + " is zero");
-  // An axis already unit to rounding is kept as given: normalising is then
-  // idempotent, so a model rebuilt from its own parameters (model files) has
-  // the same axes bit for bit.
-  using std::abs;
-  if (abs(n - S(1)) <= S(4) * std::numeric_limits<S>::epsilon()) return axis;
+  // In double precision an axis already unit to rounding is kept as given:
+  // normalising is then idempotent, so a model rebuilt from its own
+  // parameters (model files, which hold doubles) has the same axes bit for
+  // bit. Other scalars (float models cast from double ones) always divide.
+  if constexpr (std::is_same_v<S, double>) {
+    if (std::abs(n - 1.0) <= 4.0 * std::numeric_limits<double>::epsilon()) return axis;
+  }
   return axis / n;
 }
 
