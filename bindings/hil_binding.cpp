@@ -202,6 +202,15 @@ void bind_hil(py::module_& mod) {
       .def_property_readonly("commands_saturated", [](const HilSession& s) { return s.runner->commands_saturated(); })
       .def_property_readonly("commands_rejected", [](const HilSession& s) { return s.runner->commands_rejected(); })
       .def_property_readonly("steps_done", [](const HilSession& s) { return s.runner->steps_done(); })
+      .def("latest_state", [](const HilSession& s) -> py::object {
+             const soadyn::StateSnapshot& snapshot = s.runner->latest_state();
+             std::int64_t step = 0;
+             double time = 0;
+             Eigen::VectorXd q(snapshot.nq()), v(snapshot.nv());
+             if (!snapshot.read(step, time, q, v)) return py::none();
+             return py::make_tuple(step, time, q, v); },
+           "(step, t, q, v) the loop published last, read without disturbing it (thread-safe; any time during "
+           "or after run()), or None before the first run.")
       .def_property_readonly("deadline_misses", [](const HilSession& s) { return s.runner->deadline_misses(); })
       .def_property_readonly("packets_received", [](const HilSession& s) {
              return s.link ? s.link->packets_received() : std::uint64_t{0}; })

@@ -7,6 +7,10 @@
 - Viewer: a viser server on a free port holds one node per body, frame and
   visual, placed at those poses after show(q); play(trajectory) adds a time
   slider whose value shows the matching sample; bad input is refused by name.
+- Flexible bodies: drawn through their nodes deformed by the modal
+  coordinates times an exaggeration factor; a cantilever's drawn deflection
+  has the closed-form Euler-Bernoulli first mode shape, and the viser
+  polyline follows the factor set on its slider.
 - `soadyn view` serves a scene, simulates and exits after --duration.
 """
 from __future__ import annotations
@@ -20,7 +24,7 @@ import numpy as np
 import pytest
 
 import soadyn
-from soadyn.viewer import Viewer, drawn_frames, load_any, scene_poses
+from soadyn.viewer import Viewer, drawn_frames, flexible_shapes, load_any, scene_poses
 from robots import robot_with_oracle
 
 
@@ -66,6 +70,50 @@ def test_flexible_bodies_are_drawn_by_their_body_frame():
     assert all(":" not in f or f.split(":")[0] not in m.body_names for f in frames)
     poses = scene_poses(m, soadyn.random_configuration(m, 2))
     assert len([k for k in poses if k.startswith("/bodies/")]) == m.nbodies
+
+
+def clamped_free_first_mode(x, length):
+    """Euler-Bernoulli cantilever, first bending mode (closed form): beta L = 1.87510407."""
+    beta = 1.87510407 / length
+    sigma = (np.cosh(beta * length) + np.cos(beta * length)) / (np.sinh(beta * length) + np.sin(beta * length))
+    return np.cosh(beta * x) - np.cos(beta * x) - sigma * (np.sinh(beta * x) - np.sin(beta * x))
+
+
+def test_flexible_beam_is_drawn_in_its_closed_form_mode_shape():
+    length = 2.0
+    m = soadyn.scenes.cantilever_beam(length, 50.0, 0.5, 2)
+    q = np.zeros(m.nq)
+    q[m.dof_names.index("beam:mode1")] = 0.01
+    rest = flexible_shapes(m, q, 0.0)["beam"]
+    assert np.abs(rest - m.flexible_body("beam").nodes).max() == 0.0  # clamped at the world origin
+    for exaggeration in (1.0, 25.0):
+        deflection = flexible_shapes(m, q, exaggeration)["beam"] - rest
+        assert np.abs(deflection[:, 0]).max() <= 1e-15  # linear modes: transverse only
+        w = np.linalg.norm(deflection[:, 1:], axis=1)
+        x = rest[:, 0]
+        assert w[-1] > 0
+        assert np.abs(w / w[-1] - clamped_free_first_mode(x, length) / clamped_free_first_mode(length, length)).max() <= 1e-9
+        if exaggeration == 1.0:
+            true_tip = w[-1]
+    assert w[-1] == pytest.approx(25.0 * true_tip, rel=1e-12)
+
+
+def test_flexible_shapes_follow_the_body_pose_on_cassini():
+    m = soadyn.scenes.cassini()
+    q = soadyn.random_configuration(m, 3)
+    shapes = flexible_shapes(m, q, 40.0)
+    assert set(shapes) == {"magnetometer_boom", "plasma_wave_antenna"}
+    poses = scene_poses(m, q)
+    for name, nodes in shapes.items():
+        body = m.flexible_body(name)
+        b = m.body_names.index(name)
+        start = m.q_index[b + 1] - body.n_modes
+        T = poses[f"/bodies/{name}"]
+        for j in (0, body.n_nodes // 2, body.n_nodes - 1):
+            local = body.node_pose(j, 40.0 * q[start:start + body.n_modes])[:3, 3]
+            assert np.abs(nodes[j] - (T[:3, :3] @ local + T[:3, 3])).max() <= 1e-12
+    with pytest.raises(ValueError, match="exaggeration"):
+        flexible_shapes(m, q, -1.0)
 
 
 @pytest.fixture
@@ -121,6 +169,25 @@ def test_trajectory_slider_shows_the_matching_sample(quiet_viewer):
     crank = viewer.handles["/bodies/crank"]
     assert np.abs(soadyn_rotation(np.asarray(crank.wxyz)) -
                   soadyn.forward_kinematics(m, trajectory.q[120])[0][0][:3, :3]).max() <= 1e-6
+
+
+def test_viewer_draws_flexible_bodies_deformed_with_an_adjustable_exaggeration(quiet_viewer):
+    m = soadyn.scenes.cassini()
+    q = soadyn.random_configuration(m, 4)
+    viewer = quiet_viewer(m, q=q, exaggeration=10.0)
+    for factor in (10.0, 300.0):
+        if factor != viewer.exaggeration:
+            viewer.exaggeration_slider.value = factor  # as a user dragging the slider
+        assert viewer.exaggeration == factor
+        for name, nodes in flexible_shapes(m, q, factor).items():
+            segments = np.asarray(viewer.handles[f"/flexible/{name}"].points)
+            assert segments.shape == (len(nodes) - 1, 2, 3)
+            assert np.abs(segments[:, 0] - nodes[:-1]).max() <= 1e-5  # float32 in viser
+            assert np.abs(segments[-1, 1] - nodes[-1]).max() <= 1e-5
+            assert np.abs(np.asarray(viewer.handles[f"/flexible/{name}/nodes"].points) - nodes).max() <= 1e-5
+    with pytest.raises(ValueError, match="exaggeration"):
+        viewer.exaggeration = float("nan")
+    assert quiet_viewer(soadyn.scenes.four_bar()).exaggeration_slider is None  # nothing flexible to exaggerate
 
 
 def test_bad_input_is_refused_by_name(quiet_viewer):

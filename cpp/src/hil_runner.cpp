@@ -67,7 +67,7 @@ double percentile_us(const std::vector<std::int64_t>& sorted, double p) {
 
 HilRunner::HilRunner(Simulator& sim, double rate_hz, std::int64_t steps, UdpLink* link)
     : sim_(sim), link_(link), rate_hz_(rate_hz), steps_(steps), limits_(sim.model().nv),
-      applied_command_(Eigen::VectorXd::Zero(sim.model().nv)) {
+      applied_command_(Eigen::VectorXd::Zero(sim.model().nv)), latest_state_(sim.model().nq, sim.model().nv) {
   if (!(rate_hz > 0) || !std::isfinite(rate_hz)) throw std::invalid_argument("HIL rate must be a positive number");
   if (steps < 0) throw std::invalid_argument("HIL step count must be >= 0");
   if (link && (link->nq() != sim.model().nq || link->nv() != sim.model().nv))
@@ -121,6 +121,7 @@ std::int64_t HilRunner::deadline_ns(std::int64_t step) const {
 Status HilRunner::run() {
   reset();
   record_state();
+  latest_state_.publish(0, sim_.time(), sim_.q(), sim_.v());
   [[maybe_unused]] TightTimerSlack slack;
   const RealtimeScope realtime(realtime_request_);
   realtime_outcome_ = realtime.outcome();
@@ -163,6 +164,7 @@ bool HilRunner::advance(std::int64_t step) {
   if (!status_.ok()) return false;
   if (link_) link_->send_state(sim_.time(), sim_.q(), sim_.v());
   if (record_every_ > 0 && (step + 1) % record_every_ == 0) record_state();
+  latest_state_.publish(step + 1, sim_.time(), sim_.q(), sim_.v());
   return true;
 }
 

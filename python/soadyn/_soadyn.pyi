@@ -483,6 +483,10 @@ class HilRunner:
     """
     def __init__(self, sim: _Simulator, rate_hz: typing.SupportsFloat | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex, udp_port: typing.SupportsInt | typing.SupportsIndex | None = None, udp_destination_port: typing.SupportsInt | typing.SupportsIndex = 0, as_fast_as_possible: bool = False, record_every: typing.SupportsInt | typing.SupportsIndex = 0, spin_us: typing.SupportsFloat | typing.SupportsIndex = 0.0, fifo_priority: typing.SupportsInt | typing.SupportsIndex = 0, cpu: typing.SupportsInt | typing.SupportsIndex = -1, lock_memory: bool = False, command_limits: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, command_policy: str = 'clamp', udp_command_port: typing.SupportsInt | typing.SupportsIndex = -1, max_packets_per_step: typing.SupportsInt | typing.SupportsIndex = 16) -> None:
         ...
+    def latest_state(self) -> tuple[int, float, numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]] | None:
+        """
+        (step, t, q, v) the loop published last, read without disturbing it (thread-safe; any time during or after run()), or None before the first run.
+        """
     def release_peer(self) -> None:
         """
         Forget the latched command sender: the next valid command's sender becomes the peer (thread-safe).

@@ -1,4 +1,4 @@
-"""Command line: `soadyn demo` (cassini or four-bar), `soadyn check`, `soadyn hil`.
+"""Command line: `soadyn demo` (cassini or four-bar), `soadyn check`, `soadyn hil`, `soadyn view`.
 
 Every bad argument ends in one line on stderr naming it (argparse's usage
 line and `error:`, exit code 2), never a traceback; a run that cannot start
@@ -55,6 +55,7 @@ def main(argv: list[str] | None = None) -> int:
                       help="simulate this long from the shown state (RK4, 1 ms) and replay it with a time slider")
     view.add_argument("--duration", type=float, default=None,
                       help="serve this many seconds, then exit (default: until Ctrl-C)")
+    add_exaggeration_option(view, "--exaggeration")
     hil_parser = add_hil_parser(sub)
     args = parser.parse_args(argv)
     if args.command is None:
@@ -149,9 +150,32 @@ def add_hil_parser(sub) -> argparse.ArgumentParser:
     hil.add_argument("--command-limit", action="append", default=[], metavar="LIMIT|DOF=LIMIT",
                      help="largest |command| of every DOF, or of one DOF (repeatable; default 1000 M_ii per DOF, "
                           "see the README; inf: no limit)")
+    hil.add_argument("--view", action="store_true",
+                     help="draw the run live in the browser (viser), from snapshots the loop publishes without waiting")
+    hil.add_argument("--view-host", default="127.0.0.1", help="address the viewer serves on (default 127.0.0.1)")
+    hil.add_argument("--view-port", type=int, default=8080, help="the viewer's port (default 8080; 0: any free port)")
+    add_exaggeration_option(hil, "--view-exaggeration")
     hil.add_argument("--command-policy", default="clamp", choices=["clamp", "reject", "stop"],
                      help="a command beyond its limit is clamped (default), rejected, or stops the run")
     return hil
+
+
+def add_exaggeration_option(parser, option: str) -> None:
+    parser.add_argument(option, type=float, default=1.0, metavar="FACTOR",
+                        help="draw flexible bodies' deformation this many times larger (default 1; a slider too)")
+
+
+def open_viewer(parser, model, host: str, port: int, q, exaggeration: float, what: str):
+    """A Viewer, or a one-line error: viser missing, a port in use, a bad factor."""
+    if not 0 <= port <= 65535:
+        parser.error(f"argument {what}: {port} is not a port number (0-65535)")
+    try:
+        from .viewer import Viewer
+        return Viewer(model, host=host, port=port, q=q, exaggeration=exaggeration)
+    except ImportError as exc:
+        parser.exit(1, f"soadyn: the viewer needs viser (pip install 'soadyn[view]'): {exc}\n")
+    except (OSError, ValueError) as exc:
+        parser.exit(1, f"soadyn: cannot start the viewer: {one_line(exc)}\n")
 
 
 def parse_command_limits(texts: list[str], dof_names: list[str]) -> dict | None:
@@ -218,17 +242,28 @@ def run_hil_command(args, parser) -> int:
         if runner.udp_port is not None:
             print(f"commands on 127.0.0.1:{runner.udp_port}", flush=True)
 
+    viewer = None
+    if args.view:
+        finite(parser, "--view-exaggeration", args.view_exaggeration, 0.0, inclusive=True)
+        viewer = open_viewer(parser, sim._model, args.view_host, args.view_port, sim.q, args.view_exaggeration,
+                             "--view-port")
+        print(f"viewer at {viewer.url}", flush=True)
+
     try:
         report = hil.run_hil(sim, args.rate, args.duration, udp_port=args.udp, progress=not args.no_progress,
                              realtime=not args.as_fast_as_possible, udp_destination_port=args.udp_peer,
                              spin_us=args.spin_us, fifo_priority=args.fifo_priority, cpu=args.cpu,
                              lock_memory=args.lock_memory, command_limits=limits,
                              command_policy=args.command_policy, udp_command_port=args.udp_command_port,
-                             max_packets_per_step=args.max_packets_per_step, on_start=announce)
+                             max_packets_per_step=args.max_packets_per_step, on_start=announce,
+                             on_state=(lambda step, t, q, v: viewer.show(q)) if viewer else None)
     except ValueError as error:  # priority, CPU or a command limit out of range: the message names it
         parser.error(str(error))
     except (RuntimeError, MemoryError) as error:  # the UDP port could not be bound; no memory for the run
         parser.exit(1, f"soadyn hil: {type(error).__name__ if isinstance(error, MemoryError) else 'error'}: {error}\n")
+    finally:
+        if viewer is not None:
+            viewer.close()
     write_hil_outputs(args, events, sim, report)
     return 0 if report.ok else 1
 
@@ -281,18 +316,13 @@ def one_line(error: BaseException) -> str:
     return " ".join(str(error).split()) or type(error).__name__
 
 
-if __name__ == "__main__":
-    sys.exit(main())
-
 
 def run_view(args, parser) -> int:
     """soadyn view: serve the model (and an optional simulated run) until Ctrl-C or --duration."""
     import time
 
-    from .viewer import Viewer, load_any, start_state
+    from .viewer import load_any, start_state
 
-    if not 0 <= args.port <= 65535:
-        parser.error(f"argument --port: {args.port} is not a port number (0-65535)")
     finite(parser, "--simulate", args.simulate, 0.0, inclusive=True)
     if args.duration is not None:
         finite(parser, "--duration", args.duration, 0.0, inclusive=True)
@@ -301,12 +331,13 @@ def run_view(args, parser) -> int:
     except (ValueError, OSError) as exc:
         parser.error(f"argument model: {exc}")
     from ._soadyn import DynamicsError
+    finite(parser, "--exaggeration", args.exaggeration, 0.0, inclusive=True)
     try:
         q, v = start_state(args.model, model)
-        viewer = Viewer(model, host=args.host, port=args.port, q=q)
-    except (OSError, ValueError, DynamicsError) as exc:
+    except (ValueError, DynamicsError) as exc:
         print(f"soadyn view: {args.model}: cannot start: {exc}", file=sys.stderr)
         return 1
+    viewer = open_viewer(parser, model, args.host, args.port, q, args.exaggeration, "--port")
     if args.simulate > 0:
         from .simulator import Simulator
         sim = Simulator(model, dt=1e-3)
@@ -328,3 +359,7 @@ def run_view(args, parser) -> int:
     finally:
         viewer.close()
     return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -31,6 +31,7 @@ __all__ = ["HilEvent", "HilReport", "HilRunner", "format_table", "parse_event", 
 
 RECORDED_SAMPLES = 2000  # rows of state history kept for the plot
 PROGRESS_INTERVAL = 0.1  # seconds between progress-bar refreshes
+STATE_INTERVAL = 1.0 / 30  # seconds between on_state calls (a viewer's frame rate)
 MAX_STEPS = 10**8  # one run keeps 16 bytes of timings per step: at most 1.6 GB
 COMMAND_POLICIES = ("clamp", "reject", "stop")
 MAX_PACKETS_PER_STEP = 16  # datagrams read per step at most (the rest wait for the next step)
@@ -161,7 +162,7 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
             realtime: bool = True, udp_destination_port: int = 0, spin_us: float = 0.0, fifo_priority: int = 0,
             cpu: int = -1, lock_memory: bool = False, command_limits=None, command_policy: str = "clamp",
             udp_command_port: int | None = None, max_packets_per_step: int = MAX_PACKETS_PER_STEP,
-            on_start=None) -> HilReport:
+            on_start=None, on_state=None, state_interval: float = STATE_INTERVAL) -> HilReport:
     """Run `sim` for `duration` simulated seconds, one step per 1/rate wall seconds.
 
     The simulation is real time when sim.dt == 1/rate. `udp_port` (None: no
@@ -191,6 +192,13 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
     measurement that cannot be made at the end (energy of a broken state) is
     None, with the reason in `report_errors`. `on_start(runner)` is called
     once the runner exists (its `udp_port` is bound), before the loop.
+    `on_state(step, t, q, v)` (a viewer's `show`, a telemetry writer) is
+    called on the calling thread, at most every `state_interval` seconds and
+    once more at the end, with the latest state the loop published
+    (HilRunner.latest_state: a sequence-locked snapshot the loop writes
+    without waiting, so a slow or failing reader never delays a step). If it
+    raises, it is not called again and the report's `report_errors` say why;
+    the run goes on.
     Another thread's calls on `sim` wait until the run ends (the runner
     holds the simulator's lock).
     """
@@ -218,9 +226,13 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
                        max_packets_per_step=int(max_packets_per_step))
     if command_limits is not None:
         runner.command_limits = resolve_command_limits(command_limits, runner.command_limits, sim._dof_names)
+    if not (math.isfinite(state_interval) and state_interval > 0):
+        raise ValueError(f"state_interval must be a finite positive number of seconds, got {state_interval}")
     if on_start is not None:
         on_start(runner)
-    interrupted, exception = _run_with_progress(runner, steps, progress, sim.dt)
+    watcher = _StateWatcher(runner, on_state, report_errors) if on_state is not None else None
+    interrupted, exception = _run_with_progress(runner, steps, progress, sim.dt, watcher,
+                                                state_interval if watcher else PROGRESS_INTERVAL)
     return _report(sim, runner, rate, realtime, interrupted, exception, energy0, momentum0, report_errors)
 
 
@@ -268,9 +280,32 @@ def _momentum(sim: Simulator) -> list[float]:
     return [float(x) for x in core.momentum(sim._model, sim.q, sim.v)]
 
 
-def _run_with_progress(runner, steps: int, show: bool, dt: float):
+class _StateWatcher:
+    """Hands the runner's latest published state to `on_state` when it is new; stops calling it after it raised."""
+
+    def __init__(self, runner, on_state, report_errors: list):
+        self.runner, self.on_state, self.report_errors = runner, on_state, report_errors
+        self.last_step = -1
+
+    def __call__(self) -> None:
+        if self.on_state is None:
+            return
+        latest = self.runner.latest_state()
+        if latest is None or latest[0] == self.last_step:
+            return
+        self.last_step = latest[0]
+        try:
+            self.on_state(*latest)
+        except Exception as error:  # noqa: BLE001 - a failing watcher never stops the run
+            self.report_errors.append(f"on_state at step {latest[0]}: {type(error).__name__}: {error} "
+                                      "(not called again)")
+            self.on_state = None
+
+
+def _run_with_progress(runner, steps: int, show: bool, dt: float, watcher=None, interval: float = PROGRESS_INTERVAL):
     """Runs the loop in a worker thread while the main thread updates a
-    progress bar; returns (Ctrl-C stopped it, the exception a step raised or None)."""
+    progress bar (and hands states to `watcher` every `interval` s); returns
+    (Ctrl-C stopped it, the exception a step raised or None)."""
     errors: list[BaseException] = []
 
     def work():
@@ -285,8 +320,10 @@ def _run_with_progress(runner, steps: int, show: bool, dt: float):
     worker.start()
     try:
         while worker.is_alive():
-            worker.join(PROGRESS_INTERVAL)
+            worker.join(interval)
             _update_progress(bar, runner, dt)
+            if watcher is not None:
+                watcher()
     except KeyboardInterrupt:
         interrupted = True
         runner.request_stop()
@@ -294,6 +331,8 @@ def _run_with_progress(runner, steps: int, show: bool, dt: float):
     finally:
         _update_progress(bar, runner, dt)
         bar.close()
+        if watcher is not None:
+            watcher()  # the final state
     return interrupted, errors[0] if errors else None
 
 

@@ -8,8 +8,14 @@ Two layers:
   placement), and the two ends of every loop (``/loops/<loop>/a``, ``/b``).
   Bodies come from `forward_kinematics`, frames from `frame_pose`: what is
   drawn is what the dynamics use.
-  Attachment frames of flexible bodies are not drawn: flexible bodies are
-  drawn rigid, by their body frame (their deformed shape is not drawn yet).
+  Attachment frames of flexible bodies are not among the frames: a flexible
+  body is drawn by its body frame and its deformed shape (below).
+- `flexible_shapes(m, q, exaggeration)`: the world positions of every
+  flexible body's nodes, deformed by its modal coordinates times
+  `exaggeration` (1: true size; real appendages deflect millimetres, so
+  tens to thousands make a mode visible). The viewer draws each as a
+  polyline through its nodes in node order (a beam's nodes are its stations)
+  with a point per node; a slider sets the exaggeration.
 - `Viewer(m)`: a viser server drawing those nodes — each Visual as its shape
   (box, sphere, ellipsoid, cylinder, capsule as a cylinder with end spheres,
   mesh from vertices/faces or a mesh file trimesh can read), body and frame
@@ -34,7 +40,7 @@ import numpy as np
 from ._soadyn import forward_kinematics, frame_pose
 from .model import Model
 
-__all__ = ["Viewer", "scene_poses"]
+__all__ = ["Viewer", "flexible_shapes", "scene_poses"]
 
 
 def _transform(R, p) -> np.ndarray:
@@ -98,6 +104,34 @@ def scene_poses(m: Model, q, loops=None, frames=None) -> dict[str, np.ndarray]:
     return out
 
 
+def _flexible_blocks(m: Model) -> list[tuple[str, int, object, slice]]:
+    """(name, body index, FlexibleBody, slice of its modal coordinates in q) of every flexible body."""
+    out = []
+    for b, name in enumerate(m.body_names):
+        if m.n_modes[b] == 0:
+            continue
+        end = m.q_index[b + 1] if b + 1 < m.nbodies else m.nq
+        out.append((name, b, m.flexible_body(name), slice(end - m.n_modes[b], end)))
+    return out
+
+
+def flexible_shapes(m: Model, q, exaggeration: float = 1.0, blocks=None) -> dict[str, np.ndarray]:
+    """{body: (N, 3) world positions of its nodes} for every flexible body at q, the modal coordinates
+    scaled by `exaggeration` (the body frame itself stays where q puts it)."""
+    if not (np.isfinite(exaggeration) and exaggeration >= 0):
+        raise ValueError(f"viewer: the exaggeration must be a finite number >= 0, got {exaggeration}")
+    q = np.asarray(q, dtype=float)
+    poses = None
+    out = {}
+    for name, b, body, modal in _flexible_blocks(m) if blocks is None else blocks:
+        if poses is None:
+            poses = _Poser(m, q).bodies
+        eta = exaggeration * q[modal]
+        local = np.array([body.node_pose(j, eta)[:3, 3] for j in range(body.n_nodes)])
+        out[name] = local @ poses[b][:3, :3].T + poses[b][:3, 3]
+    return out
+
+
 def _wxyz(R) -> np.ndarray:
     from viser import transforms
     return transforms.SO3.from_matrix(np.asarray(R)).wxyz
@@ -110,7 +144,8 @@ def _colour(rgba) -> tuple:
 class Viewer:
     """A viser server drawing model `m` (see the module documentation); open `viewer.url` in a browser."""
 
-    def __init__(self, m: Model, host: str = "127.0.0.1", port: int = 8080, q=None, frames: bool = True):
+    def __init__(self, m: Model, host: str = "127.0.0.1", port: int = 8080, q=None, frames: bool = True,
+                 exaggeration: float = 1.0):
         import viser
 
         if not isinstance(m, Model):
@@ -118,11 +153,40 @@ class Viewer:
         self.model = m
         self.server = viser.ViserServer(host=host, port=port, verbose=False)
         self._loops = _loop_anchors(m)
+        self._flexible = _flexible_blocks(m)
+        flexible_shapes(m, _neutral(m), exaggeration, [])  # checks the factor
+        self._exaggeration = float(exaggeration)
         self._lock = threading.Lock()
         self.handles: dict = {}
         self._add_nodes(frames)
         self.q = None
+        self.exaggeration_slider = self._add_exaggeration_slider() if self._flexible else None
         self.show(np.asarray(q, dtype=float) if q is not None else _neutral(m))
+
+    @property
+    def exaggeration(self) -> float:
+        """The factor on the flexible bodies' modal coordinates when drawing them (1: true size)."""
+        return self._exaggeration
+
+    @exaggeration.setter
+    def exaggeration(self, value: float) -> None:
+        flexible_shapes(self.model, self.q, value, [])  # checks the factor
+        self._exaggeration = float(value)
+        if self.exaggeration_slider is not None and self.exaggeration_slider.value != self._exaggeration:
+            self.exaggeration_slider.value = self._exaggeration  # redraws through the slider's callback
+        elif self.q is not None:
+            self.show(self.q)
+
+    def _add_exaggeration_slider(self):
+        slider = self.server.gui.add_slider("flexible exaggeration", min=0.0, max=max(1000.0, self._exaggeration),
+                                            step=1.0, initial_value=self._exaggeration)
+
+        @slider.on_update
+        def _(_event) -> None:
+            self._exaggeration = float(slider.value)
+            if self.q is not None:
+                self.show(self.q)
+        return slider
 
     @property
     def url(self) -> str:
@@ -192,6 +256,7 @@ class Viewer:
                 if handle is not None:
                     handle.wxyz, handle.position = _wxyz(T[:3, :3]), T[:3, 3]
             self._draw_lines(poses)
+            self._draw_flexible(q)
             self.q = q.copy()
 
     def _draw_lines(self, poses) -> None:
@@ -205,6 +270,15 @@ class Viewer:
             a, b = poses[f"/loops/{name}/a"][:3, 3], poses[f"/loops/{name}/b"][:3, 3]
             self.handles[f"/loops/{name}"] = self.server.scene.add_line_segments(
                 f"/loops/{name}", points=np.array([[a, b]], dtype=np.float32), colors=(220, 40, 40), thickness=4.0, thickness_units="screen")
+
+    def _draw_flexible(self, q) -> None:
+        for name, nodes in flexible_shapes(self.model, q, self._exaggeration, self._flexible).items():
+            points = nodes.astype(np.float32)
+            self.handles[f"/flexible/{name}"] = self.server.scene.add_line_segments(
+                f"/flexible/{name}", points=np.stack([points[:-1], points[1:]], axis=1), colors=(40, 110, 220),
+                thickness=4.0, thickness_units="screen")
+            self.handles[f"/flexible/{name}/nodes"] = self.server.scene.add_point_cloud(
+                f"/flexible/{name}/nodes", points=points, colors=(20, 60, 160), point_size=0.01, precision="float32")
 
     def play(self, trajectory, speed: float = 1.0):
         """A time slider and a play button over `trajectory` (a soadyn.Trajectory or an object with t and q)."""

@@ -5,7 +5,9 @@
 // the failures a step reports (a source returning NaN, dopri5 at its sub-step
 // bound) and a queue of 10^5 pending events; then the HIL loop
 // (HilRunner::run) over cassini, paced and as fast as possible, with
-// real-time scheduling asked for (granted or not); then the HIL loop over the
+// real-time scheduling asked for (granted or not) and another thread reading
+// the published state throughout; the state snapshot's sequence lock under
+// 10^6 publications against a concurrent reader (no torn copy); then the HIL loop over the
 // UDP link under hostile traffic (udp_link.hpp, command_limits.hpp): a flood
 // queued before the run (kernel drops, the per-step read bound) and, during
 // it, valid commands mixed with 1e30 torques (clamped or rejected), commands
@@ -30,6 +32,7 @@
 #include "allocation_counter.hpp"
 #include "soadyn/scenes.hpp"
 #include "soadyn/sim/hil_runner.hpp"
+#include "soadyn/sim/state_snapshot.hpp"
 
 using namespace soadyn_test;
 
@@ -65,9 +68,43 @@ AllocationCounts run_armed(soadyn::Simulator& sim, const char* dof_name, long& f
   return disarm_counter();
 }
 
+// Reads the runner's latest state on another thread while the loop runs (a
+// viewer's part): allocation-free reads, each a consistent state (its time is
+// its step's, q and v finite), steps never going back.
+class SnapshotReader {
+ public:
+  explicit SnapshotReader(const soadyn::HilRunner& runner)
+      : runner_(runner), q_(runner.simulator().model().nq), v_(runner.simulator().model().nv) {}
+  void start() { thread_ = std::thread([this] { loop(); }); }
+  void stop() {
+    done_.store(true);
+    thread_.join();
+  }
+  long reads = 0, inconsistent = 0;
+  std::int64_t last_step = -1;
+
+ private:
+  void loop() {
+    const double dt = runner_.simulator().dt();
+    while (!done_.load()) {
+      std::int64_t step = 0;
+      double time = 0;
+      if (!runner_.latest_state().read(step, time, q_, v_)) continue;
+      ++reads;
+      if (step < last_step || std::abs(time - static_cast<double>(step) * dt) > 1e-9 || !q_.allFinite() || !v_.allFinite()) ++inconsistent;
+      last_step = step;
+    }
+  }
+  const soadyn::HilRunner& runner_;
+  Eigen::VectorXd q_, v_;
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+};
+
 // HilRunner::run with counting armed: `steps` steps of cassini at 10 kHz
 // (paced, spinning the last 50 us) or as fast as possible, recording every
-// 10th state, SCHED_FIFO, CPU pinning and memory locking requested.
+// 10th state, SCHED_FIFO, CPU pinning and memory locking requested, while a
+// SnapshotReader reads the published states.
 bool hil_run_allocates_nothing(bool as_fast_as_possible, long steps) {
   soadyn::Simulator sim(soadyn::cassini_model<double>(), 1e-4, soadyn::Integrator::rk4);
   soadyn::drive_cassini(sim);
@@ -76,16 +113,66 @@ bool hil_run_allocates_nothing(bool as_fast_as_possible, long steps) {
   runner.set_as_fast_as_possible(as_fast_as_possible);
   runner.set_spin_ns(50000);
   runner.set_realtime(soadyn::RealtimeRequest{1, 0, true});
+  SnapshotReader reader(runner);
+  reader.start();  // allocates its thread before the counter is armed
   arm_counter();
   const soadyn::Status status = runner.run();
   const AllocationCounts counts = disarm_counter();
+  reader.stop();
+  std::int64_t final_step = -1;
+  double final_time = 0;
+  Eigen::VectorXd q(sim.model().nq), v(sim.model().nv);
+  const bool final_read = runner.latest_state().read(final_step, final_time, q, v);
+  const bool final_state = final_read && final_step == steps && final_time == sim.time() && q == sim.q() && v == sim.v();
   const soadyn::RealtimeOutcome& rt = runner.summary().realtime;
-  std::printf("hil runner (%s): %ld steps, %ld allocations, %ld frees, status %s; SCHED_FIFO %s, CPU %s, memory %s\n",
+  std::printf("hil runner (%s): %ld steps, %ld allocations, %ld frees, status %s; SCHED_FIFO %s, CPU %s, memory %s; "
+              "snapshots read by another thread %ld, inconsistent %ld, last snapshot %s\n",
               as_fast_as_possible ? "as fast as possible" : "paced", static_cast<long>(runner.steps_done()),
               counts.allocations(), counts.frees, status.ok() ? "ok" : "failed",
               rt.fifo_granted ? "granted" : "refused", rt.cpu_granted ? "pinned" : "refused",
-              rt.memory_locked ? "locked" : "not locked");
-  return counts.allocations() == 0 && counts.frees == 0 && status.ok() && runner.steps_done() == steps;
+              rt.memory_locked ? "locked" : "not locked", reader.reads, reader.inconsistent,
+              final_state ? "the final state" : "wrong");
+  return counts.allocations() == 0 && counts.frees == 0 && status.ok() && runner.steps_done() == steps &&
+         reader.reads > 0 && reader.inconsistent == 0 && final_state;
+}
+
+// The sequence lock itself under contention: a writer publishes 10^6 states
+// whose every value is its step number while a reader copies as fast as it
+// can; a copy mixing two states (a torn read) is counted. Nothing allocates.
+bool snapshot_reads_are_never_torn() {
+  constexpr int nq = 40, nv = 39;
+  constexpr std::int64_t kPublished = 1000000;
+  soadyn::StateSnapshot snapshot(nq, nv);
+  Eigen::VectorXd wq(nq), wv(nv), rq(nq), rv(nv);
+  std::atomic<bool> writing{true};
+  long reads = 0, torn = 0, failed_reads = 0;
+  std::thread reader_thread([&] {  // started (allocated) before the counter is armed
+    while (writing.load()) {
+      std::int64_t step = 0;
+      double time = 0;
+      if (!snapshot.read(step, time, rq, rv, 8)) {
+        ++failed_reads;
+        continue;
+      }
+      ++reads;
+      const double k = static_cast<double>(step);
+      if (time != k || (rq.array() != k).any() || (rv.array() != -k).any()) ++torn;
+    }
+  });
+  arm_counter();
+  for (std::int64_t k = 1; k <= kPublished; ++k) {
+    wq.setConstant(static_cast<double>(k));
+    wv.setConstant(-static_cast<double>(k));
+    snapshot.publish(k, static_cast<double>(k), wq, wv);
+  }
+  const AllocationCounts counts = disarm_counter();
+  writing.store(false);
+  reader_thread.join();
+  std::printf("state snapshot: %ld published, %ld read by another thread, %ld torn, %ld reads given up, "
+              "%ld allocations, %ld frees\n",
+              static_cast<long>(snapshot.published()), reads, torn, failed_reads, counts.allocations(), counts.frees);
+  return snapshot.published() == kPublished && reads > 0 && torn == 0 && counts.allocations() == 0 &&
+         counts.frees == 0;
 }
 
 // Failures are Statuses and cost no allocation either: a C++ source that
@@ -270,6 +357,7 @@ int main(int argc, char**) {
   }
   pass = failures_and_full_queues_allocate_nothing() && pass;
   for (const bool fast : {false, true}) pass = hil_run_allocates_nothing(fast, 20000) && pass;
+  pass = snapshot_reads_are_never_torn() && pass;
   for (const auto policy : {soadyn::CommandPolicy::clamp, soadyn::CommandPolicy::reject, soadyn::CommandPolicy::stop})
     pass = hil_link_allocates_nothing(policy) && pass;
   std::printf("test_sim_no_allocation: %s\n", pass ? "PASS" : "FAIL");

@@ -32,6 +32,11 @@
 // previous one applied, and the stop policy ends the run before the step
 // (summary().command_out_of_range_dof names the DOF).
 //
+// The latest state: after every step (and once before the first) the loop
+// publishes (step, time, q, v) into a sequence-locked snapshot
+// (sim/state_snapshot.hpp) that other threads read at their own pace, e.g. a
+// viewer; publishing never waits for a reader.
+//
 // Memory policy: the constructor and record_state_every() allocate every
 // buffer; run() allocates nothing, takes no lock, never throws and makes no
 // blocking call besides the sleep. A step whose Status is not ok stops the
@@ -39,7 +44,8 @@
 // (only a callback motion source, such as a Python function, can), run()
 // records the step (summary().exception_step), finishes its bookkeeping and
 // lets the exception through. steps_done(), deadline_misses(),
-// commands_saturated(), commands_rejected() and request_stop() may be used
+// commands_saturated(), commands_rejected(), request_stop() and
+// latest_state().read() may be used
 // from another thread while run() is going; everything else only before or
 // after it.
 #pragma once
@@ -50,6 +56,7 @@
 #include "soadyn/sim/command_limits.hpp"
 #include "soadyn/sim/realtime_scheduling.hpp"
 #include "soadyn/sim/simulator.hpp"
+#include "soadyn/sim/state_snapshot.hpp"
 #include "soadyn/sim/udp_link.hpp"
 #include "soadyn/status.hpp"
 
@@ -122,6 +129,8 @@ class HilRunner {
   std::uint64_t commands_saturated() const { return limits_.saturated(); }
   std::uint64_t commands_rejected() const { return limits_.rejected(); }
   void request_stop() { stop_requested_.store(true, std::memory_order_relaxed); }
+  // The state the loop published last (read() from any thread).
+  const StateSnapshot& latest_state() const { return latest_state_; }
 
   // Results, after run(). The per-step arrays hold steps_done() valid entries.
   HilSummary summary() const;
@@ -169,6 +178,7 @@ class HilRunner {
   int out_of_range_dof_ = -1;
   std::atomic<std::int64_t> steps_done_{0}, deadline_misses_{0};
   std::atomic<bool> stop_requested_{false};
+  StateSnapshot latest_state_;
   bool stopped_ = false;
 };
 
