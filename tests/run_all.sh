@@ -3,12 +3,20 @@
 #   python3 -m venv .venv && . .venv/bin/activate && bash tests/run_all.sh
 # 1. pip installs the package with its test extra, building the library, the
 #    Python module and the C++ tests once, in pip's build tree
-#    build/<cache tag> (pyproject.toml: build-dir);
+#    build/<cache tag> (pyproject.toml: build-dir) (before it, Debian's
+#    Chromium for the browser test, if missing);
 # 2. CTest runs the C++ tests from that tree (tests/cpp/CMakeLists.txt);
 # 3. pytest runs the Python suite.
 # The exit code is CTest's if it failed, else pytest's (5: no tests collected).
 set -uo pipefail
 cd "$(dirname "$0")/.."
+
+# The viewer's browser test (tests/test_viewer_browser.py) drives Debian's
+# Chromium headless; installed here when missing and we may (root, apt-get).
+if ! command -v chromium >/dev/null 2>&1 && [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null 2>&1; then
+  { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium; } >/dev/null 2>&1 ||
+    echo "could not install chromium: the browser test will fail and say so" >&2
+fi
 
 SOADYN_BUILD_TESTS=ON pip install ".[test]" || exit $?
 build_dir="build/$(python -c 'import sys; print(sys.implementation.cache_tag)')"
