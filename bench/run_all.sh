@@ -14,6 +14,7 @@ cmake --build build/bench --target bench_work_precision bench_step_spread -j2
 python bench/bench_work_precision.py build/bench/bench/bench_work_precision   # results/work_precision.*
 python bench/bench_scaling.py                            # results/scaling.*
 python bench/bench_robots.py                             # results/robots.md
+python bench/bench_batch.py                              # results/batch.md
 soadyn hil --scene cassini --rate 1000 --duration 10 --integrator rk4 --no-progress --spin-us 900 --fifo-priority 80 --lock-memory \
   --report bench/results/hil_cassini.json --plot bench/results/hil_cassini.png | tee bench/results/hil_cassini.txt
 {

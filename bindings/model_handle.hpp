@@ -18,12 +18,20 @@
 #include <stdexcept>
 #include "soadyn/data.hpp"
 
+namespace soadyn {
+class BatchDynamics;
+}
+
 namespace soadyn_py {
 
 struct ModelHandle {
   soadyn::Model model;
   std::unique_ptr<soadyn::Data> data;
   std::mutex mutex;  // serialises calls that share `data` (the GIL is released)
+  // The batched calls' per-thread Data (batch_binding.cpp), for the model's
+  // structure at `batch_version`; guarded by `mutex`.
+  std::shared_ptr<soadyn::BatchDynamics> batch;
+  std::uint64_t batch_version = 0;
 
   ModelHandle() = default;
   ModelHandle(const ModelHandle& other) : model(other.model) {}

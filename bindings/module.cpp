@@ -15,6 +15,7 @@ void bind_flexible_body(pybind11::module_& mod);
 void bind_timing(pybind11::module_& mod);
 void bind_force_elements(pybind11::module_& mod);
 void bind_parameters(pybind11::module_& mod);
+void bind_batch(pybind11::module_& mod);
 }  // namespace soadyn_py
 
 PYBIND11_MODULE(_soadyn, mod) {
@@ -33,4 +34,5 @@ PYBIND11_MODULE(_soadyn, mod) {
   soadyn_py::bind_timing(mod);
   soadyn_py::bind_force_elements(mod);
   soadyn_py::bind_parameters(mod);
+  soadyn_py::bind_batch(mod);
 }

@@ -29,12 +29,6 @@ soadyn::Integrator integrator_from(const std::string& name) {
 
 using Sim = SimulatorHandle;
 
-// A motion source as a Python object (a struct, so pybind11 does not turn the
-// variant into its alternatives).
-struct Source {
-  soadyn::MotionSource<double> source;
-};
-
 namespace {
 
 PyObject* dynamics_error_type = nullptr;  // soadyn._soadyn.DynamicsError, set by bind_simulator

@@ -19,6 +19,12 @@
 
 namespace soadyn_py {
 
+// A motion source as a Python object (a struct, so pybind11 does not turn the
+// variant into its alternatives).
+struct Source {
+  soadyn::MotionSource<double> source;
+};
+
 struct SimulatorHandle : soadyn::Simulator {
   using soadyn::Simulator::Simulator;
   std::mutex mutex;

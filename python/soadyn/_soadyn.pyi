@@ -852,5 +852,17 @@ def _objective_gradient(model: _Model, q: typing.Any, multipliers: typing.Any, f
     """{name: dphi/dp} of a scalar objective at a static equilibrium, adjoint method."""
 def _modes_of(model: _Model, mass_matrix: typing.Any, stiffness: typing.Any, damping: typing.Any) -> tuple:
     """(dofs, w, zeta, roots, shapes) of the regular DOFs from given M, K, D at rest (soadyn.modes)."""
+def _batch_dynamics_derivatives(model: _Model, Q: typing.Any, V: typing.Any, U: typing.Any, f_ext: typing.Any, n: typing.SupportsInt, threads: typing.SupportsInt) -> tuple:
+    """Dynamics derivatives of n rows (soadyn.batch.dynamics_derivatives)."""
+def _batch_forward_dynamics(model: _Model, Q: typing.Any, V: typing.Any, TAU: typing.Any, f_ext: typing.Any, n: typing.SupportsInt, threads: typing.SupportsInt) -> numpy.typing.NDArray[numpy.float64]:
+    """Forward dynamics of n rows (soadyn.batch.forward_dynamics)."""
+def _batch_hybrid_dynamics(model: _Model, Q: typing.Any, V: typing.Any, U: typing.Any, f_ext: typing.Any, n: typing.SupportsInt, threads: typing.SupportsInt) -> tuple:
+    """Hybrid dynamics of n rows (soadyn.batch.hybrid_dynamics)."""
+def _batch_inverse_dynamics(model: _Model, Q: typing.Any, V: typing.Any, QDD: typing.Any, f_ext: typing.Any, n: typing.SupportsInt, threads: typing.SupportsInt) -> numpy.typing.NDArray[numpy.float64]:
+    """Inverse dynamics of n rows (soadyn.batch.inverse_dynamics)."""
+def _batch_mass_matrix(model: _Model, Q: typing.Any, n: typing.SupportsInt, threads: typing.SupportsInt) -> numpy.typing.NDArray[numpy.float64]:
+    """Mass matrices of n rows (soadyn.batch.mass_matrix)."""
+def _batch_rollout(model: _Model, x0s: typing.Any, runs: typing.SupportsInt, controls: typing.Any, controls_per_run: bool, dt: typing.SupportsFloat, steps: typing.SupportsInt, integrator: str, record_every: typing.SupportsInt, parameters: collections.abc.Sequence[typing.SupportsInt], parameter_values: typing.Any, sources: collections.abc.Sequence[tuple[typing.SupportsInt, MotionSource]], events: collections.abc.Sequence[tuple[str, typing.SupportsInt]], event_times: typing.Any, threads: typing.SupportsInt) -> tuple:
+    """Parallel rollouts (soadyn.batch.rollout): (q, v, failed_step, messages)."""
 def _dual_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, f_ext: typing.Any = None, spanning_tree: bool = False) -> tuple:
     """The six derivatives of constrained (or hybrid) dynamics by forward-mode AD (soadyn.dynamics_derivatives)."""

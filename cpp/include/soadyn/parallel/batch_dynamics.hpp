@@ -1,0 +1,72 @@
+// The dynamics of many states of one model at once, on a thread pool: row k
+// of the outputs is what the single call computes at row k of the inputs,
+// bit for bit (the same algorithm on the same numbers; only the thread and
+// its Data differ). One Data (and derivative workspace) per thread, built by
+// the constructor; a call allocates nothing but the pool's job.
+//
+// Arrays are row-major with the batch first: Q is n x nq, V, TAU, U, QDD n x
+// nv, F (optional, nullptr: none) n x nbodies x 6 body-frame wrenches, mass
+// matrices n x nv x nv, derivatives six arrays of n x nv x nv. Inputs are not
+// checked here (the bindings check them, naming the row); a row whose
+// dynamics fail (a singular articulated inertia) leaves its outputs as the
+// algorithm left them and is counted in the outcome.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "soadyn/data.hpp"
+#include "soadyn/parallel/thread_pool.hpp"
+#include "soadyn/status.hpp"
+
+namespace soadyn {
+
+struct BatchOutcome {
+  std::int64_t failed_rows = 0;
+  std::int64_t first_failed_row = -1;  // the lowest failing row
+  Status first_status;                 // its status
+};
+
+class BatchDynamics {
+ public:
+  // `model` must outlive this object and keep its structure; `threads` as
+  // ThreadPool (0: one per hardware thread).
+  BatchDynamics(const Model& model, int threads = 0);
+  ~BatchDynamics();
+
+  int threads() const { return pool_.size(); }
+  const Model& model() const { return model_; }
+
+  BatchOutcome forward_dynamics(std::int64_t n, const double* Q, const double* V, const double* TAU, const double* F,
+                                double* QDD);
+  BatchOutcome inverse_dynamics(std::int64_t n, const double* Q, const double* V, const double* QDD, const double* F,
+                                double* TAU);
+  BatchOutcome hybrid_dynamics(std::int64_t n, const double* Q, const double* V, const double* U, const double* F,
+                               double* QDD, double* TAU);
+  BatchOutcome mass_matrix(std::int64_t n, const double* Q, double* M);
+  // dqdd_dq, dqdd_dv, dqdd_du, dtau_dq, dtau_dv, dtau_du (algorithms/dynamics_derivatives.hpp):
+  // the analytic recursion for trees, the dual-number sweeps for loops,
+  // flexible bodies and point springs, as the single call chooses.
+  BatchOutcome dynamics_derivatives(std::int64_t n, const double* Q, const double* V, const double* U,
+                                    const double* F, const std::array<double*, 6>& D);
+
+  // Whether dynamics_derivatives takes the dual-number sweeps for `model`.
+  static bool derivatives_by_dual_numbers(const Model& model);
+
+ private:
+  struct Workspace;
+  // fn(row, workspace) -> Status over rows [0, n) on the pool.
+  template <class RowFn>
+  BatchOutcome for_rows(std::int64_t n, RowFn&& fn);
+  // call(data, q, v, x, f, out) -> Status per row, for one nv-vector out per row.
+  template <class Call>
+  BatchOutcome vector_call(std::int64_t n, const double* Q, const double* V, const double* X, const double* F,
+                           double* OUT, Call&& call);
+
+  const Model& model_;
+  ThreadPool pool_;
+  std::vector<std::unique_ptr<Workspace>> workspaces_;  // one per thread
+};
+
+}  // namespace soadyn

@@ -1,0 +1,60 @@
+// A fixed set of worker threads for data-parallel loops (batched dynamics,
+// rollouts): parallel_for(n, grain, fn) splits [0, n) into chunks of `grain`
+// indices that the caller's thread and the workers take in turn from a
+// shared counter (a slow or preempted thread takes fewer chunks), and
+// returns when every chunk is done. Which thread computes an index never
+// changes a result: each index writes only its own outputs, with its
+// thread's workspace (`worker`, 0 .. size() - 1, the caller being 0).
+//
+// Not for the real-time loop: waking the workers takes a mutex and a
+// condition variable. Calls from several threads take turns. An exception
+// thrown by `fn` stops the loop from taking new chunks and is rethrown by
+// parallel_for once every thread is idle again.
+#pragma once
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace soadyn {
+
+class ThreadPool {
+ public:
+  using ChunkFunction = std::function<void(std::int64_t begin, std::int64_t end, int worker)>;
+
+  // `threads` in all, the calling thread included (>= 1; 0: one per
+  // hardware thread). Throws std::invalid_argument for a negative count.
+  explicit ThreadPool(int threads = 0);
+  ~ThreadPool();
+  ThreadPool(const ThreadPool&) = delete;
+  ThreadPool& operator=(const ThreadPool&) = delete;
+
+  int size() const { return static_cast<int>(workers_.size()) + 1; }
+  void parallel_for(std::int64_t n, std::int64_t grain, const ChunkFunction& fn);
+
+  // One per hardware thread (at least 1).
+  static int hardware_threads();
+
+ private:
+  void work(int worker);
+  void take_chunks(int worker);
+
+  std::vector<std::thread> workers_;
+  std::mutex turn_;   // one parallel_for at a time
+  std::mutex mutex_;  // guards what follows
+  std::condition_variable wake_, idle_;
+  std::uint64_t generation_ = 0;
+  int busy_ = 0;
+  bool stopping_ = false;
+  const ChunkFunction* job_ = nullptr;
+  std::int64_t n_ = 0, grain_ = 1;
+  std::atomic<std::int64_t> next_{0};
+  std::atomic<bool> failed_{false};
+  std::exception_ptr error_;
+};
+
+}  // namespace soadyn

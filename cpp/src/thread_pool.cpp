@@ -1,0 +1,87 @@
+// The worker threads of parallel/thread_pool.hpp.
+#include "soadyn/parallel/thread_pool.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace soadyn {
+
+int ThreadPool::hardware_threads() { return std::max(1u, std::thread::hardware_concurrency()); }
+
+ThreadPool::ThreadPool(int threads) {
+  if (threads < 0) throw std::invalid_argument("thread count must be >= 0 (0: one per hardware thread)");
+  const int total = threads == 0 ? hardware_threads() : threads;
+  workers_.reserve(static_cast<std::size_t>(total - 1));
+  for (int w = 1; w < total; ++w) workers_.emplace_back([this, w] { work(w); });
+}
+
+ThreadPool::~ThreadPool() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  for (std::thread& t : workers_) t.join();
+}
+
+void ThreadPool::take_chunks(int worker) {
+  for (;;) {
+    if (failed_.load(std::memory_order_relaxed)) return;
+    const std::int64_t begin = next_.fetch_add(grain_, std::memory_order_relaxed);
+    if (begin >= n_) return;
+    try {
+      (*job_)(begin, std::min(begin + grain_, n_), worker);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!error_) error_ = std::current_exception();
+      failed_.store(true, std::memory_order_relaxed);
+      return;
+    }
+  }
+}
+
+void ThreadPool::work(int worker) {
+  std::uint64_t seen = 0;
+  for (;;) {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [&] { return stopping_ || generation_ != seen; });
+      if (stopping_) return;
+      seen = generation_;
+    }
+    take_chunks(worker);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (--busy_ == 0) idle_.notify_one();
+    }
+  }
+}
+
+void ThreadPool::parallel_for(std::int64_t n, std::int64_t grain, const ChunkFunction& fn) {
+  if (n <= 0) return;
+  std::lock_guard<std::mutex> turn(turn_);
+  job_ = &fn;
+  n_ = n;
+  grain_ = std::max<std::int64_t>(1, grain);
+  next_.store(0, std::memory_order_relaxed);
+  failed_.store(false, std::memory_order_relaxed);
+  error_ = nullptr;
+  const bool parallel = !workers_.empty() && n > grain_;
+  if (parallel) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      busy_ = static_cast<int>(workers_.size());
+      ++generation_;
+    }
+    wake_.notify_all();
+  }
+  take_chunks(0);
+  if (parallel) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    idle_.wait(lock, [&] { return busy_ == 0; });
+  }
+  job_ = nullptr;
+  if (error_) std::rethrow_exception(error_);
+}
+
+}  // namespace soadyn
