@@ -71,7 +71,7 @@ std::unique_ptr<HilSession> make_session(SimulatorHandle& sim, double rate_hz, s
                                          int fifo_priority, int cpu, bool lock_memory,
                                          std::optional<Eigen::VectorXd> command_limits,
                                          const std::string& command_policy, int udp_command_port,
-                                         int max_packets_per_step) {
+                                         int max_packets_per_step, std::int64_t floor_periods) {
   auto session = std::make_unique<HilSession>();
   session->sim = &sim;
   const SimulatorLock simulator_in_use(sim);  // the runner reads the simulator's model and state
@@ -83,6 +83,7 @@ std::unique_ptr<HilSession> make_session(SimulatorHandle& sim, double rate_hz, s
     }
     session->runner = std::make_unique<soadyn::HilRunner>(sim, rate_hz, steps, session->link.get());
     session->runner->record_state_every(record_every);
+    session->runner->set_floor_periods(floor_periods);
     session->runner->set_realtime(soadyn::RealtimeRequest{fifo_priority, cpu, lock_memory});
     if (command_limits) session->runner->set_command_limits(*command_limits);
     session->runner->set_command_policy(policy_from(command_policy));
@@ -138,6 +139,14 @@ void bind_hil(py::module_& mod) {
       .def_readonly("lateness_p99_us", &Summary::lateness_p99_us)
       .def_readonly("lateness_max_us", &Summary::lateness_max_us)
       .def_readonly("wall_seconds", &Summary::wall_seconds)
+      .def_readonly("misses_compute_overrun", &Summary::misses_compute_overrun)
+      .def_readonly("misses_late_wakeup", &Summary::misses_late_wakeup)
+      .def_readonly("floor_periods", &Summary::floor_periods)
+      .def_readonly("floor_target_us", &Summary::floor_target_us)
+      .def_readonly("floor_p50_us", &Summary::floor_p50_us)
+      .def_readonly("floor_p99_us", &Summary::floor_p99_us)
+      .def_readonly("floor_p999_us", &Summary::floor_p999_us)
+      .def_readonly("floor_max_us", &Summary::floor_max_us)
       .def_readonly("packets_received", &Summary::packets_received)
       .def_readonly("packets_dropped", &Summary::packets_dropped)
       .def_readonly("packets_sent", &Summary::packets_sent)
@@ -179,7 +188,7 @@ void bind_hil(py::module_& mod) {
            py::arg("as_fast_as_possible") = false, py::arg("record_every") = 0, py::arg("spin_us") = 0.0,
            py::arg("fifo_priority") = 0, py::arg("cpu") = -1, py::arg("lock_memory") = false,
            py::arg("command_limits") = py::none(), py::arg("command_policy") = "clamp",
-           py::arg("udp_command_port") = -1, py::arg("max_packets_per_step") = 16,
+           py::arg("udp_command_port") = -1, py::arg("max_packets_per_step") = 16, py::arg("floor_periods") = 0,
            py::keep_alive<1, 2>())  // the simulator outlives the runner
       .def("run", &run, "Run the loop (GIL released); the outcome is in summary(). An exception raised by a "
                         "Python motion source ends the run: run() raises the DynamicsError naming its DOF, caused by that exception, "
@@ -225,6 +234,10 @@ void bind_hil(py::module_& mod) {
       .def_property_readonly("lateness_ns", [](const HilSession& s) {
              s.check_idle("lateness_ns");
              return to_numpy(s.runner->lateness_ns(), s.runner->steps_done()); })
+      .def_property_readonly("floor_ns", [](const HilSession& s) {
+             s.check_idle("floor_ns");
+             return to_numpy(s.runner->floor_ns(), s.runner->floor_done()); },
+           "Per-period times of the machine's floor (register arithmetic of the steps' median length).")
       .def("trajectory", [](const HilSession& s) {
              s.check_idle("trajectory");
              const soadyn::HilRunner& r = *s.runner;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace soadyn {
@@ -63,6 +64,21 @@ double percentile_us(const std::vector<std::int64_t>& sorted, double p) {
   return static_cast<double>(sorted[std::min(index, sorted.size() - 1)]) * 1e-3;
 }
 
+// `iterations` rounds of eight independent multiply-add chains in registers:
+// no memory traffic, no data-dependent timing (the machine's floor).
+volatile double floor_sink;
+__attribute__((noinline)) void register_arithmetic(std::int64_t iterations) {
+  double x[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+  for (std::int64_t i = 0; i < iterations; ++i)
+    for (int k = 0; k < 8; ++k) x[k] = x[k] * 0.9999999 + 1e-9 * k;
+  double sum = 0;
+  for (double value : x) sum += value;
+  floor_sink = sum;
+}
+
+constexpr std::size_t median_sample_size = 1001;  // steps sampled for the floor's length
+constexpr std::int64_t calibration_iterations = 20000;
+
 }  // namespace
 
 HilRunner::HilRunner(Simulator& sim, double rate_hz, std::int64_t steps, UdpLink* link)
@@ -74,6 +90,7 @@ HilRunner::HilRunner(Simulator& sim, double rate_hz, std::int64_t steps, UdpLink
     throw std::invalid_argument("the UDP link's nq and nv differ from the simulator's model");
   compute_ns_.assign(static_cast<std::size_t>(steps), 0);
   lateness_ns_.assign(static_cast<std::size_t>(steps), 0);
+  median_sample_.assign(median_sample_size, 0);
   limits_.set_limits(default_command_limits(sim.model(), sim.q()));
 }
 
@@ -83,7 +100,7 @@ class HilRunner::RunBookkeeping {
  public:
   explicit RunBookkeeping(HilRunner& runner) : runner_(runner) {}
   ~RunBookkeeping() {
-    runner_.end_ns_ = now_ns();
+    if (!finished) runner_.end_ns_ = now_ns();
     runner_.stop_requested_.store(false, std::memory_order_relaxed);
     if (!finished) runner_.exception_step_ = runner_.steps_done();
   }
@@ -102,7 +119,14 @@ void HilRunner::record_state_every(std::int64_t every) {
   recorded_v_.assign(static_cast<std::size_t>(rows * sim_.model().nv), 0.0);
 }
 
+void HilRunner::set_floor_periods(std::int64_t periods) {
+  if (periods < 0) throw std::invalid_argument("floor periods must be >= 0");
+  floor_ns_.assign(static_cast<std::size_t>(periods), 0);
+}
+
 void HilRunner::reset() {
+  floor_done_ = floor_target_ns_ = 0;
+  misses_compute_overrun_ = misses_late_wakeup_ = 0;
   status_ = Status{};
   failed_step_ = exception_step_ = -1;
   out_of_range_dof_ = -1;
@@ -148,11 +172,50 @@ Status HilRunner::run() {
     const std::size_t i = static_cast<std::size_t>(k);
     compute_ns_[i] = end - wake;
     lateness_ns_[i] = as_fast_as_possible_ ? 0 : wake - deadline;
-    if (!as_fast_as_possible_ && end > deadline_ns(k + 1)) deadline_misses_.fetch_add(1, std::memory_order_relaxed);
+    if (!as_fast_as_possible_ && end > deadline_ns(k + 1)) {
+      deadline_misses_.fetch_add(1, std::memory_order_relaxed);
+      ++(end - wake > deadline_ns(k + 1) - deadline ? misses_compute_overrun_ : misses_late_wakeup_);
+    }
     steps_done_.store(k + 1, std::memory_order_relaxed);
   }
+  end_ns_ = now_ns();
+  if (!as_fast_as_possible_ && !stopped_) measure_floor();
   bookkeeping.finished = true;
   return status_;
+}
+
+void HilRunner::measure_floor() {
+  const std::int64_t n = steps_done(), periods = std::min<std::int64_t>(n, static_cast<std::int64_t>(floor_ns_.size()));
+  if (periods == 0) return;
+  // The length: the median compute time of the steps (sampled evenly).
+  const std::int64_t m = std::min<std::int64_t>(n, static_cast<std::int64_t>(median_sample_.size()));
+  for (std::int64_t i = 0; i < m; ++i)
+    median_sample_[static_cast<std::size_t>(i)] = compute_ns_[static_cast<std::size_t>(i * n / m)];
+  const auto middle = median_sample_.begin() + m / 2;
+  std::nth_element(median_sample_.begin(), middle, median_sample_.begin() + m);
+  floor_target_ns_ = *middle;
+  // Iterations per nanosecond: the fastest of three timings.
+  std::int64_t fastest = std::numeric_limits<std::int64_t>::max();
+  for (int trial = 0; trial < 3; ++trial) {
+    const std::int64_t t0 = now_ns();
+    register_arithmetic(calibration_iterations);
+    fastest = std::min(fastest, std::max<std::int64_t>(1, now_ns() - t0));
+  }
+  const std::int64_t iterations =
+      std::max<std::int64_t>(1, floor_target_ns_ * calibration_iterations / fastest);
+  // Paced like the steps, from the next period on.
+  const std::int64_t period = std::llround(1e9 / rate_hz_), start = now_ns() + period;
+  for (std::int64_t k = 0; k < periods; ++k) {
+    if (stop_requested_.load(std::memory_order_relaxed)) break;
+    const std::int64_t deadline = start + k * period;
+    sleep_until_ns(deadline - spin_ns_);
+    while (now_ns() < deadline) {
+    }
+    const std::int64_t wake = now_ns();
+    register_arithmetic(iterations);
+    floor_ns_[static_cast<std::size_t>(k)] = now_ns() - wake;
+    floor_done_ = k + 1;
+  }
 }
 
 bool HilRunner::advance(std::int64_t step) {
@@ -210,6 +273,15 @@ HilSummary HilRunner::summary() const {
   s.lateness_p99_us = percentile_us(lateness, 0.99);
   s.lateness_max_us = percentile_us(lateness, 1.0);
   s.wall_seconds = static_cast<double>(end_ns_ - start_ns_) * 1e-9;
+  s.misses_compute_overrun = misses_compute_overrun_;
+  s.misses_late_wakeup = misses_late_wakeup_;
+  s.floor_periods = floor_done_;
+  s.floor_target_us = static_cast<double>(floor_target_ns_) * 1e-3;
+  const std::vector<std::int64_t> floor = sorted_first(floor_ns_, floor_done_);
+  s.floor_p50_us = percentile_us(floor, 0.5);
+  s.floor_p99_us = percentile_us(floor, 0.99);
+  s.floor_p999_us = percentile_us(floor, 0.999);
+  s.floor_max_us = percentile_us(floor, 1.0);
   if (link_) {
     s.packets_received = link_->packets_received();
     s.packets_dropped = link_->packets_dropped();

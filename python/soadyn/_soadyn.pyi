@@ -406,6 +406,30 @@ class _HilSummary:
     def compute_p99_us(self) -> float:
         ...
     @property
+    def floor_max_us(self) -> float:
+        ...
+    @property
+    def floor_p50_us(self) -> float:
+        ...
+    @property
+    def floor_p999_us(self) -> float:
+        ...
+    @property
+    def floor_p99_us(self) -> float:
+        ...
+    @property
+    def floor_periods(self) -> int:
+        ...
+    @property
+    def floor_target_us(self) -> float:
+        ...
+    @property
+    def misses_compute_overrun(self) -> int:
+        ...
+    @property
+    def misses_late_wakeup(self) -> int:
+        ...
+    @property
     def deadline_misses(self) -> int:
         ...
     @property
@@ -481,7 +505,7 @@ class HilRunner:
     """
     Fixed-rate loop over a Simulator with optional UDP I/O (see soadyn.hil.run_hil).
     """
-    def __init__(self, sim: _Simulator, rate_hz: typing.SupportsFloat | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex, udp_port: typing.SupportsInt | typing.SupportsIndex | None = None, udp_destination_port: typing.SupportsInt | typing.SupportsIndex = 0, as_fast_as_possible: bool = False, record_every: typing.SupportsInt | typing.SupportsIndex = 0, spin_us: typing.SupportsFloat | typing.SupportsIndex = 0.0, fifo_priority: typing.SupportsInt | typing.SupportsIndex = 0, cpu: typing.SupportsInt | typing.SupportsIndex = -1, lock_memory: bool = False, command_limits: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, command_policy: str = 'clamp', udp_command_port: typing.SupportsInt | typing.SupportsIndex = -1, max_packets_per_step: typing.SupportsInt | typing.SupportsIndex = 16) -> None:
+    def __init__(self, sim: _Simulator, rate_hz: typing.SupportsFloat | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex, udp_port: typing.SupportsInt | typing.SupportsIndex | None = None, udp_destination_port: typing.SupportsInt | typing.SupportsIndex = 0, as_fast_as_possible: bool = False, record_every: typing.SupportsInt | typing.SupportsIndex = 0, spin_us: typing.SupportsFloat | typing.SupportsIndex = 0.0, fifo_priority: typing.SupportsInt | typing.SupportsIndex = 0, cpu: typing.SupportsInt | typing.SupportsIndex = -1, lock_memory: bool = False, command_limits: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, command_policy: str = 'clamp', udp_command_port: typing.SupportsInt | typing.SupportsIndex = -1, max_packets_per_step: typing.SupportsInt | typing.SupportsIndex = 16, floor_periods: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         ...
     def latest_state(self) -> tuple[int, float, numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]] | None:
         """
@@ -519,6 +543,11 @@ class HilRunner:
     @property
     def commands_saturated(self) -> int:
         ...
+    @property
+    def floor_ns(self) -> numpy.typing.NDArray[numpy.int64]:
+        """
+        Per-period times of the machine's floor (register arithmetic of the steps' median length).
+        """
     @property
     def compute_ns(self) -> numpy.typing.NDArray[numpy.int64]:
         ...

@@ -150,6 +150,9 @@ def add_hil_parser(sub) -> argparse.ArgumentParser:
     hil.add_argument("--command-limit", action="append", default=[], metavar="LIMIT|DOF=LIMIT",
                      help="largest |command| of every DOF, or of one DOF (repeatable; default 1000 M_ii per DOF, "
                           "see the README; inf: no limit)")
+    hil.add_argument("--floor-periods", type=int, default=None, metavar="N",
+                     help="after a paced run, time the machine's floor over N periods (default: as many as the "
+                          "run's steps, at most 10000; 0: none)")
     hil.add_argument("--view", action="store_true",
                      help="draw the run live in the browser (viser), from snapshots the loop publishes without waiting")
     hil.add_argument("--view-host", default="127.0.0.1", help="address the viewer serves on (default 127.0.0.1)")
@@ -215,6 +218,8 @@ def check_hil_arguments(args, parser) -> None:
             parser.error(f"argument {option}: {port} is not a port (0..65535)")
     if args.max_packets_per_step < 1:
         parser.error(f"argument --max-packets-per-step: must be >= 1, got {args.max_packets_per_step}")
+    if args.floor_periods is not None and not 0 <= args.floor_periods <= hil.MAX_STEPS:
+        parser.error(f"argument --floor-periods: must be in [0, {hil.MAX_STEPS:.0e}], got {args.floor_periods}")
     if not (math.isfinite(args.spin_us) and 0 <= args.spin_us < 1e6 / args.rate):
         parser.error(f"argument --spin-us: must be in [0, {1e6 / args.rate:g}) (the step period), got {args.spin_us}")
 
@@ -256,7 +261,8 @@ def run_hil_command(args, parser) -> int:
                              lock_memory=args.lock_memory, command_limits=limits,
                              command_policy=args.command_policy, udp_command_port=args.udp_command_port,
                              max_packets_per_step=args.max_packets_per_step, on_start=announce,
-                             on_state=(lambda step, t, q, v: viewer.show(q)) if viewer else None)
+                             on_state=(lambda step, t, q, v: viewer.show(q)) if viewer else None,
+                             floor_periods=args.floor_periods)
     except ValueError as error:  # priority, CPU or a command limit out of range: the message names it
         parser.error(str(error))
     except (RuntimeError, MemoryError) as error:  # the UDP port could not be bound; no memory for the run

@@ -35,6 +35,7 @@ STATE_INTERVAL = 1.0 / 30  # seconds between on_state calls (a viewer's frame ra
 MAX_STEPS = 10**8  # one run keeps 16 bytes of timings per step: at most 1.6 GB
 COMMAND_POLICIES = ("clamp", "reject", "stop")
 MAX_PACKETS_PER_STEP = 16  # datagrams read per step at most (the rest wait for the next step)
+MAX_FLOOR_PERIODS = 10000  # periods of the machine's floor after a paced run, at most
 
 
 @dataclass
@@ -73,6 +74,14 @@ class HilReport:
     # Models with loops: the largest closure residuals the integrator left before the projection of a step,
     # {"max_position": ..., "max_velocity": ...}; None without loops.
     loop_drift: dict | None = None
+    # Deadline misses by cause: "compute" (the step's own compute exceeded the period) and "machine" (woken or
+    # let run too late); they add up to deadline_misses.
+    misses: dict = field(default_factory=dict)
+    # The machine's floor measured after the run (paced runs; None otherwise): register arithmetic of the steps'
+    # median length, paced like the steps: {"periods", "target", "p50", "p99", "p999", "max"} in us, and
+    # "tail_ratio" = compute p99.9 / floor p99.9 (1: the step's tail is the machine's).
+    floor_us: dict | None = None
+    floor_ns: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def ok(self) -> bool:
@@ -82,7 +91,8 @@ class HilReport:
         """The summary as JSON-ready data (no per-step arrays)."""
         keys = ["rate_hz", "realtime", "requested_steps", "steps", "deadline_misses", "compute_us", "lateness_us",
                 "packets", "commands", "wall_seconds", "sim_time", "status", "failed_step", "failed_dof", "error",
-                "interrupted", "energy", "momentum", "scheduling", "report_errors", "failed_loop", "loop_drift"]
+                "interrupted", "energy", "momentum", "scheduling", "report_errors", "failed_loop", "loop_drift",
+                "misses", "floor_us"]
         return _finite_or_none({k: getattr(self, k) for k in keys})
 
     def to_json(self, indent: int | None = 2) -> str:
@@ -162,7 +172,8 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
             realtime: bool = True, udp_destination_port: int = 0, spin_us: float = 0.0, fifo_priority: int = 0,
             cpu: int = -1, lock_memory: bool = False, command_limits=None, command_policy: str = "clamp",
             udp_command_port: int | None = None, max_packets_per_step: int = MAX_PACKETS_PER_STEP,
-            on_start=None, on_state=None, state_interval: float = STATE_INTERVAL) -> HilReport:
+            on_start=None, on_state=None, state_interval: float = STATE_INTERVAL,
+            floor_periods: int | None = None) -> HilReport:
     """Run `sim` for `duration` simulated seconds, one step per 1/rate wall seconds.
 
     The simulation is real time when sim.dt == 1/rate. `udp_port` (None: no
@@ -192,6 +203,11 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
     measurement that cannot be made at the end (energy of a broken state) is
     None, with the reason in `report_errors`. `on_start(runner)` is called
     once the runner exists (its `udp_port` is bound), before the loop.
+    After a paced run, `floor_periods` more periods (None: as many as the
+    run's steps, at most MAX_FLOOR_PERIODS; 0: none) time the machine's floor
+    (HilRunner: register arithmetic of the steps' median length, paced like
+    the steps); the report's `floor_us` and `misses` separate the machine's
+    share of the tail and of the misses from the step's own.
     `on_state(step, t, q, v)` (a viewer's `show`, a telemetry writer) is
     called on the calling thread, at most every `state_interval` seconds and
     once more at the end, with the latest state the loop published
@@ -215,6 +231,10 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
         raise ValueError(f"duration {duration:g} s at dt {sim.dt:g} s is {steps:.3g} steps, more than the {MAX_STEPS:.0e} "
                          "one run records (16 bytes of timings per step): shorten the duration or lower the rate")
     steps = sim.steps_in(duration)  # a whole number of steps, as Simulator.run requires
+    if floor_periods is None:
+        floor_periods = min(steps, MAX_FLOOR_PERIODS)
+    if isinstance(floor_periods, bool) or int(floor_periods) != floor_periods or floor_periods < 0:
+        raise ValueError(f"floor_periods must be a whole number >= 0, got {floor_periods!r}")
     report_errors: list[str] = []
     energy0 = _measure(lambda: _energy(sim), "energy at start", report_errors)
     momentum0 = _measure(lambda: _momentum(sim), "momentum at start", report_errors)
@@ -223,7 +243,7 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
                        spin_us=float(spin_us), fifo_priority=int(fifo_priority), cpu=int(cpu),
                        lock_memory=bool(lock_memory), command_policy=command_policy,
                        udp_command_port=-1 if udp_command_port is None else int(udp_command_port),
-                       max_packets_per_step=int(max_packets_per_step))
+                       max_packets_per_step=int(max_packets_per_step), floor_periods=int(floor_periods))
     if command_limits is not None:
         runner.command_limits = resolve_command_limits(command_limits, runner.command_limits, sim._dof_names)
     if not (math.isfinite(state_interval) and state_interval > 0):
@@ -385,7 +405,17 @@ def _report(sim, runner, rate, realtime, interrupted, exception, energy0, moment
         scheduling=_scheduling(s.realtime),
         dof_names=dof_names, compute_ns=runner.compute_ns, lateness_ns=runner.lateness_ns, t=t, q=q, v=v,
         error=_describe(exception) if exception is not None else None,
-        report_errors=report_errors, exception=exception)
+        report_errors=report_errors, exception=exception,
+        misses={"compute": s.misses_compute_overrun, "machine": s.misses_late_wakeup},
+        floor_us=_floor(s), floor_ns=runner.floor_ns if s.floor_periods else None)
+
+
+def _floor(s) -> dict | None:
+    if not s.floor_periods:
+        return None
+    return {"periods": s.floor_periods, "target": s.floor_target_us, "p50": s.floor_p50_us, "p99": s.floor_p99_us,
+            "p999": s.floor_p999_us, "max": s.floor_max_us,
+            "tail_ratio": s.compute_p999_us / s.floor_p999_us if s.floor_p999_us > 0 else None}
 
 
 def _packets(s) -> dict:
@@ -440,10 +470,15 @@ def format_table(r: HilReport) -> str:
     lines = [
         f"steps            {r.steps} of {r.requested_steps} at {r.rate_hz:g} Hz ({mode}), "
         f"{r.sim_time:.3f} s simulated in {r.wall_seconds:.3f} s",
-        f"deadline misses  {r.deadline_misses}",
+        f"deadline misses  {r.deadline_misses}"
+        + (f" ({r.misses['compute']} compute overran the period, {r.misses['machine']} woken or run late)"
+           if r.deadline_misses else ""),
         f"scheduling       {format_scheduling(r.scheduling)}",
         f"compute   us     p50 {c['p50']:8.1f}   p99 {c['p99']:8.1f}   p99.9 {c['p999']:8.1f}   max {c['max']:8.1f}",
         f"lateness  us     p50 {lat['p50']:8.1f}   p99 {lat['p99']:8.1f}   max {lat['max']:8.1f}",
+        *([f"machine   us     p50 {f['p50']:8.1f}   p99 {f['p99']:8.1f}   p99.9 {f['p999']:8.1f}   max {f['max']:8.1f}"
+           f"   (floor: {f['periods']} periods of {f['target']:.1f} us register arithmetic; step p99.9 / floor p99.9 "
+           + (f"{f['tail_ratio']:.2f})" if f["tail_ratio"] is not None else "n/a)")] if (f := r.floor_us) else []),
         f"packets          received {p['received']}, dropped {p['dropped']}, sent {p['sent']}, "
         f"rejected sender {p['rejected_sender']}, stale {p['stale']}, kernel drops {p['kernel_drops']}, "
         f"send failures {p['send_failures']}, steps at the read bound {p['steps_left_pending']}",

@@ -5,8 +5,9 @@
 // the failures a step reports (a source returning NaN, dopri5 at its sub-step
 // bound) and a queue of 10^5 pending events; then the HIL loop
 // (HilRunner::run) over cassini, paced and as fast as possible, with
-// real-time scheduling asked for (granted or not) and another thread reading
-// the published state throughout; the state snapshot's sequence lock under
+// real-time scheduling asked for (granted or not), the machine's floor timed
+// after the paced run, and another thread reading the published state
+// throughout; the state snapshot's sequence lock under
 // 10^6 publications against a concurrent reader (no torn copy); then the HIL loop over the
 // UDP link under hostile traffic (udp_link.hpp, command_limits.hpp): a flood
 // queued before the run (kernel drops, the per-step read bound) and, during
@@ -113,6 +114,7 @@ bool hil_run_allocates_nothing(bool as_fast_as_possible, long steps) {
   runner.set_as_fast_as_possible(as_fast_as_possible);
   runner.set_spin_ns(50000);
   runner.set_realtime(soadyn::RealtimeRequest{1, 0, true});
+  runner.set_floor_periods(steps / 4);  // the machine's floor after a paced run, in run() too
   SnapshotReader reader(runner);
   reader.start();  // allocates its thread before the counter is armed
   arm_counter();
@@ -126,14 +128,15 @@ bool hil_run_allocates_nothing(bool as_fast_as_possible, long steps) {
   const bool final_state = final_read && final_step == steps && final_time == sim.time() && q == sim.q() && v == sim.v();
   const soadyn::RealtimeOutcome& rt = runner.summary().realtime;
   std::printf("hil runner (%s): %ld steps, %ld allocations, %ld frees, status %s; SCHED_FIFO %s, CPU %s, memory %s; "
-              "snapshots read by another thread %ld, inconsistent %ld, last snapshot %s\n",
+              "snapshots read by another thread %ld, inconsistent %ld, last snapshot %s; floor periods %ld\n",
               as_fast_as_possible ? "as fast as possible" : "paced", static_cast<long>(runner.steps_done()),
               counts.allocations(), counts.frees, status.ok() ? "ok" : "failed",
               rt.fifo_granted ? "granted" : "refused", rt.cpu_granted ? "pinned" : "refused",
               rt.memory_locked ? "locked" : "not locked", reader.reads, reader.inconsistent,
-              final_state ? "the final state" : "wrong");
+              final_state ? "the final state" : "wrong", static_cast<long>(runner.floor_done()));
   return counts.allocations() == 0 && counts.frees == 0 && status.ok() && runner.steps_done() == steps &&
-         reader.reads > 0 && reader.inconsistent == 0 && final_state;
+         reader.reads > 0 && reader.inconsistent == 0 && final_state &&
+         runner.floor_done() == (as_fast_as_possible ? 0 : steps / 4);
 }
 
 // The sequence lock itself under contention: a writer publishes 10^6 states

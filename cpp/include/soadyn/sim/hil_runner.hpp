@@ -16,9 +16,19 @@
 //
 // Per step it records the compute time (wake-up to the end of the step,
 // I/O included) and the lateness (wake-up minus deadline); a step whose
-// compute ends after the next deadline is a deadline miss. In
-// as-fast-as-possible mode it never sleeps, lateness is 0 and no step is a
-// miss.
+// compute ends after the next deadline is a deadline miss. A miss whose
+// compute alone exceeded the period is ours (the step overran its budget);
+// any other miss is the machine's (the thread woke up, or was let run, too
+// late). In as-fast-as-possible mode it never sleeps, lateness is 0 and no
+// step is a miss.
+//
+// The machine's floor: after a paced run, the loop times a workload that
+// cannot vary by itself — multiply-add chains in registers, calibrated to
+// the median compute time of the run's steps — over `floor_periods` more
+// periods, paced exactly like the steps (same rate, sleep, spin and
+// scheduling). Its spread is what the machine adds to any computation of
+// that length; the step's p99.9 over the floor's p99.9 is the part of the
+// tail that is the step's own.
 //
 // Real-time scheduling (optional, set_realtime): run() applies SCHED_FIFO,
 // CPU pinning and memory locking to its thread before the loop and undoes
@@ -68,7 +78,13 @@ struct HilSummary {
   std::int64_t deadline_misses = 0;
   double compute_p50_us = 0, compute_p99_us = 0, compute_p999_us = 0, compute_max_us = 0;
   double lateness_p50_us = 0, lateness_p99_us = 0, lateness_max_us = 0;
-  double wall_seconds = 0;  // wall-clock time of the loop
+  double wall_seconds = 0;  // wall-clock time of the loop (the floor pass excluded)
+  std::int64_t misses_compute_overrun = 0;  // misses whose compute exceeded the period (ours)
+  std::int64_t misses_late_wakeup = 0;      // the other misses (the machine's)
+  // The machine's floor (see above): periods timed (0: not measured), the
+  // workload's calibrated length and its percentiles.
+  std::int64_t floor_periods = 0;
+  double floor_target_us = 0, floor_p50_us = 0, floor_p99_us = 0, floor_p999_us = 0, floor_max_us = 0;
   // Counters accumulate over the runner's (and the link's) life, across
   // runs. The link's counters (udp_link.hpp): accepted commands, malformed, sensor
   // packets sent, from another sender, stale sequence, dropped by the kernel,
@@ -114,6 +130,9 @@ class HilRunner {
   void set_command_limits(const Eigen::VectorXd& limits) { limits_.set_limits(limits); }
   void set_command_policy(CommandPolicy policy) { limits_.set_policy(policy); }
   const CommandLimits& command_limits() const { return limits_; }
+  // Periods of the machine's floor after a paced run (0: none; at most the
+  // steps done are used). Allocates the buffer.
+  void set_floor_periods(std::int64_t periods);
   // Records time, q and v at the start and after every `every` steps
   // (0: no recording). Allocates the buffers.
   void record_state_every(std::int64_t every);
@@ -136,6 +155,8 @@ class HilRunner {
   HilSummary summary() const;
   const std::vector<std::int64_t>& compute_ns() const { return compute_ns_; }
   const std::vector<std::int64_t>& lateness_ns() const { return lateness_ns_; }
+  const std::vector<std::int64_t>& floor_ns() const { return floor_ns_; }  // floor_done() valid entries
+  std::int64_t floor_done() const { return floor_done_; }
   std::int64_t recorded_rows() const { return recorded_rows_; }
   std::int64_t record_every() const { return record_every_; }
   const std::vector<double>& recorded_time() const { return recorded_time_; }
@@ -157,6 +178,8 @@ class HilRunner {
   void apply_command();
   class RunBookkeeping;
   void record_state();
+  // The floor pass after the loop (allocation free).
+  void measure_floor();
 
   Simulator& sim_;
   UdpLink* link_;
@@ -168,6 +191,9 @@ class HilRunner {
   RealtimeOutcome realtime_outcome_;
   std::int64_t start_ns_ = 0, end_ns_ = 0;
   std::vector<std::int64_t> compute_ns_, lateness_ns_;
+  std::vector<std::int64_t> floor_ns_, median_sample_;  // the floor's periods; steps sampled for its length
+  std::int64_t floor_done_ = 0, floor_target_ns_ = 0;
+  std::int64_t misses_compute_overrun_ = 0, misses_late_wakeup_ = 0;
   std::int64_t record_every_ = 0, recorded_rows_ = 0;
   std::vector<double> recorded_time_, recorded_q_, recorded_v_;
   CommandLimits limits_;
