@@ -22,7 +22,7 @@ bool composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef
     spatial_inertia_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i],
                              d.sweep.tree_articulated_inertia[i]);
   }
-  for (std::size_t i = n; i-- > 0;) {  // upper triangle: M(j, i) for j = i and every ancestor (v_index[j] <= v_index[i])
+  for (std::size_t i = n; i-- > 0;) {  // M(j, i) = M(i, j) for j = i and every ancestor (v_index[j] <= v_index[i])
     const int p = m.parent[i];
     const Eigen::Index vi = m.v_index[i], ni = m.nv_body[i];
     for (Eigen::Index b = 0; b < ni; ++b) {
@@ -30,7 +30,8 @@ bool composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef
       const Vec6<S> F = d.sweep.tree_articulated_inertia[i] * d.sweep.tree_subspace[i].col(b);
       for (std::size_t j = i;;) {
         const Eigen::Index vj = m.v_index[j], nj = j == i ? b + 1 : m.nv_body[j];
-        for (Eigen::Index a = 0; a < nj; ++a) d.mass_matrix(vj + a, vi + b) = d.sweep.tree_subspace[j].col(a).dot(F);
+        for (Eigen::Index a = 0; a < nj; ++a)  // both triangles here: no transposed copy afterwards
+          d.mass_matrix(vi + b, vj + a) = d.mass_matrix(vj + a, vi + b) = d.sweep.tree_subspace[j].col(a).dot(F);
         if (m.parent[j] < 0) break;
         j = static_cast<std::size_t>(m.parent[j]);
       }
@@ -38,7 +39,6 @@ bool composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef
     if (p >= 0)
       d.sweep.tree_articulated_inertia[static_cast<std::size_t>(p)] += d.sweep.tree_articulated_inertia[i];
   }
-  d.mass_matrix.template triangularView<Eigen::StrictlyLower>() = d.mass_matrix.transpose();
   if (m.has_armature) d.mass_matrix.diagonal() += Eigen::Map<const VecX<S>>(m.armature.data(), m.nv);
   return true;
 }
