@@ -22,6 +22,10 @@ from soadyn.viewer import Viewer
 
 BROWSER_TIMEOUT = 120  # seconds for one headless Chromium run
 VIRTUAL_TIME_MS = 15000  # page time Chromium lets pass (timers, websocket) before it captures
+# Chromium's page time runs ahead of the wall clock: on a loaded machine the server's websocket
+# messages can arrive after the capture. A run is repeated, up to this many times, until the
+# server saw a new connection; a viewer that never serves the page fails every attempt.
+ATTEMPTS = 3
 
 
 def chromium() -> str:
@@ -30,7 +34,18 @@ def chromium() -> str:
     return path
 
 
-def headless(tmp_path, url: str, *action: str) -> subprocess.CompletedProcess:
+def headless(tmp_path, url: str, *action: str, connected=None) -> subprocess.CompletedProcess:
+    """One headless Chromium run on `url` (repeated while `connected`, the server's list of
+    connections, did not grow)."""
+    for _ in range(ATTEMPTS):
+        before = None if connected is None else len(connected)
+        result = _chromium_once(tmp_path, url, *action)
+        if result.returncode != 0 or connected is None or len(connected) > before:
+            return result
+    return result
+
+
+def _chromium_once(tmp_path, url: str, *action: str) -> subprocess.CompletedProcess:
     command = [chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
                "--enable-unsafe-swiftshader", "--no-first-run", "--disable-dev-shm-usage",
                f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1200,900",
@@ -57,7 +72,7 @@ def served_four_bar():
 
 def test_a_real_browser_connects_and_lists_the_scene(served_four_bar, tmp_path):
     viewer, connected = served_four_bar
-    result = headless(tmp_path, viewer.url, "--dump-dom")
+    result = headless(tmp_path, viewer.url, "--dump-dom", connected=connected)
     assert result.returncode == 0, result.stderr[-2000:]
     assert connected, "the browser never opened the websocket"
     dom = result.stdout
@@ -90,10 +105,10 @@ def test_a_real_browser_renders_the_visuals_where_show_puts_them(served_four_bar
     for crank_angle in (0.5, 2.5):
         viewer.show(soadyn.scenes.four_bar_state(crank_angle)[0])
         shot = tmp_path / f"viewer_{crank_angle}.png"
-        result = headless(tmp_path, viewer.url, f"--screenshot={shot}")
+        result = headless(tmp_path, viewer.url, f"--screenshot={shot}", connected=connected)
         assert result.returncode == 0 and shot.is_file(), result.stderr[-2000:]
         seen.append(colour_pixels(shot))
-    assert len(connected) == 2
+    assert len(connected) >= 2
     for colours in seen:
         assert colours["blue"][0] >= 500, f"the blue box on the world is not on the screenshot: {colours}"
         assert colours["green"][0] >= 200, f"the green box on the crank is not on the screenshot: {colours}"

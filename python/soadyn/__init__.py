@@ -60,7 +60,7 @@ from .mjcf import MjcfError, MjcfIgnoredWarning, load_mjcf
 from .visuals import Visual
 from .model_file import ModelFileError, load_model, save_model
 from .urdf_export import UrdfExportWarning, save_urdf
-from . import batch, hil, scenes
+from . import batch, campaign, hil, scenes
 from .viewer import Viewer  # viser is imported when a Viewer is made
 
 from ._version import __version__  # written by the build from pyproject.toml
@@ -72,7 +72,7 @@ __all__ = [
     "forward_dynamics", "inverse_dynamics", "hybrid_dynamics", "mass_matrix", "bias_forces",
     "joint_wrenches", "kinetic_energy", "potential_energy", "momentum", "center_of_mass",
     "forward_kinematics", "integrate", "neutral_configuration", "random_configuration",
-    "scenes", "hil", "batch",
+    "scenes", "hil", "batch", "campaign",
     "LoopError", "constrained_dynamics", "loop_residual", "loop_jacobian", "loop_rank",
     "assemble", "project_velocity", "independent_coordinates",
     "frame_pose", "frame_velocity", "frame_acceleration", "frame_jacobian", "frame_jacobian_time_variation",

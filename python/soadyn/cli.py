@@ -1,4 +1,5 @@
-"""Command line: `soadyn demo` (cassini or four-bar), `soadyn check`, `soadyn hil`, `soadyn view`.
+"""Command line: `soadyn demo` (cassini or four-bar), `soadyn check`, `soadyn hil`, `soadyn view`,
+`soadyn campaign`.
 
 Every bad argument ends in one line on stderr naming it (argparse's usage
 line and `error:`, exit code 2), never a traceback; a run that cannot start
@@ -23,7 +24,7 @@ def main(argv: list[str] | None = None) -> int:
 
     parser = argparse.ArgumentParser(prog="soadyn", description="O(N) hybrid multibody dynamics.")
     parser.add_argument("--version", action="version", version=f"soadyn {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{demo,check,hil,view}")
+    sub = parser.add_subparsers(dest="command", metavar="{demo,check,hil,view,campaign}")
     demo = sub.add_parser("demo", help="fly a built-in scene for a few seconds and report")
     demo.add_argument("--scene", default="cassini", choices=list(DEMO_PLOTS),
                       help="built-in scene (default cassini); four-bar: the crank-rocker of Saha, Shah & Nandihal 2013")
@@ -57,9 +58,13 @@ def main(argv: list[str] | None = None) -> int:
                       help="serve this many seconds, then exit (default: until Ctrl-C)")
     add_exaggeration_option(view, "--exaggeration")
     hil_parser = add_hil_parser(sub)
+    campaign_parser = add_campaign_parser(sub)
     args = parser.parse_args(argv)
     if args.command is None:
-        parser.error("a command is required: demo, check, hil or view (soadyn COMMAND --help for its options)")
+        parser.error("a command is required: demo, check, hil, view or campaign (soadyn COMMAND --help for its "
+                     "options)")
+    if args.command == "campaign":
+        return run_campaign_command(args, campaign_parser)
     if args.command == "check":
         return run_check(args, check)
     if args.command == "hil":
@@ -161,6 +166,121 @@ def add_hil_parser(sub) -> argparse.ArgumentParser:
     hil.add_argument("--command-policy", default="clamp", choices=["clamp", "reject", "stop"],
                      help="a command beyond its limit is clamped (default), rejected, or stops the run")
     return hil
+
+
+CAMPAIGN_USAGE = """soadyn campaign SPEC.toml|EXAMPLE --out DIR [--scheduler ADDRESS | --workers N] [--runs N]
+                       [--chunk N] [--no-progress] [--no-dashboard]
+       soadyn campaign replay DIR RUN_ID
+       soadyn campaign report DIR [--plots DIR] [--no-plots]"""
+
+
+def add_campaign_parser(sub) -> argparse.ArgumentParser:
+    campaign = sub.add_parser(
+        "campaign", usage=CAMPAIGN_USAGE,
+        help="Monte Carlo campaign of a spec on Dask (local cluster or --scheduler); replay a run; report",
+        description="Run the campaign a spec describes (a TOML file, or a built-in example: cassini-example) "
+                    "and write its results to DIR, resuming there if an earlier campaign of the same spec "
+                    "stopped; `replay DIR RUN_ID` recomputes one run and compares it with the stored one; "
+                    "`report DIR` prints a summary table and writes histograms and scatter plots (PNG).")
+    campaign.add_argument("words", nargs="+", metavar="SPEC.toml|replay|report",
+                          help="a spec file or example name; or replay DIR RUN_ID; or report DIR")
+    campaign.add_argument("--out", metavar="DIR", help="results directory (created; resumed if it holds this spec)")
+    campaign.add_argument("--scheduler", metavar="ADDRESS",
+                          help="run on this Dask scheduler (tcp://host:port) instead of a local cluster")
+    campaign.add_argument("--workers", type=int, metavar="N",
+                          help="worker processes of the local cluster (default: one per core)")
+    campaign.add_argument("--runs", type=int, metavar="N", help="number of runs instead of the spec's")
+    campaign.add_argument("--chunk", type=int, metavar="N",
+                          help="runs per Dask task (default: enough tasks to spread the runs, at most 50 runs each)")
+    campaign.add_argument("--no-progress", action="store_true", help="no progress bar")
+    campaign.add_argument("--no-dashboard", action="store_true", help="local cluster: no Dask dashboard")
+    campaign.add_argument("--plots", metavar="DIR",
+                          help="report: where the PNGs and summary.md go (default DIR/report)")
+    campaign.add_argument("--no-plots", action="store_true", help="report: the table only")
+    return campaign
+
+
+def run_campaign_command(args, parser) -> int:
+    words = args.words
+    if words[0] in ("replay", "report"):
+        used = [option for option, value in (("--out", args.out), ("--scheduler", args.scheduler),
+                                             ("--workers", args.workers), ("--runs", args.runs),
+                                             ("--chunk", args.chunk)) if value is not None]
+        if used:
+            parser.error(f"argument {used[0]}: not an option of `campaign {words[0]}`")
+        if words[0] == "replay":
+            return run_campaign_replay(words[1:], parser)
+        return run_campaign_report(words[1:], args, parser)
+    if len(words) > 1:
+        parser.error(f"unrecognized arguments: {' '.join(words[1:])} (a campaign takes one spec; "
+                     f"or: replay DIR RUN_ID, report DIR)")
+    if args.plots is not None or args.no_plots:
+        parser.error(f"argument {'--plots' if args.plots is not None else '--no-plots'}: an option of "
+                     f"`campaign report` only")
+    if args.out is None:
+        parser.error("argument --out: required: the results directory of the campaign")
+    for option, value in (("--workers", args.workers), ("--runs", args.runs), ("--chunk", args.chunk)):
+        if value is not None and value < 1:
+            parser.error(f"argument {option}: must be >= 1, got {value}")
+    if args.scheduler is not None and args.workers is not None:
+        parser.error("argument --workers: sizes the local cluster; with --scheduler the cluster has its own workers")
+    from .campaign import CampaignError, ResultsDirectoryError, SpecError, load_spec, run
+
+    try:
+        spec = load_spec(words[0], runs=args.runs)
+    except SpecError as error:
+        parser.error(f"argument SPEC: {one_line(error)}")
+    try:
+        run(spec, args.scheduler, out=args.out, workers=args.workers, chunk_size=args.chunk,
+            progress=not args.no_progress, dashboard=not args.no_dashboard)
+    except ResultsDirectoryError as error:
+        parser.error(f"argument --out: {one_line(error)}")
+    except CampaignError as error:
+        parser.exit(1, f"soadyn campaign: error: {one_line(error)}\n")
+    except KeyboardInterrupt:
+        parser.exit(130, f"soadyn campaign: interrupted; the finished runs are in {args.out}: the same command "
+                         f"resumes the campaign\n")
+    return 0
+
+
+def run_campaign_replay(words, parser) -> int:
+    from .campaign import CampaignError, format_replay, replay
+
+    if len(words) != 2:
+        parser.error(f"replay takes DIR RUN_ID, got {len(words)} argument{'s' * (len(words) != 1)}")
+    out, text = words
+    try:
+        run_id = int(text)
+    except ValueError:
+        parser.error(f"argument RUN_ID: an integer is required, got {text!r}")
+    try:
+        result = replay(out, run_id)
+    except CampaignError as error:
+        parser.error(f"argument DIR: {one_line(error)}")
+    except ValueError as error:
+        parser.error(f"argument RUN_ID: {one_line(error)}")
+    print(format_replay(result))
+    return 0 if result.equal or not result.stored else 1
+
+
+def run_campaign_report(words, args, parser) -> int:
+    from .campaign import CampaignError, format_summary, report
+
+    if len(words) != 1:
+        parser.error(f"report takes DIR, got {len(words)} arguments")
+    if not args.no_plots:
+        require_plotting(parser, "--plots")
+    try:
+        result = report(words[0], plots_dir=args.plots, plots=not args.no_plots)
+    except CampaignError as error:
+        parser.error(f"argument DIR: {one_line(error)}")
+    except OSError as error:
+        parser.exit(1, f"soadyn campaign report: error: {one_line(error)}\n")
+    print(f"{result.finished} of {result.runs} runs finished, {result.failed} failed")
+    print(format_summary(result.summary))
+    if result.plots:
+        print(f"{len(result.plots)} plots and the table written to {result.table_path.parent}")
+    return 0
 
 
 def add_exaggeration_option(parser, option: str) -> None:
@@ -274,13 +394,13 @@ def run_hil_command(args, parser) -> int:
     return 0 if report.ok else 1
 
 
-def require_plotting(parser) -> None:
+def require_plotting(parser, option: str = "--plot") -> None:
     from .hil import require_matplotlib
 
     try:
         require_matplotlib()
     except ImportError as error:
-        parser.error(f"argument --plot: {error}")
+        parser.error(f"argument {option}: {error}")
 
 
 def write_hil_outputs(args, events, sim, report) -> None:

@@ -1,0 +1,15 @@
+"""The two errors of a campaign: a spec that cannot run, and a campaign that cannot go on."""
+from __future__ import annotations
+
+
+class SpecError(ValueError):
+    """A campaign spec refused before any run: the message names the file and the item at fault."""
+
+
+class CampaignError(RuntimeError):
+    """A campaign that cannot start or go on for a reason outside the spec: a results directory
+    holding another spec, workers without soadyn, a scheduler that cannot be reached."""
+
+
+class ResultsDirectoryError(CampaignError):
+    """A results directory that cannot take this campaign: another spec's results, or not a campaign's."""
