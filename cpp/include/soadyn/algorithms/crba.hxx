@@ -43,30 +43,78 @@ bool composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef
   return true;
 }
 
-// Models with flexible bodies: column k of M is the generalized force of a
-// unit acceleration of DOF k at rest without gravity (Newton-Euler with
-// zero velocity, hence without elastic forces). O(nv N).
+// Models with flexible bodies, and rigid models with a body beyond its
+// tree-frame reach: the composite-body algorithm in body frames, with the
+// augmented bodies of Jain & Rodriguez (JGCD 15(6), 1992; flexible_steps.hpp).
+// A flexible body's composite inertia K = [K_VV K_Ve; K_eV K_ee] over its
+// augmented velocity [V; eta_dot] starts from M(eta); a child c's composite
+// block K_c,VV (its own modal rates and hinges frozen) enters its parent's K
+// as J_c' K_c,VV J_c, J_c = [X(c,p), Psi_c] (push_articulated). The force of a
+// unit rate of DOF l of body i is F = K_i u_l, so M(k, l) = u_k' F for the DOFs
+// k of i; F's 6-vector part carried up by J' (X* f, and Psi' f into a flexible
+// parent's modal rows) gives the rows of every ancestor's DOFs. O(N depth),
+// where columns by Newton-Euler cost nv sweeps. Both triangles are written
+// with one value: M is exactly symmetric.
 template <class S>
-void mass_matrix_by_columns(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
-  d.sweep.unit_acceleration.setZero();
-  for (Eigen::Index k = 0; k < m.nv; ++k) {
-    d.sweep.unit_acceleration[k] = S(1);
-    newton_euler_sweeps<true>(m, d, q.data(), static_cast<const S*>(nullptr), d.sweep.unit_acceleration.data(),
-                              static_cast<const S*>(nullptr), Vec6<S>(Vec6<S>::Zero()));
-    d.sweep.unit_acceleration[k] = S(0);
-    d.mass_matrix.col(k) = d.tau;
+void composite_body_frames(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
+  const std::size_t n = static_cast<std::size_t>(m.nbodies());
+  d.mass_matrix.setZero();
+  for (std::size_t i = 0; i < n; ++i) {
+    body_joint_step<true>(m, d, i, q.data(), static_cast<const S*>(nullptr));
+    d.sweep.body_bias_force[i].setZero();
+    if (m.is_flexible(static_cast<int>(i))) {
+      flexible_inertia_step(m, d, i, q.data());
+      flexible_data(m, d, i).modal_bias.setZero();
+    }
+    init_articulated<true>(m, d, i);
   }
-  for (Eigen::Index r = 0; r < m.nv; ++r)  // symmetric to rounding; make it exactly so
-    for (Eigen::Index c = r + 1; c < m.nv; ++c)
-      d.mass_matrix(r, c) = d.mass_matrix(c, r) = S(0.5) * (d.mass_matrix(r, c) + d.mass_matrix(c, r));
+  const auto set = [&](Eigen::Index row, Eigen::Index col, const S& value) {
+    d.mass_matrix(row, col) = d.mass_matrix(col, row) = value;
+  };
+  for (std::size_t i = n; i-- > 0;) {
+    const int body = static_cast<int>(i);
+    const bool flexible = m.is_flexible(body);
+    const Mat6<S>& P = d.sweep.body_articulated_inertia[i];
+    const Mat6N<S>& H = d.sweep.body_subspace[i];
+    const Eigen::Index vi = m.v_index[i], nh = m.nv_body[i], nm = flexible ? m.n_modes[i] : 0;
+    for (Eigen::Index l = 0; l < nh + nm; ++l) {  // DOFs of body i: its hinge's, then its modes'
+      const FlexibleBodyData<S>* fd = flexible ? &flexible_data(m, d, i) : nullptr;
+      const Vec6<S> F = l < nh ? Vec6<S>(P * H.col(l)) : Vec6<S>(fd->coupling.col(l - nh));
+      for (Eigen::Index k = 0; k <= l; ++k) {
+        S value;
+        if (k < nh)
+          value = H.col(k).dot(F);
+        else if (l < nh)
+          value = fd->coupling.col(k - nh).dot(H.col(l));
+        else
+          value = fd->modal_inertia(k - nh, l - nh);
+        set(vi + k, vi + l, value);
+      }
+      Vec6<S> f = F;  // up the ancestors, in the frame of body j
+      for (std::size_t j = i; m.parent[j] >= 0;) {
+        const std::size_t p = static_cast<std::size_t>(m.parent[j]);
+        if (m.attachment_node[j] >= 0) {  // Psi' f: the parent's modal rows
+          const Mat6X<S>& psi = d.sweep.attachment_subspace[j];
+          const Eigen::Index first = m.modal_v_index(static_cast<int>(p));
+          for (Eigen::Index c = 0; c < psi.cols(); ++c) set(first + c, vi + l, psi.col(c).dot(f));
+        }
+        f = d.pose_in_parent[j].force_to_parent(f);
+        const Mat6N<S>& Hp = d.sweep.body_subspace[p];
+        for (Eigen::Index a = 0; a < m.nv_body[p]; ++a) set(m.v_index[p] + a, vi + l, Hp.col(a).dot(f));
+        j = p;
+      }
+    }
+    if (m.parent[i] >= 0) push_articulated<true>(m, d, i, P, Vec6<S>(Vec6<S>::Zero()));
+  }
+  if (m.has_armature) d.mass_matrix.diagonal() += Eigen::Map<const VecX<S>>(m.armature.data(), m.nv);
 }
 
 }  // namespace detail
 
 template <class S>
 Status mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
-  // Models with flexible bodies, or with a body beyond its tree-frame reach: by columns, in body frames.
-  if (m.has_flexible_bodies() || !detail::composite_rigid_body(m, d, q)) detail::mass_matrix_by_columns(m, d, q);
+  // Models with flexible bodies, or with a body beyond its tree-frame reach: in body frames.
+  if (m.has_flexible_bodies() || !detail::composite_rigid_body(m, d, q)) detail::composite_body_frames(m, d, q);
   for (Eigen::Index c = 0; c < m.nv; ++c)
     if (!d.mass_matrix.col(c).allFinite()) return Status{StatusCode::non_finite_result, static_cast<int>(c)};
   return Status{};
