@@ -186,6 +186,16 @@ def check_model_file(output: str) -> None:
     require(bool(lines(r"^test_model_file: PASS$", output)), "the PASS line")
 
 
+def check_batch(output: str) -> None:
+    """Batched calls and rollouts against single calls and one Simulator per run; the pool's exceptions."""
+    require(bool(lines(r"^batched calls: 2 models x 3 thread counts x 64 rows, rows differing from the single calls: 0$",
+                       output)), "every batched row equal to its single call")
+    require(bool(lines(r"^rollouts: 2 thread counts x 6 runs, runs differing from one Simulator each: 0; "
+                       r"failures reported as expected: 6 of 6$", output)), "rollouts equal, failures reported")
+    require(bool(lines(r"^thread pool: exception rethrown and pool reused: yes$", output)), "the pool's exceptions")
+    require(bool(lines(r"^test_batch: PASS$", output)), "the PASS line")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
@@ -201,6 +211,7 @@ CHECKS = {
     "test_force_elements_no_allocation": check_force_elements_no_allocation,
     "test_parameters_no_allocation": check_parameters_no_allocation,
     "test_model_file": check_model_file,
+    "test_batch": check_batch,
 }
 
 
