@@ -197,3 +197,56 @@ def test_bad_rollouts_are_refused_by_name():
     bad[1, m.nq] = np.inf
     with pytest.raises(ValueError, match="x0s row 1: 'link_1' is infinite"):
         batch.rollout(m, bad, None, steps=10)
+
+
+def test_batches_from_several_threads_and_a_model_changed_under_them():
+    """Threads share one model: concurrent batched and single calls give the single calls' results; a body added
+    while another thread runs batches gives either a result for the old model or a named refusal, never a crash."""
+    import threading
+
+    m = soadyn.scenes.cassini()
+    Q, V, X = states(m, 40)
+    expected = np.stack([soadyn.forward_dynamics(m, Q[k], V[k], X[k]) for k in range(40)])
+    errors, results = [], []
+
+    def batches():
+        try:
+            for _ in range(15):
+                results.append(batch.forward_dynamics(m, Q, V, X, threads=2))
+        except Exception as error:  # noqa: BLE001 - reported below
+            errors.append(error)
+
+    def singles():
+        try:
+            for k in range(200):
+                assert np.array_equal(soadyn.forward_dynamics(m, Q[k % 40], V[k % 40], X[k % 40]), expected[k % 40])
+        except Exception as error:  # noqa: BLE001
+            errors.append(error)
+
+    threads = [threading.Thread(target=batches), threading.Thread(target=batches), threading.Thread(target=singles)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert errors == [] and len(results) == 30
+    assert all(np.array_equal(r, expected) for r in results)
+
+    refused, done = [], []
+
+    def batches_during_change():
+        for _ in range(30):
+            try:
+                done.append(batch.forward_dynamics(m, Q, V, X))
+            except (ValueError, RuntimeError) as error:
+                refused.append(str(error))
+
+    worker = threading.Thread(target=batches_during_change)
+    worker.start()
+    m.add_body("probe", "bus", soadyn.Joint.revolute([0, 0, 1]), mass=1.0, inertia=[0.1, 0.1, 0.1])
+    worker.join()
+    assert all(np.array_equal(r, expected) for r in done)  # computed before the change, on the old model
+    assert all("shape" in text or "changed structurally" in text for text in refused)
+    assert len(done) + len(refused) == 30
+    Qg, Vg, Xg = states(m, 3)  # the per-thread Data follows the new structure
+    grown = batch.forward_dynamics(m, Qg, Vg, Xg)
+    assert all(np.array_equal(grown[k], soadyn.forward_dynamics(m, Qg[k], Vg[k], Xg[k])) for k in range(3))
