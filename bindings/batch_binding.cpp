@@ -5,6 +5,8 @@
 // the arguments and names the results.
 #include <pybind11/stl.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <memory>
 #include <string>
@@ -70,10 +72,16 @@ const double* wrenches_arg(const ModelHandle& h, py::handle obj, py::ssize_t row
 // change. Call with the model's lock held.
 soadyn::BatchDynamics& batch_for(ModelHandle& h, int threads) {
   const int wanted = threads > 0 ? threads : soadyn::ThreadPool::hardware_threads();
+  if (h.batch && h.batch_pid != ::getpid()) {
+    // A forked child inherits the pool object but not its threads: it could neither run nor join
+    // them. The inherited object is left alone (leaked on purpose) and a new one is built.
+    new std::shared_ptr<soadyn::BatchDynamics>(std::move(h.batch));
+  }
   if (!h.batch || h.batch_version != h.model.version || h.batch->threads() != wanted) {
     h.batch.reset();
     h.batch = std::make_shared<soadyn::BatchDynamics>(h.model, wanted);
     h.batch_version = h.model.version;
+    h.batch_pid = ::getpid();
   }
   return *h.batch;
 }

@@ -32,6 +32,7 @@ struct ModelHandle {
   // structure at `batch_version`; guarded by `mutex`.
   std::shared_ptr<soadyn::BatchDynamics> batch;
   std::uint64_t batch_version = 0;
+  long batch_pid = 0;  // the process that built `batch` (a forked child rebuilds it)
 
   ModelHandle() = default;
   ModelHandle(const ModelHandle& other) : model(other.model) {}

@@ -250,3 +250,36 @@ def test_batches_from_several_threads_and_a_model_changed_under_them():
     Qg, Vg, Xg = states(m, 3)  # the per-thread Data follows the new structure
     grown = batch.forward_dynamics(m, Qg, Vg, Xg)
     assert all(np.array_equal(grown[k], soadyn.forward_dynamics(m, Qg[k], Vg[k], Xg[k])) for k in range(3))
+
+
+def test_a_forked_child_runs_batches_with_threads_of_its_own():
+    import multiprocessing
+
+    m = MODELS["cassini"]
+    Q, V, X = states(m, 16)
+    expected = batch.forward_dynamics(m, Q, V, X, threads=2)  # the parent's pool exists before the fork
+    context = multiprocessing.get_context("fork")
+    child = context.Process(target=_child_batch, args=(m, Q, V, X, expected))
+    child.start()
+    child.join(60)
+    hung = child.is_alive()
+    if hung:
+        child.kill()
+    assert not hung and child.exitcode == 0
+
+
+def _child_batch(m, Q, V, X, expected):
+    import os
+    os._exit(0 if np.array_equal(batch.forward_dynamics(m, Q, V, X, threads=2), expected) else 1)
+
+
+def test_bad_rollout_events_and_empty_parameter_batches_are_named():
+    m, x0, controls, masses = chain_runs(runs=2)
+    with pytest.raises(ValueError, match="expected \\(kind, DOF, times\\)"):
+        batch.rollout(m, x0, None, steps=10, events=[("lock", "link_3")])
+    with pytest.raises(ValueError, match="not a DOF name or an index below nv = 4"):
+        batch.rollout(m, x0, None, steps=10, events=[("lock", 9, 0.1)])
+    with pytest.raises(ValueError, match="one time for all runs or 2 times"):
+        batch.rollout(m, x0, None, steps=10, events=[("lock", "link_3", [0.1, 0.2, 0.3])])
+    empty = batch.rollout(m, x0[:0], None, steps=10, parameters={"link_2.com": np.zeros((0, 3))})
+    assert empty.q.shape == (0, 11, m.nq) and empty.messages == []

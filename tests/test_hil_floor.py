@@ -73,3 +73,27 @@ def test_cli_floor_periods_is_checked():
     result = subprocess.run([sys.executable, "-m", "soadyn", "hil", "--scene", "pendulum-chain", "--duration", "0.1",
                              "--floor-periods", "-5", "--no-progress"], capture_output=True, text=True, timeout=120)
     assert result.returncode == 2 and "--floor-periods" in result.stderr and "Traceback" not in result.stderr
+
+
+def test_a_backlog_of_our_own_is_not_blamed_on_the_machine():
+    sim = chain()
+    calls = []
+
+    def first_step_slow(t):  # step 0's samples (t < 0.6 ms) take 3 ms each: it misses, and the steps
+        if t < 0.0006:       # that catch up after it start late because of it
+            time.sleep(0.003)
+        return 0.0, 0.0, 0.0
+
+    sim.prescribe("link_1", MotionSource.function(first_step_slow))
+    report = run_hil(sim, 1000.0, 0.02, progress=False, floor_periods=0)
+    assert report.ok and report.misses["compute"] >= 2
+    assert report.misses["compute"] + report.misses["machine"] == report.deadline_misses
+
+
+def test_no_floor_after_a_failed_run_and_the_buffer_is_bounded_by_the_steps():
+    sim = chain()
+    sim.prescribe("link_1", MotionSource.function(lambda t: (float("nan") if t > 0.004 else 0.0, 0.0, 0.0)))
+    failed = run_hil(sim, 1000.0, 0.05, progress=False)
+    assert not failed.ok and failed.floor_us is None
+    report = run_hil(chain(), 1000.0, 0.03, progress=False, floor_periods=10**8)  # kept: one per step
+    assert report.floor_us["periods"] == 30

@@ -121,7 +121,7 @@ void HilRunner::record_state_every(std::int64_t every) {
 
 void HilRunner::set_floor_periods(std::int64_t periods) {
   if (periods < 0) throw std::invalid_argument("floor periods must be >= 0");
-  floor_ns_.assign(static_cast<std::size_t>(periods), 0);
+  floor_ns_.assign(static_cast<std::size_t>(std::min(periods, steps_)), 0);  // at most one per step
 }
 
 void HilRunner::reset() {
@@ -151,6 +151,7 @@ Status HilRunner::run() {
   realtime_outcome_ = realtime.outcome();
   RunBookkeeping bookkeeping(*this);
   start_ns_ = now_ns();
+  std::int64_t previous_end = start_ns_;
   for (std::int64_t k = 0; k < steps_; ++k) {
     if (stop_requested_.load(std::memory_order_relaxed)) {
       stopped_ = true;
@@ -174,12 +175,16 @@ Status HilRunner::run() {
     lateness_ns_[i] = as_fast_as_possible_ ? 0 : wake - deadline;
     if (!as_fast_as_possible_ && end > deadline_ns(k + 1)) {
       deadline_misses_.fetch_add(1, std::memory_order_relaxed);
-      ++(end - wake > deadline_ns(k + 1) - deadline ? misses_compute_overrun_ : misses_late_wakeup_);
+      // Ours when this step's compute exceeded the period, or when it started late only because the
+      // previous step was still running (a backlog of our own); else the machine woke us late.
+      const bool ours = end - wake > deadline_ns(k + 1) - deadline || previous_end > deadline;
+      ++(ours ? misses_compute_overrun_ : misses_late_wakeup_);
     }
+    previous_end = end;
     steps_done_.store(k + 1, std::memory_order_relaxed);
   }
   end_ns_ = now_ns();
-  if (!as_fast_as_possible_ && !stopped_) measure_floor();
+  if (!as_fast_as_possible_ && !stopped_ && failed_step_ < 0) measure_floor();  // a whole paced run only
   bookkeeping.finished = true;
   return status_;
 }

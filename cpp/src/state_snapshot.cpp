@@ -28,10 +28,11 @@ void StateSnapshot::publish(std::int64_t step, double time, const Eigen::Ref<con
 
 bool StateSnapshot::read(std::int64_t& step, double& time, Eigen::Ref<Eigen::VectorXd> q,
                          Eigen::Ref<Eigen::VectorXd> v, int attempts) const noexcept {
-  if (published() == 0 || q.size() != nq_ || v.size() != nv_) return false;
+  if (q.size() != nq_ || v.size() != nv_) return false;
   for (int attempt = 0; attempt < attempts; ++attempt) {
     const std::uint64_t before = sequence_.load(std::memory_order_acquire);
-    if (before & 1u) continue;  // the writer is inside publish()
+    if (before == 0) return false;  // nothing published yet (ordered by the acquire, unlike published())
+    if (before & 1u) continue;      // the writer is inside publish()
     step = step_.load(std::memory_order_relaxed);
     time = time_.load(std::memory_order_relaxed);
     for (int i = 0; i < nq_; ++i) q[i] = values_[i].load(std::memory_order_relaxed);

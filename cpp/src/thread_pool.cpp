@@ -12,17 +12,25 @@ ThreadPool::ThreadPool(int threads) {
   if (threads < 0) throw std::invalid_argument("thread count must be >= 0 (0: one per hardware thread)");
   const int total = threads == 0 ? hardware_threads() : threads;
   workers_.reserve(static_cast<std::size_t>(total - 1));
-  for (int w = 1; w < total; ++w) workers_.emplace_back([this, w] { work(w); });
+  try {
+    for (int w = 1; w < total; ++w) workers_.emplace_back([this, w] { work(w); });
+  } catch (...) {  // no thread to be had: stop the ones started, then report
+    stop_workers();
+    throw;
+  }
 }
 
-ThreadPool::~ThreadPool() {
+void ThreadPool::stop_workers() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
   }
   wake_.notify_all();
   for (std::thread& t : workers_) t.join();
+  workers_.clear();
 }
+
+ThreadPool::~ThreadPool() { stop_workers(); }
 
 void ThreadPool::take_chunks(int worker) {
   for (;;) {

@@ -147,8 +147,8 @@ def _parameters(m, parameters, runs: int):
         if x.shape != (runs, *shape):
             raise ValueError(f"values of parameter {name!r} must have shape {(runs, *shape)}, got {x.shape}")
         entries.append(names.index(name))
-        blocks.append(np.stack([np.asarray(x[r]).flatten(order="F") for r in range(runs)]) if shape
-                      else x.reshape(runs, 1))
+        width = int(np.prod(shape, dtype=int))  # each run's value, column-major (the C++ layout)
+        blocks.append(np.asarray([np.asarray(x[r]).flatten(order="F") for r in range(runs)]).reshape(runs, width))
     return entries, np.ascontiguousarray(np.hstack(blocks))
 
 
@@ -157,11 +157,21 @@ def _events(m, events, runs: int):
         return [], None
     kinds, times = [], []
     for event in events:
+        if not isinstance(event, (tuple, list)) or len(event) != 3:
+            raise ValueError(f"event {event!r}: expected (kind, DOF, times)")
         kind, dof, when = event
         if kind not in ("lock", "release"):
             raise ValueError(f"event {event!r}: the kind must be 'lock' or 'release'")
-        (index,) = [m.dof_index(dof)] if isinstance(dof, str) else [int(dof)]
-        t = np.broadcast_to(np.asarray(when, dtype=float), (runs,))
+        if isinstance(dof, str):
+            index = m.dof_index(dof)
+        elif isinstance(dof, (int, np.integer)) and 0 <= dof < m.nv:
+            index = int(dof)
+        else:
+            raise ValueError(f"event {kind} {dof!r}: not a DOF name or an index below nv = {m.nv}")
+        t = np.asarray(when, dtype=float)
+        if t.shape not in ((), (runs,)):
+            raise ValueError(f"event {kind} {dof!r}: one time for all runs or {runs} times, got shape {t.shape}")
+        t = np.broadcast_to(t, (runs,))
         if not np.all(np.isfinite(t)):
             raise ValueError(f"event {kind} {dof!r}: its times must be finite")
         kinds.append((kind, index))

@@ -212,7 +212,8 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
     called on the calling thread, at most every `state_interval` seconds and
     once more at the end, with the latest state the loop published
     (HilRunner.latest_state: a sequence-locked snapshot the loop writes
-    without waiting, so a slow or failing reader never delays a step). If it
+    without waiting, so a slow or failing reader never delays a C++ step;
+    it holds the GIL while it runs, which a Python motion source also needs). If it
     raises, it is not called again and the report's `report_errors` say why;
     the run goes on.
     Another thread's calls on `sim` wait until the run ends (the runner
@@ -226,6 +227,8 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
         raise ValueError(f"spin_us must be in [0, {1e6 / rate:g}) (the step period), got {spin_us}")
     if command_policy not in COMMAND_POLICIES:
         raise ValueError(f"command_policy {command_policy!r}: choose one of {', '.join(COMMAND_POLICIES)}")
+    if not (math.isfinite(state_interval) and state_interval > 0):
+        raise ValueError(f"state_interval must be a finite positive number of seconds, got {state_interval}")
     steps = round(duration / sim.dt)
     if steps > MAX_STEPS:
         raise ValueError(f"duration {duration:g} s at dt {sim.dt:g} s is {steps:.3g} steps, more than the {MAX_STEPS:.0e} "
@@ -246,8 +249,6 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
                        max_packets_per_step=int(max_packets_per_step), floor_periods=int(floor_periods))
     if command_limits is not None:
         runner.command_limits = resolve_command_limits(command_limits, runner.command_limits, sim._dof_names)
-    if not (math.isfinite(state_interval) and state_interval > 0):
-        raise ValueError(f"state_interval must be a finite positive number of seconds, got {state_interval}")
     if on_start is not None:
         on_start(runner)
     watcher = _StateWatcher(runner, on_state, report_errors) if on_state is not None else None

@@ -81,14 +81,8 @@ void composite_body_frames(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRe
       const FlexibleBodyData<S>* fd = flexible ? &flexible_data(m, d, i) : nullptr;
       const Vec6<S> F = l < nh ? Vec6<S>(P * H.col(l)) : Vec6<S>(fd->coupling.col(l - nh));
       for (Eigen::Index k = 0; k <= l; ++k) {
-        S value;
-        if (k < nh)
-          value = H.col(k).dot(F);
-        else if (l < nh)
-          value = fd->coupling.col(k - nh).dot(H.col(l));
-        else
-          value = fd->modal_inertia(k - nh, l - nh);
-        set(vi + k, vi + l, value);
+        // k <= l: a modal row k comes with a modal column l
+        set(vi + k, vi + l, k < nh ? H.col(k).dot(F) : fd->modal_inertia(k - nh, l - nh));
       }
       Vec6<S> f = F;  // up the ancestors, in the frame of body j
       for (std::size_t j = i; m.parent[j] >= 0;) {

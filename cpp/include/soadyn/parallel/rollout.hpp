@@ -51,7 +51,8 @@ struct RolloutOutputs {
   double* v = nullptr;  // runs x rows x nv
   Status* status = nullptr;             // runs
   std::int64_t* failed_step = nullptr;  // runs (-1: none)
-  std::string* message = nullptr;       // runs: empty, or why the run stopped
+  std::string* message = nullptr;       // runs: empty, or why the run stopped (a run failed iff its message is
+                                        // not empty: a refused setup leaves status ok and failed_step -1)
 };
 
 // Rows recorded per run.

@@ -9,7 +9,8 @@
 // Not for the real-time loop: waking the workers takes a mutex and a
 // condition variable. Calls from several threads take turns. An exception
 // thrown by `fn` stops the loop from taking new chunks and is rethrown by
-// parallel_for once every thread is idle again.
+// parallel_for once every thread is idle again. `fn` must not call
+// parallel_for on the same pool (it would wait for itself).
 #pragma once
 #include <atomic>
 #include <condition_variable>
@@ -41,6 +42,7 @@ class ThreadPool {
 
  private:
   void work(int worker);
+  void stop_workers();
   void take_chunks(int worker);
 
   std::vector<std::thread> workers_;

@@ -16,13 +16,14 @@
 //
 // Per step it records the compute time (wake-up to the end of the step,
 // I/O included) and the lateness (wake-up minus deadline); a step whose
-// compute ends after the next deadline is a deadline miss. A miss whose
-// compute alone exceeded the period is ours (the step overran its budget);
-// any other miss is the machine's (the thread woke up, or was let run, too
-// late). In as-fast-as-possible mode it never sleeps, lateness is 0 and no
+// compute ends after the next deadline is a deadline miss. A miss is ours
+// when the step's compute alone exceeded the period, or when the step
+// started late only because the previous step was still running; any other
+// miss is the machine's (the thread woke up, or was let run, too late). In as-fast-as-possible mode it never sleeps, lateness is 0 and no
 // step is a miss.
 //
-// The machine's floor: after a paced run, the loop times a workload that
+// The machine's floor: after a paced run that completed (not stopped, no
+// failed step), the loop times a workload that
 // cannot vary by itself — multiply-add chains in registers, calibrated to
 // the median compute time of the run's steps — over `floor_periods` more
 // periods, paced exactly like the steps (same rate, sleep, spin and
@@ -79,7 +80,7 @@ struct HilSummary {
   double compute_p50_us = 0, compute_p99_us = 0, compute_p999_us = 0, compute_max_us = 0;
   double lateness_p50_us = 0, lateness_p99_us = 0, lateness_max_us = 0;
   double wall_seconds = 0;  // wall-clock time of the loop (the floor pass excluded)
-  std::int64_t misses_compute_overrun = 0;  // misses whose compute exceeded the period (ours)
+  std::int64_t misses_compute_overrun = 0;  // misses whose compute, or the previous step's backlog, exceeded the period (ours)
   std::int64_t misses_late_wakeup = 0;      // the other misses (the machine's)
   // The machine's floor (see above): periods timed (0: not measured), the
   // workload's calibrated length and its percentiles.
@@ -130,8 +131,8 @@ class HilRunner {
   void set_command_limits(const Eigen::VectorXd& limits) { limits_.set_limits(limits); }
   void set_command_policy(CommandPolicy policy) { limits_.set_policy(policy); }
   const CommandLimits& command_limits() const { return limits_; }
-  // Periods of the machine's floor after a paced run (0: none; at most the
-  // steps done are used). Allocates the buffer.
+  // Periods of the machine's floor after a paced run (0: none; at most one
+  // per step is kept). Allocates the buffer.
   void set_floor_periods(std::int64_t periods);
   // Records time, q and v at the start and after every `every` steps
   // (0: no recording). Allocates the buffers.
