@@ -187,6 +187,10 @@ def test_viewer_draws_flexible_bodies_deformed_with_an_adjustable_exaggeration(q
             assert np.abs(np.asarray(viewer.handles[f"/flexible/{name}/nodes"].points) - nodes).max() <= 1e-5
     with pytest.raises(ValueError, match="exaggeration"):
         viewer.exaggeration = float("nan")
+    viewer.exaggeration = 5000.0  # beyond the slider's initial range: the slider follows
+    assert viewer.exaggeration_slider.value == 5000.0 and viewer.exaggeration_slider.max >= 5000.0
+    nodes = flexible_shapes(m, q, 5000.0)["magnetometer_boom"]
+    assert np.abs(np.asarray(viewer.handles["/flexible/magnetometer_boom/nodes"].points) - nodes).max() <= 1e-4
     assert quiet_viewer(soadyn.scenes.four_bar()).exaggeration_slider is None  # nothing flexible to exaggerate
 
 
@@ -221,3 +225,15 @@ def test_soadyn_view_serves_and_exits(tmp_path):
     result = subprocess.run([sys.executable, "-m", "soadyn", "view", str(tmp_path / "four_bar.json"), "--port", "0"],
                             capture_output=True, text=True, timeout=60)
     assert result.returncode == 1 and "cannot start" in result.stderr and "Traceback" not in result.stderr
+
+
+def test_a_one_node_flexible_body_is_drawn_as_its_point(quiet_viewer):
+    body = soadyn.FlexibleBody(positions=[[0.5, 0.0, 0.0]], masses=[2.0], rotary_inertias=[np.eye(3) * 0.01],
+                               mode_shapes=[[[0.0], [0.0], [0.0], [0.0], [1.0], [0.0]]], stiffness=[[40.0]])
+    m = soadyn.Model()
+    m.add_flexible_body("blob", None, body, soadyn.Joint.revolute([0, 0, 1]))
+    q = np.array([0.3, 0.02])
+    viewer = quiet_viewer(m, q=q, exaggeration=10.0)
+    assert "/flexible/blob" not in viewer.handles
+    point = np.asarray(viewer.handles["/flexible/blob/nodes"].points)
+    assert point.shape == (1, 3) and np.abs(point - flexible_shapes(m, q, 10.0)["blob"]).max() <= 1e-6

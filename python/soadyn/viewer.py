@@ -172,8 +172,11 @@ class Viewer:
     def exaggeration(self, value: float) -> None:
         flexible_shapes(self.model, self.q, value, [])  # checks the factor
         self._exaggeration = float(value)
-        if self.exaggeration_slider is not None and self.exaggeration_slider.value != self._exaggeration:
-            self.exaggeration_slider.value = self._exaggeration  # redraws through the slider's callback
+        slider = self.exaggeration_slider
+        if slider is not None and slider.max < self._exaggeration:
+            slider.max = self._exaggeration  # the slider grows to any factor set from Python
+        if slider is not None and slider.value != self._exaggeration:
+            slider.value = self._exaggeration  # redraws through the slider's callback
         elif self.q is not None:
             self.show(self.q)
 
@@ -274,9 +277,10 @@ class Viewer:
     def _draw_flexible(self, q) -> None:
         for name, nodes in flexible_shapes(self.model, q, self._exaggeration, self._flexible).items():
             points = nodes.astype(np.float32)
-            self.handles[f"/flexible/{name}"] = self.server.scene.add_line_segments(
-                f"/flexible/{name}", points=np.stack([points[:-1], points[1:]], axis=1), colors=(40, 110, 220),
-                thickness=4.0, thickness_units="screen")
+            if len(points) > 1:  # a one-node body is its point alone
+                self.handles[f"/flexible/{name}"] = self.server.scene.add_line_segments(
+                    f"/flexible/{name}", points=np.stack([points[:-1], points[1:]], axis=1), colors=(40, 110, 220),
+                    thickness=4.0, thickness_units="screen")
             self.handles[f"/flexible/{name}/nodes"] = self.server.scene.add_point_cloud(
                 f"/flexible/{name}/nodes", points=points, colors=(20, 60, 160), point_size=0.01, precision="float32")
 
