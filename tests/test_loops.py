@@ -256,3 +256,38 @@ def test_loops_on_flexible_bodies_are_refused():
     with pytest.raises(soadyn.LoopError, match=r"^loop 'l': frame_a 'tip' is on flexible body 'beam' or carried "
                                                r"by it; loops on flexible bodies are not supported$"):
         m.add_loop("l", "tip", None, "point")
+
+
+def _spinner_on_a_locked_turntable(seed: int, with_loop: bool):
+    """A turntable (prescribed) carrying a spinner (regular) whose axis passes through a point pinned
+    to the world: the loop locks the turntable, and the spinner turns freely about an axis through
+    the pin, so the pin exerts no torque on it. The spinner's column of C is zero, but formed as
+    axis x lever arm along the axis it is rounding noise for most axes."""
+    rng = np.random.default_rng(seed)
+    m = soadyn.Model()
+    axis = rng.normal(size=3)
+    axis /= np.linalg.norm(axis)
+    m.add_body("turntable", None, soadyn.Joint.revolute((0.0, 0.0, 1.0)), mass=2.0, com=(0.1, 0.0, 0.0),
+               inertia=(0.1, 0.2, 0.3))
+    m.add_body("spinner", "turntable", soadyn.Joint.revolute(tuple(axis)), placement=tuple(rng.uniform(0.1, 0.5, 3)),
+               mass=1.0, com=tuple(rng.uniform(-0.1, 0.1, 3)), inertia=(0.05, 0.06, 0.07))
+    q = rng.uniform(-np.pi, np.pi, 2)
+    if with_loop:
+        point = rng.uniform(0.2, 0.9) * axis
+        pose = soadyn.frame_pose(m, q, "spinner")
+        m.add_loop("pin", "spinner", None, "point", placement_a=(None, tuple(point)),
+                   placement_b=(None, tuple(pose[:3, :3] @ point + pose[:3, 3])))
+    m.set_prescribed([True, False])
+    return m, q, rng
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_a_regular_dof_whose_jacobian_column_is_rounding_noise_feels_no_loop_force(seed):
+    m, q, rng = _spinner_on_a_locked_turntable(seed, with_loop=True)
+    free, _, _ = _spinner_on_a_locked_turntable(seed, with_loop=False)
+    v = np.array([0.0, rng.normal()])
+    u = np.array([0.0, rng.normal()])  # the turntable held (the pin allows no other motion), a torque on the spinner
+    qdd, tau, wrenches = soadyn.constrained_dynamics(m, q, v, u)
+    qdd_free, _ = soadyn.hybrid_dynamics(free, q, v, u)
+    assert abs(qdd[1] - qdd_free[1]) <= 1e-9 * max(1.0, abs(qdd_free[1]))
+    assert qdd[0] == 0.0

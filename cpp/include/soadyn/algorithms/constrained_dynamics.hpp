@@ -109,6 +109,34 @@ Status constrained_solve(const ModelTpl<S>& model, DataTpl<S>& data, const Const
 template <class S>
 S delassus_threshold() { return S(1e3) * Eigen::NumTraits<S>::epsilon(); }
 
+namespace detail {
+
+// C restricted to the columns `keep(k)` accepts (the others zeroed), with
+// the entries at rounding level dropped as well: an entry not above 64 eps
+// times C's largest is what forming C leaves of a zero (a lever arm crossed
+// with a parallel axis). Kept, such noise is all a row has left when its real
+// entries sit in dropped columns (or it has none, as the vertical row of a
+// point whose only driven joint turns about the vertical); the Delassus
+// solve, whose rank threshold is relative to its own largest pivot, would
+// take it for a constraint and return a multiplier of order 1/eps. The scale
+// is C's largest entry, not its row's: a row can be noise through and through.
+template <class S, class Keep>
+void restrict_jacobian_columns(const MatX<S>& C, Keep&& keep, MatX<S>& restricted) {
+  using std::abs;
+  restricted = C;
+  const S floor = C.size() > 0 ? S(64) * Eigen::NumTraits<S>::epsilon() * C.cwiseAbs().maxCoeff() : S(0);
+  for (Eigen::Index k = 0; k < C.cols(); ++k) {
+    if (!keep(k)) {
+      restricted.col(k).setZero();
+      continue;
+    }
+    for (Eigen::Index i = 0; i < C.rows(); ++i)
+      if (abs(restricted(i, k)) <= floor) restricted(i, k) = S(0);
+  }
+}
+
+}  // namespace detail
+
 // Closure accelerations off by more than this, relative to |kappa| + |C||qdd|
 // per equation, make the loop equations inconsistent: the square root of
 // delassus_threshold, the relative size of a singular value of C below

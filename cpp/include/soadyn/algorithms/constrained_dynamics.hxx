@@ -14,14 +14,14 @@ namespace soadyn {
 namespace detail {
 
 // M with prescribed rows and columns replaced by the identity, and C with the
-// prescribed columns zeroed: the regular block of the problem at full size.
+// prescribed columns (and its rounding noise) zeroed: the regular block of the
+// problem at full size.
 template <class S>
 void substitute_prescribed(const ModelTpl<S>& m, LoopData<S>& ld, const MatX<S>& M) {
   ld.regular_mass = M;
   replace_prescribed_by_identity(m, ld.regular_mass);
-  ld.constraint_jacobian_regular = ld.jacobian;
-  for (int k = 0; k < m.n_prescribed; ++k)
-    ld.constraint_jacobian_regular.col(m.prescribed_dofs[static_cast<std::size_t>(k)]).setZero();
+  restrict_jacobian_columns(ld.jacobian, [&](Eigen::Index k) { return !m.is_prescribed(static_cast<int>(k)); },
+                            ld.constraint_jacobian_regular);
 }
 
 // Loop wrenches W lambda from the multipliers (loops/loop.hpp), from the

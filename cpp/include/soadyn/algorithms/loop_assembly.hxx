@@ -35,9 +35,7 @@ int loop_of_row(const ModelTpl<S>& m, int row) {
 // correction = -C_f' (C_f C_f')^+ r, from C in data.loops.jacobian.
 template <class S>
 bool minimum_norm_correction(const ModelTpl<S>& m, LoopData<S>& ld, const ConstVecRef<S>& free, const VecX<S>& r) {
-  ld.constraint_jacobian_regular = ld.jacobian;
-  for (int k = 0; k < m.nv; ++k)
-    if (free[k] == S(0)) ld.constraint_jacobian_regular.col(k).setZero();
+  restrict_jacobian_columns(ld.jacobian, [&](Eigen::Index k) { return free[k] != S(0); }, ld.constraint_jacobian_regular);
   ld.delassus.noalias() = ld.constraint_jacobian_regular.lazyProduct(ld.constraint_jacobian_regular.transpose());
   ld.rhs = -r;
   if (semidefinite_min_norm_solve(ld.delassus, ld.rhs, delassus_threshold<S>(), ld.delassus_solve,
