@@ -109,12 +109,7 @@ template <class S>
 Status mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   // Models with flexible bodies, or with a body beyond its tree-frame reach: in body frames.
   if (m.has_flexible_bodies() || !detail::composite_rigid_body(m, d, q)) detail::composite_body_frames(m, d, q);
-  // x * 0 is 0 for finite x and NaN for NaN or inf: one vectorised sum tells whether every entry is
-  // finite (Eigen's allFinite is a scalar loop); the column at fault is searched only on failure.
-  if ((d.mass_matrix.array() * S(0)).sum() == S(0)) return Status{};
-  for (Eigen::Index c = 0; c < m.nv; ++c)
-    if (!d.mass_matrix.col(c).allFinite()) return Status{StatusCode::non_finite_result, static_cast<int>(c)};
-  return Status{};
+  return check_finite_columns(d.mass_matrix);
 }
 
 }  // namespace soadyn

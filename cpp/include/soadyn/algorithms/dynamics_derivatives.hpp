@@ -34,6 +34,7 @@
 // derivatives are assembled from them and the closure terms in Python).
 #pragma once
 #include <stdexcept>
+#include <vector>
 
 #include "soadyn/algorithms/steps.hpp"
 
@@ -77,6 +78,7 @@ struct DynamicsDerivativesTpl {
   MatX<S> regular_mass;  // M~, factored in place (tree_cholesky.hpp)
   VecX<S> inverse_force;  // ID(q, v, qdd) of the last derivative sweeps
   MatX<S> transposed_rhs;  // the solves' right-hand sides for q, v and u, transposed (3nv x nv)
+  std::vector<int> subtree_end;  // per DOF: the last DOF of its subtree (DOFs k..subtree_end[k])
 };
 
 using DynamicsDerivatives = DynamicsDerivativesTpl<double>;

@@ -91,13 +91,6 @@ void coriolis_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, EquationTermsWorkspace
   }
 }
 
-template <class S>
-Status first_non_finite_column(const Eigen::Ref<MatX<S>>& matrix) {
-  for (Eigen::Index c = 0; c < matrix.cols(); ++c)
-    if (!matrix.col(c).allFinite()) return Status{StatusCode::non_finite_result, static_cast<int>(c)};
-  return Status{};
-}
-
 }  // namespace detail
 
 template <class S>
@@ -125,7 +118,7 @@ template <class S>
 Status coriolis_matrix(const ModelTpl<S>& m, DataTpl<S>& d, EquationTermsWorkspace<S>& w, const ConstVecRef<S>& q,
                        const ConstVecRef<S>& v, Eigen::Ref<MatX<S>> coriolis) {
   detail::coriolis_sweeps(m, d, w, q.data(), v.data(), coriolis);
-  return detail::first_non_finite_column<S>(coriolis);
+  return check_finite_columns(coriolis);
 }
 
 template <class S>
@@ -134,7 +127,7 @@ Status mass_matrix_derivative(const ModelTpl<S>& m, DataTpl<S>& d, EquationTerms
                               Eigen::Ref<MatX<S>> mass_rate) {
   detail::coriolis_sweeps(m, d, w, q.data(), v.data(), coriolis);
   mass_rate = coriolis + coriolis.transpose();  // Mdot - 2C skew-symmetric and Mdot symmetric
-  return detail::first_non_finite_column<S>(mass_rate);
+  return check_finite_columns(mass_rate);
 }
 
 template <class S>
@@ -146,7 +139,7 @@ Status christoffel_symbols(const ModelTpl<S>& m, DataTpl<S>& d, EquationTermsWor
     detail::coriolis_sweeps<S>(m, d, w, q.data(), w.unit_velocity.data(), christoffel.middleCols(k * nv, nv));
     w.unit_velocity[k] = S(0);
   }
-  return detail::first_non_finite_column<S>(christoffel);
+  return check_finite_columns(christoffel);
 }
 
 }  // namespace soadyn

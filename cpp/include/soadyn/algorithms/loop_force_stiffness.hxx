@@ -140,9 +140,7 @@ Status loop_force_stiffness(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
   loop_residual(m, d, q, static_cast<const S*>(nullptr));
   out.setZero();
   for (const LoopTpl<S>& loop : m.loops) detail::add_loop_stiffness(m, d, loop, nu.segment(loop.first_row, loop.rows()), out);
-  for (Eigen::Index c = 0; c < out.cols(); ++c)
-    if (!out.col(c).allFinite()) return Status{StatusCode::non_finite_result, static_cast<int>(c)};
-  return {};
+  return check_finite_columns(out);
 }
 
 }  // namespace soadyn

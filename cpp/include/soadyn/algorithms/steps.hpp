@@ -345,6 +345,19 @@ inline Status check_finite(const VecX<S>& x) {
   return Status{};
 }
 
+// check_finite of a matrix, naming the first non-finite column. x * 0 is 0
+// for finite x and NaN for NaN or inf: one vectorised sum tells whether every
+// entry is finite (Eigen's allFinite is a scalar loop); the column at fault
+// is searched only on failure.
+template <class Derived>
+inline Status check_finite_columns(const Eigen::MatrixBase<Derived>& x) {
+  using S = typename Derived::Scalar;
+  if ((x.array() * S(0)).sum() == S(0)) return Status{};
+  for (Eigen::Index c = 0; c < x.cols(); ++c)
+    if (!x.col(c).allFinite()) return Status{StatusCode::non_finite_result, static_cast<int>(c)};
+  return Status{};
+}
+
 // check_finite of the hybrid torques once the accelerations are finite: a
 // regular DOF's torque is its given input, and a non-finite input gives a
 // non-finite acceleration of that DOF, so only prescribed DOFs can fail here.
