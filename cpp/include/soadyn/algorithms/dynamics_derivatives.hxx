@@ -223,8 +223,7 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
   if (bad_pivot >= 0) return {StatusCode::singular_articulated_inertia, bad_pivot};
   MatX<S>& W = w.transposed_rhs;  // the top nv x nv block: W = U^-1
   auto inverse_factor = W.topRows(nv);
-  inverse_factor.setIdentity();
-  tree_ltl_solve_transposed(U, m.dof_parent, m.dof_run_start, inverse_factor);
+  tree_ltl_inverse_factor(U, m.dof_parent, m.dof_run_start, inverse_factor);
   MatX<S>& Minv = w.dqdd_du;
   for (Eigen::Index b = 0; b < nv; ++b)
     for (Eigen::Index a = 0; a <= b; ++a)

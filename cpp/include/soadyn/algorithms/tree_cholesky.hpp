@@ -98,6 +98,28 @@ void tree_ltl_solve(const Eigen::MatrixBase<FactorDerived>& U, const std::vector
     }
 }
 
+// W = U^-1, upper triangular with the tree's pattern: column c is nonzero on
+// c and its ancestors only, so it is found walking up c's chain of ancestors
+// (each entry final once every descendant on the chain is done), without
+// visiting the zeros. O(sum over DOFs of depth^2).
+template <class FactorDerived, class Derived>
+void tree_ltl_inverse_factor(const Eigen::MatrixBase<FactorDerived>& U, const std::vector<int>& parent,
+                             const std::vector<int>& run_start, Eigen::MatrixBase<Derived>& W) {
+  using S = typename Derived::Scalar;
+  W.setZero();
+  for (int c = 0; c < static_cast<int>(U.rows()); ++c) {
+    S* const w = &W(0, c);
+    w[c] = S(1);
+    for (int i = c; i >= 0; i = parent[static_cast<std::size_t>(i)]) {
+      const auto* const column_i = &U(0, i);
+      const S wi = w[i] /= column_i[i];
+      for_each_ancestor_run(i, false, parent, run_start, [&](int first, int last) {
+        for (int j = first; j <= last; ++j) w[j] -= wi * column_i[j];
+      });
+    }
+  }
+}
+
 }  // namespace soadyn
 
 namespace soadyn {
