@@ -74,7 +74,8 @@ struct DynamicsDerivativesTpl {
   // frame's): displacement_lever H_k x V-, displacement_acceleration
   // -H_k x A- + (H_k x V-) x V-, velocity_acceleration (V_r + V-) x H_k
   // with V_r the velocity that turns H_k (dH_k/dt = V_r x H_k).
-  Mat6X<S> displacement_lever, displacement_acceleration, velocity_acceleration;
+  // dof_axis: H_k, the motion axis of DOF k in the tree frame.
+  Mat6X<S> displacement_lever, displacement_acceleration, velocity_acceleration, dof_axis;
   MatX<S> regular_mass;  // M~, factored in place (tree_cholesky.hpp)
   VecX<S> inverse_force;  // ID(q, v, qdd) of the last derivative sweeps
   MatX<S> transposed_rhs;  // the solves' right-hand sides for q, v and u, transposed (3nv x nv)

@@ -35,7 +35,8 @@ DynamicsDerivativesTpl<S>::DynamicsDerivativesTpl(const ModelTpl<S>& m) {
   composite_coriolis_inertia.resize(n);
   composite_force.resize(n);
   acceleration.resize(n);
-  for (Mat6X<S>* x : {&displacement_lever, &displacement_acceleration, &velocity_acceleration}) x->setZero(6, nv);
+  for (Mat6X<S>* x : {&displacement_lever, &displacement_acceleration, &velocity_acceleration, &dof_axis})
+    x->setZero(6, nv);
 }
 
 template <class S>
@@ -97,6 +98,7 @@ void derivative_outward_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDeriva
     w.displacement_acceleration.col(vi + c) =
         motion_cross(lever, inboard_velocity) - motion_cross(axis, inboard_acceleration);
     w.velocity_acceleration.col(vi + c) = motion_cross(Vec6<S>(turning_velocity + inboard_velocity), axis);
+    w.dof_axis.col(vi + c) = axis;
   }
 }
 
@@ -119,38 +121,31 @@ void derivative_inward_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivat
   const Mat6<S>& inertia = w.composite_inertia[i];
   const Mat6<S>& coriolis = w.composite_coriolis_inertia[i];
   const Vec6<S>& force = w.composite_force[i];
-  if (ni > 0) {
-    const Mat6N<S>& s = d.sweep.tree_subspace[i];
-    Mat6N<S> force_per_q(6, ni), force_per_v(6, ni), inboard_force_per_q(6, ni);
-    for (Eigen::Index c = 0; c < ni; ++c) {
-      force_per_q.col(c) = inertia * w.displacement_acceleration.col(vi + c) -
-                           S(2) * (coriolis * w.displacement_lever.col(vi + c));
-      force_per_v.col(c) = S(2) * (coriolis * s.col(c)) + inertia * w.velocity_acceleration.col(vi + c);
-      inboard_force_per_q.col(c) = force_per_q.col(c) + force_cross(Vec6<S>(s.col(c)), force);
+  const bool universal = m.joint_kernel[i] == JointKernel::universal;
+  for (Eigen::Index c = 0; c < ni; ++c) {  // column k = vi + c, one DOF at a time in 6-vectors
+    const Eigen::Index k = vi + c;
+    const Vec6<S> axis = w.dof_axis.col(k);
+    const Vec6<S> force_per_q =
+        inertia * w.displacement_acceleration.col(k) - S(2) * (coriolis * w.displacement_lever.col(k));
+    const Vec6<S> force_per_v = S(2) * (coriolis * axis) + inertia * w.velocity_acceleration.col(k);
+    const Vec6<S> inboard_force_per_q = force_per_q + force_cross(axis, force);
+    const Vec6<S> inertia_axis = inertia * axis, coriolis_t_axis = coriolis.transpose() * axis;
+    for (Eigen::Index c2 = 0; c2 < ni; ++c2) {  // the body's own DOFs: their axes turn with it
+      const Vec6<S> own_axis = w.dof_axis.col(vi + c2);
+      w.inverse_dq(vi + c2, k) = own_axis.dot(universal && c == 1 && c2 == 0 ? inboard_force_per_q : force_per_q);
+      w.inverse_dv(vi + c2, k) = own_axis.dot(force_per_v);
+      d.mass_matrix(vi + c2, k) = own_axis.dot(inertia_axis);
     }
-    const Mat6N<S> inertia_s = inertia * s;
-    const Mat6N<S> coriolis_t_s = coriolis.transpose() * s;
-    w.inverse_dq.block(vi, vi, ni, ni).noalias() = s.transpose().lazyProduct(force_per_q);
-    if (m.joint_kernel[i] == JointKernel::universal) w.inverse_dq(vi, vi + 1) = s.col(0).dot(inboard_force_per_q.col(1));
-    w.inverse_dv.block(vi, vi, ni, ni).noalias() = s.transpose().lazyProduct(force_per_v);
-    d.mass_matrix.block(vi, vi, ni, ni).noalias() = s.transpose().lazyProduct(inertia_s);
-    for (int j = m.parent[i]; j >= 0; j = m.parent[static_cast<std::size_t>(j)]) {
-      const std::size_t a = static_cast<std::size_t>(j);
-      const Eigen::Index vj = m.v_index[a], nj = m.nv_body[a];
-      if (nj == 0) continue;
-      const Mat6N<S>& sj = d.sweep.tree_subspace[a];
-      w.inverse_dq.block(vj, vi, nj, ni).noalias() = sj.transpose().lazyProduct(inboard_force_per_q);
-      w.inverse_dv.block(vj, vi, nj, ni).noalias() = sj.transpose().lazyProduct(force_per_v);
-      w.inverse_dq.block(vi, vj, ni, nj).noalias() =
-          inertia_s.transpose().lazyProduct(w.displacement_acceleration.middleCols(vj, nj)) -
-          S(2) * coriolis_t_s.transpose().lazyProduct(w.displacement_lever.middleCols(vj, nj));
-      w.inverse_dv.block(vi, vj, ni, nj).noalias() =
-          S(2) * coriolis_t_s.transpose().lazyProduct(sj) +
-          inertia_s.transpose().lazyProduct(w.velocity_acceleration.middleCols(vj, nj));
-      d.mass_matrix.block(vi, vj, ni, nj).noalias() = inertia_s.transpose().lazyProduct(sj);
-      d.mass_matrix.block(vj, vi, nj, ni) = d.mass_matrix.block(vi, vj, ni, nj).transpose();
+    for (int j = m.dof_parent[static_cast<std::size_t>(vi)]; j >= 0; j = m.dof_parent[static_cast<std::size_t>(j)]) {
+      const Vec6<S> inboard_axis = w.dof_axis.col(j);
+      w.inverse_dq(j, k) = inboard_axis.dot(inboard_force_per_q);
+      w.inverse_dv(j, k) = inboard_axis.dot(force_per_v);
+      w.inverse_dq(k, j) = inertia_axis.dot(w.displacement_acceleration.col(j)) -
+                           S(2) * coriolis_t_axis.dot(w.displacement_lever.col(j));
+      w.inverse_dv(k, j) = S(2) * coriolis_t_axis.dot(inboard_axis) + inertia_axis.dot(w.velocity_acceleration.col(j));
+      d.mass_matrix(k, j) = d.mass_matrix(j, k) = inertia_axis.dot(inboard_axis);
     }
-    w.inverse_force.segment(vi, ni).noalias() = s.transpose() * force;
+    w.inverse_force[k] = axis.dot(force);
   }
   const int p = m.parent[i];
   if (p < 0) return;
