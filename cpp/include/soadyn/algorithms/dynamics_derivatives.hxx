@@ -223,15 +223,36 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
   for (Eigen::Index b = 0; b < nv; ++b)
     for (Eigen::Index a = 0; a <= b; ++a)
       Minv(a, b) = Minv(b, a) = inverse_factor.col(a).head(a + 1).dot(inverse_factor.col(b).head(a + 1));
-  for (const auto& [partial, out] : {std::pair<const MatX<S>*, MatX<S>*>{&w.inverse_dq, &w.dqdd_dq},
-                                     std::pair<const MatX<S>*, MatX<S>*>{&w.inverse_dv, &w.dqdd_dv}}) {
-    for (Eigen::Index k = 0; k < nv; ++k) {
-      const Eigen::Index first = k, count = w.subtree_end[static_cast<std::size_t>(k)] - k + 1;
-      out->col(k).noalias() = -Minv.middleCols(first, count) * partial->col(k).segment(first, count);
-      for_each_ancestor_run(static_cast<int>(k), false, m.dof_parent, m.dof_run_start, [&](int a, int b) {
-        out->col(k).noalias() -= Minv.middleCols(a, b - a + 1) * partial->col(k).segment(a, b - a + 1);
-      });
-    }
+  // Columns k of dqdd/dq and dqdd/dv together: each column of M^-1 is read
+  // once for both (plain loops: no product dispatch for these short columns).
+  for (Eigen::Index k = 0; k < nv; ++k) {
+    S* const out_q = &w.dqdd_dq(0, k);
+    S* const out_v = &w.dqdd_dv(0, k);
+    const S* const partial_q = &w.inverse_dq(0, k);
+    const S* const partial_v = &w.inverse_dv(0, k);
+    for (Eigen::Index r = 0; r < nv; ++r) out_q[r] = out_v[r] = S(0);
+    const auto accumulate = [&](int first, int last) {
+      int c = first;
+      for (; c < last; c += 2) {  // two columns of M^-1 per pass over the outputs
+        const S a_q = partial_q[c], a_v = partial_v[c], b_q = partial_q[c + 1], b_v = partial_v[c + 1];
+        const S* const column_a = &Minv(0, c);
+        const S* const column_b = &Minv(0, c + 1);
+        for (Eigen::Index r = 0; r < nv; ++r) {
+          out_q[r] -= a_q * column_a[r] + b_q * column_b[r];
+          out_v[r] -= a_v * column_a[r] + b_v * column_b[r];
+        }
+      }
+      if (c == last) {
+        const S a_q = partial_q[c], a_v = partial_v[c];
+        const S* const column = &Minv(0, c);
+        for (Eigen::Index r = 0; r < nv; ++r) {
+          out_q[r] -= a_q * column[r];
+          out_v[r] -= a_v * column[r];
+        }
+      }
+    };
+    accumulate(static_cast<int>(k), w.subtree_end[static_cast<std::size_t>(k)]);
+    for_each_ancestor_run(static_cast<int>(k), false, m.dof_parent, m.dof_run_start, accumulate);
   }
   // No prescribed DOF: no force derivative but the identity of tau = u.
   w.dtau_dq.setZero();
