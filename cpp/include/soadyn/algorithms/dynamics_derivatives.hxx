@@ -230,7 +230,8 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
     S* const out_v = &w.dqdd_dv(0, k);
     const S* const partial_q = &w.inverse_dq(0, k);
     const S* const partial_v = &w.inverse_dv(0, k);
-    for (Eigen::Index r = 0; r < nv; ++r) out_q[r] = out_v[r] = S(0);
+    w.dqdd_dq.col(k).setZero();
+    w.dqdd_dv.col(k).setZero();
     const auto accumulate = [&](int first, int last) {
       int c = first;
       for (; c < last; c += 2) {  // two columns of M^-1 per pass over the outputs
