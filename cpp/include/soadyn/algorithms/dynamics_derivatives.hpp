@@ -69,6 +69,9 @@ struct DynamicsDerivativesTpl {
   // spatial acceleration alpha (with the -gravity base acceleration).
   aligned_vector<Mat6<S>> composite_inertia, composite_coriolis_inertia;
   aligned_vector<Vec6<S>> composite_force, acceleration;
+  // Per body: its own inertia and velocity force V x* (I V) - f_ext.
+  aligned_vector<Mat6<S>> body_inertia;
+  aligned_vector<Vec6<S>> velocity_force;
   // Per DOF k with axis H_k and "inboard" velocity V- and acceleration A-
   // (the parent body's, or for a universal joint's second axis its middle
   // frame's): displacement_lever H_k x V-, displacement_acceleration
