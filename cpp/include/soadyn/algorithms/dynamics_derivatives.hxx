@@ -58,7 +58,8 @@ namespace detail {
 // V x* (I V) - f_ext, and the per-DOF terms of DynamicsDerivativesTpl that do
 // not depend on qdd. derivative_acceleration_step: alpha(i) = alpha(parent) +
 // H* qdd + a(i) (Jain & Rodriguez 1993, Eq. 1), the Newton-Euler force
-// f = I alpha + V x* (I V) - f_ext and y_k (qdd null: zero accelerations).
+// f = I alpha + V x* (I V) - f_ext and, with `partials`, y_k (qdd null:
+// zero accelerations).
 //
 // A change e of DOF k's coordinate turns the bodies outboard of it about H_k:
 // their axes and forces by H_k x e, their velocities by e H_k x (V - V-), and
@@ -107,7 +108,7 @@ void derivative_kinematics_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDer
 
 template <class S>
 void derivative_acceleration_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w, std::size_t i,
-                                  const S* v, const S* qdd, const Vec6<S>& world_acc) {
+                                  const S* v, const S* qdd, const Vec6<S>& world_acc, bool partials) {
   const int p = m.parent[i];
   const Vec6<S> parent_velocity = p >= 0 ? d.sweep.tree_velocity[static_cast<std::size_t>(p)] : Vec6<S>::Zero();
   const Vec6<S> parent_acceleration = p >= 0 ? w.acceleration[static_cast<std::size_t>(p)] : world_acc;
@@ -117,6 +118,7 @@ void derivative_acceleration_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsD
   acceleration = parent_acceleration + d.sweep.tree_coriolis[i];
   if (qdd && ni > 0) acceleration += subspace_times(s, qdd + vi);
   w.composite_force[i] = w.body_inertia[i] * acceleration + w.velocity_force[i];
+  if (!partials) return;
   for (Eigen::Index c = 0; c < ni; ++c) {
     const Vec6<S> axis = s.col(c);
     const Vec6<S> inboard = inboard_velocity(m, d, i, c, v, parent_velocity);
@@ -245,7 +247,7 @@ Status inverse_derivative_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDe
   d.mass_matrix.setZero();
   for (std::size_t i = 0; i < n; ++i) {
     derivative_kinematics_step(m, d, w, i, q, v, f_ext);
-    derivative_acceleration_step(m, d, w, i, v, qdd, world_acc);
+    derivative_acceleration_step(m, d, w, i, v, qdd, world_acc, true);
   }
   for (std::size_t i = n; i-- > 0;) {
     derivative_velocity_terms(m, d, w, i);
@@ -299,7 +301,7 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
   d.mass_matrix.setZero();
   for (std::size_t i = 0; i < n; ++i) {
     derivative_kinematics_step(m, d, w, i, q, v, f_ext);
-    derivative_acceleration_step(m, d, w, i, v, static_cast<const S*>(nullptr), world_acc);
+    derivative_acceleration_step(m, d, w, i, v, static_cast<const S*>(nullptr), world_acc, false);
   }
   for (std::size_t i = n; i-- > 0;) {
     derivative_velocity_terms(m, d, w, i);
@@ -317,7 +319,7 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
   Status status = check_finite(d.qdd);
   if (!status.ok()) return status;
   d.tau = Eigen::Map<const VecX<S>>(u, nv);
-  for (std::size_t i = 0; i < n; ++i) derivative_acceleration_step(m, d, w, i, v, d.qdd.data(), world_acc);
+  for (std::size_t i = 0; i < n; ++i) derivative_acceleration_step(m, d, w, i, v, d.qdd.data(), world_acc, true);
   for (std::size_t i = n; i-- > 0;) {
     derivative_acceleration_terms(m, w, i, true);
     add_to_parent(m, w, i, false);
@@ -330,6 +332,8 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
   for (Eigen::Index b = 0; b < nv; ++b)
     for (Eigen::Index a = 0; a <= b; ++a)
       Minv(a, b) = Minv(b, a) = inverse_factor.col(a).head(a + 1).dot(inverse_factor.col(b).head(a + 1));
+  w.dqdd_dq.setZero();
+  w.dqdd_dv.setZero();
   // Columns k of dqdd/dq and dqdd/dv together: each column of M^-1 is read
   // once for both (plain loops: no product dispatch for these short columns).
   for (Eigen::Index k = 0; k < nv; ++k) {
@@ -337,8 +341,6 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
     S* const out_v = &w.dqdd_dv(0, k);
     const S* const partial_q = &w.inverse_dq(0, k);
     const S* const partial_v = &w.inverse_dv(0, k);
-    w.dqdd_dq.col(k).setZero();
-    w.dqdd_dv.col(k).setZero();
     const auto accumulate = [&](int first, int last) {
       int c = first;
       for (; c < last; c += 2) {  // two columns of M^-1 per pass over the outputs
