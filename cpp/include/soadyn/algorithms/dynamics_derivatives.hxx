@@ -277,8 +277,8 @@ void prescribed_force_derivative(const ModelTpl<S>& m, const MatX<S>& mass, cons
 
 // Every DOF regular: the forward dynamics and its derivatives from one
 // kinematic sweep. The velocity terms (M, dID/dv) and h = ID(q, v, 0) come
-// first; qdd = M^-1 (u - h) by the tree factor M = U U' (tree_cholesky.hpp),
-// which the derivatives need anyway; then the accelerations, ID's
+// first; qdd = M^-1 (u - h) with M^-1 from the tree factor M = U U'
+// (tree_cholesky.hpp), which the derivatives need anyway; then the accelerations, ID's
 // q-derivative at qdd and
 //   dqdd/du = M^-1,  dqdd/dx = -M^-1 dID/dx, x = q, v.
 // M^-1 = W' W for W = U^-1, upper triangular with the tree's pattern
@@ -313,18 +313,6 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
   U = d.mass_matrix;
   const int bad_pivot = tree_ltl_in_place(U, m.dof_parent, m.dof_run_start);
   if (bad_pivot >= 0) return {StatusCode::singular_articulated_inertia, bad_pivot};
-  for (Eigen::Index k = 0; k < nv; ++k) d.qdd[k] = u[k] - w.inverse_force[k];
-  tree_ltl_solve_transposed(U, m.dof_parent, m.dof_run_start, d.qdd);
-  tree_ltl_solve(U, m.dof_parent, m.dof_run_start, d.qdd);
-  Status status = check_finite(d.qdd);
-  if (!status.ok()) return status;
-  d.tau = Eigen::Map<const VecX<S>>(u, nv);
-  for (std::size_t i = 0; i < n; ++i) derivative_acceleration_step(m, d, w, i, v, d.qdd.data(), world_acc, true);
-  for (std::size_t i = n; i-- > 0;) {
-    derivative_acceleration_terms(m, w, i, true);
-    add_to_parent(m, w, i, false);
-  }
-  add_joint_terms(m, d, w, q, v, d.qdd.data(), false, true);
   MatX<S>& W = w.transposed_rhs;  // the top nv x nv block: W = U^-1
   auto inverse_factor = W.topRows(nv);
   tree_ltl_inverse_factor(U, m.dof_parent, m.dof_run_start, inverse_factor);
@@ -332,6 +320,17 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
   for (Eigen::Index b = 0; b < nv; ++b)
     for (Eigen::Index a = 0; a <= b; ++a)
       Minv(a, b) = Minv(b, a) = inverse_factor.col(a).head(a + 1).dot(inverse_factor.col(b).head(a + 1));
+  d.tau = Eigen::Map<const VecX<S>>(u, nv) - w.inverse_force;  // u - h, then tau = u (every DOF regular)
+  d.qdd.noalias() = Minv * d.tau;
+  d.tau = Eigen::Map<const VecX<S>>(u, nv);
+  Status status = check_finite(d.qdd);
+  if (!status.ok()) return status;
+  for (std::size_t i = 0; i < n; ++i) derivative_acceleration_step(m, d, w, i, v, d.qdd.data(), world_acc, true);
+  for (std::size_t i = n; i-- > 0;) {
+    derivative_acceleration_terms(m, w, i, true);
+    add_to_parent(m, w, i, false);
+  }
+  add_joint_terms(m, d, w, q, v, d.qdd.data(), false, true);
   w.dqdd_dq.setZero();
   w.dqdd_dv.setZero();
   // Columns k of dqdd/dq and dqdd/dv together: each column of M^-1 is read
