@@ -77,8 +77,10 @@ struct DynamicsDerivativesTpl {
   // frame's): displacement_lever H_k x V-, displacement_acceleration
   // -H_k x A- + (H_k x V-) x V-, velocity_acceleration (V_r + V-) x H_k
   // with V_r the velocity that turns H_k (dH_k/dt = V_r x H_k).
-  // dof_axis: H_k, the motion axis of DOF k in the tree frame.
+  // dof_axis: H_k, the motion axis of DOF k in the tree frame; inertia_axis
+  // and coriolis_t_axis: Ic H_k and Bc' H_k with the subtree sums of k's body.
   Mat6X<S> displacement_lever, displacement_acceleration, velocity_acceleration, dof_axis;
+  Mat6X<S> inertia_axis, coriolis_t_axis;
   MatX<S> regular_mass;  // M~, factored in place (tree_cholesky.hpp)
   VecX<S> inverse_force;  // ID(q, v, qdd) of the last derivative sweeps
   MatX<S> transposed_rhs;  // the solves' right-hand sides for q, v and u, transposed (3nv x nv)

@@ -37,7 +37,8 @@ DynamicsDerivativesTpl<S>::DynamicsDerivativesTpl(const ModelTpl<S>& m) {
   composite_coriolis_inertia.resize(n);
   composite_force.resize(n);
   acceleration.resize(n);
-  for (Mat6X<S>* x : {&displacement_lever, &displacement_acceleration, &velocity_acceleration, &dof_axis})
+  for (Mat6X<S>* x : {&displacement_lever, &displacement_acceleration, &velocity_acceleration, &dof_axis,
+                      &inertia_axis, &coriolis_t_axis})
     x->setZero(6, nv);
 }
 
@@ -148,8 +149,8 @@ void derivative_acceleration_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsD
 //   M(j, i) = H_j' Ic H_i (the composite-rigid-body algorithm).
 // One DOF (column k) at a time in 6-vectors; the ancestors' DOFs along
 // Model::dof_parent. derivative_velocity_terms: M and dID/dv, which do not
-// depend on qdd; derivative_acceleration_terms: ID = H' F and, with
-// `partials`, dID/dq.
+// depend on qdd (and Ic H_k, Bc' H_k for the next); derivative_acceleration_terms:
+// ID = H' F and, with `partials`, dID/dq.
 template <class S>
 void derivative_velocity_terms(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w, std::size_t i) {
   const Eigen::Index vi = m.v_index[i], ni = m.nv_body[i];
@@ -160,6 +161,8 @@ void derivative_velocity_terms(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDeri
     const Vec6<S> axis = w.dof_axis.col(k);
     const Vec6<S> force_per_v = S(2) * (coriolis * axis) + inertia * w.velocity_acceleration.col(k);
     const Vec6<S> inertia_axis = inertia * axis, coriolis_t_axis = coriolis.transpose() * axis;
+    w.inertia_axis.col(k) = inertia_axis;  // for derivative_acceleration_terms
+    w.coriolis_t_axis.col(k) = coriolis_t_axis;
     for (Eigen::Index c2 = 0; c2 < ni; ++c2) {  // the body's own DOFs: their axes turn with it
       const Vec6<S> own_axis = w.dof_axis.col(vi + c2);
       w.inverse_dv(vi + c2, k) = own_axis.dot(force_per_v);
@@ -189,7 +192,7 @@ void derivative_acceleration_terms(const ModelTpl<S>& m, DynamicsDerivativesTpl<
     const Vec6<S> force_per_q =
         inertia * w.displacement_acceleration.col(k) - S(2) * (coriolis * w.displacement_lever.col(k));
     const Vec6<S> inboard_force_per_q = force_per_q + force_cross(axis, force);
-    const Vec6<S> inertia_axis = inertia * axis, coriolis_t_axis = coriolis.transpose() * axis;
+    const Vec6<S> inertia_axis = w.inertia_axis.col(k), coriolis_t_axis = w.coriolis_t_axis.col(k);
     for (Eigen::Index c2 = 0; c2 < ni; ++c2)  // the body's own DOFs: their axes turn with it
       w.inverse_dq(vi + c2, k) =
           w.dof_axis.col(vi + c2).dot(universal && c == 1 && c2 == 0 ? inboard_force_per_q : force_per_q);
