@@ -159,8 +159,8 @@ void derivative_velocity_terms(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDeri
   for (Eigen::Index c = 0; c < ni; ++c) {
     const Eigen::Index k = vi + c;
     const Vec6<S> axis = w.dof_axis.col(k);
-    const Vec6<S> force_per_v = S(2) * (coriolis * axis) + inertia * w.velocity_acceleration.col(k);
-    const Vec6<S> inertia_axis = inertia * axis, coriolis_t_axis = coriolis.transpose() * axis;
+    const Vec6<S> force_per_v = S(2) * coriolis_times(coriolis, axis) + inertia * w.velocity_acceleration.col(k);
+    const Vec6<S> inertia_axis = inertia * axis, coriolis_t_axis = coriolis_transpose_times(coriolis, axis);
     w.inertia_axis.col(k) = inertia_axis;  // for derivative_acceleration_terms
     w.coriolis_t_axis.col(k) = coriolis_t_axis;
     for (Eigen::Index c2 = 0; c2 < ni; ++c2) {  // the body's own DOFs: their axes turn with it
@@ -190,7 +190,7 @@ void derivative_acceleration_terms(const ModelTpl<S>& m, DynamicsDerivativesTpl<
     w.inverse_force[k] = axis.dot(force);
     if (!partials) continue;
     const Vec6<S> force_per_q =
-        inertia * w.displacement_acceleration.col(k) - S(2) * (coriolis * w.displacement_lever.col(k));
+        inertia * w.displacement_acceleration.col(k) - S(2) * coriolis_times(coriolis, Vec6<S>(w.displacement_lever.col(k)));
     const Vec6<S> inboard_force_per_q = force_per_q + force_cross(axis, force);
     const Vec6<S> inertia_axis = w.inertia_axis.col(k), coriolis_t_axis = w.coriolis_t_axis.col(k);
     for (Eigen::Index c2 = 0; c2 < ni; ++c2)  // the body's own DOFs: their axes turn with it
@@ -213,7 +213,7 @@ void add_to_parent(const ModelTpl<S>& m, DynamicsDerivativesTpl<S>& w, std::size
   const std::size_t a = static_cast<std::size_t>(p);
   if (inertias) {
     w.composite_inertia[a] += w.composite_inertia[i];
-    w.composite_coriolis_inertia[a] += w.composite_coriolis_inertia[i];
+    w.composite_coriolis_inertia[a].template leftCols<3>() += w.composite_coriolis_inertia[i].template leftCols<3>();
   }
   w.composite_force[a] += w.composite_force[i];
 }
