@@ -19,7 +19,9 @@
 //   dqdd/du = M~^-1 (I - M_RP),  dtau_P/du = M_P. dqdd/du,  dtau_R/du = [I 0],
 // with M~ the mass matrix whose prescribed rows and columns are the identity,
 // factored with the tree's sparsity (tree_cholesky.hpp). With no prescribed
-// DOF this is the derivative of forward dynamics, dqdd/du = M^-1.
+// DOF this is the derivative of forward dynamics, dqdd/du = M^-1, and the
+// forward dynamics itself comes from the same sweeps and factor
+// (qdd = M^-1 (u - ID(q, v, 0)), no articulated-body pass).
 //
 // Derivatives with respect to q are taken in the tangent space: column k is
 // d/de of the output at integrate(q, e e_k) (nv columns: a quaternion joint's

@@ -371,7 +371,7 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
   w.dtau_dv.setZero();
   w.dtau_du.setIdentity();
   for (const MatX<S>* x : {&w.dqdd_dq, &w.dqdd_dv, &w.dqdd_du}) {
-    const Status status = check_finite_columns(*x);
+    status = check_finite_columns(*x);
     if (!status.ok()) return status;
   }
   return Status{};
