@@ -85,7 +85,9 @@ struct DynamicsDerivativesTpl {
   Mat6X<S> inertia_axis, coriolis_t_axis;
   MatX<S> regular_mass;  // M~, factored in place (tree_cholesky.hpp)
   VecX<S> inverse_force;  // ID(q, v, qdd) of the last derivative sweeps
-  MatX<S> transposed_rhs;  // the solves' right-hand sides for q, v and u, transposed (3nv x nv)
+  // Hybrid masks: the solves' right-hand sides for q, v and u, transposed
+  // (3nv x nv); every DOF regular: U^-1 in its top nv rows.
+  MatX<S> transposed_rhs;
   std::vector<int> subtree_end;  // per DOF: the last DOF of its subtree (DOFs k..subtree_end[k])
 };
 
