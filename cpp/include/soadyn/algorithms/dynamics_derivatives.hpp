@@ -19,9 +19,10 @@
 //   dqdd/du = M~^-1 (I - M_RP),  dtau_P/du = M_P. dqdd/du,  dtau_R/du = [I 0],
 // with M~ the mass matrix whose prescribed rows and columns are the identity,
 // factored with the tree's sparsity (tree_cholesky.hpp). With no prescribed
-// DOF this is the derivative of forward dynamics, dqdd/du = M^-1, and the
-// forward dynamics itself comes from the same sweeps and factor
-// (qdd = M^-1 (u - ID(q, v, 0)), no articulated-body pass).
+// DOF this is the derivative of forward dynamics, dqdd/du = M^-1. The hybrid
+// dynamics itself comes from the same sweeps and factor (qdd_R = M_RR^-1
+// (u_R - ID_R(q, v, 0) - M_RP u_P), tau_P = ID_P(q, v, qdd)): no
+// articulated-body pass.
 //
 // Derivatives with respect to q are taken in the tangent space: column k is
 // d/de of the output at integrate(q, e e_k) (nv columns: a quaternion joint's
@@ -85,9 +86,7 @@ struct DynamicsDerivativesTpl {
   Mat6X<S> inertia_axis, coriolis_t_axis;
   MatX<S> regular_mass;  // M~, factored in place (tree_cholesky.hpp)
   VecX<S> inverse_force;  // ID(q, v, qdd) of the last derivative sweeps
-  // Hybrid masks: the solves' right-hand sides for q, v and u, transposed
-  // (3nv x nv); every DOF regular: U^-1 in its top nv rows.
-  MatX<S> transposed_rhs;
+  MatX<S> inverse_factor;  // W = U^-1 for the factor M~ = U U' (nv x nv)
   std::vector<int> subtree_end;  // per DOF: the last DOF of its subtree (DOFs k..subtree_end[k])
 };
 

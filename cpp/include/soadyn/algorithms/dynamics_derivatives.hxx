@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <utility>
 #include "soadyn/algorithms/dynamics_derivatives.hpp"
-#include "soadyn/algorithms/hybrid.hpp"
 #include "soadyn/algorithms/tree_cholesky.hpp"
 #include "soadyn/algorithms/tree_frame_steps.hpp"
 #include "soadyn/spatial/coriolis_inertia.hpp"
@@ -23,7 +22,7 @@ DynamicsDerivativesTpl<S>::DynamicsDerivativesTpl(const ModelTpl<S>& m) {
   inverse_force.setZero(nv);
   for (MatX<S>* x : {&inverse_dq, &inverse_dv, &dqdd_dq, &dqdd_dv, &dqdd_du, &dtau_dq, &dtau_dv, &dtau_du, &regular_mass})
     x->setZero(nv, nv);
-  transposed_rhs.setZero(3 * nv, nv);
+  inverse_factor.setZero(nv, nv);
   subtree_end.resize(static_cast<std::size_t>(nv));
   for (Eigen::Index k = nv; k-- > 0;) {  // DOFs in topological order: a subtree is a contiguous range
     subtree_end[static_cast<std::size_t>(k)] = std::max(subtree_end[static_cast<std::size_t>(k)], static_cast<int>(k));
@@ -51,8 +50,8 @@ DynamicsDerivativesTpl<S>::DynamicsDerivativesTpl(const ModelTpl<S>& m, OutputsO
 namespace detail {
 
 // Outward steps of the derivative sweeps for rigid body i, in two parts so
-// that the forward-dynamics derivatives can run the kinematics once and the
-// accelerations twice (forward_dynamics_derivatives).
+// that the derivatives (one_sweep_dynamics_derivatives) can run the kinematics once and the
+// accelerations twice (one_sweep_dynamics_derivatives).
 //
 // derivative_kinematics_step: tree-frame kinematics (tree_frame_steps.hpp),
 // the body's own inertia, Coriolis factor and velocity force
@@ -278,24 +277,28 @@ void prescribed_force_derivative(const ModelTpl<S>& m, const MatX<S>& mass, cons
   }
 }
 
-// Every DOF regular: the forward dynamics and its derivatives from one
-// kinematic sweep. The velocity terms (M, dID/dv) and h = ID(q, v, 0) come
-// first; qdd = M^-1 (u - h) with M^-1 from the tree factor M = U U'
-// (tree_cholesky.hpp), which the derivatives need anyway; then the accelerations, ID's
-// q-derivative at qdd and
-//   dqdd/du = M^-1,  dqdd/dx = -M^-1 dID/dx, x = q, v.
-// M^-1 = W' W for W = U^-1, upper triangular with the tree's pattern
-// (W(j, i) != 0 for j an ancestor of i or i): column i of W is U^-1 e_i,
-// nonzero on i's ancestors only, so entry (a, b), a <= b, of W' W is a dot
-// product over the first a + 1 rows. The products with dID/dx use its tree
-// pattern: column k is nonzero only on k's ancestors and on k's subtree,
-// the DOFs k..subtree_end[k] (blocks between branches are zero). Against an
-// articulated-body pass for qdd and solving [dID/dq dID/dv I] with the
+// The hybrid dynamics and its derivatives from one kinematic sweep. The
+// velocity terms (M, dID/dv) and h = ID(q, v, 0) come first; with M~ = M
+// whose prescribed rows and columns are the identity and its tree factor
+// M~ = U U' (tree_cholesky.hpp), M~^-1 = W' W for W = U^-1, upper triangular
+// with the tree's pattern (W(j, i) != 0 for j an ancestor of i or i: column
+// i of W is nonzero on i's ancestors only, so entry (a, b), a <= b, of W' W
+// is a dot product over the first a + 1 rows). Then
+//   qdd = M~^-1 b,  b_R = u_R - h_R - M_RP u_P,  b_P = u_P
+// (Jain & Rodriguez 1993, Eq. 12, partitioned), the accelerations, ID and its
+// q-derivative at qdd, tau_P = ID_P, and
+//   dqdd/dx = -M~^-1 dID~/dx (x = q, v; dID~ without its prescribed rows),
+//   dqdd/du = M~^-1 on regular columns, e_p - M~^-1 M~_.p on prescribed ones
+//     (M~_.p: column p of M without its prescribed rows),
+//   dtau_P/dx = dID_P/dx + M_P. dqdd/dx,  dtau_P/du = M_P. dqdd/du.
+// The products use the tree pattern of dID/dx and of M: a column is nonzero
+// on its DOF's ancestors and subtree (DOFs k..subtree_end[k]) only. Against
+// an articulated-body pass for qdd and solving [dID/dq dID/dv I] with the
 // factor, one kinematic sweep fewer and about half the multiplications for a
 // humanoid.
 template <class S>
-Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w,
-                                    const S* q, const S* v, const S* u, const S* f_ext) {
+Status one_sweep_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w,
+                                      const S* q, const S* v, const S* u, const S* f_ext) {
   const Eigen::Index nv = m.nv;
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   const Vec6<S> world_acc = world_acceleration(m);
@@ -314,18 +317,26 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
   add_joint_terms(m, d, w, q, v, static_cast<const S*>(nullptr), true, false);
   MatX<S>& U = w.regular_mass;
   U = d.mass_matrix;
+  replace_prescribed_by_identity(m, U);
   const int bad_pivot = tree_ltl_in_place(U, m.dof_parent, m.dof_run_start);
   if (bad_pivot >= 0) return {StatusCode::singular_articulated_inertia, bad_pivot};
-  MatX<S>& W = w.transposed_rhs;  // the top nv x nv block: W = U^-1
-  auto inverse_factor = W.topRows(nv);
+  MatX<S>& inverse_factor = w.inverse_factor;
   tree_ltl_inverse_factor(U, m.dof_parent, m.dof_run_start, inverse_factor);
   MatX<S>& Minv = w.dqdd_du;
   for (Eigen::Index b = 0; b < nv; ++b)
     for (Eigen::Index a = 0; a <= b; ++a)
       Minv(a, b) = Minv(b, a) = inverse_factor.col(a).head(a + 1).dot(inverse_factor.col(b).head(a + 1));
-  d.tau = Eigen::Map<const VecX<S>>(u, nv) - w.inverse_force;  // u - h, then tau = u (every DOF regular)
-  d.qdd.noalias() = Minv * d.tau;
-  d.tau = Eigen::Map<const VecX<S>>(u, nv);
+  VecX<S>& b = d.tau;  // b, then tau
+  b = Eigen::Map<const VecX<S>>(u, nv) - w.inverse_force;
+  for (int k = 0; k < m.n_prescribed; ++k) {  // b_R -= M_RP u_P, b_P = u_P
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+    b.noalias() -= d.mass_matrix.col(p) * u[p];
+  }
+  for (int k = 0; k < m.n_prescribed; ++k) {
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+    b[p] = u[p];
+  }
+  d.qdd.noalias() = Minv * b;
   Status status = check_finite(d.qdd);
   if (!status.ok()) return status;
   for (std::size_t i = 0; i < n; ++i) derivative_acceleration_step(m, d, w, i, v, d.qdd.data(), world_acc, true);
@@ -334,8 +345,17 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
     add_to_parent(m, w, i, false);
   }
   add_joint_terms(m, d, w, q, v, d.qdd.data(), false, true);
+  d.tau = Eigen::Map<const VecX<S>>(u, nv);
+  for (int k = 0; k < m.n_prescribed; ++k) {  // tau_P = ID_P(q, v, qdd)
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+    d.tau[p] = w.inverse_force[p];
+  }
+  status = check_prescribed_finite(m, d.tau);
+  if (!status.ok()) return status;
   w.dqdd_dq.setZero();
   w.dqdd_dv.setZero();
+  // 1 on regular DOFs, 0 on prescribed ones: dID~ is dID without its prescribed rows.
+  const auto regular = [&](int dof) { return m.is_prescribed(dof) ? S(0) : S(1); };
   // Columns k of dqdd/dq and dqdd/dv together: each column of M^-1 is read
   // once for both (plain loops: no product dispatch for these short columns).
   for (Eigen::Index k = 0; k < nv; ++k) {
@@ -346,7 +366,8 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
     const auto accumulate = [&](int first, int last) {
       int c = first;
       for (; c < last; c += 2) {  // two columns of M^-1 per pass over the outputs
-        const S a_q = partial_q[c], a_v = partial_v[c], b_q = partial_q[c + 1], b_v = partial_v[c + 1];
+        const S a_q = regular(c) * partial_q[c], a_v = regular(c) * partial_v[c];
+        const S b_q = regular(c + 1) * partial_q[c + 1], b_v = regular(c + 1) * partial_v[c + 1];
         const S* const column_a = &Minv(0, c);
         const S* const column_b = &Minv(0, c + 1);
         for (Eigen::Index r = 0; r < nv; ++r) {
@@ -355,7 +376,7 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
         }
       }
       if (c == last) {
-        const S a_q = partial_q[c], a_v = partial_v[c];
+        const S a_q = regular(c) * partial_q[c], a_v = regular(c) * partial_v[c];
         const S* const column = &Minv(0, c);
         for (Eigen::Index r = 0; r < nv; ++r) {
           out_q[r] -= a_q * column[r];
@@ -366,11 +387,25 @@ Status forward_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
     accumulate(static_cast<int>(k), w.subtree_end[static_cast<std::size_t>(k)]);
     for_each_ancestor_run(static_cast<int>(k), false, m.dof_parent, m.dof_run_start, accumulate);
   }
-  // No prescribed DOF: no force derivative but the identity of tau = u.
-  w.dtau_dq.setZero();
-  w.dtau_dv.setZero();
-  w.dtau_du.setIdentity();
-  for (const MatX<S>* x : {&w.dqdd_dq, &w.dqdd_dv, &w.dqdd_du}) {
+  // dqdd/du: M~^-1 on regular columns; column p = e_p - M~^-1 M~_.p on a
+  // prescribed one (M~^-1 has e_p there, and M's column p is nonzero on p's
+  // ancestors and subtree only).
+  for (int k = 0; k < m.n_prescribed; ++k) {
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+    const auto subtract = [&](int first, int last) {
+      for (int c = first; c <= last; ++c)
+        if (!m.is_prescribed(c)) Minv.col(p) -= Minv.col(c) * d.mass_matrix(c, p);
+    };
+    subtract(p, w.subtree_end[static_cast<std::size_t>(p)]);
+    for_each_ancestor_run(p, false, m.dof_parent, m.dof_run_start, subtract);
+  }
+  // Regular DOFs: tau = u (the identity); prescribed: tau_P = ID_P (prescribed_force_derivative).
+  prescribed_force_derivative(m, d.mass_matrix, &w.inverse_dq, w.dqdd_dq, w.dtau_dq);
+  prescribed_force_derivative(m, d.mass_matrix, &w.inverse_dv, w.dqdd_dv, w.dtau_dv);
+  prescribed_force_derivative(m, d.mass_matrix, static_cast<const MatX<S>*>(nullptr), w.dqdd_du, w.dtau_du);
+  for (int r = 0; r < m.nv; ++r)
+    if (!m.is_prescribed(r)) w.dtau_du(r, r) = S(1);
+  for (const MatX<S>* x : {&w.dqdd_dq, &w.dqdd_dv, &w.dqdd_du, &w.dtau_dq, &w.dtau_dv, &w.dtau_du}) {
     status = check_finite_columns(*x);
     if (!status.ok()) return status;
   }
@@ -391,47 +426,7 @@ Status inverse_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynamic
 template <class S>
 Status dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w, const ConstVecRef<S>& q,
                             const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext) {
-  if (m.n_prescribed == 0) return detail::forward_dynamics_derivatives(m, d, w, q.data(), v.data(), u.data(), f_ext);
-  Status status = hybrid_dynamics(m, d, q, v, u, f_ext);
-  if (!status.ok()) return status;
-  status = detail::inverse_derivative_sweeps(m, d, w, q.data(), v.data(), d.qdd.data(), f_ext);
-  if (!status.ok()) return status;
-  // M~: the prescribed rows and columns replaced by the identity.
-  w.regular_mass = d.mass_matrix;
-  replace_prescribed_by_identity(m, w.regular_mass);
-  const int bad_pivot = tree_ltl_in_place(w.regular_mass, m.dof_parent, m.dof_run_start);
-  if (bad_pivot >= 0) return {StatusCode::singular_articulated_inertia, bad_pivot};
-  // The three right-hand sides side by side, X = [X_q X_v X_u] (nv x 3nv),
-  // solved at once and stored transposed (tree_ltl_solve_rows: column i of
-  // transposed_rhs is row i of X): -dID_R/dx on regular rows, zero on
-  // prescribed rows; for u, the identity with -M_RP in the prescribed
-  // columns' regular rows.
-  const Eigen::Index nv = m.nv;
-  MatX<S>& rhs = w.transposed_rhs;
-  rhs.topRows(nv) = -w.inverse_dq.transpose();
-  rhs.middleRows(nv, nv) = -w.inverse_dv.transpose();
-  rhs.bottomRows(nv).setIdentity();
-  for (int k = 0; k < m.n_prescribed; ++k) {
-    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
-    rhs.col(p).head(2 * nv).setZero();
-    for (int r = 0; r < m.nv; ++r)
-      if (!m.is_prescribed(r)) rhs(2 * nv + p, r) = -d.mass_matrix(r, p);
-  }
-  tree_ltl_solve_transposed_rows(w.regular_mass, m.dof_parent, m.dof_run_start, rhs);
-  tree_ltl_solve_rows(w.regular_mass, m.dof_parent, m.dof_run_start, rhs);
-  w.dqdd_dq = rhs.topRows(nv).transpose();
-  w.dqdd_dv = rhs.middleRows(nv, nv).transpose();
-  w.dqdd_du = rhs.bottomRows(nv).transpose();
-  detail::prescribed_force_derivative(m, d.mass_matrix, &w.inverse_dq, w.dqdd_dq, w.dtau_dq);
-  detail::prescribed_force_derivative(m, d.mass_matrix, &w.inverse_dv, w.dqdd_dv, w.dtau_dv);
-  detail::prescribed_force_derivative(m, d.mass_matrix, static_cast<const MatX<S>*>(nullptr), w.dqdd_du, w.dtau_du);
-  for (int r = 0; r < m.nv; ++r)
-    if (!m.is_prescribed(r)) w.dtau_du(r, r) = S(1);
-  for (const MatX<S>* x : {&w.dqdd_dq, &w.dqdd_dv, &w.dqdd_du, &w.dtau_dq, &w.dtau_dv, &w.dtau_du}) {
-    const Status status = check_finite_columns(*x);
-    if (!status.ok()) return status;
-  }
-  return Status{};
+  return detail::one_sweep_dynamics_derivatives(m, d, w, q.data(), v.data(), u.data(), f_ext);
 }
 
 }  // namespace soadyn
