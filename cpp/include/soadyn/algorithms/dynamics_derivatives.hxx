@@ -326,17 +326,17 @@ Status one_sweep_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynam
   for (Eigen::Index b = 0; b < nv; ++b)
     for (Eigen::Index a = 0; a <= b; ++a)
       Minv(a, b) = Minv(b, a) = inverse_factor.col(a).head(a + 1).dot(inverse_factor.col(b).head(a + 1));
-  VecX<S>& b = d.tau;  // b, then tau
-  b = Eigen::Map<const VecX<S>>(u, nv) - w.inverse_force;
+  VecX<S>& rhs = d.tau;  // b, then tau
+  rhs = Eigen::Map<const VecX<S>>(u, nv) - w.inverse_force;
   for (int k = 0; k < m.n_prescribed; ++k) {  // b_R -= M_RP u_P, b_P = u_P
     const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
-    b.noalias() -= d.mass_matrix.col(p) * u[p];
+    rhs.noalias() -= d.mass_matrix.col(p) * u[p];
   }
   for (int k = 0; k < m.n_prescribed; ++k) {
     const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
-    b[p] = u[p];
+    rhs[p] = u[p];
   }
-  d.qdd.noalias() = Minv * b;
+  d.qdd.noalias() = Minv * rhs;
   Status status = check_finite(d.qdd);
   if (!status.ok()) return status;
   for (std::size_t i = 0; i < n; ++i) derivative_acceleration_step(m, d, w, i, v, d.qdd.data(), world_acc, true);
