@@ -121,35 +121,3 @@ void tree_ltl_inverse_factor(const Eigen::MatrixBase<FactorDerived>& U, const st
 }
 
 }  // namespace soadyn
-
-namespace soadyn {
-
-// The two halves of a solve applied to the rows of X, given as the columns of
-// X' (`rows`, nv x k column-major: column i is row i of X). Every operation is
-// then a scaled addition of whole contiguous columns (vectorised), the form
-// for many right-hand sides at once (derivatives: X has nv columns).
-// rows <- (U^-1 X)' :
-template <class FactorDerived, class Derived>
-void tree_ltl_solve_transposed_rows(const Eigen::MatrixBase<FactorDerived>& U, const std::vector<int>& parent,
-                                    const std::vector<int>& run_start, Eigen::MatrixBase<Derived>& rows) {
-  for (int i = static_cast<int>(U.rows()) - 1; i >= 0; --i) {
-    rows.col(i) /= U(i, i);
-    for_each_ancestor_run(i, false, parent, run_start, [&](int first, int last) {
-      for (int j = first; j <= last; ++j) rows.col(j) -= U(j, i) * rows.col(i);
-    });
-  }
-}
-
-// rows <- (L^-1 X)' = (U'^-1 X)' :
-template <class FactorDerived, class Derived>
-void tree_ltl_solve_rows(const Eigen::MatrixBase<FactorDerived>& U, const std::vector<int>& parent,
-                         const std::vector<int>& run_start, Eigen::MatrixBase<Derived>& rows) {
-  for (int i = 0; i < static_cast<int>(U.rows()); ++i) {
-    for_each_ancestor_run(i, false, parent, run_start, [&](int first, int last) {
-      for (int j = first; j <= last; ++j) rows.col(i) -= U(j, i) * rows.col(j);
-    });
-    rows.col(i) /= U(i, i);
-  }
-}
-
-}  // namespace soadyn
