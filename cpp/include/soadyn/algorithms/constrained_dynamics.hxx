@@ -1,6 +1,8 @@
 #pragma once
 #include <algorithm>
 #include "soadyn/algorithms/constrained_dynamics.hpp"
+#include "soadyn/algorithms/articulated_loop_response.hxx"
+#include "soadyn/algorithms/dynamics_path.hxx"
 #include "soadyn/algorithms/crba.hpp"
 #include "soadyn/algorithms/hybrid.hxx"
 #include "soadyn/algorithms/kinematics.hpp"
@@ -24,16 +26,14 @@ void substitute_prescribed(const ModelTpl<S>& m, LoopData<S>& ld, const MatX<S>&
                             ld.constraint_jacobian_regular);
 }
 
-// Loop wrenches W lambda from the multipliers (loops/loop.hpp), from the
-// directions at the current configuration.
+// Loop wrenches W lambda from the multipliers (loops/loop.hpp), with the
+// directions the loop equations left at the current configuration.
 template <class S>
 void loop_wrenches_from_multipliers(const ModelTpl<S>& m, DataTpl<S>& d) {
   for (std::size_t l = 0; l < m.loops.size(); ++l) {
     const LoopTpl<S>& loop = m.loops[l];
-    const Transform<S> A = loop_frame_in_world(d, loop.body_a, loop.placement_a);
-    const Transform<S> B = loop_frame_in_world(d, loop.body_b, loop.placement_b);
-    const LoopDirections<S> dir = loop_directions<S>(loop, A, B, Vec6<S>::Zero(), Vec3<S>::Zero(), Vec3<S>::Zero());
-    d.loops.wrench[l].noalias() = dir.W.leftCols(loop.rows()) * d.loops.multipliers.segment(loop.first_row, loop.rows());
+    d.loops.wrench[l].noalias() =
+        d.loops.directions[l].leftCols(loop.rows()) * d.loops.multipliers.segment(loop.first_row, loop.rows());
   }
 }
 
@@ -188,6 +188,20 @@ Status constrained_hinge_forces(const ModelTpl<S>& m, DataTpl<S>& d, const Const
   return {};
 }
 
+// What both solves do once qdd, tau (at lambda0) and the multipliers are
+// known: the minimum-norm actuator forces, the loop wrenches, and the checks.
+template <class S>
+Status finish_constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d) {
+  minimum_norm_actuation(m, d);  // B's regular rows are zero: it reads and moves the prescribed entries only
+  loop_wrenches_from_multipliers(m, d);
+  Status status = check_finite(d.qdd);
+  if (!status.ok()) return status;
+  status = check_finite(d.tau);
+  if (!status.ok()) return status;
+  if (!d.loops.multipliers.allFinite()) return {StatusCode::non_finite_result, -1};
+  return status;
+}
+
 template <class S>
 Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& u) {
   LoopData<S>& ld = d.loops;
@@ -226,14 +240,61 @@ Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<
     const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
     d.tau[p] = ld.bias[p] + d.mass_matrix.row(p).dot(d.qdd) - ld.jacobian.col(p).dot(ld.multipliers);
   }
-  minimum_norm_actuation(m, d);  // B's regular rows are zero: it reads and moves the prescribed entries only
-  detail::loop_wrenches_from_multipliers(m, d);
-  Status status = check_finite(d.qdd);
-  if (!status.ok()) return status;
-  status = check_finite(d.tau);
-  if (!status.ok()) return status;
-  if (!ld.multipliers.allFinite()) return {StatusCode::non_finite_result, -1};
-  return status;
+  return finish_constrained_solve(m, d);
+}
+
+// constrained_dynamics through the mass matrix: M (CRBA) and h - J' f_ext
+// (inverse dynamics at qdd = 0, which leaves the body accelerations kappa
+// needs), then constrained_solve. Any dynamics path.
+template <class S>
+Status mass_matrix_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
+                                        const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext) {
+  const Status inertia = mass_matrix(m, d, q);
+  if (!inertia.ok()) return inertia;
+  detail::rnea(m, d, q.data(), v.data(), static_cast<const S*>(nullptr), f_ext);
+  d.loops.bias = d.tau;
+  update_world_poses(m, d);
+  detail::loop_equations(m, d, true);
+  return detail::constrained_solve(m, d, u);
+}
+
+// constrained_dynamics through the articulated-body factorisation of the
+// tree-frame hybrid sweeps (rigid models): the sweeps give the accelerations
+// without loop forces qdd_free, tau_p and the factors; the loop equations,
+// read at qdd_free, give rhs = kappa - C qdd_free; articulated_loop_response
+// gives Y = M_rr^-1 C_r' and the prescribed forces' response T_p; then
+//   K lambda = rhs,  K = C_r Y (symmetric up to rounding, symmetrised),
+//   qdd = qdd_free + Y lambda,  tau_p = tau_p(free) + T_p lambda,
+// the same equations as constrained_solve at O(N m) instead of O(N d^2).
+// Returns beyond_tree_frame_reach, having changed no output, when a body
+// lies too far from its tree origin for tree frames.
+template <class S>
+Status articulated_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
+                                        const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext) {
+  const Status sweeps = tree_frame_sweeps_for<ModePolicy::model_flags, false>(
+      m, d, q.data(), velocities_unless_at_rest(m, v), u.data(), f_ext, world_acceleration(m), false);
+  if (!sweeps.ok()) return sweeps;
+  LoopData<S>& ld = d.loops;
+  set_world_poses_from_tree_frames(m, d, q.data());
+  loop_equations_from<TreeFrameLoopKinematics>(m, d, true);  // kappa - C qdd_free, in kappa
+  ld.rhs = ld.kappa;
+  ld.free_acceleration = d.qdd;
+  ld.kappa.noalias() += ld.jacobian * d.qdd;
+  restrict_jacobian_columns(ld.jacobian, [&](Eigen::Index k) { return !m.is_prescribed(static_cast<int>(k)); },
+                            ld.constraint_jacobian_regular);
+  const Status response = articulated_loop_response(m, d);
+  if (!response.ok()) return response;
+  ld.delassus.noalias() = ld.qdd_response.lazyProduct(ld.constraint_jacobian_regular.transpose());
+  for (int j = 0; j < m.nloop_equations; ++j)
+    for (int i = j + 1; i < m.nloop_equations; ++i) ld.delassus(i, j) = ld.delassus(j, i) = S(0.5) * (ld.delassus(i, j) + ld.delassus(j, i));
+  if (semidefinite_min_norm_solve(ld.delassus, ld.rhs, delassus_threshold<S>(), ld.delassus_solve, ld.multipliers) < 0)
+    return {StatusCode::non_finite_result, -1};
+  d.qdd.noalias() += ld.qdd_response.transpose() * ld.multipliers;
+  for (int k = 0; k < m.n_prescribed; ++k) {
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+    d.tau[p] += ld.tau_response.col(p).dot(ld.multipliers);
+  }
+  return finish_constrained_solve(m, d);
 }
 
 // constrained_dynamics of the model without its force elements.
@@ -242,14 +303,10 @@ Status rigid_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const Con
                                   const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext,
                                   DynamicsOutputs outputs) {
   if (m.nloops() == 0) return rigid_hybrid_dynamics(m, d, q, v, u, f_ext, outputs);
-  const Status inertia = mass_matrix(m, d, q);
-  if (!inertia.ok()) return inertia;
-  // h - J' f_ext, and the body accelerations of qdd = 0 that kappa needs.
-  detail::rnea(m, d, q.data(), v.data(), static_cast<const S*>(nullptr), f_ext);
-  d.loops.bias = d.tau;
-  update_world_poses(m, d);
-  detail::loop_equations(m, d, true);
-  Status status = detail::constrained_solve(m, d, u);
+  Status status = m.dynamics_path == DynamicsPath::rigid_tree_frames
+                      ? articulated_constrained_dynamics(m, d, q, v, u, f_ext)
+                      : Status{StatusCode::beyond_tree_frame_reach, -1};
+  if (status.code == StatusCode::beyond_tree_frame_reach) status = mass_matrix_constrained_dynamics(m, d, q, v, u, f_ext);
   if (!status.ok()) return status;
   // A full-rank Delassus system is solved exactly: only a rank-deficient one
   // can leave closure accelerations unmet.

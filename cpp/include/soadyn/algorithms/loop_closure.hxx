@@ -9,49 +9,97 @@ namespace soadyn {
 namespace detail {
 
 // Motion of a point fixed on a body (or on the world, body -1), world axes:
-// angular velocity, the point's velocity, and with qdd = 0 the angular and
-// the classical point acceleration.
+// angular velocity, the point's velocity, and the angular and the classical
+// point acceleration of the body accelerations in `data`.
 template <class S>
 struct PointMotion {
   Vec3<S> omega = Vec3<S>::Zero(), velocity = Vec3<S>::Zero();
   Vec3<S> angular_acceleration = Vec3<S>::Zero(), acceleration = Vec3<S>::Zero();
 };
 
-// `r`: the point in the body frame. The body accelerations in `data` carry
-// the -gravity base acceleration, whose body-frame value is [0; -R' g].
-template <class S>
-PointMotion<S> body_point_motion(const ModelTpl<S>& m, const DataTpl<S>& d, int body, const Vec3<S>& r,
-                                 bool with_acceleration) {
-  PointMotion<S> pm;
-  if (body < 0) return pm;
-  const std::size_t b = static_cast<std::size_t>(body);
-  const Mat3<S>& R = d.pose_in_world[b].rotation;
-  const Vec3<S> w = d.body_velocity[b].template head<3>();
-  const Vec3<S> v_r = d.body_velocity[b].template tail<3>() + w.cross(r);
-  pm.omega = R * w;
-  pm.velocity = R * v_r;
-  if (with_acceleration) {
-    const Vec3<S> alpha = d.body_acceleration[b].template head<3>();
-    const Vec3<S> a = d.body_acceleration[b].template tail<3>() + R.transpose() * m.gravity;
-    pm.angular_acceleration = R * alpha;
-    pm.acceleration = R * (a + alpha.cross(r) + w.cross(v_r));  // classical acceleration of the point
+// Where the loop equations read the kinematics. Body frames: pose_in_world,
+// body_subspace, body_velocity and body_acceleration, as forward kinematics
+// and inverse dynamics leave them (the accelerations of qdd = 0 for kappa).
+struct BodyFrameLoopKinematics {
+  // `r`: the point in the body frame. The body accelerations carry the
+  // -gravity base acceleration, whose body-frame value is [0; -R' g].
+  template <class S>
+  static PointMotion<S> point_motion(const ModelTpl<S>& m, const DataTpl<S>& d, int body, const Vec3<S>& r,
+                                     bool with_acceleration) {
+    PointMotion<S> pm;
+    if (body < 0) return pm;
+    const std::size_t b = static_cast<std::size_t>(body);
+    const Mat3<S>& R = d.pose_in_world[b].rotation;
+    const Vec3<S> w = d.body_velocity[b].template head<3>();
+    const Vec3<S> v_r = d.body_velocity[b].template tail<3>() + w.cross(r);
+    pm.omega = R * w;
+    pm.velocity = R * v_r;
+    if (with_acceleration) {
+      const Vec3<S> alpha = d.body_acceleration[b].template head<3>();
+      const Vec3<S> a = d.body_acceleration[b].template tail<3>() + R.transpose() * m.gravity;
+      pm.angular_acceleration = R * alpha;
+      pm.acceleration = R * (a + alpha.cross(r) + w.cross(v_r));  // classical acceleration of the point
+    }
+    return pm;
   }
-  return pm;
-}
+
+  // Body j's hinge columns H*(j) carried to the world, about world point p.
+  template <class S>
+  static void point_columns(const ModelTpl<S>&, const DataTpl<S>& d, std::size_t j, const Vec3<S>& p,
+                            Eigen::Index c, Vec3<S>& angular, Vec3<S>& linear) {
+    const Transform<S>& X = d.pose_in_world[j];
+    const Mat6N<S>& H = d.sweep.body_subspace[j];
+    angular = X.rotation * H.col(c).template head<3>();
+    linear = X.rotation * H.col(c).template tail<3>() + angular.cross(p - X.translation);
+  }
+};
+
+// Tree frames, as the tree-frame sweeps leave them (tree_frame_steps.hpp:
+// world axes, about the origin of the body's tree), with
+// loops.tree_origin[b] the world position of that origin and pose_in_world
+// filled (set_world_poses_from_tree_frames). The accelerations are those of
+// the sweeps' qdd: kappa then comes out as kappa - C qdd.
+struct TreeFrameLoopKinematics {
+  template <class S>
+  static PointMotion<S> point_motion(const ModelTpl<S>& m, const DataTpl<S>& d, int body, const Vec3<S>& r,
+                                     bool with_acceleration) {
+    PointMotion<S> pm;
+    if (body < 0) return pm;
+    const std::size_t b = static_cast<std::size_t>(body);
+    const Transform<S>& X = d.sweep.tree_pose[b];
+    const Vec3<S> arm = X.rotation * r + X.translation;  // from the tree origin to the point
+    const Vec6<S>& V = d.sweep.tree_velocity[b];
+    pm.omega = V.template head<3>();
+    pm.velocity = V.template tail<3>() + pm.omega.cross(arm);
+    if (with_acceleration) {
+      const Vec6<S>& alpha = d.sweep.tree_acceleration[b];  // spatial acceleration, with -gravity
+      pm.angular_acceleration = alpha.template head<3>();
+      pm.acceleration = alpha.template tail<3>() + pm.angular_acceleration.cross(arm) + pm.omega.cross(pm.velocity) +
+                        m.gravity;
+    }
+    return pm;
+  }
+
+  template <class S>
+  static void point_columns(const ModelTpl<S>&, const DataTpl<S>& d, std::size_t j, const Vec3<S>& p,
+                            Eigen::Index c, Vec3<S>& angular, Vec3<S>& linear) {
+    const Mat6N<S>& H = d.sweep.tree_subspace[j];
+    angular = H.col(c).template head<3>();
+    linear = H.col(c).template tail<3>() + angular.cross(p - d.loops.tree_origin[j]);
+  }
+};
 
 // J += sign * [angular; linear velocity of the body's point at world
 // position p] as a map of v: the body's world Jacobian, one column per
 // hinge DOF on its root path (H*(j) of Jain & Rodriguez 1993 carried to the world).
-template <class S>
+template <class Kinematics, class S>
 void add_point_jacobian(const ModelTpl<S>& m, const DataTpl<S>& d, int body, const Vec3<S>& p, S sign,
                         Mat6X<S>& J) {
   for (int j = body; j >= 0; j = m.parent[static_cast<std::size_t>(j)]) {
     const std::size_t js = static_cast<std::size_t>(j);
-    const Transform<S>& X = d.pose_in_world[js];
-    const Mat6N<S>& H = d.sweep.body_subspace[js];
-    for (Eigen::Index c = 0; c < H.cols(); ++c) {
-      const Vec3<S> w = X.rotation * H.col(c).template head<3>();
-      const Vec3<S> lin = X.rotation * H.col(c).template tail<3>() + w.cross(p - X.translation);
+    for (Eigen::Index c = 0; c < m.nv_body[js]; ++c) {
+      Vec3<S> w, lin;
+      Kinematics::point_columns(m, d, js, p, c, w, lin);
       J.col(m.v_index[js] + c).template head<3>() += sign * w;
       J.col(m.v_index[js] + c).template tail<3>() += sign * lin;
     }
@@ -124,24 +172,26 @@ LoopDirections<S> loop_directions(const LoopTpl<S>& loop, const Transform<S>& A,
   return ld;
 }
 
-template <class S>
-void loop_equations(const ModelTpl<S>& m, DataTpl<S>& d, bool with_kappa) {
+template <class Kinematics, class S>
+void loop_equations_from(const ModelTpl<S>& m, DataTpl<S>& d, bool with_kappa) {
   LoopData<S>& ld = d.loops;
-  for (const LoopTpl<S>& loop : m.loops) {
+  for (std::size_t l = 0; l < m.loops.size(); ++l) {
+    const LoopTpl<S>& loop = m.loops[l];
     const Transform<S> A = loop_frame_in_world(d, loop.body_a, loop.placement_a);
     const Transform<S> B = loop_frame_in_world(d, loop.body_b, loop.placement_b);
     // P: the point of body B whose velocity enters (A's origin for a prismatic loop, B's otherwise).
     const Vec3<S> P = loop.kind == LoopKind::prismatic ? A.translation : B.translation;
     const Vec3<S> P_in_b = loop.body_b < 0 ? P : d.pose_in_world[static_cast<std::size_t>(loop.body_b)].inverse().apply_point(P);
-    const PointMotion<S> a = body_point_motion(m, d, loop.body_a, loop.placement_a.translation, with_kappa);
-    const PointMotion<S> b = body_point_motion(m, d, loop.body_b, P_in_b, with_kappa);
+    const PointMotion<S> a = Kinematics::point_motion(m, d, loop.body_a, loop.placement_a.translation, with_kappa);
+    const PointMotion<S> b = Kinematics::point_motion(m, d, loop.body_b, P_in_b, with_kappa);
     Vec6<S> relative_velocity;
     relative_velocity << a.omega - b.omega, a.velocity - b.velocity;
     const LoopDirections<S> dir = loop_directions(loop, A, B, relative_velocity, a.omega, b.omega);
     ld.relative_jacobian.setZero();
-    add_point_jacobian(m, d, loop.body_a, A.translation, S(1), ld.relative_jacobian);
-    add_point_jacobian(m, d, loop.body_b, P, S(-1), ld.relative_jacobian);
+    add_point_jacobian<Kinematics>(m, d, loop.body_a, A.translation, S(1), ld.relative_jacobian);
+    add_point_jacobian<Kinematics>(m, d, loop.body_b, P, S(-1), ld.relative_jacobian);
     const int k = loop.rows();
+    ld.directions[l] = dir.W;
     ld.residual.segment(loop.first_row, k) = dir.residual.head(k);
     ld.jacobian.middleRows(loop.first_row, k).noalias() = dir.W.leftCols(k).transpose().lazyProduct(ld.relative_jacobian);
     ld.velocity_residual.segment(loop.first_row, k).noalias() = dir.W.leftCols(k).transpose() * relative_velocity;
@@ -156,6 +206,11 @@ void loop_equations(const ModelTpl<S>& m, DataTpl<S>& d, bool with_kappa) {
           -(dir.W.leftCols(k).transpose() * relative_acceleration + dir.W_rate.leftCols(k).transpose() * relative_velocity);
     }
   }
+}
+
+template <class S>
+void loop_equations(const ModelTpl<S>& m, DataTpl<S>& d, bool with_kappa) {
+  loop_equations_from<BodyFrameLoopKinematics>(m, d, with_kappa);
 }
 
 }  // namespace detail

@@ -109,8 +109,8 @@ void add_loop_stiffness(const ModelTpl<S>& m, DataTpl<S>& d, const LoopTpl<S>& l
   add_side_stiffness(m, d, loop.body_a, loop.body_a, A.translation, w, S(1), out);
   add_side_stiffness(m, d, loop.body_b, prismatic ? loop.body_a : loop.body_b, P, w, S(-1), out);
   d.loops.relative_jacobian.setZero();
-  add_point_jacobian(m, d, loop.body_a, A.translation, S(1), d.loops.relative_jacobian);
-  add_point_jacobian(m, d, loop.body_b, P, S(-1), d.loops.relative_jacobian);
+  add_point_jacobian<BodyFrameLoopKinematics>(m, d, loop.body_a, A.translation, S(1), d.loops.relative_jacobian);
+  add_point_jacobian<BodyFrameLoopKinematics>(m, d, loop.body_b, P, S(-1), d.loops.relative_jacobian);
   switch (loop.kind) {
     case LoopKind::revolute:
       add_turning_direction(m, d, loop.body_a, Vec3<S>(A.rotation.col(0) * nu[3] + A.rotation.col(1) * nu[4]), true, out);

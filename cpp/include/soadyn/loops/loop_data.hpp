@@ -12,9 +12,10 @@ template <class S> using Mat6X = Eigen::Matrix<S, 6, Eigen::Dynamic>;
 
 template <class S>
 struct LoopData {
-  LoopData(int nq, int nv, int m, int nloops)
+  LoopData(int nq, int nv, int m, int nloops, int nbodies)
       : residual(VecX<S>::Zero(m)), velocity_residual(VecX<S>::Zero(m)), jacobian(MatX<S>::Zero(m, nv)),
         kappa(VecX<S>::Zero(m)), multipliers(VecX<S>::Zero(m)), wrench(static_cast<std::size_t>(nloops), Vec6<S>::Zero()),
+        directions(static_cast<std::size_t>(nloops), Mat6<S>::Zero()),
         relative_jacobian(Mat6X<S>::Zero(6, nv)), regular_mass(MatX<S>::Zero(nv, nv)),
         constraint_jacobian_regular(MatX<S>::Zero(m, nv)), half_solved_ct(MatX<S>::Zero(nv, m)),
         delassus(MatX<S>::Zero(m, m)), delassus_solve(m), rhs(VecX<S>::Zero(m)),
@@ -22,7 +23,11 @@ struct LoopData {
         null_work(VecX<S>::Zero(m)), actuation_map(MatX<S>::Zero(nv, m)), actuation_gram(MatX<S>::Zero(m, m)),
         actuation_solve(m), actuation_rhs(VecX<S>::Zero(m)), actuation_step(VecX<S>::Zero(m)),
         rank_qr(m, nv),
-        projection_multipliers(VecX<S>::Zero(m)), correction(VecX<S>::Zero(nv)), q_start(VecX<S>::Zero(nq)) {}
+        projection_multipliers(VecX<S>::Zero(m)), correction(VecX<S>::Zero(nv)), q_start(VecX<S>::Zero(nq)),
+        tree_origin(static_cast<std::size_t>(nbodies), Vec3<S>::Zero()), response_flags(static_cast<std::size_t>(nbodies), 0),
+        z_response(MatX<S>::Zero(m, 6 * nbodies)), acceleration_response(MatX<S>::Zero(m, 6 * nbodies)),
+        innovation_response(MatX<S>::Zero(m, nv)), qdd_response(MatX<S>::Zero(m, nv)),
+        tau_response(MatX<S>::Zero(m, nv)), hinge_response(MatX<S>::Zero(m, 6)), hinge_work(MatX<S>::Zero(6, m)) {}
 
   // Outputs.
   VecX<S> residual;           // Psi(q), m
@@ -31,6 +36,7 @@ struct LoopData {
   VecX<S> kappa;              // C qdd = kappa, kappa = -Cdot v
   VecX<S> multipliers;        // lambda: M qdd + h = tau + C' lambda
   aligned_vector<Vec6<S>> wrench;  // per loop: [torque; force] of B's side on A's side, world axes, about A's origin
+  aligned_vector<Mat6<S>> directions;  // per loop: W (loop_closure.hxx), its first rows() columns: wrench = W lambda
 
   // Scratch.
   Mat6X<S> relative_jacobian;              // [omega_A - omega_B; v_A - v_B(P)] as a 6 x nv map of v
@@ -54,6 +60,18 @@ struct LoopData {
   // Closure projection (loop_assembly.hpp): its multipliers, the tangent
   // correction of q or v, and the configuration a Gauss-Newton step starts from.
   VecX<S> projection_multipliers, correction, q_start;
+  // The articulated-body solve (articulated_loop_response.hxx), tree frames:
+  // per body, the world position of its tree's origin, and whether it lies
+  // on a loop body's root path (loaded) or moves with one (moves).
+  aligned_vector<Vec3<S>> tree_origin;
+  std::vector<std::uint8_t> response_flags;
+  // Responses to unit multipliers, one row per loop equation (the transposes
+  // of the columns): per body (6 columns each) the change of z (Eq. 28) and
+  // of alpha (Eq. 29); per DOF the change of eps (regular DOFs of a hinge, in
+  // their local order), of qdd (M_rr^-1 C_r', transposed) and of the
+  // prescribed DOFs' tau.
+  MatX<S> z_response, acceleration_response, innovation_response, qdd_response, tau_response;
+  MatX<S> hinge_response, hinge_work;  // m x 6 and 6 x m: one hinge's terms
 };
 
 }  // namespace soadyn
