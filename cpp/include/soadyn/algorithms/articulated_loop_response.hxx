@@ -16,13 +16,16 @@
 //   outward, over the bodies that move with them:
 //     dqdd_r = D^-1 deps - G' dalpha+,  dqdd_p = 0,  dalpha = dalpha+ + H*_r dqdd_r,
 //     dT_p = H_p (P dalpha + dz).
-// All m multipliers are carried at once, one row each (the blocks are the
-// transposes: m x 6 per body, m x n per hinge). The cost is O(N m) with N
-// bodies, against O(N d^2) for factoring M on a tree of depth d; the
-// Delassus matrix is then K = C_r Y (m x m). This is the operational-space
-// inverse inertia of Kreutz-Delgado, Jain & Rodriguez, "Recursive
-// formulation of operational space control" (IJRR 11(4), 1992), for the
-// loops' cut-joint wrenches, in the hybrid setting.
+// All m multipliers are carried at once as load cases (a 6 x m block per
+// body, an n x m block per hinge) on the loaded bodies (L of them: the loop
+// bodies and their ancestors); once the multipliers are known, one more
+// outward pass on a single spatial vector per body carries their combined
+// effect to the bodies below. The cost is O(N + L m) for N bodies, against
+// O(N d^2) for factoring M on a tree of depth d; the Delassus matrix is then
+// K = C_r Y (m x m). This is the operational-space inverse inertia of
+// Kreutz-Delgado, Jain & Rodriguez, "Recursive formulation of operational
+// space control" (IJRR 11(4), 1992), for the loops' cut-joint wrenches, in
+// the hybrid setting.
 #pragma once
 #include <algorithm>
 #include "soadyn/algorithms/loop_closure.hxx"
@@ -61,11 +64,9 @@ void set_world_poses_from_tree_frames(const ModelTpl<S>& m, DataTpl<S>& d, const
 }
 
 // Flags the bodies on a loop body's root path (loaded) and every body that
-// moves with them (moves: loaded, or a child of a body that moves), clears
-// the loaded bodies' dz rows and applies each multiplier's wrenches there.
+// moves with them (moves: loaded, or a child of a body that moves).
 template <class S>
-void load_loop_wrenches(const ModelTpl<S>& m, DataTpl<S>& d) {
-  LoopData<S>& ld = d.loops;
+void flag_loop_bodies(const ModelTpl<S>& m, LoopData<S>& ld) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   std::fill(ld.response_flags.begin(), ld.response_flags.end(), std::uint8_t(0));
   for (const LoopTpl<S>& loop : m.loops)
@@ -78,162 +79,230 @@ void load_loop_wrenches(const ModelTpl<S>& m, DataTpl<S>& d) {
     const int p = m.parent[i];
     if ((ld.response_flags[i] & response_loaded) || (p >= 0 && (ld.response_flags[static_cast<std::size_t>(p)] & response_moves)))
       ld.response_flags[i] |= response_moves;
-    if (ld.response_flags[i] & response_loaded) ld.z_response.middleCols(6 * static_cast<Eigen::Index>(i), 6).setZero();
   }
-  // dz = -(applied wrench), in the body's tree frame: [torque + (point - origin) x force; force].
-  const auto apply = [&](int body, const Vec3<S>& point, const Vec6<S>& w, S sign, Eigen::Index row) {
+}
+
+// Loads the wrenches of each loop into load case (l, k) of R.z, on the
+// loaded bodies (their other entries cleared): wrench(l, k) (world axes,
+// about frame A's origin) on frame A's body, its opposite on frame B's body
+// at the point P whose velocity C compares (B's origin; A's for a prismatic
+// loop). In z, as an external force: dz = -(the wrench) in the body's tree
+// frame, about its origin: [torque + (point - origin) x force; force].
+template <class S, class Wrench>
+void load_loop_wrenches(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedResponse<S>& R, Wrench&& wrench) {
+  LoopData<S>& ld = d.loops;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i)
+    if (ld.response_flags[i] & response_loaded) R.z_of(i).setZero();
+  const auto apply = [&](int body, const Vec3<S>& point, const Vec6<S>& w, Eigen::Index load_case) {
     if (body < 0) return;
     const std::size_t b = static_cast<std::size_t>(body);
-    Vec6<S> about_origin;
-    about_origin << w.template head<3>() + (point - ld.tree_origin[b]).cross(w.template tail<3>()), w.template tail<3>();
-    ld.z_response.template block<1, 6>(row, 6 * static_cast<Eigen::Index>(b)) -= sign * about_origin.transpose();
+    auto dz = R.z_of(b).col(load_case);
+    dz.template head<3>() -= w.template head<3>() + (point - ld.tree_origin[b]).cross(w.template tail<3>());
+    dz.template tail<3>() -= w.template tail<3>();
   };
   for (std::size_t l = 0; l < m.loops.size(); ++l) {
     const LoopTpl<S>& loop = m.loops[l];
     const Transform<S> A = loop_frame_in_world(d, loop.body_a, loop.placement_a);
-    const Transform<S> B = loop_frame_in_world(d, loop.body_b, loop.placement_b);
-    const Vec3<S> P = loop.kind == LoopKind::prismatic ? A.translation : B.translation;
-    for (int k = 0; k < loop.rows(); ++k) {
-      const Vec6<S> w = ld.directions[l].col(k);
-      apply(loop.body_a, A.translation, w, S(1), loop.first_row + k);
-      apply(loop.body_b, P, w, S(-1), loop.first_row + k);
-    }
+    const Vec3<S> P = loop.kind == LoopKind::prismatic ? A.translation
+                                                       : loop_frame_in_world(d, loop.body_b, loop.placement_b).translation;
+    wrench(l, [&](const Vec6<S>& w, Eigen::Index load_case) {
+      apply(loop.body_a, A.translation, w, load_case);
+      apply(loop.body_b, P, Vec6<S>(-w), load_case);
+    });
   }
 }
 
-// The inward half: deps of each loaded hinge and dz+ into its parent.
+// Whether body i's hinge has a gain G and its eps: an articulated inertia, a
+// regular DOF, and not the free root solved outright (free_root_inward).
 template <class S>
-void loop_response_inward(const ModelTpl<S>& m, DataTpl<S>& d) {
-  LoopData<S>& ld = d.loops;
-  for (std::size_t i = static_cast<std::size_t>(m.nbodies()); i-- > 0;) {
-    if (!(ld.response_flags[i] & response_loaded)) continue;
-    const auto dz = ld.z_response.middleCols(6 * static_cast<Eigen::Index>(i), 6);
-    const HingeModes& h = m.modes[i];
-    const int p = m.parent[i];
-    const bool gains = h.needs_articulated_inertia && h.n_regular > 0 &&
-                       !is_regular_free_root<ModePolicy::model_flags>(m, i);
-    if (gains) {
-      const Mat6N<S>& Sr = h.n_prescribed > 0 ? d.sweep.tree_regular_subspace[i] : d.sweep.tree_subspace[i];
-      auto deps = ld.innovation_response.middleCols(m.v_index[i], h.n_regular);
-      deps.noalias() = -dz.lazyProduct(Sr);  // eps = T - H z with T unchanged
-    }
-    if (p < 0) continue;
-    auto dz_parent = ld.z_response.middleCols(6 * static_cast<Eigen::Index>(p), 6);
-    dz_parent += dz;  // z+ = z for a hinge without regular DOFs, and in a Newton-Euler region
-    if (gains)
-      dz_parent.noalias() +=
-          ld.innovation_response.middleCols(m.v_index[i], h.n_regular).lazyProduct(d.sweep.tree_gain[i].transpose());
-  }
-}
-
-// D^-1 deps of regular hinge i into hinge_response's first n_regular columns,
-// D = H_r P H_r* + armature (Eq. 28). Returns false for a singular D.
-template <class S>
-bool solve_hinge_inertia(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i) {
-  LoopData<S>& ld = d.loops;
+bool hinge_has_gain(const ModelTpl<S>& m, std::size_t i) {
   const HingeModes& h = m.modes[i];
-  const int nr = h.n_regular, vi = m.v_index[i];
-  const Mat6N<S>& Sr = h.n_prescribed > 0 ? d.sweep.tree_regular_subspace[i] : d.sweep.tree_subspace[i];
-  const Mat6<S>& P = d.sweep.tree_articulated_inertia[i];
-  const Mat6N<S> PS = P * Sr;
-  MatN<S> D = Sr.transpose() * PS;
-  if (h.has_armature)
-    for (int k = 0; k < nr; ++k) D(k, k) += m.armature[static_cast<std::size_t>(vi + (h.n_prescribed > 0 ? h.regular[k] : k))];
-  const auto deps = ld.innovation_response.middleCols(vi, nr);
-  if (nr == 1) {
-    ld.hinge_response.col(0) = deps.col(0) / D(0, 0);
+  return h.needs_articulated_inertia && h.n_regular > 0 && !is_regular_free_root<ModePolicy::model_flags>(m, i);
+}
+
+template <class S>
+const Mat6N<S>& regular_tree_subspace(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i) {
+  return m.modes[i].n_prescribed > 0 ? d.sweep.tree_regular_subspace[i] : d.sweep.tree_subspace[i];
+}
+
+// One hinge's part of the response, per load case c, for N regular DOFs
+// (N fixed at compile time for 1, 2, 3 and 6, Eigen::Dynamic otherwise):
+// inward  eps_c = -H_r dz_c,  dz+_c = dz_c + G eps_c;
+// outward qdd_c = D^-1 eps_c - G' dalpha+_c,  dalpha_c = dalpha+_c + H*_r qdd_c,
+// with D = H_r P H*_r + armature (Eq. 28), factored once per hinge.
+template <int N, class S>
+struct HingeResponse {
+  using Mat6n = Eigen::Matrix<S, 6, N, 0, 6, (N == Eigen::Dynamic ? 6 : N)>;
+  using Matn = Eigen::Matrix<S, N, N, 0, (N == Eigen::Dynamic ? 6 : N), (N == Eigen::Dynamic ? 6 : N)>;
+  using Vecn = Eigen::Matrix<S, N, 1, 0, (N == Eigen::Dynamic ? 6 : N), 1>;
+
+  // eps into rows [v, v + n) of `eps`; dz+ added to dz_parent (null: a root).
+  template <class Z, class ZParent>
+  static void inward(const Mat6N<S>& Sr, const Mat6N<S>& G, const Z& dz, MatX<S>& eps, int v, ZParent* dz_parent) {
+    const Mat6n s = Sr, g = G;
+    const Eigen::Index n = s.cols();
+    for (Eigen::Index c = 0; c < dz.cols(); ++c) {
+      const Vecn e = -(s.transpose() * dz.col(c));
+      eps.col(c).segment(v, n) = e;
+      if (dz_parent) dz_parent->col(c) += dz.col(c) + g * e;
+    }
+  }
+
+  // qdd into rows dof(k) of `qdd` (k < n); dalpha holds dalpha+ on entry
+  // (`has_parent`; zero otherwise) and dalpha on return. Returns false for a
+  // singular D.
+  template <class A, class Dof>
+  static bool outward(const Mat6N<S>& Sr, const Mat6N<S>& G, const Mat6<S>& P, const S* armature, const MatX<S>& eps,
+                      int v, bool has_parent, A& dalpha, MatX<S>& qdd, Dof&& dof) {
+    const Mat6n s = Sr, g = G;
+    const Eigen::Index n = s.cols();
+    Matn D = s.transpose() * (P * s);
+    if (armature)
+      for (Eigen::Index k = 0; k < n; ++k) D(k, k) += armature[k];
+    if (cholesky_in_place(D, singular_pivot_threshold(P)) >= 0) return false;
+    for (Eigen::Index c = 0; c < dalpha.cols(); ++c) {
+      Vecn r = eps.col(c).segment(v, n);
+      cholesky_solve_in_place(D, r);
+      if (has_parent) r.noalias() -= g.transpose() * dalpha.col(c);
+      dalpha.col(c) += s * r;
+      for (Eigen::Index k = 0; k < n; ++k) qdd(dof(static_cast<int>(k)), c) = r[k];
+    }
     return true;
   }
-  if (cholesky_in_place(D, singular_pivot_threshold(P)) >= 0) return false;
-  auto work = ld.hinge_work.topRows(nr);
-  work = deps.transpose();
-  cholesky_solve_in_place(D, work);
-  ld.hinge_response.leftCols(nr) = work.transpose();
-  return true;
+};
+
+// Calls fn(HingeResponse<N, S>{}) with N = n when n is 1, 2, 3 or 6.
+template <class S, class Fn>
+decltype(auto) with_hinge_size(int n, Fn&& fn) {
+  switch (n) {
+    case 1: return fn(HingeResponse<1, S>{});
+    case 2: return fn(HingeResponse<2, S>{});
+    case 3: return fn(HingeResponse<3, S>{});
+    case 6: return fn(HingeResponse<6, S>{});
+    default: return fn(HingeResponse<Eigen::Dynamic, S>{});
+  }
 }
 
-// The outward half: dqdd (loops.qdd_response), dalpha and the prescribed
-// DOFs' dT (loops.tau_response) of every body that moves.
+// The inward half over the loaded bodies: eps of each hinge with a gain and
+// dz+ into its parent.
 template <class S>
-Status loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d) {
-  LoopData<S>& ld = d.loops;
-  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    const int vi = m.v_index[i], ni = m.nv_body[i];
-    const std::uint8_t flags = ld.response_flags[i];
-    auto dqdd = ld.qdd_response.middleCols(vi, ni);
-    if (!(flags & response_moves)) {
-      dqdd.setZero();
+void loop_response_inward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedResponse<S>& R) {
+  const LoopData<S>& ld = d.loops;
+  for (std::size_t i = static_cast<std::size_t>(m.nbodies()); i-- > 0;) {
+    if (!(ld.response_flags[i] & response_loaded)) continue;
+    const auto dz = R.z_of(i);
+    const int p = m.parent[i];
+    auto dz_parent = R.z_of(p >= 0 ? static_cast<std::size_t>(p) : i);
+    if (!hinge_has_gain(m, i)) {  // z+ = z: a hinge without regular DOFs, a Newton-Euler region
+      if (p >= 0) dz_parent += dz;
       continue;
     }
+    with_hinge_size<S>(m.modes[i].n_regular, [&](auto kernel) {
+      kernel.inward(regular_tree_subspace(m, d, i), d.sweep.tree_gain[i], dz, R.eps, m.v_index[i],
+                    p >= 0 ? &dz_parent : nullptr);
+    });
+  }
+}
+
+// The outward half over the loaded bodies: dqdd and dalpha per load case.
+template <class S>
+Status loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedResponse<S>& R) {
+  const LoopData<S>& ld = d.loops;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
+    if (!(ld.response_flags[i] & response_loaded)) continue;
+    const int vi = m.v_index[i], ni = m.nv_body[i];
     const HingeModes& h = m.modes[i];
-    const bool loaded = flags & response_loaded;
     const int p = m.parent[i];
     const Mat6N<S>& s = d.sweep.tree_subspace[i];
     const Mat6<S>& P = d.sweep.tree_articulated_inertia[i];
-    const auto dz = ld.z_response.middleCols(6 * static_cast<Eigen::Index>(i), 6);
-    auto dalpha = ld.acceleration_response.middleCols(6 * static_cast<Eigen::Index>(i), 6);
-    auto dtau = ld.tau_response.middleCols(vi, ni);
-    if (!h.needs_articulated_inertia) {  // accelerations given from the world in: f = dz, T = H f
+    auto dqdd = R.qdd.middleRows(vi, ni);
+    auto dalpha = R.alpha_of(i);
+    if (!h.needs_articulated_inertia) {  // accelerations given from the world in
       dalpha.setZero();
       dqdd.setZero();
-      if (loaded)
-        dtau.noalias() = dz.lazyProduct(s);
-      else
-        dtau.setZero();
       continue;
     }
     if (is_regular_free_root<ModePolicy::model_flags>(m, i)) {  // alpha = P^-1 (H^-* T - z) (free_root_inward)
       Mat6<S> L = P;
-      if (cholesky_in_place(L, singular_pivot_threshold(P)) >= 0)
-        return {StatusCode::singular_articulated_inertia, vi};
-      ld.hinge_work = -dz.transpose();
-      cholesky_solve_in_place(L, ld.hinge_work);
-      dalpha = ld.hinge_work.transpose();
-      dqdd.leftCols(3).noalias() = dalpha.leftCols(3).lazyProduct(s.template topLeftCorner<3, 3>());
-      dqdd.rightCols(3).noalias() = dalpha.rightCols(3).lazyProduct(s.template bottomRightCorner<3, 3>());
+      if (cholesky_in_place(L, singular_pivot_threshold(P)) >= 0) return {StatusCode::singular_articulated_inertia, vi};
+      dalpha = -R.z_of(i);
+      cholesky_solve_in_place(L, dalpha);
+      dqdd.topRows(3).noalias() = s.template topLeftCorner<3, 3>().transpose() * dalpha.template topRows<3>();
+      dqdd.bottomRows(3).noalias() = s.template bottomRightCorner<3, 3>().transpose() * dalpha.template bottomRows<3>();
       continue;
     }
     if (p >= 0)
-      dalpha = ld.acceleration_response.middleCols(6 * static_cast<Eigen::Index>(p), 6);
+      dalpha = R.alpha_of(static_cast<std::size_t>(p));
     else
       dalpha.setZero();
-    if (h.n_regular > 0) {
-      const int nr = h.n_regular;
-      auto r = ld.hinge_response.leftCols(nr);
-      if (loaded) {
-        if (!solve_hinge_inertia(m, d, i)) return {StatusCode::singular_articulated_inertia, vi};
-      } else {
-        r.setZero();
-      }
-      if (p >= 0) r.noalias() -= dalpha.lazyProduct(d.sweep.tree_gain[i]);  // - G' dalpha+
-      const Mat6N<S>& Sr = h.n_prescribed > 0 ? d.sweep.tree_regular_subspace[i] : s;
-      dalpha.noalias() += r.lazyProduct(Sr.transpose());
-      if (h.n_prescribed == 0) {
-        dqdd = r;
-        continue;
-      }
-      for (int k = 0; k < nr; ++k) dqdd.col(h.regular[k]) = r.col(k);
-      for (int k = 0; k < h.n_prescribed; ++k) dqdd.col(h.prescribed[k]).setZero();
-    } else {
-      dqdd.setZero();
-    }
-    if (h.n_prescribed == 0) continue;
-    MatX<S>& df = ld.hinge_response;  // f = P alpha + z (P symmetric)
-    df.noalias() = dalpha.lazyProduct(P);
-    if (loaded) df += dz;
-    for (int k = 0; k < h.n_prescribed; ++k) dtau.col(h.prescribed[k]).noalias() = df * s.col(h.prescribed[k]);
+    for (int k = 0; k < h.n_prescribed; ++k) dqdd.row(h.prescribed[k]).setZero();
+    if (h.n_regular == 0) continue;
+    S armature[6];
+    for (int k = 0; k < h.n_regular; ++k)
+      armature[k] = m.armature[static_cast<std::size_t>(vi + (h.n_prescribed > 0 ? h.regular[k] : k))];
+    const bool solved = with_hinge_size<S>(h.n_regular, [&](auto kernel) {
+      return kernel.outward(regular_tree_subspace(m, d, i), d.sweep.tree_gain[i], P, h.has_armature ? armature : nullptr,
+                            R.eps, vi, p >= 0, dalpha, R.qdd,
+                            [&](int k) { return vi + (h.n_prescribed > 0 ? h.regular[k] : k); });
+    });
+    if (!solved) return {StatusCode::singular_articulated_inertia, vi};
   }
   return {};
 }
 
-// loops.qdd_response and loops.tau_response after the tree-frame sweeps of
-// hybrid dynamics ran (their P, G and poses in `data`), with pose_in_world,
-// loops.tree_origin and loops.directions current.
+// After the tree-frame sweeps of hybrid dynamics (their P, G and poses in
+// `data`), with pose_in_world, loops.tree_origin and loops.directions
+// current: the loaded bodies' dqdd per unit multiplier, in
+// loops.unit_response.qdd (the loaded DOFs' rows of Y = M_rr^-1 C_r').
 template <class S>
-Status articulated_loop_response(const ModelTpl<S>& m, DataTpl<S>& d) {
-  load_loop_wrenches(m, d);
-  loop_response_inward(m, d);
-  return loop_response_outward(m, d);
+Status unit_multiplier_response(const ModelTpl<S>& m, DataTpl<S>& d) {
+  LoopData<S>& ld = d.loops;
+  flag_loop_bodies(m, ld);
+  load_loop_wrenches(m, d, ld.unit_response, [&](std::size_t l, auto&& load) {
+    for (int k = 0; k < m.loops[l].rows(); ++k) load(Vec6<S>(ld.directions[l].col(k)), m.loops[l].first_row + k);
+  });
+  loop_response_inward(m, d, ld.unit_response);
+  return loop_response_outward(m, d, ld.unit_response);
+}
+
+// Then, with the multipliers lambda solved: the loop forces C_r' lambda
+// added to the sweeps' outputs, qdd += M_rr^-1 C_r' lambda and the
+// prescribed DOFs' T += dT. On a loaded body the unit responses combine
+// (dalpha = Alpha lambda, dz = Z lambda, dqdd = Y lambda); below them no
+// wrench acts and the outward recursion runs on one spatial vector per body
+// (loops.loop_force_acceleration): dqdd_r = -G' dalpha+,
+// dalpha = dalpha+ + H*_r dqdd_r, dT_p = H_p (P dalpha + dz).
+template <class S>
+void add_loop_force_response(const ModelTpl<S>& m, DataTpl<S>& d) {
+  LoopData<S>& ld = d.loops;
+  ArticulatedResponse<S>& U = ld.unit_response;
+  const VecX<S>& lambda = ld.multipliers;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
+    const std::uint8_t flags = ld.response_flags[i];
+    if (!(flags & response_moves)) continue;
+    const int vi = m.v_index[i];
+    const HingeModes& h = m.modes[i];
+    const Mat6N<S>& s = d.sweep.tree_subspace[i];
+    Vec6<S>& dalpha = ld.loop_force_acceleration[i];
+    Vec6<S> dz = Vec6<S>::Zero();
+    if (flags & response_loaded) {
+      dalpha.noalias() = U.alpha_of(i) * lambda;
+      d.qdd.segment(vi, m.nv_body[i]).noalias() += U.qdd.middleRows(vi, m.nv_body[i]) * lambda;
+      if (h.n_prescribed > 0) dz.noalias() = U.z_of(i) * lambda;
+    } else {  // below the loaded bodies (a moving root is loaded; a Newton-Euler parent does not move)
+      dalpha = ld.loop_force_acceleration[static_cast<std::size_t>(m.parent[i])];
+      if (hinge_has_gain(m, i)) {
+        const Mat6N<S>& Sr = regular_tree_subspace(m, d, i);
+        const VecN<S> dq = -(d.sweep.tree_gain[i].transpose() * dalpha);
+        for (int k = 0; k < h.n_regular; ++k) d.qdd[vi + (h.n_prescribed > 0 ? h.regular[k] : k)] += dq[k];
+        dalpha += Sr * dq;
+      }
+    }
+    if (h.n_prescribed == 0) continue;
+    Vec6<S> df = dz;  // f = dz in a Newton-Euler region, P dalpha + dz elsewhere
+    if (h.needs_articulated_inertia) df.noalias() += d.sweep.tree_articulated_inertia[i] * dalpha;
+    for (int k = 0; k < h.n_prescribed; ++k) d.tau[vi + h.prescribed[k]] += s.col(h.prescribed[k]).dot(df);
+  }
 }
 
 }  // namespace detail

@@ -282,18 +282,21 @@ Status articulated_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
   ld.kappa.noalias() += ld.jacobian * d.qdd;
   restrict_jacobian_columns(ld.jacobian, [&](Eigen::Index k) { return !m.is_prescribed(static_cast<int>(k)); },
                             ld.constraint_jacobian_regular);
-  const Status response = articulated_loop_response(m, d);
+  const Status response = unit_multiplier_response(m, d);
   if (!response.ok()) return response;
-  ld.delassus.noalias() = ld.qdd_response.lazyProduct(ld.constraint_jacobian_regular.transpose());
+  // K = C_r Y over the loaded DOFs (C's other columns are zero), one outer product per DOF.
+  const MatX<S>& Y = ld.unit_response.qdd;
+  ld.delassus.setZero();
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
+    if (!(ld.response_flags[i] & response_loaded)) continue;
+    for (int k = m.v_index[i]; k < m.v_index[i] + m.nv_body[i]; ++k)
+      ld.delassus.noalias() += ld.constraint_jacobian_regular.col(k) * Y.row(k);
+  }
   for (int j = 0; j < m.nloop_equations; ++j)
     for (int i = j + 1; i < m.nloop_equations; ++i) ld.delassus(i, j) = ld.delassus(j, i) = S(0.5) * (ld.delassus(i, j) + ld.delassus(j, i));
   if (semidefinite_min_norm_solve(ld.delassus, ld.rhs, delassus_threshold<S>(), ld.delassus_solve, ld.multipliers) < 0)
     return {StatusCode::non_finite_result, -1};
-  d.qdd.noalias() += ld.qdd_response.transpose() * ld.multipliers;
-  for (int k = 0; k < m.n_prescribed; ++k) {
-    const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
-    d.tau[p] += ld.tau_response.col(p).dot(ld.multipliers);
-  }
+  add_loop_force_response(m, d);
   return finish_constrained_solve(m, d);
 }
 

@@ -58,6 +58,12 @@ int semidefinite_min_norm_solve(const MatX<S>& A, const VecX<S>& b, S relative_t
   for (Eigen::Index i = 0; i < m; ++i) s.permuted[i] = b[s.permutation[static_cast<std::size_t>(i)]];
   x.setZero();
   if (k == 0) return 0;
+  if (k == m) {  // full rank: x_p = (L L')^-1 b_p
+    auto y = s.permuted.head(m);
+    cholesky_solve_in_place(L, y);
+    for (Eigen::Index r = 0; r < m; ++r) x[s.permutation[static_cast<std::size_t>(r)]] = y[r];
+    return s.rank;
+  }
   // G = L'L (k x k), y = L' b_p, w = G^-2 y, x_p = L w.
   for (Eigen::Index i = 0; i < k; ++i)
     for (Eigen::Index j = 0; j <= i; ++j) {

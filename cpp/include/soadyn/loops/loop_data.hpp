@@ -10,6 +10,23 @@ namespace soadyn {
 
 template <class S> using Mat6X = Eigen::Matrix<S, 6, Eigen::Dynamic>;
 
+// Changes of the hybrid sweeps' quantities caused by loop wrenches
+// (articulated_loop_response.hxx), one column per load case: per body a
+// 6 x cases block (body i's at columns i * cases) of the change of z
+// (Eq. 28) and of alpha (Eq. 29); per DOF (rows) the change of eps (the
+// regular DOFs of a hinge in their local order) and of qdd.
+template <class S>
+struct ArticulatedResponse {
+  ArticulatedResponse(int cases, int nv, int nbodies)
+      : cases(cases), z(Mat6X<S>::Zero(6, nbodies * cases)), alpha(Mat6X<S>::Zero(6, nbodies * cases)),
+        eps(MatX<S>::Zero(nv, cases)), qdd(MatX<S>::Zero(nv, cases)) {}
+  int cases;
+  Mat6X<S> z, alpha;
+  MatX<S> eps, qdd;
+  auto z_of(std::size_t body) { return z.middleCols(static_cast<Eigen::Index>(body) * cases, cases); }
+  auto alpha_of(std::size_t body) { return alpha.middleCols(static_cast<Eigen::Index>(body) * cases, cases); }
+};
+
 template <class S>
 struct LoopData {
   LoopData(int nq, int nv, int m, int nloops, int nbodies)
@@ -25,9 +42,8 @@ struct LoopData {
         rank_qr(m, nv),
         projection_multipliers(VecX<S>::Zero(m)), correction(VecX<S>::Zero(nv)), q_start(VecX<S>::Zero(nq)),
         tree_origin(static_cast<std::size_t>(nbodies), Vec3<S>::Zero()), response_flags(static_cast<std::size_t>(nbodies), 0),
-        z_response(MatX<S>::Zero(m, 6 * nbodies)), acceleration_response(MatX<S>::Zero(m, 6 * nbodies)),
-        innovation_response(MatX<S>::Zero(m, nv)), qdd_response(MatX<S>::Zero(m, nv)),
-        tau_response(MatX<S>::Zero(m, nv)), hinge_response(MatX<S>::Zero(m, 6)), hinge_work(MatX<S>::Zero(6, m)) {}
+        unit_response(m, nv, nbodies),
+        loop_force_acceleration(static_cast<std::size_t>(m > 0 ? nbodies : 0), Vec6<S>::Zero()) {}
 
   // Outputs.
   VecX<S> residual;           // Psi(q), m
@@ -65,13 +81,11 @@ struct LoopData {
   // on a loop body's root path (loaded) or moves with one (moves).
   aligned_vector<Vec3<S>> tree_origin;
   std::vector<std::uint8_t> response_flags;
-  // Responses to unit multipliers, one row per loop equation (the transposes
-  // of the columns): per body (6 columns each) the change of z (Eq. 28) and
-  // of alpha (Eq. 29); per DOF the change of eps (regular DOFs of a hinge, in
-  // their local order), of qdd (M_rr^-1 C_r', transposed) and of the
-  // prescribed DOFs' tau.
-  MatX<S> z_response, acceleration_response, innovation_response, qdd_response, tau_response;
-  MatX<S> hinge_response, hinge_work;  // m x 6 and 6 x m: one hinge's terms
+  // The responses to each unit multiplier (one column per loop equation) on
+  // the loaded bodies, and the change of alpha that the solved loop forces
+  // cause, per body.
+  ArticulatedResponse<S> unit_response;
+  aligned_vector<Vec6<S>> loop_force_acceleration;
 };
 
 }  // namespace soadyn
