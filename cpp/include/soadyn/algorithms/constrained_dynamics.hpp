@@ -122,17 +122,10 @@ namespace detail {
 // is C's largest entry, not its row's: a row can be noise through and through.
 template <class S, class Keep>
 void restrict_jacobian_columns(const MatX<S>& C, Keep&& keep, MatX<S>& restricted) {
-  using std::abs;
-  restricted = C;
   const S floor = C.size() > 0 ? S(64) * Eigen::NumTraits<S>::epsilon() * C.cwiseAbs().maxCoeff() : S(0);
-  for (Eigen::Index k = 0; k < C.cols(); ++k) {
-    if (!keep(k)) {
-      restricted.col(k).setZero();
-      continue;
-    }
-    for (Eigen::Index i = 0; i < C.rows(); ++i)
-      if (abs(restricted(i, k)) <= floor) restricted(i, k) = S(0);
-  }
+  restricted = (C.array().abs() > floor).select(C, S(0));
+  for (Eigen::Index k = 0; k < C.cols(); ++k)
+    if (!keep(k)) restricted.col(k).setZero();
 }
 
 }  // namespace detail

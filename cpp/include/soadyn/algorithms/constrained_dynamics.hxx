@@ -284,16 +284,13 @@ Status articulated_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
                             ld.constraint_jacobian_regular);
   const Status response = unit_multiplier_response(m, d);
   if (!response.ok()) return response;
-  // K = C_r Y over the loaded DOFs (C's other columns are zero), one outer product per DOF.
+  // K = C_r Y, symmetric: its lower triangle as dot products of contiguous
+  // columns (Y's rows off the loaded DOFs are zero), mirrored.
   const MatX<S>& Y = ld.unit_response.qdd;
-  ld.delassus.setZero();
-  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    if (!(ld.response_flags[i] & response_loaded)) continue;
-    for (int k = m.v_index[i]; k < m.v_index[i] + m.nv_body[i]; ++k)
-      ld.delassus.noalias() += ld.constraint_jacobian_regular.col(k) * Y.row(k);
-  }
+  ld.regular_jacobian_transposed = ld.constraint_jacobian_regular.transpose();
   for (int j = 0; j < m.nloop_equations; ++j)
-    for (int i = j + 1; i < m.nloop_equations; ++i) ld.delassus(i, j) = ld.delassus(j, i) = S(0.5) * (ld.delassus(i, j) + ld.delassus(j, i));
+    for (int i = j; i < m.nloop_equations; ++i)
+      ld.delassus(j, i) = ld.delassus(i, j) = ld.regular_jacobian_transposed.col(i).dot(Y.col(j));
   if (semidefinite_min_norm_solve(ld.delassus, ld.rhs, delassus_threshold<S>(), ld.delassus_solve, ld.multipliers) < 0)
     return {StatusCode::non_finite_result, -1};
   add_loop_force_response(m, d);

@@ -34,7 +34,8 @@ struct LoopData {
         kappa(VecX<S>::Zero(m)), multipliers(VecX<S>::Zero(m)), wrench(static_cast<std::size_t>(nloops), Vec6<S>::Zero()),
         directions(static_cast<std::size_t>(nloops), Mat6<S>::Zero()),
         relative_jacobian(Mat6X<S>::Zero(6, nv)), regular_mass(MatX<S>::Zero(nv, nv)),
-        constraint_jacobian_regular(MatX<S>::Zero(m, nv)), half_solved_ct(MatX<S>::Zero(nv, m)),
+        constraint_jacobian_regular(MatX<S>::Zero(m, nv)), regular_jacobian_transposed(MatX<S>::Zero(nv, m)),
+        half_solved_ct(MatX<S>::Zero(nv, m)),
         delassus(MatX<S>::Zero(m, m)), delassus_solve(m), rhs(VecX<S>::Zero(m)),
         free_acceleration(VecX<S>::Zero(nv)), bias(VecX<S>::Zero(nv)), null_basis(MatX<S>::Zero(m, m)),
         null_work(VecX<S>::Zero(m)), actuation_map(MatX<S>::Zero(nv, m)), actuation_gram(MatX<S>::Zero(m, m)),
@@ -59,6 +60,7 @@ struct LoopData {
   MatX<S> regular_mass;                    // M with the prescribed rows and columns replaced by the identity,
                                            // then its tree-sparse factor, M_rr = L' L (U = L' in the upper triangle)
   MatX<S> constraint_jacobian_regular;     // C with the prescribed columns zeroed
+  MatX<S> regular_jacobian_transposed;     // its transpose (the articulated-body solve)
   MatX<S> half_solved_ct;                  // Y = L'^-1 C_r' with M_rr = L' L (tree_cholesky.hpp)
   MatX<S> delassus;                        // C_r M_rr^-1 C_r' (m x m)
   SemidefiniteSolveScratch<S> delassus_solve;  // minimum-norm multipliers (semidefinite_solve.hpp)
