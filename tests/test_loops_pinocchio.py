@@ -103,3 +103,28 @@ def test_constrained_dynamics_matches_pinocchio(seed, floating, nloops, kinds):
             expected[k, 3:] = RA @ lam_pin[row:row + 3]
         row += size
     assert np.abs(wrenches - expected).max() <= RTOL * max(1.0, np.abs(expected).max())
+
+
+@pytest.mark.parametrize("seed,floating,nloops", CASES, ids=IDS)
+def test_models_with_flexible_bodies_take_the_mass_matrix_path(seed, floating, nloops):
+    """A model with a flexible body is off the rigid tree-frame path (model.hpp, DynamicsPath), so
+    constrained_dynamics forms M (CRBA) and factors it with the tree's sparsity instead of running the
+    articulated-body response of the rigid models. A cantilever beam as a tree of its own, hinged to the
+    world, does not interact with the loop model: the loop model's accelerations must still be Pinocchio's,
+    and its actuator forces and loop wrenches those of the same model without the beam."""
+    m, model, mapping, constraints, q, v, rng, _ = closed_loop_case(seed, floating, nloops, ("point", "weld"))
+    tau = rng.normal(size=m.nv)
+    qdd_rigid, tau_rigid, wrenches_rigid = soadyn.constrained_dynamics(m, q, v, tau)
+    nq, nv = m.nq, m.nv
+    m.add_flexible_body("beam", None, soadyn.FlexibleBody.cantilever_beam(1.0, 10.0, 1.0, 2),
+                        soadyn.Joint.revolute((0, 1, 0)))
+    extra_q, extra_v = m.nq - nq, m.nv - nv
+    beam_v = rng.normal(size=extra_v)
+    qdd, tau_out, wrenches = soadyn.constrained_dynamics(m, np.concatenate([q, 0.1 * rng.normal(size=extra_q)]),
+                                                        np.concatenate([v, beam_v]),
+                                                        np.concatenate([tau, rng.normal(size=extra_v)]))
+    qdd_pin, _ = pinocchio_solution(model, mapping, constraints, q, v, tau)
+    assert np.abs(qdd[:nv] - qdd_pin).max() <= RTOL * max(1.0, np.abs(qdd_pin).max())
+    assert np.abs(qdd[:nv] - qdd_rigid).max() <= RTOL * max(1.0, np.abs(qdd_rigid).max())
+    np.testing.assert_array_equal(tau_out[:nv], tau_rigid)
+    assert np.abs(wrenches - wrenches_rigid).max() <= RTOL * max(1.0, np.abs(wrenches_rigid).max())

@@ -82,16 +82,22 @@ def check_sim_no_allocation(output: str) -> None:
 
 
 def check_loops_no_allocation(output: str) -> None:
-    """10^4 constrained_dynamics calls (and loop_residual, loop_rank) on a tree with a loop of every kind."""
+    """10^4 constrained_dynamics calls (and loop_residual, loop_rank) on a tree with a loop of every kind, rigid
+    (the articulated-body response) and with flexible bodies added (the mass-matrix path)."""
     require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
-    require(bool(lines(r"^loops: 5, equations: 20, nv = \d+", output)), "five loops, 20 equations")
-    require(bool(lines(r"^calls: 10000 constrained_dynamics; failed statuses: 0$", output)), "10^4 calls, none failed")
-    require(bool(lines(r"^joint wrench calls: [1-9]\d*; rank-deficient Delassus with prescribed DOFs: [1-9]\d*; "
-                       r"inconsistent loop equations \(least-squares answer\): \d+$", output)),
-            "joint wrenches and the minimum-norm actuator forces exercised")
+    require(bool(lines(r"^rigid tree: \d+ bodies \(0 flexible\)$", output)), "the rigid tree")
+    require(bool(lines(r"^tree with flexible bodies: \d+ bodies \([1-9]\d* flexible\)$", output)),
+            "the tree with flexible bodies")
+    require(len(lines(r"^loops: 5, equations: 20, nv = \d+", output)) == 2, "five loops, 20 equations, twice")
+    require(len(lines(r"^calls: 10000 constrained_dynamics; failed statuses: 0$", output)) == 2,
+            "10^4 calls on each model, none failed")
+    require(len(lines(r"^joint wrench calls: [1-9]\d*; rank-deficient Delassus with prescribed DOFs: [1-9]\d*; "
+                      r"inconsistent loop equations \(least-squares answer\): \d+$", output)) == 2,
+            "joint wrenches and the minimum-norm actuator forces exercised on each model")
     require(len(lines(r"^distance loop without length \((neutral|at q)\): ", output)) == 2,
             "distance loops measured at the neutral and at a given configuration")
-    require(bool(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)), "zero allocations")
+    require(len(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)) == 2,
+            "zero allocations on each model")
     require(bool(lines(r"^test_loops_no_allocation: PASS$", output)), "the PASS line")
 
 

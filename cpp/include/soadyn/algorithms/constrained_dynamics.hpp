@@ -6,15 +6,23 @@
 // Eqs. 50-54), with qdd_p given on prescribed DOFs and tau_r on regular ones
 // (Jain & Rodriguez 1993, Eq. 12, with constraints).
 //
-// Method. M (mass_matrix) and h - J' f_ext (inverse dynamics at qdd = 0)
-// come from the O(N) tree algorithms. Substituting the prescribed
-// accelerations leaves M_rr qdd_r = b_r + C_r' lambda, solved by the
-// factor M_rr = L' L of M with its prescribed rows and columns replaced by
-// the identity (sizes stay nv, so flipping flags needs no reallocation), L
-// with the tree's branch-induced sparsity (tree_cholesky.hpp: O(n d^2) for
-// depth d). The multipliers solve the Delassus system
-//   K lambda = kappa - C_p qdd_p - C_r M_rr^-1 b_r,   K = C_r M_rr^-1 C_r' = Y'Y,
-// Y = L'^-1 C_r' (one sparse half-solve per equation),
+// Method. Substituting the prescribed accelerations leaves
+// M_rr qdd_r = b_r + C_r' lambda. Two ways to K = C_r M_rr^-1 C_r' and the
+// free accelerations, the same equations:
+// - Rigid models (the tree-frame dynamics path): the hybrid sweeps give
+//   qdd_free and their articulated-body factors; the recursions run again on
+//   the loop wrenches of each unit multiplier, on the loop bodies' root paths
+//   only, give Y = M_rr^-1 C_r' there (articulated_loop_response.hxx), and
+//   K = C_r Y; O(N + L m) for N bodies, L on loop paths, m equations.
+// - Models with flexible bodies, and calls with a body beyond tree-frame
+//   reach: M (mass_matrix) and h - J' f_ext (inverse dynamics at qdd = 0),
+//   the factor M_rr = L' L of M with its prescribed rows and columns replaced
+//   by the identity (sizes stay nv, so flipping flags needs no
+//   reallocation), L with the tree's branch-induced sparsity
+//   (tree_cholesky.hpp: O(n d^2) for depth d), and K = Y'Y with
+//   Y = L'^-1 C_r' (one sparse half-solve per equation).
+// The multipliers solve the Delassus system
+//   K lambda = kappa - C_p qdd_p - C_r M_rr^-1 b_r = kappa - C qdd_free
 // by a pivoted Cholesky factorisation (semidefinite_solve.hpp): pivots below
 // delassus_threshold times the largest diagonal entry count as zero, so
 // redundant loop equations (a planar four-bar closed by a revolute cut: 5

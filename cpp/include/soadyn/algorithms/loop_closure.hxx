@@ -17,30 +17,41 @@ struct PointMotion {
   Vec3<S> angular_acceleration = Vec3<S>::Zero(), acceleration = Vec3<S>::Zero();
 };
 
+// The motion of the point at `arm` from the reference point of a spatial
+// velocity V and acceleration alpha (world axes; alpha with the -gravity
+// base acceleration, null: not wanted): v = v_ref + omega x arm and the
+// classical acceleration alpha_lin + alpha_ang x arm + omega x v + g.
+template <class S>
+PointMotion<S> point_motion_at(const Vec6<S>& V, const Vec6<S>* alpha, const Vec3<S>& arm, const Vec3<S>& gravity) {
+  PointMotion<S> pm;
+  pm.omega = V.template head<3>();
+  pm.velocity = V.template tail<3>() + pm.omega.cross(arm);
+  if (alpha) {
+    pm.angular_acceleration = alpha->template head<3>();
+    pm.acceleration = alpha->template tail<3>() + pm.angular_acceleration.cross(arm) + pm.omega.cross(pm.velocity) + gravity;
+  }
+  return pm;
+}
+
 // Where the loop equations read the kinematics. Body frames: pose_in_world,
 // body_subspace, body_velocity and body_acceleration, as forward kinematics
 // and inverse dynamics leave them (the accelerations of qdd = 0 for kappa).
 struct BodyFrameLoopKinematics {
-  // `r`: the point in the body frame. The body accelerations carry the
-  // -gravity base acceleration, whose body-frame value is [0; -R' g].
+  // `r`: the point in the body frame.
   template <class S>
   static PointMotion<S> point_motion(const ModelTpl<S>& m, const DataTpl<S>& d, int body, const Vec3<S>& r,
                                      bool with_acceleration) {
-    PointMotion<S> pm;
-    if (body < 0) return pm;
+    if (body < 0) return PointMotion<S>();
     const std::size_t b = static_cast<std::size_t>(body);
-    const Mat3<S>& R = d.pose_in_world[b].rotation;
-    const Vec3<S> w = d.body_velocity[b].template head<3>();
-    const Vec3<S> v_r = d.body_velocity[b].template tail<3>() + w.cross(r);
-    pm.omega = R * w;
-    pm.velocity = R * v_r;
-    if (with_acceleration) {
-      const Vec3<S> alpha = d.body_acceleration[b].template head<3>();
-      const Vec3<S> a = d.body_acceleration[b].template tail<3>() + R.transpose() * m.gravity;
-      pm.angular_acceleration = R * alpha;
-      pm.acceleration = R * (a + alpha.cross(r) + w.cross(v_r));  // classical acceleration of the point
-    }
-    return pm;
+    const Transform<S>& X = d.pose_in_world[b];
+    const auto to_world = [&](const Vec6<S>& x) {
+      Vec6<S> w;
+      w << X.rotation * x.template head<3>(), X.rotation * x.template tail<3>();
+      return w;
+    };
+    const Vec6<S> alpha = with_acceleration ? to_world(d.body_acceleration[b]) : Vec6<S>::Zero();
+    return point_motion_at<S>(to_world(d.body_velocity[b]), with_acceleration ? &alpha : nullptr, X.rotation * r,
+                              m.gravity);
   }
 
   // Body j's hinge columns H*(j) carried to the world, about world point p.
@@ -63,21 +74,11 @@ struct TreeFrameLoopKinematics {
   template <class S>
   static PointMotion<S> point_motion(const ModelTpl<S>& m, const DataTpl<S>& d, int body, const Vec3<S>& r,
                                      bool with_acceleration) {
-    PointMotion<S> pm;
-    if (body < 0) return pm;
+    if (body < 0) return PointMotion<S>();
     const std::size_t b = static_cast<std::size_t>(body);
-    const Transform<S>& X = d.sweep.tree_pose[b];
-    const Vec3<S> arm = X.rotation * r + X.translation;  // from the tree origin to the point
-    const Vec6<S>& V = d.sweep.tree_velocity[b];
-    pm.omega = V.template head<3>();
-    pm.velocity = V.template tail<3>() + pm.omega.cross(arm);
-    if (with_acceleration) {
-      const Vec6<S>& alpha = d.sweep.tree_acceleration[b];  // spatial acceleration, with -gravity
-      pm.angular_acceleration = alpha.template head<3>();
-      pm.acceleration = alpha.template tail<3>() + pm.angular_acceleration.cross(arm) + pm.omega.cross(pm.velocity) +
-                        m.gravity;
-    }
-    return pm;
+    const Transform<S>& X = d.sweep.tree_pose[b];  // the arm runs from the tree origin to the point
+    return point_motion_at<S>(d.sweep.tree_velocity[b], with_acceleration ? &d.sweep.tree_acceleration[b] : nullptr,
+                              X.rotation * r + X.translation, m.gravity);
   }
 
   template <class S>
