@@ -1,7 +1,7 @@
 // The response of the hybrid algorithm's articulated-body factorisation to
 // the loops' multipliers: Y = M_rr^-1 C_r' (the change of the regular
-// accelerations per unit multiplier) and the matching change of the
-// prescribed DOFs' forces, without forming M.
+// accelerations per unit multiplier) without forming M, and the solved loop
+// forces entered into the sweeps.
 //
 // A multiplier lambda_c of loop l acts on the tree as the wrench W_c
 // (loop_directions) on frame A's body and -W_c on frame B's body: C' e_c is
@@ -13,19 +13,18 @@
 //   inward, on the loop bodies' root paths only:
 //     dz = sum of the children's dz+ - (applied wrench),
 //     deps = -H_r dz,  dz+ = dz + G deps,
-//   outward, over the bodies that move with them:
-//     dqdd_r = D^-1 deps - G' dalpha+,  dqdd_p = 0,  dalpha = dalpha+ + H*_r dqdd_r,
-//     dT_p = H_p (P dalpha + dz).
+//   outward, over the same bodies:
+//     dqdd_r = D^-1 deps - G' dalpha+,  dqdd_p = 0,  dalpha = dalpha+ + H*_r dqdd_r.
 // All m multipliers are carried at once as load cases (a 6 x m block per
 // body, an n x m block per hinge) on the loaded bodies (L of them: the loop
-// bodies and their ancestors); once the multipliers are known, one more
-// outward pass on a single spatial vector per body carries their combined
-// effect to the bodies below. The cost is O(N + L m) for N bodies, against
-// O(N d^2) for factoring M on a tree of depth d; the Delassus matrix is then
-// K = C_r Y (m x m). This is the operational-space inverse inertia of
-// Kreutz-Delgado, Jain & Rodriguez, "Recursive formulation of operational
-// space control" (IJRR 11(4), 1992), for the loops' cut-joint wrenches, in
-// the hybrid setting.
+// bodies and their ancestors). Once the multipliers are known, the loop
+// forces enter the loaded bodies' z and nu, and the hybrid algorithm's own
+// outward sweep, run once, gives qdd and tau with them. The cost is
+// O(N + L m) for N bodies, against O(N d^2) for factoring M on a tree of
+// depth d; the Delassus matrix is then K = C_r Y (m x m). This is the
+// operational-space inverse inertia of Kreutz-Delgado, Jain & Rodriguez,
+// "Recursive formulation of operational space control" (IJRR 11(4), 1992),
+// for the loops' cut-joint wrenches, in the hybrid setting.
 #pragma once
 #include <algorithm>
 #include "soadyn/algorithms/loop_closure.hxx"
@@ -35,7 +34,7 @@
 namespace soadyn {
 namespace detail {
 
-enum : std::uint8_t { response_loaded = 1, response_moves = 2 };
+enum : std::uint8_t { response_loaded = 1 };
 
 // loops.tree_origin (the world position of each body's tree origin: its
 // root body's origin) and pose_in_world from the tree-frame poses.
@@ -63,23 +62,17 @@ void set_world_poses_from_tree_frames(const ModelTpl<S>& m, DataTpl<S>& d, const
   }
 }
 
-// Flags the bodies on a loop body's root path (loaded) and every body that
-// moves with them (moves: loaded, or a child of a body that moves).
+// Flags the bodies on a loop body's root path (loaded): the loop bodies and
+// their ancestors.
 template <class S>
 void flag_loop_bodies(const ModelTpl<S>& m, LoopData<S>& ld) {
-  const std::size_t n = static_cast<std::size_t>(m.nbodies());
   std::fill(ld.response_flags.begin(), ld.response_flags.end(), std::uint8_t(0));
   for (const LoopTpl<S>& loop : m.loops)
     for (const int body : {loop.body_a, loop.body_b})
       if (body >= 0) ld.response_flags[static_cast<std::size_t>(body)] = response_loaded;
-  for (std::size_t i = n; i-- > 0;)
+  for (std::size_t i = static_cast<std::size_t>(m.nbodies()); i-- > 0;)
     if ((ld.response_flags[i] & response_loaded) && m.parent[i] >= 0)
       ld.response_flags[static_cast<std::size_t>(m.parent[i])] |= response_loaded;
-  for (std::size_t i = 0; i < n; ++i) {
-    const int p = m.parent[i];
-    if ((ld.response_flags[i] & response_loaded) || (p >= 0 && (ld.response_flags[static_cast<std::size_t>(p)] & response_moves)))
-      ld.response_flags[i] |= response_moves;
-  }
 }
 
 // Loads the wrenches of each loop into load case (l, k) of R.z, on the
@@ -152,7 +145,7 @@ struct HingeResponse {
   // (`has_parent`; zero otherwise) and dalpha on return. Returns false for a
   // singular D.
   template <class A, class Dof>
-  static bool outward(const Mat6N<S>& Sr, const Mat6N<S>& G, const Mat6<S>& P, const S* armature, const MatX<S>& eps,
+  static bool outward(const Mat6N<S>& Sr, const Mat6N<S>& G, const Mat6<S>& P, const S* armature, MatX<S>& eps,
                       int v, bool has_parent, A& dalpha, MatX<S>& qdd, Dof&& dof) {
     const Mat6n s = Sr, g = G;
     const Eigen::Index n = s.cols();
@@ -163,6 +156,7 @@ struct HingeResponse {
     for (Eigen::Index c = 0; c < dalpha.cols(); ++c) {
       Vecn r = eps.col(c).segment(v, n);
       cholesky_solve_in_place(D, r);
+      eps.col(c).segment(v, n) = r;  // dnu = D^-1 deps, kept for the update of nu (add_loop_forces_to_sweeps)
       if (has_parent) r.noalias() -= g.transpose() * dalpha.col(c);
       dalpha.col(c) += s * r;
       for (Eigen::Index k = 0; k < n; ++k) qdd(dof(static_cast<int>(k)), c) = r[k];
@@ -250,14 +244,14 @@ Status loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRes
   return {};
 }
 
-// After the tree-frame sweeps of hybrid dynamics (their P, G and poses in
-// `data`), with pose_in_world, loops.tree_origin and loops.directions
-// current: the loaded bodies' dqdd per unit multiplier, in
-// loops.unit_response.qdd (the loaded DOFs' rows of Y = M_rr^-1 C_r').
+// After the inward sweeps of hybrid dynamics in tree frames (their P, G and
+// poses in `data`), with the bodies flagged (flag_loop_bodies) and
+// pose_in_world, loops.tree_origin and loops.directions current: the loaded
+// bodies' dqdd per unit multiplier, in loops.unit_response.qdd (the loaded
+// DOFs' rows of Y = M_rr^-1 C_r'), and their dz, dalpha and dnu.
 template <class S>
 Status unit_multiplier_response(const ModelTpl<S>& m, DataTpl<S>& d) {
   LoopData<S>& ld = d.loops;
-  flag_loop_bodies(m, ld);
   load_loop_wrenches(m, d, ld.unit_response, [&](std::size_t l, auto&& load) {
     for (int k = 0; k < m.loops[l].rows(); ++k) load(Vec6<S>(ld.directions[l].col(k)), m.loops[l].first_row + k);
   });
@@ -266,42 +260,31 @@ Status unit_multiplier_response(const ModelTpl<S>& m, DataTpl<S>& d) {
 }
 
 // Then, with the multipliers lambda solved: the loop forces C_r' lambda
-// added to the sweeps' outputs, qdd += M_rr^-1 C_r' lambda and the
-// prescribed DOFs' T += dT. On a loaded body the unit responses combine
-// (dalpha = Alpha lambda, dz = Z lambda, dqdd = Y lambda); below them no
-// wrench acts and the outward recursion runs on one spatial vector per body
-// (loops.loop_force_acceleration): dqdd_r = -G' dalpha+,
-// dalpha = dalpha+ + H*_r dqdd_r, dT_p = H_p (P dalpha + dz).
+// entered into the sweeps' quantities of the loaded bodies, so that the
+// outward sweep (tree_frame_outward_sweep) gives qdd and tau with them:
+// z += dz lambda and nu += dnu lambda on hinges with a gain (Eq. 28), the
+// free root's alpha += dalpha lambda (solved in the inward sweep), and in a
+// Newton-Euler region, which the outward sweep leaves alone, T += H dz lambda.
 template <class S>
-void add_loop_force_response(const ModelTpl<S>& m, DataTpl<S>& d) {
+void add_loop_forces_to_sweeps(const ModelTpl<S>& m, DataTpl<S>& d) {
   LoopData<S>& ld = d.loops;
   ArticulatedResponse<S>& U = ld.unit_response;
   const VecX<S>& lambda = ld.multipliers;
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    const std::uint8_t flags = ld.response_flags[i];
-    if (!(flags & response_moves)) continue;
+    if (!(ld.response_flags[i] & response_loaded)) continue;
     const int vi = m.v_index[i];
     const HingeModes& h = m.modes[i];
-    const Mat6N<S>& s = d.sweep.tree_subspace[i];
-    Vec6<S>& dalpha = ld.loop_force_acceleration[i];
-    Vec6<S> dz = Vec6<S>::Zero();
-    if (flags & response_loaded) {
-      dalpha.noalias() = U.alpha_of(i) * lambda;
-      d.qdd.segment(vi, m.nv_body[i]).noalias() += U.qdd.middleRows(vi, m.nv_body[i]) * lambda;
-      if (h.n_prescribed > 0) dz.noalias() = U.z_of(i) * lambda;
-    } else {  // below the loaded bodies (a moving root is loaded; a Newton-Euler parent does not move)
-      dalpha = ld.loop_force_acceleration[static_cast<std::size_t>(m.parent[i])];
-      if (hinge_has_gain(m, i)) {
-        const Mat6N<S>& Sr = regular_tree_subspace(m, d, i);
-        const VecN<S> dq = -(d.sweep.tree_gain[i].transpose() * dalpha);
-        for (int k = 0; k < h.n_regular; ++k) d.qdd[vi + (h.n_prescribed > 0 ? h.regular[k] : k)] += dq[k];
-        dalpha += Sr * dq;
-      }
+    const Vec6<S> dz = U.z_of(i) * lambda;
+    if (!h.needs_articulated_inertia) {
+      d.tau.segment(vi, m.nv_body[i]).noalias() += d.sweep.tree_subspace[i].transpose() * dz;
+      continue;
     }
-    if (h.n_prescribed == 0) continue;
-    Vec6<S> df = dz;  // f = dz in a Newton-Euler region, P dalpha + dz elsewhere
-    if (h.needs_articulated_inertia) df.noalias() += d.sweep.tree_articulated_inertia[i] * dalpha;
-    for (int k = 0; k < h.n_prescribed; ++k) d.tau[vi + h.prescribed[k]] += s.col(h.prescribed[k]).dot(df);
+    if (is_regular_free_root<ModePolicy::model_flags>(m, i)) {
+      d.sweep.tree_acceleration[i].noalias() += U.alpha_of(i) * lambda;
+      continue;
+    }
+    d.sweep.tree_bias_and_children_z[i] += dz;
+    if (hinge_has_gain(m, i)) d.sweep.innovation[i].noalias() += U.eps.middleRows(vi, h.n_regular) * lambda;
   }
 }
 

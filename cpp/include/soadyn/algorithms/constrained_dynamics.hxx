@@ -259,27 +259,37 @@ Status mass_matrix_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
 }
 
 // constrained_dynamics through the articulated-body factorisation of the
-// tree-frame hybrid sweeps (rigid models): the sweeps give the accelerations
-// without loop forces qdd_free, tau_p and the factors; the loop equations,
+// tree-frame hybrid sweeps (rigid models): the inward sweeps give the
+// factors, the outward steps on the loop bodies' root paths their
+// accelerations without loop forces (qdd_free there); the loop equations,
 // read at qdd_free, give rhs = kappa - C qdd_free; articulated_loop_response
-// gives Y = M_rr^-1 C_r' and the prescribed forces' response T_p; then
-//   K lambda = rhs,  K = C_r Y (symmetric up to rounding, symmetrised),
-//   qdd = qdd_free + Y lambda,  tau_p = tau_p(free) + T_p lambda,
-// the same equations as constrained_solve at O(N m) instead of O(N d^2).
+// gives Y = M_rr^-1 C_r' on those paths; K lambda = rhs with K = C_r Y
+// (lower triangle, mirrored); the loop forces then enter z and nu of the
+// loaded bodies and one outward sweep gives qdd and tau: the same equations
+// as constrained_solve at O(N + L m) instead of O(N d^2).
 // Returns beyond_tree_frame_reach, having changed no output, when a body
 // lies too far from its tree origin for tree frames.
 template <class S>
 Status articulated_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
                                         const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext) {
-  const Status sweeps = tree_frame_sweeps_for<ModePolicy::model_flags, false>(
-      m, d, q.data(), velocities_unless_at_rest(m, v), u.data(), f_ext, world_acceleration(m), false);
-  if (!sweeps.ok()) return sweeps;
+  constexpr ModePolicy modes = ModePolicy::model_flags;
+  const Vec6<S> world_acc = world_acceleration(m);
+  const Status inward =
+      tree_frame_inward_sweeps<modes, false>(m, d, q.data(), velocities_unless_at_rest(m, v), u.data(), f_ext, world_acc);
+  if (!inward.ok()) return inward;
   LoopData<S>& ld = d.loops;
+  flag_loop_bodies(m, ld);
+  // qdd_free and alpha on the loop bodies' root paths: what the loop equations read.
+  ld.free_acceleration.setZero();
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
+    if (!(ld.response_flags[i] & response_loaded)) continue;
+    tree_outward_step<modes, false>(m, d, i, u.data(), world_acc, false);
+    ld.free_acceleration.segment(m.v_index[i], m.nv_body[i]) = d.qdd.segment(m.v_index[i], m.nv_body[i]);
+  }
   set_world_poses_from_tree_frames(m, d, q.data());
   loop_equations_from<TreeFrameLoopKinematics>(m, d, true);  // kappa - C qdd_free, in kappa
   ld.rhs = ld.kappa;
-  ld.free_acceleration = d.qdd;
-  ld.kappa.noalias() += ld.jacobian * d.qdd;
+  ld.kappa.noalias() += ld.jacobian * ld.free_acceleration;  // C is zero off the loaded DOFs
   restrict_jacobian_columns(ld.jacobian, [&](Eigen::Index k) { return !m.is_prescribed(static_cast<int>(k)); },
                             ld.constraint_jacobian_regular);
   const Status response = unit_multiplier_response(m, d);
@@ -293,7 +303,9 @@ Status articulated_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
       ld.delassus(j, i) = ld.delassus(i, j) = ld.regular_jacobian_transposed.col(i).dot(Y.col(j));
   if (semidefinite_min_norm_solve(ld.delassus, ld.rhs, delassus_threshold<S>(), ld.delassus_solve, ld.multipliers) < 0)
     return {StatusCode::non_finite_result, -1};
-  add_loop_force_response(m, d);
+  add_loop_forces_to_sweeps(m, d);
+  const Status outward = tree_frame_outward_sweep<modes, false>(m, d, u.data(), world_acc, false);
+  if (!outward.ok()) return outward;
   return finish_constrained_solve(m, d);
 }
 

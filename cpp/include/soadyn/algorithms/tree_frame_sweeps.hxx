@@ -78,19 +78,16 @@ SOADYN_ALWAYS_INLINE int tree_hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, 
   return hinge_inward<tree, AllRegular, PlusMode::none>(m, d, i, u, never_formed, z_plus, P_out);
 }
 
-// The three sweeps in tree frames. `v` null means zero velocity; `want_force`
-// also leaves every hinge force in data.hinge_force (body frame). Returns
-// beyond_tree_frame_reach, having changed no output, when a body lies too far
-// from its tree origin for tree frames (the caller then uses body frames).
+// The first two sweeps in tree frames: base to tip V, a, M, b (Eq. 1) and
+// the accelerations of all-prescribed regions; tip to base P, z, G, nu
+// (Eq. 28). `v` null means zero velocity. Returns beyond_tree_frame_reach,
+// having changed no output, when a body lies too far from its tree origin
+// for tree frames (the caller then uses body frames).
 template <ModePolicy Modes, bool Flex, class S>
-Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u, const S* f_ext,
-                         const Vec6<S>& world_acc, bool want_force) {
+Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u,
+                                const S* f_ext, const Vec6<S>& world_acc) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   SweepData<S>& w = d.sweep;
-  const auto parent_acc = [&](std::size_t i) -> const Vec6<S>& {
-    const int p = m.parent[i];
-    return p >= 0 ? w.tree_acceleration[static_cast<std::size_t>(p)] : world_acc;
-  };
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, M, b (Eq. 1); all-prescribed regions' accelerations
     tree_velocity_step(m, d, i, q, v);
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
@@ -102,7 +99,8 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
     }
     tree_rigid_body_step(m, d, i, v, f_ext);
     if (!needs_articulated_inertia<Modes>(m, i)) {  // Newton-Euler: alpha = alpha+ + H* qdd + a, f = M alpha + b
-      w.tree_acceleration[i] = parent_acc(i) + w.tree_coriolis[i];
+      const int p = m.parent[i];
+      w.tree_acceleration[i] = (p >= 0 ? w.tree_acceleration[static_cast<std::size_t>(p)] : world_acc) + w.tree_coriolis[i];
       w.tree_acceleration[i] += subspace_times(w.tree_subspace[i], u + m.v_index[i]);
       w.tree_hinge_force[i] = w.tree_bias_force[i];
       w.tree_hinge_force[i].noalias() += w.tree_articulated_inertia[i] * w.tree_acceleration[i];
@@ -147,22 +145,47 @@ Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
                      : articulated_plus_times<Frames::tree, false>(m, d, i, alpha);
     }
   }
-  for (std::size_t i = 0; i < n; ++i) {  // base to tip (Eq. 29)
-    if (!needs_articulated_inertia<Modes>(m, i)) continue;
-    if (is_regular_free_root<Modes>(m, i))
-      free_root_outward(m, d, i, u, world_acc, want_force);
-    else if (regular_hinge<Modes>(m, i))
-      hinge_outward<Frames::tree, true>(m, d, i, u, parent_acc(i), want_force);
-    else  // some DOF prescribed
-      hinge_outward<Frames::tree, false>(m, d, i, u, parent_acc(i), want_force);
-    if constexpr (Flex)
-      if (m.is_flexible(static_cast<int>(i)))
-        modal_accelerations(m, d, i, u, Vec6<S>(w.tree_pose[i].motion_to_child(w.tree_acceleration[i])));
-  }
+  return {};
+}
+
+// The third sweep's step for body i (Eq. 29), its parent's acceleration known.
+template <ModePolicy Modes, bool Flex, class S>
+SOADYN_ALWAYS_INLINE void tree_outward_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
+                                            const Vec6<S>& world_acc, bool want_force) {
+  if (!needs_articulated_inertia<Modes>(m, i)) return;
+  const int p = m.parent[i];
+  const Vec6<S>& alpha_plus = p >= 0 ? d.sweep.tree_acceleration[static_cast<std::size_t>(p)] : world_acc;
+  if (is_regular_free_root<Modes>(m, i))
+    free_root_outward(m, d, i, u, world_acc, want_force);
+  else if (regular_hinge<Modes>(m, i))
+    hinge_outward<Frames::tree, true>(m, d, i, u, alpha_plus, want_force);
+  else  // some DOF prescribed
+    hinge_outward<Frames::tree, false>(m, d, i, u, alpha_plus, want_force);
+  if constexpr (Flex)
+    if (m.is_flexible(static_cast<int>(i)))
+      modal_accelerations(m, d, i, u, Vec6<S>(d.sweep.tree_pose[i].motion_to_child(d.sweep.tree_acceleration[i])));
+}
+
+// The third sweep (base to tip, Eq. 29) and the outputs' checks; `want_force`
+// also leaves every hinge force in data.hinge_force (body frame).
+template <ModePolicy Modes, bool Flex, class S>
+Status tree_frame_outward_sweep(const ModelTpl<S>& m, DataTpl<S>& d, const S* u, const Vec6<S>& world_acc,
+                                bool want_force) {
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i)
+    tree_outward_step<Modes, Flex>(m, d, i, u, world_acc, want_force);
   if (want_force) hinge_forces_to_body_frames(d);
   const Status s = check_finite(d.qdd);
   if constexpr (Modes == ModePolicy::all_regular) return s;  // tau is the given torque
   return s.ok() ? check_prescribed_finite(m, d.tau) : s;
+}
+
+// The three sweeps in tree frames (arguments as above).
+template <ModePolicy Modes, bool Flex, class S>
+Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u, const S* f_ext,
+                         const Vec6<S>& world_acc, bool want_force) {
+  const Status inward = tree_frame_inward_sweeps<Modes, Flex>(m, d, q, v, u, f_ext, world_acc);
+  if (!inward.ok()) return inward;
+  return tree_frame_outward_sweep<Modes, Flex>(m, d, u, world_acc, want_force);
 }
 
 }  // namespace detail

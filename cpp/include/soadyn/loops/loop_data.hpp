@@ -13,8 +13,8 @@ template <class S> using Mat6X = Eigen::Matrix<S, 6, Eigen::Dynamic>;
 // Changes of the hybrid sweeps' quantities caused by loop wrenches
 // (articulated_loop_response.hxx), one column per load case: per body a
 // 6 x cases block (body i's at columns i * cases) of the change of z
-// (Eq. 28) and of alpha (Eq. 29); per DOF (rows) the change of eps (the
-// regular DOFs of a hinge in their local order) and of qdd.
+// (Eq. 28) and of alpha (Eq. 29); per DOF (rows) the change of eps, then of
+// nu = D^-1 eps (the regular DOFs of a hinge in their local order), and of qdd.
 template <class S>
 struct ArticulatedResponse {
   ArticulatedResponse(int cases, int nv, int nbodies)
@@ -43,8 +43,7 @@ struct LoopData {
         rank_qr(m, nv),
         projection_multipliers(VecX<S>::Zero(m)), correction(VecX<S>::Zero(nv)), q_start(VecX<S>::Zero(nq)),
         tree_origin(static_cast<std::size_t>(nbodies), Vec3<S>::Zero()), response_flags(static_cast<std::size_t>(nbodies), 0),
-        unit_response(m, nv, nbodies),
-        loop_force_acceleration(static_cast<std::size_t>(m > 0 ? nbodies : 0), Vec6<S>::Zero()) {}
+        unit_response(m, nv, nbodies) {}
 
   // Outputs.
   VecX<S> residual;           // Psi(q), m
@@ -80,14 +79,12 @@ struct LoopData {
   VecX<S> projection_multipliers, correction, q_start;
   // The articulated-body solve (articulated_loop_response.hxx), tree frames:
   // per body, the world position of its tree's origin, and whether it lies
-  // on a loop body's root path (loaded) or moves with one (moves).
+  // on a loop body's root path (loaded).
   aligned_vector<Vec3<S>> tree_origin;
   std::vector<std::uint8_t> response_flags;
   // The responses to each unit multiplier (one column per loop equation) on
-  // the loaded bodies, and the change of alpha that the solved loop forces
-  // cause, per body.
+  // the loaded bodies.
   ArticulatedResponse<S> unit_response;
-  aligned_vector<Vec6<S>> loop_force_acceleration;
 };
 
 }  // namespace soadyn
