@@ -485,8 +485,8 @@ def main() -> int:
         f"Where soadyn's time goes on talos with two welds (Python per call, same run): constrained_dynamics "
         f"{tp['constrained_dynamics']:.2f} us; hybrid_dynamics of the same tree without loops "
         f"{tp['hybrid_dynamics (no loops)']:.2f} us (the sweeps whose factors the loop response reuses; "
-        "the rest is the loop layer: loop equations, the unit-multiplier response, K, its solve and the "
-        "final pass).",
+        "the loop layer adds the outward steps on the loop bodies' root paths, the loop equations, the "
+        "unit-multiplier response, K and its solve; the outward sweep runs once).",
         "",
         "## Scaling", "",
         "Number of loops on one tree (30 bodies: revolute, prismatic, spherical and universal joints, fixed base; "
