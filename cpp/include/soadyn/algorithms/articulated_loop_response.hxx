@@ -34,8 +34,6 @@
 namespace soadyn {
 namespace detail {
 
-enum : std::uint8_t { response_loaded = 1 };
-
 // loops.tree_origin (the world position of each body's tree origin: its
 // root body's origin) and pose_in_world from the tree-frame poses.
 template <class S>
@@ -62,17 +60,16 @@ void set_world_poses_from_tree_frames(const ModelTpl<S>& m, DataTpl<S>& d, const
   }
 }
 
-// Flags the bodies on a loop body's root path (loaded): the loop bodies and
-// their ancestors.
+// Marks the bodies on a loop body's root path (the loaded bodies): the loop
+// bodies and their ancestors.
 template <class S>
-void flag_loop_bodies(const ModelTpl<S>& m, LoopData<S>& ld) {
-  std::fill(ld.response_flags.begin(), ld.response_flags.end(), std::uint8_t(0));
+void mark_loop_paths(const ModelTpl<S>& m, LoopData<S>& ld) {
+  std::fill(ld.on_loop_path.begin(), ld.on_loop_path.end(), std::uint8_t(0));
   for (const LoopTpl<S>& loop : m.loops)
     for (const int body : {loop.body_a, loop.body_b})
-      if (body >= 0) ld.response_flags[static_cast<std::size_t>(body)] = response_loaded;
+      if (body >= 0) ld.on_loop_path[static_cast<std::size_t>(body)] = 1;
   for (std::size_t i = static_cast<std::size_t>(m.nbodies()); i-- > 0;)
-    if ((ld.response_flags[i] & response_loaded) && m.parent[i] >= 0)
-      ld.response_flags[static_cast<std::size_t>(m.parent[i])] |= response_loaded;
+    if (ld.on_loop_path[i] && m.parent[i] >= 0) ld.on_loop_path[static_cast<std::size_t>(m.parent[i])] = 1;
 }
 
 // Loads the wrenches of each loop into load case (l, k) of R.z, on the
@@ -85,7 +82,7 @@ template <class S, class Wrench>
 void load_loop_wrenches(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedResponse<S>& R, Wrench&& wrench) {
   LoopData<S>& ld = d.loops;
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i)
-    if (ld.response_flags[i] & response_loaded) R.z_of(i).setZero();
+    if (ld.on_loop_path[i]) R.z_of(i).setZero();
   const auto apply = [&](int body, const Vec3<S>& point, const Vec6<S>& w, Eigen::Index load_case) {
     if (body < 0) return;
     const std::size_t b = static_cast<std::size_t>(body);
@@ -122,7 +119,8 @@ const Mat6N<S>& regular_tree_subspace(const ModelTpl<S>& m, const DataTpl<S>& d,
 // (N fixed at compile time for 1, 2, 3 and 6, Eigen::Dynamic otherwise):
 // inward  eps_c = -H_r dz_c,  dz+_c = dz_c + G eps_c;
 // outward qdd_c = D^-1 eps_c - G' dalpha+_c,  dalpha_c = dalpha+_c + H*_r qdd_c,
-// with D = H_r P H*_r + armature (Eq. 28), factored once per hinge.
+// with D = H_r P H*_r + armature (Eq. 28), factored once per hinge; the
+// outward step leaves dnu = D^-1 eps in place of eps.
 template <int N, class S>
 struct HingeResponse {
   using Mat6n = Eigen::Matrix<S, 6, N, 0, 6, (N == Eigen::Dynamic ? 6 : N)>;
@@ -183,7 +181,7 @@ template <class S>
 void loop_response_inward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedResponse<S>& R) {
   const LoopData<S>& ld = d.loops;
   for (std::size_t i = static_cast<std::size_t>(m.nbodies()); i-- > 0;) {
-    if (!(ld.response_flags[i] & response_loaded)) continue;
+    if (!ld.on_loop_path[i]) continue;
     const auto dz = R.z_of(i);
     const int p = m.parent[i];
     auto dz_parent = R.z_of(p >= 0 ? static_cast<std::size_t>(p) : i);
@@ -203,7 +201,7 @@ template <class S>
 Status loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedResponse<S>& R) {
   const LoopData<S>& ld = d.loops;
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    if (!(ld.response_flags[i] & response_loaded)) continue;
+    if (!ld.on_loop_path[i]) continue;
     const int vi = m.v_index[i], ni = m.nv_body[i];
     const HingeModes& h = m.modes[i];
     const int p = m.parent[i];
@@ -245,7 +243,7 @@ Status loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRes
 }
 
 // After the inward sweeps of hybrid dynamics in tree frames (their P, G and
-// poses in `data`), with the bodies flagged (flag_loop_bodies) and
+// poses in `data`), with the loaded bodies marked (mark_loop_paths) and
 // pose_in_world, loops.tree_origin and loops.directions current: the loaded
 // bodies' dqdd per unit multiplier, in loops.unit_response.qdd (the loaded
 // DOFs' rows of Y = M_rr^-1 C_r'), and their dz, dalpha and dnu.
@@ -271,7 +269,7 @@ void add_loop_forces_to_sweeps(const ModelTpl<S>& m, DataTpl<S>& d) {
   ArticulatedResponse<S>& U = ld.unit_response;
   const VecX<S>& lambda = ld.multipliers;
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    if (!(ld.response_flags[i] & response_loaded)) continue;
+    if (!ld.on_loop_path[i]) continue;
     const int vi = m.v_index[i];
     const HingeModes& h = m.modes[i];
     const Vec6<S> dz = U.z_of(i) * lambda;

@@ -262,9 +262,9 @@ Status mass_matrix_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
 // tree-frame hybrid sweeps (rigid models): the inward sweeps give the
 // factors, the outward steps on the loop bodies' root paths their
 // accelerations without loop forces (qdd_free there); the loop equations,
-// read at qdd_free, give rhs = kappa - C qdd_free; articulated_loop_response
-// gives Y = M_rr^-1 C_r' on those paths; K lambda = rhs with K = C_r Y
-// (lower triangle, mirrored); the loop forces then enter z and nu of the
+// read at qdd_free, give rhs = kappa - C qdd_free; unit_multiplier_response
+// (articulated_loop_response.hxx) gives Y = M_rr^-1 C_r' on those paths; K = C_r Y
+// (lower triangle, mirrored) and K lambda = rhs; the loop forces then enter z and nu of the
 // loaded bodies and one outward sweep gives qdd and tau: the same equations
 // as constrained_solve at O(N + L m) instead of O(N d^2).
 // Returns beyond_tree_frame_reach, having changed no output, when a body
@@ -278,11 +278,11 @@ Status articulated_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
       tree_frame_inward_sweeps<modes, false>(m, d, q.data(), velocities_unless_at_rest(m, v), u.data(), f_ext, world_acc);
   if (!inward.ok()) return inward;
   LoopData<S>& ld = d.loops;
-  flag_loop_bodies(m, ld);
+  mark_loop_paths(m, ld);
   // qdd_free and alpha on the loop bodies' root paths: what the loop equations read.
   ld.free_acceleration.setZero();
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    if (!(ld.response_flags[i] & response_loaded)) continue;
+    if (!ld.on_loop_path[i]) continue;
     tree_outward_step<modes, false>(m, d, i, u.data(), world_acc, false);
     ld.free_acceleration.segment(m.v_index[i], m.nv_body[i]) = d.qdd.segment(m.v_index[i], m.nv_body[i]);
   }

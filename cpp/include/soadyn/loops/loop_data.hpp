@@ -42,7 +42,7 @@ struct LoopData {
         actuation_solve(m), actuation_rhs(VecX<S>::Zero(m)), actuation_step(VecX<S>::Zero(m)),
         rank_qr(m, nv),
         projection_multipliers(VecX<S>::Zero(m)), correction(VecX<S>::Zero(nv)), q_start(VecX<S>::Zero(nq)),
-        tree_origin(static_cast<std::size_t>(nbodies), Vec3<S>::Zero()), response_flags(static_cast<std::size_t>(nbodies), 0),
+        tree_origin(static_cast<std::size_t>(nbodies), Vec3<S>::Zero()), on_loop_path(static_cast<std::size_t>(nbodies), 0),
         unit_response(m, nv, nbodies) {}
 
   // Outputs.
@@ -81,7 +81,7 @@ struct LoopData {
   // per body, the world position of its tree's origin, and whether it lies
   // on a loop body's root path (loaded).
   aligned_vector<Vec3<S>> tree_origin;
-  std::vector<std::uint8_t> response_flags;
+  std::vector<std::uint8_t> on_loop_path;
   // The responses to each unit multiplier (one column per loop equation) on
   // the loaded bodies.
   ArticulatedResponse<S> unit_response;
