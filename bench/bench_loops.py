@@ -22,10 +22,11 @@ point loop and reported next to the ratios.
 
 "The loop layer costs nothing to models without loops": hybrid_dynamics on the
 bench_robots robots, C++ (_time_cpp, peer_bench protocol) and Python per call, this build
-against the pre-loops build at /work/before (PYTHONPATH, commit a355221), each timed in a
-child process, the two builds alternating round by round; ratios are medians over rounds.
+against an earlier build installed at --before (PYTHONPATH; default /work/before, the
+pre-loops commit a355221; --before-rev names the commit), each timed in a child process,
+the two builds alternating round by round; ratios are medians over rounds.
 
-Writes bench/results/loops.md. Usage: python bench/bench_loops.py [--quick]
+Writes bench/results/loops.md. Usage: python bench/bench_loops.py [--quick] [--before DIR --before-rev REV]
 """
 from __future__ import annotations
 
@@ -383,10 +384,10 @@ def parts_of_soadyn(c: Case, calls: int) -> dict:
     return {k: float(np.median(x)) for k, x in s.items()}
 
 
-def hybrid_before_after(rounds: int, calls: int, py_calls: int) -> dict:
-    """hybrid_dynamics timings of this build and of the pre-loops build, child processes alternating."""
+def hybrid_before_after(before: Path, rounds: int, calls: int, py_calls: int) -> dict:
+    """hybrid_dynamics timings of this build and of the build at `before`, child processes alternating."""
     env_after = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    env_before = {**env_after, "PYTHONPATH": str(BEFORE)}
+    env_before = {**env_after, "PYTHONPATH": str(before)}
     runs = {"before": [], "after": []}
     for r in range(rounds):
         for label, env in (("before", env_before), ("after", env_after)) if r % 2 == 0 else \
@@ -405,6 +406,9 @@ def hybrid_before_after(rounds: int, calls: int, py_calls: int) -> dict:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer calls (a smoke run, noisier)")
+    parser.add_argument("--before", type=Path, default=BEFORE,
+                        help="a directory holding an earlier build's soadyn package (pip install --target)")
+    parser.add_argument("--before-rev", default="a355221", help="the commit that build was made from")
     args = parser.parse_args()
     calls, rounds, cpp_calls, hybrid_py_calls = (300, 2, 2000, 300) if args.quick else (1000, 6, 20000, 2000)
 
@@ -433,8 +437,9 @@ def main() -> int:
         by_size.append((c, time_case(c, max(50, calls * 20 // n))))
         print(c.name, by_size[-1][1], f"agreement {c.agreement:.1e}", flush=True)
 
-    # The pre-loops build to compare with, when this machine has it (a soadyn package under BEFORE).
-    hybrid = hybrid_before_after(rounds, cpp_calls, hybrid_py_calls) if (BEFORE / "soadyn").is_dir() else None
+    # The earlier build to compare with, when this machine has it (a soadyn package under --before).
+    hybrid = (hybrid_before_after(args.before, rounds, cpp_calls, hybrid_py_calls)
+              if (args.before / "soadyn").is_dir() else None)
 
     def equations(c):
         return sum(3 if l.type == pin.ContactType.CONTACT_3D else 6 for l in c.constraints)
@@ -494,13 +499,13 @@ def main() -> int:
         header, rule, *[row(c, t) for c, t in by_loops], "",
         "Tree size with 4 point loops:", "",
         header, rule, *[row(c, t) for c, t in by_size], "",
-        "## Models without loops: this build against the pre-loops build", "",
+        f"## Models without loops: this build against the build of {args.before_rev}", "",
     ]
     if hybrid:
         lines += [
             f"hybrid_dynamics per call (us) on the bench_robots models, this build (the package installed from the "
             f"source above, `{after_rev}`) against `{before_rev}` "
-            f"(PYTHONPATH={BEFORE}, the package of commit a355221), each in a child process, {rounds} rounds "
+            f"(PYTHONPATH={args.before}, the package of commit {args.before_rev}), each in a child process, {rounds} rounds "
             f"alternating the builds; C++: `_time_cpp` (median of 7 repetitions of {cpp_calls} calls over 64 states); "
             f"Python: median of 7 repetitions of {hybrid_py_calls} calls. Ratio: median over rounds of after / before.",
             "",
@@ -509,7 +514,7 @@ def main() -> int:
             *hyb_rows,
         ]
     else:
-        lines.append(f"Not measured in this run: no pre-loops build at {BEFORE} on this machine (build commit a355221 "
+        lines.append(f"Not measured in this run: no build at {args.before} on this machine (build commit {args.before_rev} "
                      "there to compare). The 0-loop row of the scaling table is the same-run check that a model "
                      "without loops pays nothing: constrained_dynamics is hybrid_dynamics there.")
     write_report("loops.md", lines)
