@@ -107,3 +107,21 @@ def test_integer_indices_still_select_dofs(model):
         model.set_prescribed(np.array([6, 6]))
     with pytest.raises(TypeError, match="flag must be True or False"):
         model.set_prescribed("elbow", "yes")
+
+
+@pytest.mark.parametrize("flexible", [False, True], ids=["articulated-path", "mass-matrix-path"])
+@pytest.mark.parametrize("prescribed", [False, True], ids=["regular", "slider-prescribed"])
+def test_constrained_dynamics_overflow_names_the_item(model, flexible, prescribed):
+    """A loop model with an overflowing velocity, on both paths of constrained_dynamics (a flexible beam,
+    a tree of its own, moves the model off the rigid articulated-body path): a DynamicsError naming the
+    DOF, body or loop at fault, never a silent NaN."""
+    model.add_loop("pin", "elbow", None, "point", placement_a=(None, (0.3, 0.0, 0.0)))
+    if flexible:
+        model.add_flexible_body("beam", None, soadyn.FlexibleBody.cantilever_beam(1.0, 10.0, 1.0, 2),
+                                soadyn.Joint.revolute((0, 1, 0)))
+    if prescribed:
+        model.set_prescribed("slider")
+    q, v = huge_velocity(model)
+    with pytest.raises(soadyn.DynamicsError, match=DOF_OR_BODY + r".* not finite|not finite.*" + DOF_OR_BODY +
+                       r"|loop 'pin'"):
+        soadyn.constrained_dynamics(model, q, v, np.zeros(model.nv))
