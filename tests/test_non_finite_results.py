@@ -125,3 +125,38 @@ def test_constrained_dynamics_overflow_names_the_item(model, flexible, prescribe
     with pytest.raises(soadyn.DynamicsError, match=DOF_OR_BODY + r".* not finite|not finite.*" + DOF_OR_BODY +
                        r"|loop 'pin'"):
         soadyn.constrained_dynamics(model, q, v, np.zeros(model.nv))
+
+
+def planar_chain(masses, placements):
+    """Revolute joints about z, each body a point mass with equal principal moments."""
+    m = soadyn.Model()
+    parent = None
+    for k, (mass, placement) in enumerate(zip(masses, placements)):
+        name = f"link{k}"
+        m.add_body(name, parent, soadyn.Joint.revolute([0, 0, 1]), placement=placement, mass=mass,
+                   inertia=[mass] * 3)
+        parent = name
+    return m
+
+
+def test_mass_matrix_overflow_of_a_rigid_chain_names_the_dof():
+    """Each body's inertia is finite, but a 1e300 kg body 1e5 m from the first axis overflows M:
+    the composite-rigid-body path (tree frames, no reach checks for a revolute chain) names a DOF."""
+    m = planar_chain([1.0, 1e300], [[0, 0, 0], [1e5, 0, 0]])
+    with pytest.raises(soadyn.DynamicsError, match=r"mass_matrix: the result for DOF 'link0' is not finite"):
+        soadyn.mass_matrix(m, soadyn.neutral_configuration(m))
+
+
+def test_mass_matrix_near_overflow_is_returned():
+    """Entries near the largest double whose sum overflows: every entry is finite, so M is returned
+    (the sum is only a probe), and equals the closed form of three coaxial point masses."""
+    big = 2e307
+    m = planar_chain([1.0, big, big], [[0, 0, 0], [1, 0, 0], [0, 0, 0]])
+    M = soadyn.mass_matrix(m, soadyn.neutral_configuration(m))
+    # link0: inertia 1, its centre on axis 0; link1 and link2: inertia `big` each, both centres on
+    # axis 1, 1 m from axis 0. The probe sums 11 big > the largest double.
+    expected = np.array([[1 + 4 * big, 2 * big, big],
+                         [2 * big, 2 * big, big],
+                         [big, big, big]])
+    assert np.isinf(11 * big)
+    np.testing.assert_allclose(M, expected, rtol=1e-15)

@@ -74,6 +74,7 @@ struct SweepData {
   aligned_vector<Vec6<S>> tree_bias_and_children_z;    // b(i) + sum of the children's z+ (Eq. 28)
   aligned_vector<Mat6N<S>> tree_regular_subspace;      // the regular columns of H*(i) (mixed hinges)
   aligned_vector<Mat6N<S>> tree_gain;                  // G(i) = P H*_r D^-1
+  Mat6X<S> tree_subspace_columns;  // H*(i) of every body side by side, 6 x nv: the mass matrix's columns (crba.hxx)
 
   // Hinge coordinates (no frame).
   aligned_vector<VecN<S>> innovation;                  // nu(i) = D^-1 eps(i) (Eq. 28)

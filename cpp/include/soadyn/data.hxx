@@ -64,6 +64,7 @@ DataTpl<S>::DataTpl(const ModelTpl<S>& model)
     if (model.attachment_node[i] >= 0)
       w.attachment_subspace[i].setZero(6, model.n_modes[static_cast<std::size_t>(model.parent[i])]);
   if (model.has_flexible_bodies() || model.reach_checks_needed) w.unit_acceleration.setZero(model.nv);
+  w.tree_subspace_columns.setZero(6, model.nv);
   qdd.setZero(model.nv);
   tau.setZero(model.nv);
   mass_matrix.setZero(model.nv, model.nv);

@@ -1,6 +1,7 @@
 #pragma once
 #include "soadyn/algorithms/crba.hpp"
 #include "soadyn/algorithms/rnea.hxx"
+#include "soadyn/algorithms/tree_cholesky.hpp"
 #include "soadyn/algorithms/tree_frame_steps.hpp"
 
 namespace soadyn {
@@ -10,37 +11,52 @@ namespace detail {
 // Composite-rigid-body algorithm (rigid models) in tree frames
 // (tree_frame_steps.hpp): composite inertias add without a congruence, and
 // a column block F = Ic(i) H*(i) needs no transform on its way to the root,
-// M(j, i) = H(j) F for every ancestor j.
-// Returns false, having formed no M, when a body lies beyond its tree-frame
-// reach (tree_frame_reach.hxx).
+// M(j, k) = H*(j)' F for every DOF j on the path from DOF k to the root.
+// Those DOFs are walked as runs of consecutive indices (model.dof_run_start),
+// the subspaces of all DOFs lie side by side in one 6 x nv matrix, and
+// every entry written is summed into one probe: a finite probe proves M
+// finite without reading M again.
+// Returns beyond_tree_frame_reach, having formed no M, when a body lies
+// beyond its tree-frame reach (tree_frame_reach.hxx).
 template <class S>
-bool composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
+Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
+  Mat6X<S>& H = d.sweep.tree_subspace_columns;
   for (std::size_t i = 0; i < n; ++i) {
     tree_joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
-    if (beyond_tree_frame_reach(m, d, i)) return false;
+    if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
     spatial_inertia_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i],
                              d.sweep.tree_articulated_inertia[i]);
+    H.middleCols(m.v_index[i], m.nv_body[i]) = d.sweep.tree_subspace[i];
   }
-  for (std::size_t i = n; i-- > 0;) {  // M(j, i) = M(i, j) for j = i and every ancestor (v_index[j] <= v_index[i])
-    const int p = m.parent[i];
-    const Eigen::Index vi = m.v_index[i], ni = m.nv_body[i];
-    for (Eigen::Index b = 0; b < ni; ++b) {
-      // force of a unit hinge acceleration
-      const Vec6<S> F = d.sweep.tree_articulated_inertia[i] * d.sweep.tree_subspace[i].col(b);
-      for (std::size_t j = i;;) {
-        const Eigen::Index vj = m.v_index[j], nj = j == i ? b + 1 : m.nv_body[j];
-        for (Eigen::Index a = 0; a < nj; ++a)  // both triangles here: no transposed copy afterwards
-          d.mass_matrix(vi + b, vj + a) = d.mass_matrix(vj + a, vi + b) = d.sweep.tree_subspace[j].col(a).dot(F);
-        if (m.parent[j] < 0) break;
-        j = static_cast<std::size_t>(m.parent[j]);
-      }
+  MatX<S>& M = d.mass_matrix;
+  S probe(0);
+  for (std::size_t i = n; i-- > 0;) {
+    const Mat6<S>& composite = d.sweep.tree_articulated_inertia[i];
+    for (int k = m.v_index[i]; k < m.v_index[i] + m.nv_body[i]; ++k) {
+      const Vec6<S> F = composite * H.col(k);  // force of a unit acceleration of DOF k
+      S* const column_k = &M(0, k);
+      S column_sum(0);  // a chain per column, not one through the whole matrix
+      for_each_ancestor_run(k, true, m.dof_parent, m.dof_run_start, [&](int first, int last) {
+        for (int j = first; j <= last; ++j) {
+          const S value = H.col(j).dot(F);
+          column_k[j] = value;
+          M(k, j) = value;  // both triangles here: no transposed copy afterwards
+          column_sum += value;
+        }
+      });
+      probe += column_sum;
     }
-    if (p >= 0)
-      d.sweep.tree_articulated_inertia[static_cast<std::size_t>(p)] += d.sweep.tree_articulated_inertia[i];
+    const int p = m.parent[i];
+    if (p >= 0) d.sweep.tree_articulated_inertia[static_cast<std::size_t>(p)] += composite;
   }
-  if (m.has_armature) d.mass_matrix.diagonal() += Eigen::Map<const VecX<S>>(m.armature.data(), m.nv);
-  return true;
+  if (m.has_armature) {
+    M.diagonal() += Eigen::Map<const VecX<S>>(m.armature.data(), m.nv);
+    probe += M.diagonal().sum();
+  }
+  using std::isfinite;
+  if (!isfinite(scalar_value(probe))) return check_finite_columns(M);  // names the column; a false alarm (the sum overflowed) passes
+  return Status{};
 }
 
 // Models with flexible bodies, and rigid models with a body beyond its
@@ -108,7 +124,11 @@ void composite_body_frames(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRe
 template <class S>
 Status mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   // Models with flexible bodies, or with a body beyond its tree-frame reach: in body frames.
-  if (m.has_flexible_bodies() || !detail::composite_rigid_body(m, d, q)) detail::composite_body_frames(m, d, q);
+  if (!m.has_flexible_bodies()) {
+    const Status status = detail::composite_rigid_body(m, d, q);
+    if (status.code != StatusCode::beyond_tree_frame_reach) return status;
+  }
+  detail::composite_body_frames(m, d, q);
   return check_finite_columns(d.mass_matrix);
 }
 

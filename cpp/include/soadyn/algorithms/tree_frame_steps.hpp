@@ -24,6 +24,8 @@
 // plus the joint's own bias for joints whose subspace varies (universal).
 #pragma once
 #include "soadyn/algorithms/appendage_step.hpp"
+#include <type_traits>
+
 #include "soadyn/joints/joint.hpp"
 
 namespace soadyn {
@@ -55,6 +57,24 @@ inline Vec6<S> universal_tree_step(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
                          d.sweep.tree_subspace[i]);
 }
 
+// base = parent * placement, written column by column as the joint kernels
+// read it (whole-matrix copies and products leave stores that the kernels'
+// column loads cannot forward from). The rotation product is skipped when the
+// placement's rotation is exactly the identity, as it is for most URDF joints;
+// the test runs per call, so a placement changed by a parameter is honoured.
+template <class S>
+SOADYN_ALWAYS_INLINE void compose_with_placement(const Transform<S>& parent, const Transform<S>& placement,
+                                                 Transform<S>& base) {
+  const Mat3<S>& R = parent.rotation;
+  const Mat3<S>& P = placement.rotation;
+  const Vec3<S>& t = placement.translation;
+  base.translation = parent.translation + R.col(0) * t.x() + R.col(1) * t.y() + R.col(2) * t.z();
+  bool identity = false;
+  if constexpr (std::is_floating_point_v<S>) identity = P == Mat3<S>::Identity();
+  for (int c = 0; c < 3; ++c)
+    base.rotation.col(c) = identity ? Vec3<S>(R.col(c)) : Vec3<S>(R.col(0) * P(0, c) + R.col(1) * P(1, c) + R.col(2) * P(2, c));
+}
+
 }  // namespace detail
 
 // Pose of body i in its tree frame and its motion subspace there; returns the
@@ -70,7 +90,7 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
   if (root)
     base.rotation = m.placement[i].rotation;
   else
-    base = d.sweep.tree_pose[static_cast<std::size_t>(p)] * m.placement[i];
+    detail::compose_with_placement(d.sweep.tree_pose[static_cast<std::size_t>(p)], m.placement[i], base);
   Transform<S>& pose = d.sweep.tree_pose[i];
   Mat6N<S>& s = d.sweep.tree_subspace[i];
   // The 1-DOF kernels' coordinate along +e_k.

@@ -31,16 +31,31 @@ Mat6<S> spatial_inertia(const S& mass, const Vec3<S>& com, const Mat3<S>& inerti
 
 // The spatial inertia of a body whose frame has `pose` in a frame F, in F's
 // coordinates and about F's origin, written into I: the centre of mass and
-// the rotational inertia are carried to F (R c + t, R Ic R'), then assembled
-// as above. Written in place: the sweeps fill their Data without a 6x6 copy.
+// the rotational inertia are carried to F (c' = R c + t, R Ic R'), then
+// assembled as above. Written in place and entry by entry: the sweeps fill
+// their Data without a 6x6 copy, and no symmetric temporary is stored and
+// read back.
 template <class S>
 SOADYN_ALWAYS_INLINE void spatial_inertia_in_frame(const Transform<S>& pose, const S& mass, const Vec3<S>& com,
                                                    const Mat3<S>& inertia_com, Mat6<S>& I) {
-  const Mat3<S> half = pose.rotation * inertia_com;  // R Ic R' is symmetric: its lower triangle from R Ic
-  Mat3<S> rotated;
-  for (int c = 0; c < 3; ++c)
-    for (int r = c; r < 3; ++r) rotated(r, c) = rotated(c, r) = half.row(r).dot(pose.rotation.row(c));
-  assign_spatial_inertia(mass, pose.apply_point(com), rotated, I);
+  const Mat3<S>& R = pose.rotation;
+  const Mat3<S> half = R * inertia_com;  // R Ic R' is symmetric: its six entries are rows of R Ic dotted with rows of R
+  const Vec3<S> c = pose.apply_point(com);
+  const Vec3<S> mc = mass * c;
+  const S shift = mc.dot(c);  // -m [c]x[c]x = m (|c|^2 1 - c c')
+  const S xx = half.row(0).dot(R.row(0)) + shift - mc.x() * c.x();
+  const S yy = half.row(1).dot(R.row(1)) + shift - mc.y() * c.y();
+  const S zz = half.row(2).dot(R.row(2)) + shift - mc.z() * c.z();
+  const S xy = half.row(1).dot(R.row(0)) - mc.x() * c.y();
+  const S xz = half.row(2).dot(R.row(0)) - mc.x() * c.z();
+  const S yz = half.row(2).dot(R.row(1)) - mc.y() * c.z();
+  const S zero(0);
+  I.col(0) << xx, xy, xz, zero, -mc.z(), mc.y();
+  I.col(1) << xy, yy, yz, mc.z(), zero, -mc.x();
+  I.col(2) << xz, yz, zz, -mc.y(), mc.x(), zero;
+  I.col(3) << zero, mc.z(), -mc.y(), mass, zero, zero;
+  I.col(4) << -mc.z(), zero, mc.x(), zero, mass, zero;
+  I.col(5) << mc.y(), -mc.x(), zero, zero, zero, mass;
 }
 
 // Mass, centre of mass and rotational inertia about it, read back from a
