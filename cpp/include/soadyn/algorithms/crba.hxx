@@ -38,6 +38,19 @@ Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
       S* const column_k = &M(0, k);
       S column_sum(0);  // a chain per column, not one through the whole matrix
       for_each_ancestor_run(k, true, m.dof_parent, m.dof_run_start, [&](int first, int last) {
+        if (last >= first + 5 && m.dof_parent[static_cast<std::size_t>(first)] < 0) {
+          const std::size_t root = static_cast<std::size_t>(m.dof_body[static_cast<std::size_t>(first)]);
+          if (m.joint_kernel[root] == JointKernel::free) {
+            // A free root's H* is diag(R, R) (FreeJoint::tree_step): its six rows are R' F, two 3x3 products.
+            const Mat3<S>& R = d.sweep.tree_pose[root].rotation;
+            Vec6<S> rows;
+            rows.template head<3>().noalias() = R.transpose() * F.template head<3>();
+            rows.template tail<3>().noalias() = R.transpose() * F.template tail<3>();
+            for (int a = 0; a < 6; ++a) column_k[first + a] = M(k, first + a) = rows[a];
+            column_sum += rows.sum();
+            first += 6;
+          }
+        }
         for (int j = first; j <= last; ++j) {
           const S value = H.col(j).dot(F);
           column_k[j] = value;
