@@ -108,6 +108,7 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
     }
     case JointKernel::free: FreeJoint<S>::tree_step(base, q + m.q_index[i], root, pose, s); break;
     case JointKernel::fixed: pose = base; break;
+    case JointKernel::spherical: SphericalJoint<S>::tree_step(base, q + m.q_index[i], root, pose, s); break;
     case JointKernel::universal: return detail::universal_tree_step(m, d, i, base, q, v, root);
     default: return detail::general_joint_tree_step(m, d, i, base, q, v, root);
   }

@@ -1,9 +1,9 @@
 // Tags of the compile-time kernels for the joints robots are made of. A
 // revolute or prismatic joint whose axis is +-x, +-y or +-z of its joint frame
 // (nearly every URDF joint), the free joint and the fixed joint get their
-// pose and motion subspace from dedicated code; the universal joint has a
-// tree-frame kernel. The code of each kernel lives in its joint's header
-// (revolute.hpp, prismatic.hpp, free.hpp, universal.hpp); the sweeps switch
+// pose and motion subspace from dedicated code; the universal and spherical
+// joints have tree-frame kernels. The code of each kernel lives in its joint's
+// header (revolute.hpp, prismatic.hpp, free.hpp, universal.hpp, spherical.hpp); the sweeps switch
 // on the tag once per body (algorithms/steps.hpp, tree_frame_steps.hpp).
 // Every other joint takes the general path through JointModel's variant.
 // The model classifies each joint once, when the body is added
@@ -20,6 +20,7 @@ enum class JointKernel : std::uint8_t {
   free,
   fixed,  // no motion: the placement alone (a flexible body clamped to its parent)
   universal,  // tree frames only; body-frame steps take the general path
+  spherical,  // tree frames only; body-frame steps take the general path
   general,
 };
 

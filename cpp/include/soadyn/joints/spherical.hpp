@@ -80,6 +80,20 @@ struct SphericalJoint {
     draw.unit_quaternion(q);
   }
   void check(const std::string&) {}
+
+  JointKernel kernel(S& sign) const {
+    sign = S(1);
+    return JointKernel::spherical;
+  }
+  // Tree-frame kernel (algorithms/tree_frame_steps.hpp): R = R_base R(q), and
+  // the body-frame subspace [1; 0] carried to the tree frame is
+  // H* = [R; t x R] (the body origin t does not move). Zero bias.
+  static SOADYN_ALWAYS_INLINE void tree_step(const Transform<S>& base, const S* q, bool root, Transform<S>& pose,
+                                             Mat6N<S>& s) {
+    pose.rotation.noalias() = base.rotation * quaternion_rotation(q);
+    pose.translation = root ? Vec3<S>::Zero() : base.translation;
+    for (int c = 0; c < 3; ++c) s.col(c) << pose.rotation.col(c), pose.translation.cross(Vec3<S>(pose.rotation.col(c)));
+  }
 };
 
 }  // namespace soadyn
