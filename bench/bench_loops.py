@@ -79,6 +79,8 @@ if __name__ == "__main__" and len(sys.argv) > 1 and sys.argv[1] == "--hybrid-chi
 
 import pinocchio as pin  # noqa: E402
 
+from build_comparison import alternate_builds, has_build  # noqa: E402
+
 import soadyn  # noqa: E402
 from bench_robots import interleaved_per_call_us, median_ratio, write_report  # noqa: E402
 from pinocchio_mapping import JointMatch, PinocchioMapping, free_joint_names  # noqa: E402
@@ -386,17 +388,7 @@ def parts_of_soadyn(c: Case, calls: int) -> dict:
 
 def hybrid_before_after(before: Path, rounds: int, calls: int, py_calls: int) -> dict:
     """hybrid_dynamics timings of this build and of the build at `before`, child processes alternating."""
-    env_after = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    env_before = {**env_after, "PYTHONPATH": str(before)}
-    runs = {"before": [], "after": []}
-    for r in range(rounds):
-        for label, env in (("before", env_before), ("after", env_after)) if r % 2 == 0 else \
-                (("after", env_after), ("before", env_before)):
-            out = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--hybrid-child", str(calls),
-                                  str(py_calls)], env=env, capture_output=True, text=True, check=True, cwd="/")
-            runs[label].append(json.loads(out.stdout.strip().splitlines()[-1]))
-        print(f"hybrid round {r + 1}/{rounds} done", flush=True)
-    return runs
+    return alternate_builds(Path(__file__), ["--hybrid-child", str(calls), str(py_calls)], before, rounds, "hybrid")
 
 
 # ---------------------------------------------------------------------------
@@ -438,8 +430,7 @@ def main() -> int:
         print(c.name, by_size[-1][1], f"agreement {c.agreement:.1e}", flush=True)
 
     # The earlier build to compare with, when this machine has it (a soadyn package under --before).
-    hybrid = (hybrid_before_after(args.before, rounds, cpp_calls, hybrid_py_calls)
-              if (args.before / "soadyn").is_dir() else None)
+    hybrid = hybrid_before_after(args.before, rounds, cpp_calls, hybrid_py_calls) if has_build(args.before) else None
 
     def equations(c):
         return sum(3 if l.type == pin.ContactType.CONTACT_3D else 6 for l in c.constraints)

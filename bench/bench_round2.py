@@ -1,0 +1,153 @@
+"""Performance round 2: this build against the build the round started from, and CRBA against Pinocchio.
+
+Each round times, in child processes, the build at --before (default /work/before_22, a
+`pip install --target` of commit 26f4505, the code when the round's goals were set) and
+this build, alternating which goes first (build_comparison.alternate_builds), then runs
+Pinocchio's peer_bench once (../shared/tools/peer_bench). Per child:
+- C++ per call (`_time_cpp`, median of 7 repetitions of `calls` calls over 64 random
+  states): mass_matrix (CRBA), hybrid_dynamics (all regular) and inverse_dynamics on the
+  bench_robots robots, and hybrid_dynamics and mass_matrix of the cassini model;
+- the cassini RK4 step at 1 ms as the HIL scene runs it (turntable and gimbal driven,
+  soadyn.hil.scene_simulator): Simulator._run of `steps` steps, per-step time, median of 7.
+Ratios are medians over rounds of the ratio within a round.
+
+Writes bench/results/round2.md. Usage: python bench/bench_round2.py [--quick] [--before DIR --before-rev REV]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent / "tests"))
+sys.path.insert(0, str(HERE))
+ROBOTS = ["ur5", "panda", "solo12", "talos"]
+ALGORITHMS = {"crba": "mass_matrix (CRBA)", "hybrid": "hybrid_dynamics", "rnea": "inverse_dynamics"}
+
+
+def child(calls: int, steps: int) -> None:
+    """Child process: timings with whichever soadyn is first on the path."""
+    import soadyn
+    from soadyn._soadyn import _time_cpp
+    from soadyn.hil import scene_simulator
+    from robots import robot
+
+    def states(m, count=64):
+        rng = np.random.default_rng(1)
+        q = np.array([soadyn.random_configuration(m, int(rng.integers(1 << 31))) for _ in range(count)])
+        return q, rng.uniform(-1, 1, (count, m.nv)), rng.uniform(-1, 1, (count, m.nv))
+
+    out = {}
+    for name in ROBOTS:
+        path, floating = robot(name)
+        m = soadyn.load_urdf(path, floating_base=floating)
+        s = states(m)
+        out[name] = {alg: _time_cpp(m, alg, *s, calls) for alg in ALGORITHMS}
+    cassini = soadyn.scenes.cassini()
+    s = states(cassini)
+    out["cassini"] = {alg: _time_cpp(cassini, alg, *s, calls) for alg in ("hybrid", "crba")}
+    sim = scene_simulator("cassini", 1000.0)
+    sim._run(500)
+    per_step = []
+    for _ in range(7):
+        start = time.perf_counter()
+        sim._run(steps)
+        per_step.append((time.perf_counter() - start) / steps * 1e6)
+    out["cassini"]["step"] = float(np.median(per_step))
+    print(json.dumps(out))
+
+
+if __name__ == "__main__" and len(sys.argv) > 1 and sys.argv[1] == "--child":
+    child(int(sys.argv[2]), int(sys.argv[3]))
+    sys.exit(0)
+
+from bench_robots import median_ratio, peer_timings  # noqa: E402
+from build_comparison import alternate_builds, has_build  # noqa: E402
+from robots import robot  # noqa: E402
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="fewer rounds and calls (a smoke run, noisier)")
+    parser.add_argument("--before", type=Path, default=Path("/work/before_22"),
+                        help="a directory holding the earlier build's soadyn package (pip install --target)")
+    parser.add_argument("--before-rev", default="26f4505", help="the commit that build was made from")
+    args = parser.parse_args()
+    if not has_build(args.before):
+        print(f"no soadyn package under {args.before}: build commit {args.before_rev} there first "
+              f"(pip install --no-deps --no-build-isolation --target {args.before} <source of {args.before_rev}>)",
+              file=sys.stderr)
+        return 2
+    rounds, calls, steps = (2, 2000, 500) if args.quick else (6, 20000, 4000)
+    paths = {name: robot(name)[0] for name in ROBOTS}
+    load_start = os.getloadavg()[0]
+    runs = {"before": [], "after": []}
+    peers = []
+    for r in range(rounds):
+        one = alternate_builds(Path(__file__), ["--child", str(calls), str(steps)], args.before, 1, f"round {r + 1}")
+        runs["before"] += one["before"]
+        runs["after"] += one["after"]
+        peers.append(peer_timings(paths))
+
+    def med(build, model, alg):
+        return float(np.median([run[model][alg] for run in runs[build]]))
+
+    def ratio(model, alg):
+        return median_ratio([run[model][alg] for run in runs["after"]], [run[model][alg] for run in runs["before"]])
+
+    def pin_ratio(model):
+        pairs = [(a[model]["crba"], p[model]["crba"]) for a, p in zip(runs["after"], peers) if model in p]
+        return median_ratio(*zip(*pairs)) if pairs else float("nan")
+
+    def pin_median(model):
+        values = [p[model]["crba"] for p in peers if model in p]
+        return float(np.median(values)) if values else float("nan")
+
+    cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown")
+    source = subprocess.run(["git", "-C", str(HERE.parent), "describe", "--always", "--dirty"], capture_output=True,
+                            text=True).stdout.strip()
+    lines = [
+        "# Performance round 2: this build against the round's starting build, same run", "",
+        f"- Date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; machine: {cpu}, {os.cpu_count()} logical cores "
+        f"(load average {load_start:.1f} at the start, {os.getloadavg()[0]:.1f} at the end)",
+        f"- Source: {source}; before: commit {args.before_rev} (PYTHONPATH={args.before}); "
+        f"command: `python bench/bench_round2.py{' --quick' if args.quick else ''}`",
+        f"- {rounds} rounds; each round runs both builds in child processes (alternating which goes first) and "
+        f"Pinocchio's peer_bench once. C++ per call: `_time_cpp`, median of 7 repetitions of {calls} calls over 64 "
+        f"random states. Times: medians over rounds; ratios: medians over rounds of the ratio within a round.", "",
+        "## C++ per call on the bench_robots robots (us)", "",
+        "| robot | CRBA before | CRBA after | **after / before** | Pinocchio CRBA | **after / Pinocchio** (goal <= 0.7) "
+        "| hybrid after / before | RNEA after / before |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for name in ROBOTS:
+        lines.append(f"| {name} | {med('before', name, 'crba'):.2f} | {med('after', name, 'crba'):.2f} | "
+                     f"**{ratio(name, 'crba'):.2f}** | {pin_median(name):.2f} | **{pin_ratio(name):.2f}** | "
+                     f"{ratio(name, 'hybrid'):.2f} | {ratio(name, 'rnea'):.2f} |")
+    lines += [
+        "", "## The cassini scene (15 bodies, two flexible booms with 4 modes each, nv 28)", "",
+        "| measure | before (us) | after (us) | **after / before** |",
+        "|---|---:|---:|---:|",
+        f"| RK4 step at 1 ms, driven as in `soadyn hil` (goal <= 0.6) | {med('before', 'cassini', 'step'):.2f} | "
+        f"{med('after', 'cassini', 'step'):.2f} | **{ratio('cassini', 'step'):.2f}** |",
+        f"| hybrid_dynamics, C++ | {med('before', 'cassini', 'hybrid'):.2f} | {med('after', 'cassini', 'hybrid'):.2f} | "
+        f"**{ratio('cassini', 'hybrid'):.2f}** |",
+        f"| mass_matrix (composite bodies with augmented flexible bodies), C++ | {med('before', 'cassini', 'crba'):.2f} | "
+        f"{med('after', 'cassini', 'crba'):.2f} | **{ratio('cassini', 'crba'):.2f}** |",
+        "", "Times on a shared, possibly noisy machine: compare the ratios, measured in the same run.",
+    ]
+    out = HERE / "results" / "round2.md"
+    out.write_text("\n".join(lines) + "\n")
+    print(out.read_text())
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
