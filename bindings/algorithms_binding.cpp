@@ -33,10 +33,6 @@ struct OptionalWrenches {
   }
 };
 
-void copy_hinge_forces(const soadyn::Data& d, double* out) {
-  for (std::size_t i = 0; i < d.hinge_force.size(); ++i) Eigen::Map<soadyn::Vec6<double>>(out + 6 * i) = d.hinge_force[i];
-}
-
 std::vector<std::string> loop_names(const soadyn::Model& m) {
   std::vector<std::string> names;
   for (const auto& l : m.loops) names.push_back(l.name);
@@ -87,7 +83,7 @@ void bind_algorithms(py::module_& mod) {
           run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
             status = soadyn::loop_joint_wrenches<double>(m, d, Map(a.q.data(), m.nq), Map(a.v.data(), m.nv),
                                                          Map(a.x.data(), m.nv), w.data(), a.f_ext);
-            copy_hinge_forces(d, out.mutable_data());
+            copy_wrenches(d, out.mutable_data());
           });
           raise_on(status, h.model, "joint_wrenches");
         }
@@ -127,19 +123,9 @@ void bind_algorithms(py::module_& mod) {
         auto wrenches = fresh_array(h.model.nloops(), 6);
         const OptionalWrenches hinge(h, joint_wrenches);
         double* ho = hinge.data;
-        double* w = wrenches.mutable_data();
-        soadyn::Status status;
-        run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
-          status = soadyn::constrained_dynamics<double>(m, d, Map(a.q.data(), m.nq), Map(a.v.data(), m.nv),
-                                                        Map(a.x.data(), m.nv), a.f_ext,
-                                                        soadyn::DynamicsOutputs{joint_wrenches});
-          Eigen::Map<Eigen::VectorXd>(qdd.mutable_data(), m.nv) = d.qdd;
-          Eigen::Map<Eigen::VectorXd>(tau.mutable_data(), m.nv) = d.tau;
-          for (std::size_t l = 0; l < d.loops.wrench.size(); ++l)
-            Eigen::Map<soadyn::Vec6<double>>(w + 6 * l) = d.loops.wrench[l];
-          if (ho) copy_hinge_forces(d, ho);
-        });
-        raise_on(status, h.model, "constrained_dynamics");
+        raise_on(constrained_dynamics_into(h, a.buffers(), qdd.mutable_data(), tau.mutable_data(),
+                                           wrenches.mutable_data(), ho),
+                 h.model, "constrained_dynamics");
         if (ho) refuse_non_finite("constrained_dynamics", "joint wrench", ho, h.model.body_names.size(), 6,
                                   h.model.body_names);
         if (joint_wrenches) return py::make_tuple(qdd, tau, wrenches, hinge.array);

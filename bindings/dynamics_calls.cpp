@@ -9,11 +9,11 @@ namespace {
 using Map = Eigen::Map<const Eigen::VectorXd>;
 using VectorOut = Eigen::Map<Eigen::VectorXd>;
 
+}  // namespace
+
 void copy_wrenches(const soadyn::Data& d, double* out) {
   for (std::size_t i = 0; i < d.hinge_force.size(); ++i) Eigen::Map<soadyn::Vec6<double>>(out + 6 * i) = d.hinge_force[i];
 }
-
-}  // namespace
 
 Array q_arg(const ModelHandle& h, py::handle q) {
   Array a = checked_vector(q, "q", h.model.coordinate_names);
@@ -54,6 +54,21 @@ soadyn::Status hybrid_dynamics_into(ModelHandle& h, const StateBuffers& s, doubl
     VectorOut(qdd, m.nv) = d.qdd;
     VectorOut(tau, m.nv) = d.tau;
     if (wrenches) copy_wrenches(d, wrenches);
+  });
+  return status;
+}
+
+soadyn::Status constrained_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd, double* tau,
+                                         double* loop_wrenches, double* joint_wrenches) {
+  soadyn::Status status;
+  run_locked(h, s.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
+    status = soadyn::constrained_dynamics<double>(m, d, Map(s.q, m.nq), Map(s.v, m.nv), Map(s.x, m.nv), s.f_ext,
+                                                  soadyn::DynamicsOutputs{joint_wrenches != nullptr});
+    VectorOut(qdd, m.nv) = d.qdd;
+    VectorOut(tau, m.nv) = d.tau;
+    for (std::size_t l = 0; l < d.loops.wrench.size(); ++l)
+      Eigen::Map<soadyn::Vec6<double>>(loop_wrenches + 6 * l) = d.loops.wrench[l];
+    if (joint_wrenches) copy_wrenches(d, joint_wrenches);
   });
   return status;
 }

@@ -40,6 +40,15 @@ soadyn::Status inverse_dynamics_into(ModelHandle& h, const StateBuffers& s, doub
 soadyn::Status hybrid_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd, double* tau,
                                     double* wrenches);
 
+// (qdd, tau, loop wrenches (nloops x 6)) = constrained dynamics under the
+// model's prescribed flags; the joint wrenches (nbodies x 6) when
+// `joint_wrenches` is not nullptr.
+soadyn::Status constrained_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd, double* tau,
+                                         double* loop_wrenches, double* joint_wrenches);
+
+// The joint wrenches of the last call on `d` (nbodies x 6, row-major) into `out`.
+void copy_wrenches(const soadyn::Data& d, double* out);
+
 // fn(model, data, q) on the model's Data with q checked (q_arg), under the
 // model's lock (run_locked); returns fn's result (a value, not a view of Data).
 template <class Fn>

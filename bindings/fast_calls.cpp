@@ -1,5 +1,5 @@
-// Vectorcall entry points for forward_dynamics, inverse_dynamics and
-// hybrid_dynamics.
+// Vectorcall entry points for forward_dynamics, inverse_dynamics,
+// hybrid_dynamics and constrained_dynamics.
 //
 // A stepping loop calls them as f(model, q, v, x) with float64 arrays of the
 // right length. pybind11's general dispatch (argument vectors, casters,
@@ -73,7 +73,7 @@ struct FastArgs {
   }
 };
 
-enum class Call { forward, inverse, hybrid };
+enum class Call { forward, inverse, hybrid, constrained };
 
 // The result of a fast call, or nullptr (no Python error set) to hand the
 // call to the general function.
@@ -85,6 +85,13 @@ PyObject* fast_result(const FastArgs& a) {
     if (!hybrid_dynamics_into(*a.handle, a.state, qdd.mutable_data(), tau.mutable_data(), nullptr).ok())
       return nullptr;
     return py::make_tuple(std::move(qdd), std::move(tau)).release().ptr();
+  } else if constexpr (kind == Call::constrained) {
+    auto qdd = fresh_array(nv), tau = fresh_array(nv), wrenches = fresh_array(a.handle->model.nloops(), 6);
+    if (!constrained_dynamics_into(*a.handle, a.state, qdd.mutable_data(), tau.mutable_data(), wrenches.mutable_data(),
+                                   nullptr)
+             .ok())
+      return nullptr;
+    return py::make_tuple(std::move(qdd), std::move(tau), std::move(wrenches)).release().ptr();
   } else {
     auto out = fresh_array(nv);
     if constexpr (kind == Call::forward) {
@@ -167,6 +174,7 @@ void add_fast_paths(py::module_& mod) {
   install<Call::forward>(mod, "forward_dynamics", "(model, q, v, tau, f_ext=None)");
   install<Call::inverse>(mod, "inverse_dynamics", "(model, q, v, qdd, f_ext=None)");
   install<Call::hybrid>(mod, "hybrid_dynamics", "(model, q, v, u, f_ext=None, joint_wrenches=False)");
+  install<Call::constrained>(mod, "constrained_dynamics", "(model, q, v, u, f_ext=None, joint_wrenches=False)");
   add_private_api_probes(mod);
 }
 

@@ -1,7 +1,7 @@
-"""forward_dynamics, inverse_dynamics and hybrid_dynamics have a fast entry for
-the call a stepping loop makes, f(model, q, v, x) with float64 arrays; every
-other call goes to the general function. Both must give the same numbers and
-the same errors."""
+"""forward_dynamics, inverse_dynamics, hybrid_dynamics and constrained_dynamics
+have a fast entry for the call a stepping loop makes, f(model, q, v, x) with
+float64 arrays; every other call goes to the general function. Both must give
+the same numbers and the same errors."""
 import inspect
 import sys
 
@@ -116,11 +116,55 @@ def test_no_references_leak(model, state, fn):
     (soadyn.forward_dynamics, ["model", "q", "v", "tau", "f_ext"]),
     (soadyn.inverse_dynamics, ["model", "q", "v", "qdd", "f_ext"]),
     (soadyn.hybrid_dynamics, ["model", "q", "v", "u", "f_ext", "joint_wrenches"]),
+    (soadyn.constrained_dynamics, ["model", "q", "v", "u", "f_ext", "joint_wrenches"]),
 ])
 def test_signature_and_documentation(fn, params):
     assert list(inspect.signature(fn).parameters) == params
     assert fn.__doc__ == general(fn).__doc__.split("\n\n", 1)[1]
     assert fn.__module__ == "soadyn._soadyn"
+
+
+# constrained_dynamics: the same fast entry, on a model with loops (the fixture's tree with the wrist's tip
+# held to the world by a point loop, and the wrist tied to the base by a distance loop).
+
+@pytest.fixture
+def loop_model(model):
+    model.add_loop("tip", "wrist", None, "point", placement_a=[0, 0, 0.2])
+    model.add_loop("strut", "wrist", "base", "distance", placement_a=[0.1, 0, 0.1], placement_b=[0.2, 0.1, 0])
+    return model
+
+
+def test_constrained_fast_and_general_calls_agree_bit_for_bit(loop_model, state):
+    fn = soadyn.constrained_dynamics
+    fast = fn(loop_model, *state)
+    assert [a.shape for a in fast] == [(loop_model.nv,), (loop_model.nv,), (2, 6)]
+    assert np.abs(fast[2]).max() > 0  # the loops carry force
+    for other in (general(fn)(loop_model, *state), fn(loop_model, *state, None),
+                  fn(loop_model, *state[:2], state[2], f_ext=None), fn(loop_model, *state, joint_wrenches=True)[:3]):
+        for a, b in zip(fast, other):
+            np.testing.assert_array_equal(a, b)
+
+
+def test_constrained_errors_are_the_general_functions(loop_model, state):
+    q, v, u = state
+    bad = u.copy()
+    bad[6] = np.nan
+    with pytest.raises(ValueError, match=r"u\[6\] \('shoulder:wx'\) is NaN"):
+        soadyn.constrained_dynamics(loop_model, q, v, bad)
+    with pytest.raises(ValueError, match=r"v has shape \(10,\), expected \(11,\)"):
+        soadyn.constrained_dynamics(loop_model, q, v[:-1], u)
+    huge = v.copy()
+    huge[-1] = 1e200  # finite input that overflows: the general function names the DOF
+    with pytest.raises(soadyn.DynamicsError, match="constrained_dynamics"):
+        soadyn.constrained_dynamics(loop_model, q, huge, u)
+
+
+def test_constrained_no_references_leak(loop_model, state):
+    q, v, u = state
+    before = [sys.getrefcount(o) for o in (loop_model, q, v, u)]
+    for _ in range(1000):
+        soadyn.constrained_dynamics(loop_model, q, v, u)
+    assert [sys.getrefcount(o) for o in (loop_model, q, v, u)] == before
 
 
 # pybind11's private API (bindings/pybind11_private.hpp): what the fast entry reads must be what numpy and
