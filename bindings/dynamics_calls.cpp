@@ -45,32 +45,43 @@ soadyn::Status inverse_dynamics_into(ModelHandle& h, const StateBuffers& s, doub
   return status;
 }
 
-soadyn::Status hybrid_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd, double* tau,
-                                    double* wrenches) {
+namespace {
+
+// Runs `algorithm` (hybrid_dynamics or constrained_dynamics: the same
+// arguments) on the model's Data under its lock and copies qdd, tau, the
+// joint wrenches when `wrenches` is not nullptr, and whatever `more` copies.
+template <class Algorithm, class More>
+soadyn::Status hybrid_shaped_into(ModelHandle& h, const StateBuffers& s, double* qdd, double* tau, double* wrenches,
+                                  Algorithm&& algorithm, More&& more) {
   soadyn::Status status;
   run_locked(h, s.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
-    status = soadyn::hybrid_dynamics<double>(m, d, Map(s.q, m.nq), Map(s.v, m.nv), Map(s.x, m.nv), s.f_ext,
-                                             soadyn::DynamicsOutputs{wrenches != nullptr});
+    status = algorithm(m, d, Map(s.q, m.nq), Map(s.v, m.nv), Map(s.x, m.nv), s.f_ext,
+                       soadyn::DynamicsOutputs{wrenches != nullptr});
     VectorOut(qdd, m.nv) = d.qdd;
     VectorOut(tau, m.nv) = d.tau;
     if (wrenches) copy_wrenches(d, wrenches);
+    more(d);
   });
   return status;
 }
 
+}  // namespace
+
+soadyn::Status hybrid_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd, double* tau,
+                                    double* wrenches) {
+  return hybrid_shaped_into(
+      h, s, qdd, tau, wrenches, [](auto&&... args) { return soadyn::hybrid_dynamics<double>(args...); },
+      [](const soadyn::Data&) {});
+}
+
 soadyn::Status constrained_dynamics_into(ModelHandle& h, const StateBuffers& s, double* qdd, double* tau,
                                          double* loop_wrenches, double* joint_wrenches) {
-  soadyn::Status status;
-  run_locked(h, s.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
-    status = soadyn::constrained_dynamics<double>(m, d, Map(s.q, m.nq), Map(s.v, m.nv), Map(s.x, m.nv), s.f_ext,
-                                                  soadyn::DynamicsOutputs{joint_wrenches != nullptr});
-    VectorOut(qdd, m.nv) = d.qdd;
-    VectorOut(tau, m.nv) = d.tau;
-    for (std::size_t l = 0; l < d.loops.wrench.size(); ++l)
-      Eigen::Map<soadyn::Vec6<double>>(loop_wrenches + 6 * l) = d.loops.wrench[l];
-    if (joint_wrenches) copy_wrenches(d, joint_wrenches);
-  });
-  return status;
+  return hybrid_shaped_into(
+      h, s, qdd, tau, joint_wrenches, [](auto&&... args) { return soadyn::constrained_dynamics<double>(args...); },
+      [&](const soadyn::Data& d) {
+        for (std::size_t l = 0; l < d.loops.wrench.size(); ++l)
+          Eigen::Map<soadyn::Vec6<double>>(loop_wrenches + 6 * l) = d.loops.wrench[l];
+      });
 }
 
 const double* f_ext_arg(const ModelHandle& h, py::handle f, py::object& keep) {
