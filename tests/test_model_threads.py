@@ -127,6 +127,33 @@ def test_flags_and_gravity_change_while_other_threads_run_hybrid_dynamics():
     """)
 
 
+def test_gravity_changes_while_other_threads_run_constrained_dynamics():
+    # The loop call's fast entry (f(model, q, v, u) with float64 arrays) under the same race: every result
+    # is the four-bar's answer for one of the two gravities, bit for bit.
+    run_race("""
+    m = scenes.four_bar()
+    q, v = scenes.four_bar_state(0.7, 2.0)
+    u = np.array([0.5, 0.0, 0.0])
+    answers = []
+    for g in ([0, -9.81, 0], [0, -1.62, 0]):
+        ref = m.copy(); ref.gravity = g
+        answers.append(soadyn.constrained_dynamics(ref, q, v, u))
+    assert not np.array_equal(answers[0][0], answers[1][0])
+
+    def call():
+        qdd, tau, wrenches = soadyn.constrained_dynamics(m, q, v, u)
+        assert any(np.array_equal(qdd, a) and np.array_equal(tau, b) and np.array_equal(wrenches, c)
+                   for a, b, c in answers), "mixed result"
+
+    flip = [0]
+    def mutate():
+        flip[0] += 1
+        m.gravity = [0, -9.81, 0] if flip[0] % 2 else [0, -1.62, 0]
+
+    race([call, call], mutate)
+    """)
+
+
 def test_copy_and_scene_reload_while_other_threads_compute():
     run_race("""
     m = scenes.pendulum_chain(30)
