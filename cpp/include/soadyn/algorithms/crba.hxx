@@ -13,9 +13,10 @@ namespace detail {
 // a column block F = Ic(i) H*(i) needs no transform on its way to the root,
 // M(j, k) = H*(j)' F for every DOF j on the path from DOF k to the root.
 // Those DOFs are walked as runs of consecutive indices (model.dof_run_start),
-// the subspaces of all DOFs lie side by side in one 6 x nv matrix, and
-// every entry written is summed into one probe: a finite probe proves M
-// finite without reading M again.
+// the subspaces of all DOFs lie side by side in one 6 x nv matrix, and a
+// free root's six rows are R' F. Every entry is added to its column's sum as
+// it is written; a finite total of the sums proves M finite without reading
+// M again.
 // Returns beyond_tree_frame_reach, having formed no M, when a body lies
 // beyond its tree-frame reach (tree_frame_reach.hxx).
 template <class S>

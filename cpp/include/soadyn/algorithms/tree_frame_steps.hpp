@@ -23,9 +23,9 @@
 // frame is V x H*, so the Coriolis term of Eq. 1 is a(k) = V(k) x (H* qdot),
 // plus the joint's own bias for joints whose subspace varies (universal).
 #pragma once
-#include "soadyn/algorithms/appendage_step.hpp"
 #include <type_traits>
 
+#include "soadyn/algorithms/appendage_step.hpp"
 #include "soadyn/joints/joint.hpp"
 
 namespace soadyn {
