@@ -78,6 +78,12 @@ struct SweepData {
 
   // Hinge coordinates (no frame).
   aligned_vector<VecN<S>> innovation;                  // nu(i) = D^-1 eps(i) (Eq. 28)
+  // D(i) = H_r P H*_r + armature of the last tip-to-base hinge step, for
+  // later solves with it: one regular DOF, D itself in (0, 0); more, its
+  // Cholesky factor L (D = L L') in the lower triangle of the top-left
+  // n_r x n_r block. A regular free root solved outright (free_root_inward):
+  // the factor of its P.
+  aligned_vector<Mat6<S>> hinge_factor;
   VecX<S> unit_acceleration;  // mass-matrix columns (flexible models, bodies beyond tree-frame reach)
 
   // Flexible bodies (empty without them), in the order of model.flexible_bodies.

@@ -47,6 +47,7 @@ DataTpl<S>::DataTpl(const ModelTpl<S>& model)
   w.tree_regular_subspace.resize(n);
   w.tree_gain.resize(n);
   w.innovation.resize(n);
+  w.hinge_factor.assign(n, Mat6<S>::Identity());
   for (std::size_t i = 0; i < n; ++i) {
     joint_init_subspace(model.joints[i], w.body_subspace[i]);
     const Eigen::Index nv = w.body_subspace[i].cols();

@@ -76,8 +76,9 @@ void mark_loop_paths(const ModelTpl<S>& m, LoopData<S>& ld) {
 // loaded bodies (their other entries cleared): wrench(l, k) (world axes,
 // about frame A's origin) on frame A's body, its opposite on frame B's body
 // at the point P whose velocity C compares (B's origin; A's for a prismatic
-// loop). In z, as an external force: dz = -(the wrench) in the body's tree
-// frame, about its origin: [torque + (point - origin) x force; force].
+// loop), both where the loop equations left them (loops.point_a, point_p).
+// In z, as an external force: dz = -(the wrench) in the body's tree frame,
+// about its origin: [torque + (point - origin) x force; force].
 template <class S, class Wrench>
 void load_loop_wrenches(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedResponse<S>& R, Wrench&& wrench) {
   LoopData<S>& ld = d.loops;
@@ -92,12 +93,9 @@ void load_loop_wrenches(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedResponse
   };
   for (std::size_t l = 0; l < m.loops.size(); ++l) {
     const LoopTpl<S>& loop = m.loops[l];
-    const Transform<S> A = loop_frame_in_world(d, loop.body_a, loop.placement_a);
-    const Vec3<S> P = loop.kind == LoopKind::prismatic ? A.translation
-                                                       : loop_frame_in_world(d, loop.body_b, loop.placement_b).translation;
     wrench(l, [&](const Vec6<S>& w, Eigen::Index load_case) {
-      apply(loop.body_a, A.translation, w, load_case);
-      apply(loop.body_b, P, Vec6<S>(-w), load_case);
+      apply(loop.body_a, ld.point_a[l], w, load_case);
+      apply(loop.body_b, ld.point_p[l], Vec6<S>(-w), load_case);
     });
   }
 }
@@ -119,8 +117,9 @@ const Mat6N<S>& regular_tree_subspace(const ModelTpl<S>& m, const DataTpl<S>& d,
 // (N fixed at compile time for 1, 2, 3 and 6, Eigen::Dynamic otherwise):
 // inward  eps_c = -H_r dz_c,  dz+_c = dz_c + G eps_c;
 // outward qdd_c = D^-1 eps_c - G' dalpha+_c,  dalpha_c = dalpha+_c + H*_r qdd_c,
-// with D = H_r P H*_r + armature (Eq. 28), factored once per hinge; the
-// outward step leaves dnu = D^-1 eps in place of eps.
+// with D = H_r P H*_r + armature (Eq. 28) as the inward sweep left it
+// factored (hinge_factor); the outward step leaves dnu = D^-1 eps in place
+// of eps.
 template <int N, class S>
 struct HingeResponse {
   using Mat6n = Eigen::Matrix<S, 6, N, 0, 6, (N == Eigen::Dynamic ? 6 : N)>;
@@ -140,26 +139,29 @@ struct HingeResponse {
   }
 
   // qdd into rows dof(k) of `qdd` (k < n); dalpha holds dalpha+ on entry
-  // (`has_parent`; zero otherwise) and dalpha on return. Returns false for a
-  // singular D.
+  // (`has_parent`; zero otherwise) and dalpha on return.
   template <class A, class Dof>
-  static bool outward(const Mat6N<S>& Sr, const Mat6N<S>& G, const Mat6<S>& P, const S* armature, MatX<S>& eps,
-                      int v, bool has_parent, A& dalpha, MatX<S>& qdd, Dof&& dof) {
+  static void outward(const Mat6N<S>& Sr, const Mat6N<S>& G, const Mat6<S>& factor, MatX<S>& eps, int v,
+                      bool has_parent, A& dalpha, MatX<S>& qdd, Dof&& dof) {
     const Mat6n s = Sr, g = G;
     const Eigen::Index n = s.cols();
-    Matn D = s.transpose() * (P * s);
-    if (armature)
-      for (Eigen::Index k = 0; k < n; ++k) D(k, k) += armature[k];
-    if (cholesky_in_place(D, singular_pivot_threshold(P)) >= 0) return false;
+    const Matn L = factor.topLeftCorner(n, n);
+    // One DOF: the factor holds D itself; its solve is rounded as the 1 x 1
+    // Cholesky solve (two products with 1 / sqrt(D)), the arithmetic the
+    // float-versus-double test of the loops was validated with.
+    using std::sqrt;
+    const S inverse_root = N == 1 ? S(1) / sqrt(L(0, 0)) : S(0);
     for (Eigen::Index c = 0; c < dalpha.cols(); ++c) {
       Vecn r = eps.col(c).segment(v, n);
-      cholesky_solve_in_place(D, r);
+      if constexpr (N == 1)
+        r[0] = r[0] * inverse_root * inverse_root;
+      else
+        cholesky_solve_in_place(L, r);
       eps.col(c).segment(v, n) = r;  // dnu = D^-1 deps, kept for the update of nu (add_loop_forces_to_sweeps)
       if (has_parent) r.noalias() -= g.transpose() * dalpha.col(c);
       dalpha.col(c) += s * r;
       for (Eigen::Index k = 0; k < n; ++k) qdd(dof(static_cast<int>(k)), c) = r[k];
     }
-    return true;
   }
 };
 
@@ -198,7 +200,7 @@ void loop_response_inward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRespon
 
 // The outward half over the loaded bodies: dqdd and dalpha per load case.
 template <class S>
-Status loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedResponse<S>& R) {
+void loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedResponse<S>& R) {
   const LoopData<S>& ld = d.loops;
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
     if (!ld.on_loop_path[i]) continue;
@@ -206,7 +208,6 @@ Status loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRes
     const HingeModes& h = m.modes[i];
     const int p = m.parent[i];
     const Mat6N<S>& s = d.sweep.tree_subspace[i];
-    const Mat6<S>& P = d.sweep.tree_articulated_inertia[i];
     auto dqdd = R.qdd.middleRows(vi, ni);
     auto dalpha = R.alpha_of(i);
     if (!h.needs_articulated_inertia) {  // accelerations given from the world in
@@ -215,10 +216,8 @@ Status loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRes
       continue;
     }
     if (is_regular_free_root<ModePolicy::model_flags>(m, i)) {  // alpha = P^-1 (H^-* T - z) (free_root_inward)
-      Mat6<S> L = P;
-      if (cholesky_in_place(L, singular_pivot_threshold(P)) >= 0) return {StatusCode::singular_articulated_inertia, vi};
       dalpha = -R.z_of(i);
-      cholesky_solve_in_place(L, dalpha);
+      cholesky_solve_in_place(d.sweep.hinge_factor[i], dalpha);
       dqdd.topRows(3).noalias() = s.template topLeftCorner<3, 3>().transpose() * dalpha.template topRows<3>();
       dqdd.bottomRows(3).noalias() = s.template bottomRightCorner<3, 3>().transpose() * dalpha.template bottomRows<3>();
       continue;
@@ -229,17 +228,11 @@ Status loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRes
       dalpha.setZero();
     for (int k = 0; k < h.n_prescribed; ++k) dqdd.row(h.prescribed[k]).setZero();
     if (h.n_regular == 0) continue;
-    S armature[6];
-    for (int k = 0; k < h.n_regular; ++k)
-      armature[k] = m.armature[static_cast<std::size_t>(vi + (h.n_prescribed > 0 ? h.regular[k] : k))];
-    const bool solved = with_hinge_size<S>(h.n_regular, [&](auto kernel) {
-      return kernel.outward(regular_tree_subspace(m, d, i), d.sweep.tree_gain[i], P, h.has_armature ? armature : nullptr,
-                            R.eps, vi, p >= 0, dalpha, R.qdd,
-                            [&](int k) { return vi + (h.n_prescribed > 0 ? h.regular[k] : k); });
+    with_hinge_size<S>(h.n_regular, [&](auto kernel) {
+      kernel.outward(regular_tree_subspace(m, d, i), d.sweep.tree_gain[i], d.sweep.hinge_factor[i], R.eps, vi, p >= 0,
+                     dalpha, R.qdd, [&](int k) { return vi + (h.n_prescribed > 0 ? h.regular[k] : k); });
     });
-    if (!solved) return {StatusCode::singular_articulated_inertia, vi};
   }
-  return {};
 }
 
 // After the inward sweeps of hybrid dynamics in tree frames (their P, G and
@@ -248,13 +241,13 @@ Status loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRes
 // bodies' dqdd per unit multiplier, in loops.unit_response.qdd (the loaded
 // DOFs' rows of Y = M_rr^-1 C_r'), and their dz, dalpha and dnu.
 template <class S>
-Status unit_multiplier_response(const ModelTpl<S>& m, DataTpl<S>& d) {
+void unit_multiplier_response(const ModelTpl<S>& m, DataTpl<S>& d) {
   LoopData<S>& ld = d.loops;
   load_loop_wrenches(m, d, ld.unit_response, [&](std::size_t l, auto&& load) {
     for (int k = 0; k < m.loops[l].rows(); ++k) load(Vec6<S>(ld.directions[l].col(k)), m.loops[l].first_row + k);
   });
   loop_response_inward(m, d, ld.unit_response);
-  return loop_response_outward(m, d, ld.unit_response);
+  loop_response_outward(m, d, ld.unit_response);
 }
 
 // Then, with the multipliers lambda solved: the loop forces C_r' lambda

@@ -128,12 +128,29 @@ namespace detail {
 // solve, whose rank threshold is relative to its own largest pivot, would
 // take it for a constraint and return a multiplier of order 1/eps. The scale
 // is C's largest entry, not its row's: a row can be noise through and through.
+template <class S>
+S jacobian_noise_floor(const MatX<S>& C) {
+  return C.size() > 0 ? S(64) * Eigen::NumTraits<S>::epsilon() * C.cwiseAbs().maxCoeff() : S(0);
+}
+
 template <class S, class Keep>
 void restrict_jacobian_columns(const MatX<S>& C, Keep&& keep, MatX<S>& restricted) {
-  const S floor = C.size() > 0 ? S(64) * Eigen::NumTraits<S>::epsilon() * C.cwiseAbs().maxCoeff() : S(0);
+  const S floor = jacobian_noise_floor(C);
   restricted = (C.array().abs() > floor).select(C, S(0));
   for (Eigen::Index k = 0; k < C.cols(); ++k)
     if (!keep(k)) restricted.col(k).setZero();
+}
+
+// The same restriction written transposed (nv x m), in one pass over C.
+template <class S, class Keep>
+void restrict_jacobian_columns_transposed(const MatX<S>& C, Keep&& keep, MatX<S>& restricted_transposed) {
+  using std::abs;
+  const S floor = jacobian_noise_floor(C);
+  for (Eigen::Index k = 0; k < C.cols(); ++k) {
+    const bool kept = keep(k);
+    for (Eigen::Index i = 0; i < C.rows(); ++i)
+      restricted_transposed(k, i) = kept && abs(C(i, k)) > floor ? C(i, k) : S(0);
+  }
 }
 
 }  // namespace detail

@@ -118,18 +118,18 @@ S closure_equation_scale(const LoopData<S>& ld, const VecX<S>& qdd, int i) {
 // units), below which a closure acceleration is drift. -1 when every
 // equation is met.
 template <class S>
-int inconsistent_loop(const ModelTpl<S>& m, const DataTpl<S>& d) {
+int inconsistent_loop(const ModelTpl<S>& m, DataTpl<S>& d) {
   using std::abs;
-  const LoopData<S>& ld = d.loops;
+  LoopData<S>& ld = d.loops;
   const S tol = loop_consistency_threshold<S>();
-  S largest_scale = S(0);
-  for (int i = 0; i < m.nloop_equations; ++i) largest_scale = std::max(largest_scale, closure_equation_scale(ld, d.qdd, i));
+  for (int i = 0; i < m.nloop_equations; ++i) ld.equation_scale[i] = closure_equation_scale(ld, d.qdd, i);
+  const S largest_scale = m.nloop_equations > 0 ? ld.equation_scale.maxCoeff() : S(0);
   int worst = -1;
   S worst_ratio = S(1);
   for (std::size_t l = 0; l < m.loops.size(); ++l) {
     const LoopTpl<S>& loop = m.loops[l];
     for (int i = loop.first_row; i < loop.first_row + loop.rows(); ++i) {
-      const S scale = closure_equation_scale(ld, d.qdd, i);
+      const S scale = ld.equation_scale[i];
       const S ratio = abs(ld.jacobian.row(i).dot(d.qdd) - ld.kappa[i]) / (tol * (scale + tol * (largest_scale + S(1))));
       if (ratio > worst_ratio) {
         worst_ratio = ratio;
@@ -254,7 +254,7 @@ Status mass_matrix_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
   detail::rnea(m, d, q.data(), v.data(), static_cast<const S*>(nullptr), f_ext);
   d.loops.bias = d.tau;
   update_world_poses(m, d);
-  detail::loop_equations(m, d, true);
+  detail::loop_equations(m, d, LoopTerms::acceleration);
   return detail::constrained_solve(m, d, u);
 }
 
@@ -264,7 +264,7 @@ Status mass_matrix_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
 // accelerations without loop forces (qdd_free there); the loop equations,
 // read at qdd_free, give rhs = kappa - C qdd_free; unit_multiplier_response
 // (articulated_loop_response.hxx) gives Y = M_rr^-1 C_r' on those paths; K = C_r Y
-// (lower triangle, mirrored) and K lambda = rhs; the loop forces then enter z and nu of the
+// (its lower triangle) and K lambda = rhs; the loop forces then enter z and nu of the
 // loaded bodies and one outward sweep gives qdd and tau: the same equations
 // as constrained_solve at O(N + L m) instead of O(N d^2).
 // Returns beyond_tree_frame_reach, having changed no output, when a body
@@ -287,20 +287,18 @@ Status articulated_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
     ld.free_acceleration.segment(m.v_index[i], m.nv_body[i]) = d.qdd.segment(m.v_index[i], m.nv_body[i]);
   }
   set_world_poses_from_tree_frames(m, d, q.data());
-  loop_equations_from<TreeFrameLoopKinematics>(m, d, true);  // kappa - C qdd_free, in kappa
+  loop_equations_from<TreeFrameLoopKinematics>(m, d, LoopTerms::acceleration);  // kappa - C qdd_free, in kappa
   ld.rhs = ld.kappa;
   ld.kappa.noalias() += ld.jacobian * ld.free_acceleration;  // C is zero off the loaded DOFs
-  restrict_jacobian_columns(ld.jacobian, [&](Eigen::Index k) { return !m.is_prescribed(static_cast<int>(k)); },
-                            ld.constraint_jacobian_regular);
-  const Status response = unit_multiplier_response(m, d);
-  if (!response.ok()) return response;
-  // K = C_r Y, symmetric: its lower triangle as dot products of contiguous
-  // columns (Y's rows off the loaded DOFs are zero), mirrored.
+  restrict_jacobian_columns_transposed(
+      ld.jacobian, [&](Eigen::Index k) { return !m.is_prescribed(static_cast<int>(k)); }, ld.regular_jacobian_transposed);
+  unit_multiplier_response(m, d);
+  // K = C_r Y, symmetric: its lower triangle (all the solve reads) as dot
+  // products of contiguous columns (Y's rows off the loaded DOFs are zero).
   const MatX<S>& Y = ld.unit_response.qdd;
-  ld.regular_jacobian_transposed = ld.constraint_jacobian_regular.transpose();
   for (int j = 0; j < m.nloop_equations; ++j)
     for (int i = j; i < m.nloop_equations; ++i)
-      ld.delassus(j, i) = ld.delassus(i, j) = ld.regular_jacobian_transposed.col(i).dot(Y.col(j));
+      ld.delassus(i, j) = ld.regular_jacobian_transposed.col(i).dot(Y.col(j));
   if (semidefinite_min_norm_solve(ld.delassus, ld.rhs, delassus_threshold<S>(), ld.delassus_solve, ld.multipliers) < 0)
     return {StatusCode::non_finite_result, -1};
   add_loop_forces_to_sweeps(m, d);

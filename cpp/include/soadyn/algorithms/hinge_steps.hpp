@@ -122,7 +122,8 @@ SOADYN_ALWAYS_INLINE int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::
     for (int k = 0; k < n_regular; ++k)
       regular_armature[k] = m.armature[static_cast<std::size_t>(m.v_index[i] + (n_prescribed > 0 ? h.regular[k] : k))];
   const int bad = articulated_hinge_step<Mode>(P, *Sr, z, torque, h.has_armature ? regular_armature : nullptr,
-                                               frame_gain<F>(d)[i], d.sweep.innovation[i], P_plus, z_plus);
+                                               frame_gain<F>(d)[i], d.sweep.innovation[i], d.sweep.hinge_factor[i],
+                                               P_plus, z_plus);
   if (bad < 0) return -1;
   return m.v_index[i] + (n_prescribed > 0 ? h.regular[bad] : bad);
 }

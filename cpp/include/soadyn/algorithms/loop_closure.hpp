@@ -22,12 +22,18 @@ template <class S>
 S loop_rank_threshold() { return S(1e3) * Eigen::NumTraits<S>::epsilon(); }
 
 namespace detail {
-// Psi, C, C v and (with_kappa) kappa from the kinematics already in `data`:
+// Which loop equations' terms a call needs besides C: the closure errors
+// (Psi and C v: assembly, projection, drift) or the acceleration level
+// (kappa: the dynamics, which need no Psi).
+enum class LoopTerms { closure, acceleration };
+
+// C, and Psi and C v or kappa, from the kinematics already in `data`:
 // pose_in_world, body_subspace, body_velocity and, for kappa, the body
 // accelerations of qdd = 0 (with the -gravity base acceleration, as inverse
-// dynamics leaves them).
+// dynamics leaves them). Also leaves, per loop, the world positions of frame
+// A's origin and of the point P whose velocity C compares (loops.point_a, point_p).
 template <class S>
-void loop_equations(const ModelTpl<S>& model, DataTpl<S>& data, bool with_kappa);
+void loop_equations(const ModelTpl<S>& model, DataTpl<S>& data, LoopTerms terms);
 }  // namespace detail
 
 }  // namespace soadyn

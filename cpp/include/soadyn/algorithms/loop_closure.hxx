@@ -118,100 +118,153 @@ Vec3<S> rotation_vector(const Mat3<S>& R) {
   return aa.angle() * aa.axis();
 }
 
-// The constraint directions W (6 x k, first k columns) of a loop, their rate
-// Wdot, and the residual Psi (loops/loop.hpp).
+// The constraint directions W (6 x k, first k columns) of a loop and their
+// rate Wdot (loops/loop.hpp).
 template <class S>
 struct LoopDirections {
   Mat6<S> W = Mat6<S>::Zero(), W_rate = Mat6<S>::Zero();
-  Vec6<S> residual = Vec6<S>::Zero();
 };
 
 template <class S>
 LoopDirections<S> loop_directions(const LoopTpl<S>& loop, const Transform<S>& A, const Transform<S>& B,
                                   const Vec6<S>& relative_velocity, const Vec3<S>& omega_a, const Vec3<S>& omega_b) {
   LoopDirections<S> ld;
-  const Vec3<S> d = A.translation - B.translation;
-  const Vec3<S> x_a = A.rotation.col(0), y_a = A.rotation.col(1), z_a = A.rotation.col(2);
-  const Vec3<S> x_b = B.rotation.col(0), y_b = B.rotation.col(1), z_b = B.rotation.col(2);
   switch (loop.kind) {
     case LoopKind::point:
       ld.W.template block<3, 3>(3, 0).setIdentity();
-      ld.residual.template head<3>() = d;
       break;
-    case LoopKind::revolute: {
+    case LoopKind::revolute:
       ld.W.template block<3, 3>(3, 0).setIdentity();
-      ld.W.template block<3, 1>(0, 3) = x_a;
-      ld.W.template block<3, 1>(0, 4) = y_a;
-      ld.W_rate.template block<3, 1>(0, 3) = omega_a.cross(x_a);
-      ld.W_rate.template block<3, 1>(0, 4) = omega_a.cross(y_a);
-      const Vec3<S> tilt = z_b.cross(z_a);
-      ld.residual << d, x_a.dot(tilt), y_a.dot(tilt), S(0);
+      ld.W.template block<3, 2>(0, 3) = A.rotation.template leftCols<2>();
+      ld.W_rate.template block<3, 1>(0, 3) = omega_a.cross(A.rotation.col(0));
+      ld.W_rate.template block<3, 1>(0, 4) = omega_a.cross(A.rotation.col(1));
       break;
-    }
     case LoopKind::prismatic:
       ld.W.template block<3, 3>(0, 0).setIdentity();
-      ld.W.template block<3, 1>(3, 3) = x_b;
-      ld.W.template block<3, 1>(3, 4) = y_b;
-      ld.W_rate.template block<3, 1>(3, 3) = omega_b.cross(x_b);
-      ld.W_rate.template block<3, 1>(3, 4) = omega_b.cross(y_b);
-      ld.residual << rotation_vector<S>(A.rotation * B.rotation.transpose()), x_b.dot(d), y_b.dot(d), S(0);
+      ld.W.template block<3, 2>(3, 3) = B.rotation.template leftCols<2>();
+      ld.W_rate.template block<3, 1>(3, 3) = omega_b.cross(B.rotation.col(0));
+      ld.W_rate.template block<3, 1>(3, 4) = omega_b.cross(B.rotation.col(1));
       break;
     case LoopKind::weld:
       ld.W.setIdentity();
-      ld.residual << rotation_vector<S>(A.rotation * B.rotation.transpose()), d;
       break;
     case LoopKind::distance: {
+      const Vec3<S> d = A.translation - B.translation;
       const S length = d.norm();
       const Vec3<S> n = d / length;
       const Vec3<S> rel = relative_velocity.template tail<3>();
       ld.W.template block<3, 1>(3, 0) = n;
       ld.W_rate.template block<3, 1>(3, 0) = (rel - n * n.dot(rel)) / length;
-      ld.residual[0] = length - loop.length;
       break;
     }
   }
   return ld;
 }
 
+// The loop's position residual Psi (loops/loop.hpp), first rows() entries.
+template <class S>
+Vec6<S> closure_residual(const LoopTpl<S>& loop, const Transform<S>& A, const Transform<S>& B) {
+  Vec6<S> residual = Vec6<S>::Zero();
+  const Vec3<S> d = A.translation - B.translation;
+  switch (loop.kind) {
+    case LoopKind::point:
+      residual.template head<3>() = d;
+      break;
+    case LoopKind::revolute: {
+      const Vec3<S> tilt = B.rotation.col(2).cross(A.rotation.col(2));
+      residual << d, A.rotation.col(0).dot(tilt), A.rotation.col(1).dot(tilt), S(0);
+      break;
+    }
+    case LoopKind::prismatic:
+      residual << rotation_vector<S>(A.rotation * B.rotation.transpose()), B.rotation.col(0).dot(d),
+          B.rotation.col(1).dot(d), S(0);
+      break;
+    case LoopKind::weld:
+      residual << rotation_vector<S>(A.rotation * B.rotation.transpose()), d;
+      break;
+    case LoopKind::distance:
+      residual[0] = d.norm() - loop.length;
+      break;
+  }
+  return residual;
+}
+
+// Adds sign * W' [angular; linear velocity of the body's point at world
+// position p] to `rows` (k x nv: a loop's rows of C), as a map of v: one
+// column per hinge DOF on the body's root path (add_point_jacobian with the
+// loop's directions applied column by column; a point loop's W' picks the
+// linear part, a weld's is the identity).
+template <class Kinematics, class S, class Rows>
+void add_loop_jacobian_rows(const ModelTpl<S>& m, const DataTpl<S>& d, const LoopTpl<S>& loop, int body,
+                            const Vec3<S>& p, S sign, const Mat6<S>& W, Rows& rows) {
+  const Eigen::Index k = rows.rows();
+  for (int j = body; j >= 0; j = m.parent[static_cast<std::size_t>(j)]) {
+    const std::size_t js = static_cast<std::size_t>(j);
+    for (Eigen::Index c = 0; c < m.nv_body[js]; ++c) {
+      Vec3<S> w, lin;
+      Kinematics::point_columns(m, d, js, p, c, w, lin);
+      auto column = rows.col(m.v_index[js] + c);
+      switch (loop.kind) {
+        case LoopKind::point:
+          column.template head<3>() += sign * lin;
+          break;
+        case LoopKind::weld:
+          column.template head<3>() += sign * w;
+          column.template tail<3>() += sign * lin;
+          break;
+        default:
+          for (Eigen::Index r = 0; r < k; ++r)
+            column[r] += sign * (W.col(r).template head<3>().dot(w) + W.col(r).template tail<3>().dot(lin));
+      }
+    }
+  }
+}
+
 template <class Kinematics, class S>
-void loop_equations_from(const ModelTpl<S>& m, DataTpl<S>& d, bool with_kappa) {
+void loop_equations_from(const ModelTpl<S>& m, DataTpl<S>& d, LoopTerms terms) {
   LoopData<S>& ld = d.loops;
+  const bool with_kappa = terms == LoopTerms::acceleration;
   for (std::size_t l = 0; l < m.loops.size(); ++l) {
     const LoopTpl<S>& loop = m.loops[l];
     const Transform<S> A = loop_frame_in_world(d, loop.body_a, loop.placement_a);
     const Transform<S> B = loop_frame_in_world(d, loop.body_b, loop.placement_b);
     // P: the point of body B whose velocity enters (A's origin for a prismatic loop, B's otherwise).
-    const Vec3<S> P = loop.kind == LoopKind::prismatic ? A.translation : B.translation;
-    const Vec3<S> P_in_b = loop.body_b < 0 ? P : d.pose_in_world[static_cast<std::size_t>(loop.body_b)].inverse().apply_point(P);
+    const bool prismatic = loop.kind == LoopKind::prismatic;
+    const Vec3<S> P = prismatic ? A.translation : B.translation;
+    const Vec3<S> P_in_b = !prismatic ? loop.placement_b.translation
+                           : loop.body_b < 0 ? P
+                                             : d.pose_in_world[static_cast<std::size_t>(loop.body_b)].inverse().apply_point(P);
+    ld.point_a[l] = A.translation;
+    ld.point_p[l] = P;
     const PointMotion<S> a = Kinematics::point_motion(m, d, loop.body_a, loop.placement_a.translation, with_kappa);
     const PointMotion<S> b = Kinematics::point_motion(m, d, loop.body_b, P_in_b, with_kappa);
     Vec6<S> relative_velocity;
     relative_velocity << a.omega - b.omega, a.velocity - b.velocity;
     const LoopDirections<S> dir = loop_directions(loop, A, B, relative_velocity, a.omega, b.omega);
-    ld.relative_jacobian.setZero();
-    add_point_jacobian<Kinematics>(m, d, loop.body_a, A.translation, S(1), ld.relative_jacobian);
-    add_point_jacobian<Kinematics>(m, d, loop.body_b, P, S(-1), ld.relative_jacobian);
     const int k = loop.rows();
     ld.directions[l] = dir.W;
-    ld.residual.segment(loop.first_row, k) = dir.residual.head(k);
-    ld.jacobian.middleRows(loop.first_row, k).noalias() = dir.W.leftCols(k).transpose().lazyProduct(ld.relative_jacobian);
-    ld.velocity_residual.segment(loop.first_row, k).noalias() = dir.W.leftCols(k).transpose() * relative_velocity;
-    if (with_kappa) {
-      // kappa = -d/dt (W' relative velocity) at qdd = 0. A prismatic loop
-      // follows B's point under A's moving origin: its rate adds omega_B x (v_A - v_B(P)).
-      Vec6<S> relative_acceleration;
-      relative_acceleration << a.angular_acceleration - b.angular_acceleration, a.acceleration - b.acceleration;
-      if (loop.kind == LoopKind::prismatic)
-        relative_acceleration.template tail<3>() -= b.omega.cross(relative_velocity.template tail<3>());
-      ld.kappa.segment(loop.first_row, k).noalias() =
-          -(dir.W.leftCols(k).transpose() * relative_acceleration + dir.W_rate.leftCols(k).transpose() * relative_velocity);
+    auto rows = ld.jacobian.middleRows(loop.first_row, k);
+    rows.setZero();
+    add_loop_jacobian_rows<Kinematics>(m, d, loop, loop.body_a, A.translation, S(1), dir.W, rows);
+    add_loop_jacobian_rows<Kinematics>(m, d, loop, loop.body_b, P, S(-1), dir.W, rows);
+    if (!with_kappa) {
+      ld.residual.segment(loop.first_row, k) = closure_residual(loop, A, B).head(k);
+      ld.velocity_residual.segment(loop.first_row, k).noalias() = dir.W.leftCols(k).transpose() * relative_velocity;
+      continue;
     }
+    // kappa = -d/dt (W' relative velocity) at qdd = 0. A prismatic loop
+    // follows B's point under A's moving origin: its rate adds omega_B x (v_A - v_B(P)).
+    Vec6<S> relative_acceleration;
+    relative_acceleration << a.angular_acceleration - b.angular_acceleration, a.acceleration - b.acceleration;
+    if (prismatic) relative_acceleration.template tail<3>() -= b.omega.cross(relative_velocity.template tail<3>());
+    ld.kappa.segment(loop.first_row, k).noalias() =
+        -(dir.W.leftCols(k).transpose() * relative_acceleration + dir.W_rate.leftCols(k).transpose() * relative_velocity);
   }
 }
 
 template <class S>
-void loop_equations(const ModelTpl<S>& m, DataTpl<S>& d, bool with_kappa) {
-  loop_equations_from<BodyFrameLoopKinematics>(m, d, with_kappa);
+void loop_equations(const ModelTpl<S>& m, DataTpl<S>& d, LoopTerms terms) {
+  loop_equations_from<BodyFrameLoopKinematics>(m, d, terms);
 }
 
 }  // namespace detail
@@ -221,7 +274,7 @@ void loop_residual(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
   forward_kinematics(m, d, q.data(), v);
   if (!v)
     for (auto& V : d.body_velocity) V.setZero();
-  detail::loop_equations(m, d, false);
+  detail::loop_equations(m, d, detail::LoopTerms::closure);
 }
 
 template <class S>

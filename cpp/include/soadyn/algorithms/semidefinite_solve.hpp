@@ -1,7 +1,8 @@
 // Minimum-norm solution x = A^+ b of a symmetric positive semidefinite system
 // (the Delassus matrix of the loop multipliers, possibly rank deficient), by
 // a pivoted Cholesky factorisation P A P' = L L' (L: m x k, k = rank) and
-// A^+ = P' L (L'L)^-2 L' P. Pivots not above `relative_threshold` times the
+// A^+ = P' L (L'L)^-2 L' P, working in A's lower triangle (the upper one
+// is not read). Pivots not above `relative_threshold` times the
 // largest diagonal entry end the factorisation (they count as zero). Plain
 // loops: no allocation, with the scratch passed in (sized m x m and m).
 #pragma once
@@ -41,9 +42,11 @@ int semidefinite_min_norm_solve(const MatX<S>& A, const VecX<S>& b, S relative_t
     for (Eigen::Index i = k + 1; i < m; ++i)
       if (L(i, i) > L(p, p)) p = i;
     if (!(L(p, p) > threshold)) break;
-    if (p != k) {  // symmetric swap of rows and columns k and p
-      L.row(k).swap(L.row(p));
-      L.col(k).swap(L.col(p));
+    if (p != k) {  // symmetric swap of rows and columns k and p, in the lower triangle
+      for (Eigen::Index j = 0; j < k; ++j) std::swap(L(k, j), L(p, j));  // L's finished columns
+      std::swap(L(k, k), L(p, p));
+      for (Eigen::Index i = k + 1; i < p; ++i) std::swap(L(i, k), L(p, i));
+      for (Eigen::Index i = p + 1; i < m; ++i) std::swap(L(i, k), L(i, p));
       std::swap(s.permutation[static_cast<std::size_t>(k)], s.permutation[static_cast<std::size_t>(p)]);
     }
     const S pivot = sqrt(L(k, k));
@@ -51,8 +54,6 @@ int semidefinite_min_norm_solve(const MatX<S>& A, const VecX<S>& b, S relative_t
     for (Eigen::Index i = k + 1; i < m; ++i) L(i, k) /= pivot;
     for (Eigen::Index j = k + 1; j < m; ++j)  // Schur complement, lower part and diagonal
       for (Eigen::Index i = j; i < m; ++i) L(i, j) -= L(i, k) * L(j, k);
-    for (Eigen::Index j = k + 1; j < m; ++j)  // keep the upper part symmetric for the swaps
-      for (Eigen::Index i = k + 1; i < j; ++i) L(i, j) = L(j, i);
   }
   s.rank = static_cast<int>(k);
   for (Eigen::Index i = 0; i < m; ++i) s.permuted[i] = b[s.permutation[static_cast<std::size_t>(i)]];

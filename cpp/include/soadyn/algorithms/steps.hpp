@@ -228,7 +228,7 @@ SOADYN_ALWAYS_INLINE void deliver_p_plus(const Mat6<S>& P, const Gain& G, const 
 template <int N, PlusMode Mode, class S>
 inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z,
                                         const VecN<S>& torque, const S* armature, Mat6N<S>& G, VecN<S>& nu,
-                                        Mat6<S>& P_plus, Vec6<S>& z_plus, const S& threshold) {
+                                        Mat6<S>& factor, Mat6<S>& P_plus, Vec6<S>& z_plus, const S& threshold) {
   using Mat6n = Eigen::Matrix<S, 6, N>;
   using Vecn = Eigen::Matrix<S, N, 1>;
   const Mat6n s = Sr;
@@ -240,6 +240,7 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
     for (int k = 0; k < N; ++k) L(k, k) += armature[k];
   const int bad = cholesky_in_place(L, threshold);
   if (bad >= 0) return bad;
+  factor.template topLeftCorner<N, N>() = L;
   Eigen::Matrix<S, N, 6> gain_transpose = U.transpose();  // G' = D^-1 (P S)'
   cholesky_solve_in_place(L, gain_transpose);
   const Mat6n gain = gain_transpose.transpose();
@@ -260,17 +261,21 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
 // ModelTpl::set_armature): the hinge equation T = S' f + A qdd adds A to D
 // and leaves G's role in P+ and in qdd = nu - G' alpha+ unchanged.
 // `z` already holds b + children + P (S_p qdd_p + a); `torque` holds the
-// regular hinge torques T. P+ goes to `P_plus` as `Mode` says. Returns the
-// local column of a singular D, or -1.
+// regular hinge torques T. P+ goes to `P_plus` as `Mode` says; D goes to
+// `factor` (hinge_factor, data.hpp) for later solves with the same D (the
+// loops' unit-multiplier response). Returns the local column of a singular
+// D, or -1.
 template <PlusMode Mode = PlusMode::store, class S>
 inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z, const VecN<S>& torque,
-                                  const S* armature, Mat6N<S>& G, VecN<S>& nu, Mat6<S>& P_plus, Vec6<S>& z_plus) {
+                                  const S* armature, Mat6N<S>& G, VecN<S>& nu, Mat6<S>& factor, Mat6<S>& P_plus,
+                                  Vec6<S>& z_plus) {
   const S threshold = singular_pivot_threshold(P);
   if (Sr.cols() == 1) {  // the common case, in fixed-size arithmetic: a scalar D
     const Vec6<S> u = P * Sr.col(0);
     S D = Sr.col(0).dot(u);
     if (armature) D += armature[0];
     if (!(D > threshold)) return 0;
+    factor(0, 0) = D;
     const Vec6<S> g = u / D;
     const S e = torque[0] - Sr.col(0).dot(z);
     G.col(0) = g;
@@ -280,9 +285,9 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     return -1;
   }
   switch (Sr.cols()) {  // multi-DOF hinges in fixed-size arithmetic
-    case 2: return articulated_hinge_step_fixed<2, Mode>(P, Sr, z, torque, armature, G, nu, P_plus, z_plus, threshold);
-    case 3: return articulated_hinge_step_fixed<3, Mode>(P, Sr, z, torque, armature, G, nu, P_plus, z_plus, threshold);
-    case 6: return articulated_hinge_step_fixed<6, Mode>(P, Sr, z, torque, armature, G, nu, P_plus, z_plus, threshold);
+    case 2: return articulated_hinge_step_fixed<2, Mode>(P, Sr, z, torque, armature, G, nu, factor, P_plus, z_plus, threshold);
+    case 3: return articulated_hinge_step_fixed<3, Mode>(P, Sr, z, torque, armature, G, nu, factor, P_plus, z_plus, threshold);
+    case 6: return articulated_hinge_step_fixed<6, Mode>(P, Sr, z, torque, armature, G, nu, factor, P_plus, z_plus, threshold);
     default: break;
   }
   const Mat6N<S> U = P * Sr;  // 6 x nr
@@ -297,6 +302,7 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     const VecN<S> pivots = llt.matrixLLT().diagonal();
     for (Eigen::Index k = 0; k < pivots.size(); ++k)
       if (!(pivots[k] * pivots[k] > threshold)) return static_cast<int>(k);
+    factor.topLeftCorner(D.rows(), D.cols()) = llt.matrixL();
     nu = llt.solve(eps);
     G = llt.solve(U.transpose()).transpose();
   }

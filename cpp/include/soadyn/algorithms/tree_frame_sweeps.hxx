@@ -20,11 +20,13 @@ namespace detail {
 // equation H (P alpha + z) = T fixes the body's acceleration outright:
 //   alpha = P^-1 (H^-* T - z),  H^-* = H (orthogonal blocks),
 // one 6x6 Cholesky factorisation instead of D = H P H*, G and P+.
-// Stores alpha in acceleration[i]; returns the DOF of a singular P, or -1.
+// Stores alpha in acceleration[i] and P's factor in hinge_factor[i];
+// returns the DOF of a singular P, or -1.
 template <class S>
 inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u) {
   const Mat6N<S>& s = d.sweep.tree_subspace[i];
-  Mat6<S> L = d.sweep.tree_articulated_inertia[i];
+  Mat6<S>& L = d.sweep.hinge_factor[i];
+  L = d.sweep.tree_articulated_inertia[i];
   const int bad = cholesky_in_place(L, singular_pivot_threshold(L));
   if (bad >= 0) return m.v_index[i] + bad;
   const Eigen::Map<const Vec6<S>> torque(u + m.v_index[i]);

@@ -33,10 +33,11 @@ struct LoopData {
       : residual(VecX<S>::Zero(m)), velocity_residual(VecX<S>::Zero(m)), jacobian(MatX<S>::Zero(m, nv)),
         kappa(VecX<S>::Zero(m)), multipliers(VecX<S>::Zero(m)), wrench(static_cast<std::size_t>(nloops), Vec6<S>::Zero()),
         directions(static_cast<std::size_t>(nloops), Mat6<S>::Zero()),
+        point_a(static_cast<std::size_t>(nloops), Vec3<S>::Zero()), point_p(static_cast<std::size_t>(nloops), Vec3<S>::Zero()),
         relative_jacobian(Mat6X<S>::Zero(6, nv)), regular_mass(MatX<S>::Zero(nv, nv)),
         constraint_jacobian_regular(MatX<S>::Zero(m, nv)), regular_jacobian_transposed(MatX<S>::Zero(nv, m)),
         half_solved_ct(MatX<S>::Zero(nv, m)),
-        delassus(MatX<S>::Zero(m, m)), delassus_solve(m), rhs(VecX<S>::Zero(m)),
+        delassus(MatX<S>::Zero(m, m)), delassus_solve(m), rhs(VecX<S>::Zero(m)), equation_scale(VecX<S>::Zero(m)),
         free_acceleration(VecX<S>::Zero(nv)), bias(VecX<S>::Zero(nv)), null_basis(MatX<S>::Zero(m, m)),
         null_work(VecX<S>::Zero(m)), actuation_map(MatX<S>::Zero(nv, m)), actuation_gram(MatX<S>::Zero(m, m)),
         actuation_solve(m), actuation_rhs(VecX<S>::Zero(m)), actuation_step(VecX<S>::Zero(m)),
@@ -53,6 +54,9 @@ struct LoopData {
   VecX<S> multipliers;        // lambda: M qdd + h = tau + C' lambda
   aligned_vector<Vec6<S>> wrench;  // per loop: [torque; force] of B's side on A's side, world axes, about A's origin
   aligned_vector<Mat6<S>> directions;  // per loop: W (loop_closure.hxx), its first rows() columns: wrench = W lambda
+  // Per loop, world positions: frame A's origin, and the point P of body B
+  // whose velocity C compares (B's origin; A's for a prismatic loop).
+  aligned_vector<Vec3<S>> point_a, point_p;
 
   // Scratch.
   Mat6X<S> relative_jacobian;              // [omega_A - omega_B; v_A - v_B(P)] as a 6 x nv map of v
@@ -64,6 +68,7 @@ struct LoopData {
   MatX<S> delassus;                        // C_r M_rr^-1 C_r' (m x m)
   SemidefiniteSolveScratch<S> delassus_solve;  // minimum-norm multipliers (semidefinite_solve.hpp)
   VecX<S> rhs;
+  VecX<S> equation_scale;                  // per closure equation, the size of its terms (inconsistent_loop)
   VecX<S> free_acceleration;               // qdd without loop forces
   VecX<S> bias;                            // h - J' f_ext
   // Minimum-norm actuator forces (constrained_dynamics.hpp, redundant actuation):
