@@ -72,31 +72,34 @@ void mark_loop_paths(const ModelTpl<S>& m, LoopData<S>& ld) {
     if (ld.on_loop_path[i] && m.parent[i] >= 0) ld.on_loop_path[static_cast<std::size_t>(m.parent[i])] = 1;
 }
 
-// Loads the wrenches of each loop into load case (l, k) of R.z, on the
-// loaded bodies (their other entries cleared): wrench(l, k) (world axes,
-// about frame A's origin) on frame A's body, its opposite on frame B's body
-// at the point P whose velocity C compares (B's origin; A's for a prismatic
-// loop), both where the loop equations left them (loops.point_a, point_p).
-// In z, as an external force: dz = -(the wrench) in the body's tree frame,
-// about its origin: [torque + (point - origin) x force; force].
-template <class S, class Wrench>
-void load_loop_wrenches(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedResponse<S>& R, Wrench&& wrench) {
+// Loads the unit multipliers' wrenches into R.z, one load case per loop
+// equation, on the loaded bodies (their other entries cleared): W's column k
+// of loop l (world axes, about frame A's origin) on frame A's body as case
+// first_row + k, its opposite on frame B's body at the point P whose velocity
+// C compares (B's origin; A's for a prismatic loop), both where the loop
+// equations left them (loops.point_a, point_p). In z, as an external force:
+// dz = -(the wrench) in the body's tree frame, about its origin:
+// [torque + (point - origin) x force; force].
+template <class S>
+void load_unit_multipliers(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedResponse<S>& R) {
   LoopData<S>& ld = d.loops;
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i)
     if (ld.on_loop_path[i]) R.z_of(i).setZero();
-  const auto apply = [&](int body, const Vec3<S>& point, const Vec6<S>& w, Eigen::Index load_case) {
+  const auto apply = [&](int body, const Vec3<S>& point, S sign, const Mat6<S>& W, int first, int rows) {
     if (body < 0) return;
     const std::size_t b = static_cast<std::size_t>(body);
-    auto dz = R.z_of(b).col(load_case);
-    dz.template head<3>() -= w.template head<3>() + (point - ld.tree_origin[b]).cross(w.template tail<3>());
-    dz.template tail<3>() -= w.template tail<3>();
+    const Vec3<S> arm = point - ld.tree_origin[b];
+    auto dz = R.z_of(b).middleCols(first, rows);
+    for (int k = 0; k < rows; ++k) {
+      const auto w = W.col(k);
+      dz.col(k).template head<3>() -= sign * (w.template head<3>() + arm.cross(w.template tail<3>()));
+      dz.col(k).template tail<3>() -= sign * w.template tail<3>();
+    }
   };
   for (std::size_t l = 0; l < m.loops.size(); ++l) {
     const LoopTpl<S>& loop = m.loops[l];
-    wrench(l, [&](const Vec6<S>& w, Eigen::Index load_case) {
-      apply(loop.body_a, ld.point_a[l], w, load_case);
-      apply(loop.body_b, ld.point_p[l], Vec6<S>(-w), load_case);
-    });
+    apply(loop.body_a, ld.point_a[l], S(1), ld.directions[l], loop.first_row, loop.rows());
+    apply(loop.body_b, ld.point_p[l], S(-1), ld.directions[l], loop.first_row, loop.rows());
   }
 }
 
@@ -243,9 +246,7 @@ void loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRespo
 template <class S>
 void unit_multiplier_response(const ModelTpl<S>& m, DataTpl<S>& d) {
   LoopData<S>& ld = d.loops;
-  load_loop_wrenches(m, d, ld.unit_response, [&](std::size_t l, auto&& load) {
-    for (int k = 0; k < m.loops[l].rows(); ++k) load(Vec6<S>(ld.directions[l].col(k)), m.loops[l].first_row + k);
-  });
+  load_unit_multipliers(m, d, ld.unit_response);
   loop_response_inward(m, d, ld.unit_response);
   loop_response_outward(m, d, ld.unit_response);
 }

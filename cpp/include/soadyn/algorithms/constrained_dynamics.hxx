@@ -100,18 +100,9 @@ void minimum_norm_actuation(const ModelTpl<S>& m, DataTpl<S>& d) {
   d.tau.noalias() -= B.lazyProduct(ld.actuation_step.head(r));
 }
 
-// The size of the terms of closure equation i: |kappa_i| + |C_i| (|qdd| +
-// |qdd_free|), qdd_free the accelerations without loop forces (a locked
-// mechanism has qdd = 0, its equations balance the loop forces' share).
-template <class S>
-S closure_equation_scale(const LoopData<S>& ld, const VecX<S>& qdd, int i) {
-  using std::abs;
-  return abs(ld.kappa[i]) + ld.jacobian.row(i).cwiseAbs().dot(qdd.cwiseAbs() + ld.free_acceleration.cwiseAbs());
-}
-
 // The loop whose closure acceleration C qdd = kappa is furthest off, relative
-// to closure_equation_scale plus loop_consistency_threshold times (the
-// largest such scale + 1): equations that vanish identically, as the
+// to the size of the equation's terms (below) plus loop_consistency_threshold
+// times (the largest such size + 1): equations that vanish identically, as the
 // out-of-plane rows of a planar mechanism, are judged against the others,
 // and a mechanism at rest with no load against a floor of
 // loop_consistency_threshold^2 (2.2e-13 in double, in the equations' SI
@@ -122,7 +113,14 @@ int inconsistent_loop(const ModelTpl<S>& m, DataTpl<S>& d) {
   using std::abs;
   LoopData<S>& ld = d.loops;
   const S tol = loop_consistency_threshold<S>();
-  for (int i = 0; i < m.nloop_equations; ++i) ld.equation_scale[i] = closure_equation_scale(ld, d.qdd, i);
+  // The size of the terms of closure equation i: |kappa_i| + |C_i| (|qdd| +
+  // |qdd_free|), qdd_free the accelerations without loop forces (a locked
+  // mechanism has qdd = 0, its equations balance the loop forces' share).
+  ld.equation_scale = ld.kappa.cwiseAbs();
+  for (int k = 0; k < m.nv; ++k) {
+    const S size = abs(d.qdd[k]) + abs(ld.free_acceleration[k]);
+    ld.equation_scale += ld.jacobian.col(k).cwiseAbs() * size;
+  }
   const S largest_scale = m.nloop_equations > 0 ? ld.equation_scale.maxCoeff() : S(0);
   int worst = -1;
   S worst_ratio = S(1);

@@ -118,47 +118,59 @@ Vec3<S> rotation_vector(const Mat3<S>& R) {
   return aa.angle() * aa.axis();
 }
 
-// The constraint directions W (6 x k, first k columns) of a loop and their
-// rate Wdot (loops/loop.hpp).
+// Whether a loop's directions W turn with a frame: a revolute loop's with
+// frame A, a prismatic loop's with frame B (the other kinds' W are fixed or,
+// for a distance loop, follow the two origins).
 template <class S>
-struct LoopDirections {
-  Mat6<S> W = Mat6<S>::Zero(), W_rate = Mat6<S>::Zero();
-};
+bool directions_turn(const LoopTpl<S>& loop) {
+  return loop.kind == LoopKind::revolute || loop.kind == LoopKind::prismatic;
+}
 
+// The constraint directions W (6 x k, first k columns) of a loop, in `W`,
+// and their rate Wdot, in `W_rate` (null: not wanted), from the loop frames'
+// origins a and b and, for a turning loop (directions_turn), the rotation
+// of frame A (revolute) or B (prismatic) in `R` (loops/loop.hpp).
 template <class S>
-LoopDirections<S> loop_directions(const LoopTpl<S>& loop, const Transform<S>& A, const Transform<S>& B,
-                                  const Vec6<S>& relative_velocity, const Vec3<S>& omega_a, const Vec3<S>& omega_b) {
-  LoopDirections<S> ld;
+void loop_directions(const LoopTpl<S>& loop, const Vec3<S>& a, const Vec3<S>& b, const Mat3<S>& R,
+                     const Vec6<S>& relative_velocity, const Vec3<S>& omega_a, const Vec3<S>& omega_b, Mat6<S>& W,
+                     Mat6<S>* W_rate) {
+  W.setZero();
+  if (W_rate) W_rate->setZero();
   switch (loop.kind) {
     case LoopKind::point:
-      ld.W.template block<3, 3>(3, 0).setIdentity();
+      W.template block<3, 3>(3, 0).setIdentity();
       break;
     case LoopKind::revolute:
-      ld.W.template block<3, 3>(3, 0).setIdentity();
-      ld.W.template block<3, 2>(0, 3) = A.rotation.template leftCols<2>();
-      ld.W_rate.template block<3, 1>(0, 3) = omega_a.cross(A.rotation.col(0));
-      ld.W_rate.template block<3, 1>(0, 4) = omega_a.cross(A.rotation.col(1));
+      W.template block<3, 3>(3, 0).setIdentity();
+      W.template block<3, 2>(0, 3) = R.template leftCols<2>();
+      if (W_rate) {
+        W_rate->template block<3, 1>(0, 3) = omega_a.cross(R.col(0));
+        W_rate->template block<3, 1>(0, 4) = omega_a.cross(R.col(1));
+      }
       break;
     case LoopKind::prismatic:
-      ld.W.template block<3, 3>(0, 0).setIdentity();
-      ld.W.template block<3, 2>(3, 3) = B.rotation.template leftCols<2>();
-      ld.W_rate.template block<3, 1>(3, 3) = omega_b.cross(B.rotation.col(0));
-      ld.W_rate.template block<3, 1>(3, 4) = omega_b.cross(B.rotation.col(1));
+      W.template block<3, 3>(0, 0).setIdentity();
+      W.template block<3, 2>(3, 3) = R.template leftCols<2>();
+      if (W_rate) {
+        W_rate->template block<3, 1>(3, 3) = omega_b.cross(R.col(0));
+        W_rate->template block<3, 1>(3, 4) = omega_b.cross(R.col(1));
+      }
       break;
     case LoopKind::weld:
-      ld.W.setIdentity();
+      W.setIdentity();
       break;
     case LoopKind::distance: {
-      const Vec3<S> d = A.translation - B.translation;
+      const Vec3<S> d = a - b;
       const S length = d.norm();
       const Vec3<S> n = d / length;
-      const Vec3<S> rel = relative_velocity.template tail<3>();
-      ld.W.template block<3, 1>(3, 0) = n;
-      ld.W_rate.template block<3, 1>(3, 0) = (rel - n * n.dot(rel)) / length;
+      W.template block<3, 1>(3, 0) = n;
+      if (W_rate) {
+        const Vec3<S> rel = relative_velocity.template tail<3>();
+        W_rate->template block<3, 1>(3, 0) = (rel - n * n.dot(rel)) / length;
+      }
       break;
     }
   }
-  return ld;
 }
 
 // The loop's position residual Psi (loops/loop.hpp), first rows() entries.
@@ -224,41 +236,51 @@ template <class Kinematics, class S>
 void loop_equations_from(const ModelTpl<S>& m, DataTpl<S>& d, LoopTerms terms) {
   LoopData<S>& ld = d.loops;
   const bool with_kappa = terms == LoopTerms::acceleration;
+  const auto origin = [&](int body, const Transform<S>& placement) {
+    return body < 0 ? placement.translation : d.pose_in_world[static_cast<std::size_t>(body)].apply_point(placement.translation);
+  };
   for (std::size_t l = 0; l < m.loops.size(); ++l) {
     const LoopTpl<S>& loop = m.loops[l];
-    const Transform<S> A = loop_frame_in_world(d, loop.body_a, loop.placement_a);
-    const Transform<S> B = loop_frame_in_world(d, loop.body_b, loop.placement_b);
-    // P: the point of body B whose velocity enters (A's origin for a prismatic loop, B's otherwise).
     const bool prismatic = loop.kind == LoopKind::prismatic;
-    const Vec3<S> P = prismatic ? A.translation : B.translation;
+    // The frames' origins, and their rotations where the terms read them.
+    const Vec3<S> a = origin(loop.body_a, loop.placement_a), b = origin(loop.body_b, loop.placement_b);
+    Mat3<S> R;  // of the frame W turns with
+    if (directions_turn(loop))
+      R = loop_frame_in_world(d, prismatic ? loop.body_b : loop.body_a, prismatic ? loop.placement_b : loop.placement_a).rotation;
+    // P: the point of body B whose velocity enters (A's origin for a prismatic loop, B's otherwise).
+    const Vec3<S> P = prismatic ? a : b;
     const Vec3<S> P_in_b = !prismatic ? loop.placement_b.translation
                            : loop.body_b < 0 ? P
                                              : d.pose_in_world[static_cast<std::size_t>(loop.body_b)].inverse().apply_point(P);
-    ld.point_a[l] = A.translation;
+    ld.point_a[l] = a;
     ld.point_p[l] = P;
-    const PointMotion<S> a = Kinematics::point_motion(m, d, loop.body_a, loop.placement_a.translation, with_kappa);
-    const PointMotion<S> b = Kinematics::point_motion(m, d, loop.body_b, P_in_b, with_kappa);
+    const PointMotion<S> motion_a = Kinematics::point_motion(m, d, loop.body_a, loop.placement_a.translation, with_kappa);
+    const PointMotion<S> motion_b = Kinematics::point_motion(m, d, loop.body_b, P_in_b, with_kappa);
     Vec6<S> relative_velocity;
-    relative_velocity << a.omega - b.omega, a.velocity - b.velocity;
-    const LoopDirections<S> dir = loop_directions(loop, A, B, relative_velocity, a.omega, b.omega);
+    relative_velocity << motion_a.omega - motion_b.omega, motion_a.velocity - motion_b.velocity;
+    Mat6<S>& W = ld.directions[l];
+    Mat6<S> W_rate;
+    loop_directions(loop, a, b, R, relative_velocity, motion_a.omega, motion_b.omega, W, with_kappa ? &W_rate : nullptr);
     const int k = loop.rows();
-    ld.directions[l] = dir.W;
     auto rows = ld.jacobian.middleRows(loop.first_row, k);
     rows.setZero();
-    add_loop_jacobian_rows<Kinematics>(m, d, loop, loop.body_a, A.translation, S(1), dir.W, rows);
-    add_loop_jacobian_rows<Kinematics>(m, d, loop, loop.body_b, P, S(-1), dir.W, rows);
+    add_loop_jacobian_rows<Kinematics>(m, d, loop, loop.body_a, a, S(1), W, rows);
+    add_loop_jacobian_rows<Kinematics>(m, d, loop, loop.body_b, P, S(-1), W, rows);
     if (!with_kappa) {
+      const Transform<S> A = loop_frame_in_world(d, loop.body_a, loop.placement_a);
+      const Transform<S> B = loop_frame_in_world(d, loop.body_b, loop.placement_b);
       ld.residual.segment(loop.first_row, k) = closure_residual(loop, A, B).head(k);
-      ld.velocity_residual.segment(loop.first_row, k).noalias() = dir.W.leftCols(k).transpose() * relative_velocity;
+      ld.velocity_residual.segment(loop.first_row, k).noalias() = W.leftCols(k).transpose() * relative_velocity;
       continue;
     }
     // kappa = -d/dt (W' relative velocity) at qdd = 0. A prismatic loop
     // follows B's point under A's moving origin: its rate adds omega_B x (v_A - v_B(P)).
     Vec6<S> relative_acceleration;
-    relative_acceleration << a.angular_acceleration - b.angular_acceleration, a.acceleration - b.acceleration;
-    if (prismatic) relative_acceleration.template tail<3>() -= b.omega.cross(relative_velocity.template tail<3>());
+    relative_acceleration << motion_a.angular_acceleration - motion_b.angular_acceleration,
+        motion_a.acceleration - motion_b.acceleration;
+    if (prismatic) relative_acceleration.template tail<3>() -= motion_b.omega.cross(relative_velocity.template tail<3>());
     ld.kappa.segment(loop.first_row, k).noalias() =
-        -(dir.W.leftCols(k).transpose() * relative_acceleration + dir.W_rate.leftCols(k).transpose() * relative_velocity);
+        -(W.leftCols(k).transpose() * relative_acceleration + W_rate.leftCols(k).transpose() * relative_velocity);
   }
 }
 

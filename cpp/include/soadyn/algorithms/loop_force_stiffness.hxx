@@ -103,9 +103,11 @@ void add_loop_stiffness(const ModelTpl<S>& m, DataTpl<S>& d, const LoopTpl<S>& l
   const Transform<S> B = loop_frame_in_world(d, loop.body_b, loop.placement_b);
   const bool prismatic = loop.kind == LoopKind::prismatic;
   const Vec3<S> P = prismatic ? A.translation : B.translation;
-  const LoopDirections<S> dir = loop_directions<S>(loop, A, B, Vec6<S>(Vec6<S>::Zero()), Vec3<S>(Vec3<S>::Zero()), Vec3<S>(Vec3<S>::Zero()));
+  Mat6<S> W;
+  loop_directions<S>(loop, A.translation, B.translation, prismatic ? B.rotation : A.rotation, Vec6<S>(Vec6<S>::Zero()),
+                     Vec3<S>(Vec3<S>::Zero()), Vec3<S>(Vec3<S>::Zero()), W, nullptr);
   const int k = loop.rows();
-  const Vec6<S> w = dir.W.leftCols(k) * nu;
+  const Vec6<S> w = W.leftCols(k) * nu;
   add_side_stiffness(m, d, loop.body_a, loop.body_a, A.translation, w, S(1), out);
   add_side_stiffness(m, d, loop.body_b, prismatic ? loop.body_a : loop.body_b, P, w, S(-1), out);
   d.loops.relative_jacobian.setZero();
