@@ -19,7 +19,7 @@ FlexibleBodyData<S>::FlexibleBodyData(int n)
 
 template <class S>
 DataTpl<S>::DataTpl(const ModelTpl<S>& model)
-    : model_version(model.version), loops(model.nq, model.nv, model.nloop_equations, model.nloops(), model.nbodies()) {
+    : model_version(model.version), loops(model) {
   const std::size_t n = static_cast<std::size_t>(model.nbodies());
   SweepData<S>& w = sweep;
   pose_in_parent.resize(n);

@@ -89,7 +89,7 @@ void load_unit_multipliers(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRespo
     if (body < 0) return;
     const std::size_t b = static_cast<std::size_t>(body);
     const Vec3<S> arm = point - ld.tree_origin[b];
-    auto dz = R.z_of(b).middleCols(first, rows);
+    auto dz = R.z_of(b).middleCols(first - R.first_case[b], rows);
     for (int k = 0; k < rows; ++k) {
       const auto w = W.col(k);
       dz.col(k).template head<3>() -= sign * (w.template head<3>() + arm.cross(w.template tail<3>()));
@@ -130,8 +130,8 @@ struct HingeResponse {
   using Vecn = Eigen::Matrix<S, N, 1, 0, (N == Eigen::Dynamic ? 6 : N), 1>;
 
   // eps into rows [v, v + n) of `eps`; dz+ added to dz_parent (null: a root).
-  template <class Z, class ZParent>
-  static void inward(const Mat6N<S>& Sr, const Mat6N<S>& G, const Z& dz, MatX<S>& eps, int v, ZParent* dz_parent) {
+  template <class Z, class Eps, class ZParent>
+  static void inward(const Mat6N<S>& Sr, const Mat6N<S>& G, const Z& dz, Eps& eps, int v, ZParent* dz_parent) {
     const Mat6n s = Sr, g = G;
     const Eigen::Index n = s.cols();
     for (Eigen::Index c = 0; c < dz.cols(); ++c) {
@@ -143,9 +143,9 @@ struct HingeResponse {
 
   // qdd into rows dof(k) of `qdd` (k < n); dalpha holds dalpha+ on entry
   // (`has_parent`; zero otherwise) and dalpha on return.
-  template <class A, class Dof>
-  static void outward(const Mat6N<S>& Sr, const Mat6N<S>& G, const Mat6<S>& factor, MatX<S>& eps, int v,
-                      bool has_parent, A& dalpha, MatX<S>& qdd, Dof&& dof) {
+  template <class Eps, class A, class Qdd, class Dof>
+  static void outward(const Mat6N<S>& Sr, const Mat6N<S>& G, const Mat6<S>& factor, Eps& eps, int v,
+                      bool has_parent, A& dalpha, Qdd& qdd, Dof&& dof) {
     const Mat6n s = Sr, g = G;
     const Eigen::Index n = s.cols();
     const Matn L = factor.topLeftCorner(n, n);
@@ -194,8 +194,9 @@ void loop_response_inward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRespon
       if (p >= 0) dz_parent += dz;
       continue;
     }
+    auto eps = R.eps_of(i);
     with_hinge_size<S>(m.modes[i].n_regular, [&](auto kernel) {
-      kernel.inward(regular_tree_subspace(m, d, i), d.sweep.tree_gain[i], dz, R.eps, m.v_index[i],
+      kernel.inward(regular_tree_subspace(m, d, i), d.sweep.tree_gain[i], dz, eps, m.v_index[i],
                     p >= 0 ? &dz_parent : nullptr);
     });
   }
@@ -211,7 +212,9 @@ void loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRespo
     const HingeModes& h = m.modes[i];
     const int p = m.parent[i];
     const Mat6N<S>& s = d.sweep.tree_subspace[i];
-    auto dqdd = R.qdd.middleRows(vi, ni);
+    auto qdd = R.qdd_of(i);
+    auto eps = R.eps_of(i);
+    auto dqdd = qdd.middleRows(vi, ni);
     auto dalpha = R.alpha_of(i);
     if (!h.needs_articulated_inertia) {  // accelerations given from the world in
       dalpha.setZero();
@@ -232,8 +235,8 @@ void loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRespo
     for (int k = 0; k < h.n_prescribed; ++k) dqdd.row(h.prescribed[k]).setZero();
     if (h.n_regular == 0) continue;
     with_hinge_size<S>(h.n_regular, [&](auto kernel) {
-      kernel.outward(regular_tree_subspace(m, d, i), d.sweep.tree_gain[i], d.sweep.hinge_factor[i], R.eps, vi, p >= 0,
-                     dalpha, R.qdd, [&](int k) { return vi + (h.n_prescribed > 0 ? h.regular[k] : k); });
+      kernel.outward(regular_tree_subspace(m, d, i), d.sweep.tree_gain[i], d.sweep.hinge_factor[i], eps, vi, p >= 0,
+                     dalpha, qdd, [&](int k) { return vi + (h.n_prescribed > 0 ? h.regular[k] : k); });
     });
   }
 }
@@ -266,17 +269,18 @@ void add_loop_forces_to_sweeps(const ModelTpl<S>& m, DataTpl<S>& d) {
     if (!ld.on_loop_path[i]) continue;
     const int vi = m.v_index[i];
     const HingeModes& h = m.modes[i];
-    const Vec6<S> dz = U.z_of(i) * lambda;
+    const auto lambda_i = lambda.segment(U.first_case[i], U.case_count[i]);
+    const Vec6<S> dz = U.z_of(i) * lambda_i;
     if (!h.needs_articulated_inertia) {
       d.tau.segment(vi, m.nv_body[i]).noalias() += d.sweep.tree_subspace[i].transpose() * dz;
       continue;
     }
     if (is_regular_free_root<ModePolicy::model_flags>(m, i)) {
-      d.sweep.tree_acceleration[i].noalias() += U.alpha_of(i) * lambda;
+      d.sweep.tree_acceleration[i].noalias() += U.alpha_of(i) * lambda_i;
       continue;
     }
     d.sweep.tree_bias_and_children_z[i] += dz;
-    if (hinge_has_gain(m, i)) d.sweep.innovation[i].noalias() += U.eps.middleRows(vi, h.n_regular) * lambda;
+    if (hinge_has_gain(m, i)) d.sweep.innovation[i].noalias() += U.eps_of(i).middleRows(vi, h.n_regular) * lambda_i;
   }
 }
 

@@ -15,21 +15,60 @@ template <class S> using Mat6X = Eigen::Matrix<S, 6, Eigen::Dynamic>;
 // 6 x cases block (body i's at columns i * cases) of the change of z
 // (Eq. 28) and of alpha (Eq. 29); per DOF (rows) the change of eps, then of
 // nu = D^-1 eps (the regular DOFs of a hinge in their local order), and of qdd.
+// Bodies of different trees (the subtrees of different root bodies) are
+// coupled only through loops, so a load case moves only the trees of its
+// loop's two bodies: per body, the response is computed for its tree's
+// cases, [first_case, first_case + case_count) (the loops with a body in the
+// tree, first to last), and stays zero, as constructed, in the others (a
+// parallel robot's legs each see their own loop's cases only).
 template <class S>
 struct ArticulatedResponse {
-  ArticulatedResponse(int cases, int nv, int nbodies)
-      : cases(cases), z(Mat6X<S>::Zero(6, nbodies * cases)), alpha(Mat6X<S>::Zero(6, nbodies * cases)),
-        eps(MatX<S>::Zero(nv, cases)), qdd(MatX<S>::Zero(nv, cases)) {}
+  explicit ArticulatedResponse(const ModelTpl<S>& model)
+      : cases(model.nloop_equations), z(Mat6X<S>::Zero(6, model.nbodies() * cases)),
+        alpha(Mat6X<S>::Zero(6, model.nbodies() * cases)), eps(MatX<S>::Zero(model.nv, cases)),
+        qdd(MatX<S>::Zero(model.nv, cases)), first_case(static_cast<std::size_t>(model.nbodies()), 0),
+        case_count(static_cast<std::size_t>(model.nbodies()), 0) {
+    const std::size_t n = static_cast<std::size_t>(model.nbodies());
+    std::vector<int> root(n), end(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      root[i] = model.parent[i] < 0 ? static_cast<int>(i) : root[static_cast<std::size_t>(model.parent[i])];
+    std::vector<int> first(n, cases);
+    for (const LoopTpl<S>& loop : model.loops)
+      for (const int body : {loop.body_a, loop.body_b}) {
+        if (body < 0) continue;
+        const std::size_t r = static_cast<std::size_t>(root[static_cast<std::size_t>(body)]);
+        first[r] = std::min(first[r], loop.first_row);
+        end[r] = std::max(end[r], loop.first_row + loop.rows());
+      }
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t r = static_cast<std::size_t>(root[i]);
+      first_case[i] = first[r] < end[r] ? first[r] : 0;
+      case_count[i] = first[r] < end[r] ? end[r] - first[r] : 0;
+    }
+  }
   int cases;
   Mat6X<S> z, alpha;
   MatX<S> eps, qdd;
-  auto z_of(std::size_t body) { return z.middleCols(static_cast<Eigen::Index>(body) * cases, cases); }
-  auto alpha_of(std::size_t body) { return alpha.middleCols(static_cast<Eigen::Index>(body) * cases, cases); }
+  std::vector<int> first_case, case_count;  // per body: its tree's load cases
+  // Body i's columns of z and alpha, and the load cases' columns of eps and
+  // qdd, over its tree's cases.
+  auto z_of(std::size_t body) {
+    return z.middleCols(static_cast<Eigen::Index>(body) * cases + first_case[body], case_count[body]);
+  }
+  auto alpha_of(std::size_t body) {
+    return alpha.middleCols(static_cast<Eigen::Index>(body) * cases + first_case[body], case_count[body]);
+  }
+  auto eps_of(std::size_t body) { return eps.middleCols(first_case[body], case_count[body]); }
+  auto qdd_of(std::size_t body) { return qdd.middleCols(first_case[body], case_count[body]); }
 };
 
 template <class S>
 struct LoopData {
-  LoopData(int nq, int nv, int m, int nloops, int nbodies)
+  explicit LoopData(const ModelTpl<S>& model)
+      : LoopData(model, model.nq, model.nv, model.nloop_equations, model.nloops(), model.nbodies()) {}
+
+ private:
+  LoopData(const ModelTpl<S>& model, int nq, int nv, int m, int nloops, int nbodies)
       : residual(VecX<S>::Zero(m)), velocity_residual(VecX<S>::Zero(m)), jacobian(MatX<S>::Zero(m, nv)),
         kappa(VecX<S>::Zero(m)), multipliers(VecX<S>::Zero(m)), wrench(static_cast<std::size_t>(nloops), Vec6<S>::Zero()),
         directions(static_cast<std::size_t>(nloops), Mat6<S>::Zero()),
@@ -44,7 +83,9 @@ struct LoopData {
         rank_qr(m, nv),
         projection_multipliers(VecX<S>::Zero(m)), correction(VecX<S>::Zero(nv)), q_start(VecX<S>::Zero(nq)),
         tree_origin(static_cast<std::size_t>(nbodies), Vec3<S>::Zero()), on_loop_path(static_cast<std::size_t>(nbodies), 0),
-        unit_response(m, nv, nbodies) {}
+        unit_response(model) {}
+
+ public:
 
   // Outputs.
   VecX<S> residual;           // Psi(q), m
