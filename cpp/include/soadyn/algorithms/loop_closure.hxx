@@ -128,11 +128,12 @@ bool directions_turn(const LoopTpl<S>& loop) {
 
 // The constraint directions W (6 x k, first k columns) of a loop, in `W`,
 // and their rate Wdot, in `W_rate` (null: not wanted), from the loop frames'
-// origins a and b and, for a turning loop (directions_turn), the rotation
-// of frame A (revolute) or B (prismatic) in `R` (loops/loop.hpp).
+// origins a and b, the linear relative velocity v_A - v_B(P), the frames'
+// angular velocities and, for a turning loop (directions_turn), the
+// rotation of frame A (revolute) or B (prismatic) in `R` (loops/loop.hpp).
 template <class S>
 void loop_directions(const LoopTpl<S>& loop, const Vec3<S>& a, const Vec3<S>& b, const Mat3<S>& R,
-                     const Vec6<S>& relative_velocity, const Vec3<S>& omega_a, const Vec3<S>& omega_b, Mat6<S>& W,
+                     const Vec3<S>& relative_velocity, const Vec3<S>& omega_a, const Vec3<S>& omega_b, Mat6<S>& W,
                      Mat6<S>* W_rate) {
   W.setZero();
   if (W_rate) W_rate->setZero();
@@ -165,8 +166,7 @@ void loop_directions(const LoopTpl<S>& loop, const Vec3<S>& a, const Vec3<S>& b,
       const Vec3<S> n = d / length;
       W.template block<3, 1>(3, 0) = n;
       if (W_rate) {
-        const Vec3<S> rel = relative_velocity.template tail<3>();
-        W_rate->template block<3, 1>(3, 0) = (rel - n * n.dot(rel)) / length;
+        W_rate->template block<3, 1>(3, 0) = (relative_velocity - n * n.dot(relative_velocity)) / length;
       }
       break;
     }
@@ -232,6 +232,12 @@ void add_loop_jacobian_rows(const ModelTpl<S>& m, const DataTpl<S>& d, const Loo
   }
 }
 
+// Column r of a 6 x 6 map dotted with the motion [angular; linear].
+template <class S>
+S column_dot(const Mat6<S>& W, int r, const Vec3<S>& angular, const Vec3<S>& linear) {
+  return W.col(r).template head<3>().dot(angular) + W.col(r).template tail<3>().dot(linear);
+}
+
 template <class Kinematics, class S>
 void loop_equations_from(const ModelTpl<S>& m, DataTpl<S>& d, LoopTerms terms) {
   LoopData<S>& ld = d.loops;
@@ -256,8 +262,10 @@ void loop_equations_from(const ModelTpl<S>& m, DataTpl<S>& d, LoopTerms terms) {
     ld.point_p[l] = P;
     const PointMotion<S> motion_a = Kinematics::point_motion(m, d, loop.body_a, loop.placement_a.translation, with_kappa);
     const PointMotion<S> motion_b = Kinematics::point_motion(m, d, loop.body_b, P_in_b, with_kappa);
-    Vec6<S> relative_velocity;
-    relative_velocity << motion_a.omega - motion_b.omega, motion_a.velocity - motion_b.velocity;
+    // The relative motion's angular and linear parts, kept apart (a 6-vector
+    // written by halves and read whole stalls the loads).
+    const Vec3<S> relative_omega = motion_a.omega - motion_b.omega;
+    const Vec3<S> relative_velocity = motion_a.velocity - motion_b.velocity;
     Mat6<S>& W = ld.directions[l];
     Mat6<S> W_rate;
     loop_directions(loop, a, b, R, relative_velocity, motion_a.omega, motion_b.omega, W, with_kappa ? &W_rate : nullptr);
@@ -270,17 +278,18 @@ void loop_equations_from(const ModelTpl<S>& m, DataTpl<S>& d, LoopTerms terms) {
       const Transform<S> A = loop_frame_in_world(d, loop.body_a, loop.placement_a);
       const Transform<S> B = loop_frame_in_world(d, loop.body_b, loop.placement_b);
       ld.residual.segment(loop.first_row, k) = closure_residual(loop, A, B).head(k);
-      ld.velocity_residual.segment(loop.first_row, k).noalias() = W.leftCols(k).transpose() * relative_velocity;
+      for (int r = 0; r < k; ++r)
+        ld.velocity_residual[loop.first_row + r] = column_dot(W, r, relative_omega, relative_velocity);
       continue;
     }
     // kappa = -d/dt (W' relative velocity) at qdd = 0. A prismatic loop
     // follows B's point under A's moving origin: its rate adds omega_B x (v_A - v_B(P)).
-    Vec6<S> relative_acceleration;
-    relative_acceleration << motion_a.angular_acceleration - motion_b.angular_acceleration,
-        motion_a.acceleration - motion_b.acceleration;
-    if (prismatic) relative_acceleration.template tail<3>() -= motion_b.omega.cross(relative_velocity.template tail<3>());
-    ld.kappa.segment(loop.first_row, k).noalias() =
-        -(W.leftCols(k).transpose() * relative_acceleration + W_rate.leftCols(k).transpose() * relative_velocity);
+    const Vec3<S> angular_acceleration = motion_a.angular_acceleration - motion_b.angular_acceleration;
+    Vec3<S> acceleration = motion_a.acceleration - motion_b.acceleration;
+    if (prismatic) acceleration -= motion_b.omega.cross(relative_velocity);
+    for (int r = 0; r < k; ++r)
+      ld.kappa[loop.first_row + r] = -(column_dot(W, r, angular_acceleration, acceleration) +
+                                       column_dot(W_rate, r, relative_omega, relative_velocity));
   }
 }
 

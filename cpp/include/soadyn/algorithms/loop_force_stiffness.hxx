@@ -104,7 +104,7 @@ void add_loop_stiffness(const ModelTpl<S>& m, DataTpl<S>& d, const LoopTpl<S>& l
   const bool prismatic = loop.kind == LoopKind::prismatic;
   const Vec3<S> P = prismatic ? A.translation : B.translation;
   Mat6<S> W;
-  loop_directions<S>(loop, A.translation, B.translation, prismatic ? B.rotation : A.rotation, Vec6<S>(Vec6<S>::Zero()),
+  loop_directions<S>(loop, A.translation, B.translation, prismatic ? B.rotation : A.rotation, Vec3<S>(Vec3<S>::Zero()),
                      Vec3<S>(Vec3<S>::Zero()), Vec3<S>(Vec3<S>::Zero()), W, nullptr);
   const int k = loop.rows();
   const Vec6<S> w = W.leftCols(k) * nu;
