@@ -144,12 +144,12 @@ void restrict_jacobian_columns(const MatX<S>& C, Keep&& keep, MatX<S>& restricte
 // The same restriction written transposed (nv x m), in one pass over C.
 template <class S, class Keep>
 void restrict_jacobian_columns_transposed(const MatX<S>& C, Keep&& keep, MatX<S>& restricted_transposed) {
-  using std::abs;
   const S floor = jacobian_noise_floor(C);
   for (Eigen::Index k = 0; k < C.cols(); ++k) {
-    const bool kept = keep(k);
-    for (Eigen::Index i = 0; i < C.rows(); ++i)
-      restricted_transposed(k, i) = kept && abs(C(i, k)) > floor ? C(i, k) : S(0);
+    if (keep(k))
+      restricted_transposed.row(k) = (C.col(k).array().abs() > floor).select(C.col(k), S(0)).transpose();
+    else
+      restricted_transposed.row(k).setZero();
   }
 }
 

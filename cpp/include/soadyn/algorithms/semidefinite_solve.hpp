@@ -51,9 +51,9 @@ int semidefinite_min_norm_solve(const MatX<S>& A, const VecX<S>& b, S relative_t
     }
     const S pivot = sqrt(L(k, k));
     L(k, k) = pivot;
-    for (Eigen::Index i = k + 1; i < m; ++i) L(i, k) /= pivot;
-    for (Eigen::Index j = k + 1; j < m; ++j)  // Schur complement, lower part and diagonal
-      for (Eigen::Index i = j; i < m; ++i) L(i, j) -= L(i, k) * L(j, k);
+    L.col(k).tail(m - k - 1) /= pivot;
+    for (Eigen::Index j = k + 1; j < m; ++j)  // Schur complement, lower part and diagonal, a column at a time
+      L.col(j).tail(m - j) -= L(j, k) * L.col(k).tail(m - j);
   }
   s.rank = static_cast<int>(k);
   for (Eigen::Index i = 0; i < m; ++i) s.permuted[i] = b[s.permutation[static_cast<std::size_t>(i)]];
