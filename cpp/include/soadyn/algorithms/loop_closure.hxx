@@ -126,6 +126,19 @@ bool directions_turn(const LoopTpl<S>& loop) {
   return loop.kind == LoopKind::revolute || loop.kind == LoopKind::prismatic;
 }
 
+// The directions of a revolute or prismatic loop: the identity in rows
+// [fixed, fixed + 3) of W's first three columns, and in rows [turning,
+// turning + 3) of columns 3 and 4 the x and y axes of the frame (rotation R,
+// angular velocity omega) they turn with; their rates omega x axis.
+template <class S>
+void turning_directions(int fixed, int turning, const Mat3<S>& R, const Vec3<S>& omega, Mat6<S>& W, Mat6<S>* W_rate) {
+  W.template block<3, 3>(fixed, 0).setIdentity();
+  W.template block<3, 2>(turning, 3) = R.template leftCols<2>();
+  if (!W_rate) return;
+  W_rate->template block<3, 1>(turning, 3) = omega.cross(R.col(0));
+  W_rate->template block<3, 1>(turning, 4) = omega.cross(R.col(1));
+}
+
 // The constraint directions W (6 x k, first k columns) of a loop, in `W`,
 // and their rate Wdot, in `W_rate` (null: not wanted), from the loop frames'
 // origins a and b, the linear relative velocity v_A - v_B(P), the frames'
@@ -141,21 +154,11 @@ void loop_directions(const LoopTpl<S>& loop, const Vec3<S>& a, const Vec3<S>& b,
     case LoopKind::point:
       W.template block<3, 3>(3, 0).setIdentity();
       break;
-    case LoopKind::revolute:
-      W.template block<3, 3>(3, 0).setIdentity();
-      W.template block<3, 2>(0, 3) = R.template leftCols<2>();
-      if (W_rate) {
-        W_rate->template block<3, 1>(0, 3) = omega_a.cross(R.col(0));
-        W_rate->template block<3, 1>(0, 4) = omega_a.cross(R.col(1));
-      }
+    case LoopKind::revolute:  // points together; turning only about A's z
+      turning_directions(3, 0, R, omega_a, W, W_rate);
       break;
-    case LoopKind::prismatic:
-      W.template block<3, 3>(0, 0).setIdentity();
-      W.template block<3, 2>(3, 3) = R.template leftCols<2>();
-      if (W_rate) {
-        W_rate->template block<3, 1>(3, 3) = omega_b.cross(R.col(0));
-        W_rate->template block<3, 1>(3, 4) = omega_b.cross(R.col(1));
-      }
+    case LoopKind::prismatic:  // rotations equal; sliding only along B's z
+      turning_directions(0, 3, R, omega_b, W, W_rate);
       break;
     case LoopKind::weld:
       W.setIdentity();
