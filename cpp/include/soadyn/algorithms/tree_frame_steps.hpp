@@ -81,7 +81,7 @@ SOADYN_ALWAYS_INLINE void compose_with_placement(const Transform<S>& parent, con
 // joint's velocity-product acceleration in the tree frame (zero for every
 // joint but the universal one). A root body's tree pose has no translation.
 // The kernels' code lives with their joints (joints/revolute.hpp,
-// prismatic.hpp, free.hpp, universal.hpp).
+// prismatic.hpp, free.hpp, universal.hpp, spherical.hpp).
 template <class S>
 inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   const int p = m.parent[i];
@@ -110,6 +110,12 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
     case JointKernel::fixed: pose = base; break;
     case JointKernel::spherical: SphericalJoint<S>::tree_step(base, q + m.q_index[i], root, pose, s); break;
     case JointKernel::universal: return detail::universal_tree_step(m, d, i, base, q, v, root);
+    case JointKernel::revolute_axis:
+      std::get_if<RevoluteJoint<S>>(&m.joints[i])->tree_step(base, q[m.q_index[i]], pose, s);
+      break;
+    case JointKernel::prismatic_axis:
+      std::get_if<PrismaticJoint<S>>(&m.joints[i])->tree_step(base, q[m.q_index[i]], root, pose, s);
+      break;
     default: return detail::general_joint_tree_step(m, d, i, base, q, v, root);
   }
   return Vec6<S>::Zero();

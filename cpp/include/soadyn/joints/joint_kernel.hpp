@@ -2,7 +2,8 @@
 // revolute or prismatic joint whose axis is +-x, +-y or +-z of its joint frame
 // (nearly every URDF joint), the free joint and the fixed joint get their
 // pose and motion subspace from dedicated code; the universal and spherical
-// joints have tree-frame kernels. The code of each kernel lives in its
+// joints, and revolute and prismatic joints about any other axis, have
+// tree-frame kernels. The code of each kernel lives in its
 // joint's header (revolute.hpp, prismatic.hpp, free.hpp, universal.hpp,
 // spherical.hpp); the sweeps switch on the tag once per body
 // (algorithms/steps.hpp, tree_frame_steps.hpp).
@@ -22,6 +23,8 @@ enum class JointKernel : std::uint8_t {
   fixed,  // no motion: the placement alone (a flexible body clamped to its parent)
   universal,  // tree frames only; body-frame steps take the general path
   spherical,  // tree frames only; body-frame steps take the general path
+  revolute_axis,   // any other axis; tree frames only, body-frame steps take the general path
+  prismatic_axis,  // any other axis; tree frames only, body-frame steps take the general path
   general,
 };
 

@@ -25,10 +25,20 @@ struct PrismaticJoint {
   void random(CoordinateSampler& draw, S* q) const { q[0] = S(draw.offset()); }
   void check(const std::string& joint_name) { axis = checked_joint_axis(axis, joint_name, "axis"); }
 
-  // Axis along +-e_k: the kernels below, with `sign` the axis' sign.
+  // Axis along +-e_k: the kernels below, with `sign` the axis' sign; any
+  // other axis: tree_step.
   JointKernel kernel(S& sign) const {
     const int k = coordinate_axis(axis, sign);
-    return k >= 0 ? kernel_along(JointKernel::prismatic_x, k) : JointKernel::general;
+    return k >= 0 ? kernel_along(JointKernel::prismatic_x, k) : JointKernel::prismatic_axis;
+  }
+  // Tree frame, any axis: base moved along w = R_base axis (a root body's
+  // origin kept at the tree origin), H* = [0; w].
+  SOADYN_ALWAYS_INLINE void tree_step(const Transform<S>& base, const S& offset, bool root, Transform<S>& pose,
+                                      Mat6N<S>& s) const {
+    const Vec3<S> w = base.rotation * axis;
+    pose.rotation = base.rotation;
+    pose.translation = root ? Vec3<S>::Zero() : Vec3<S>(base.translation + w * offset);
+    s.col(0) << Vec3<S>::Zero(), w;
   }
   // Kernels of an axis along sign * e_k; `offset` = sign * q. Body frame:
   // the placement moved along its k-th column; subspace and zero bias stay

@@ -50,10 +50,21 @@ struct RevoluteJoint {
   void random(CoordinateSampler& draw, S* q) const { q[0] = S(draw.angle()); }
   void check(const std::string& joint_name) { axis = checked_joint_axis(axis, joint_name, "axis"); }
 
-  // Axis along +-e_k: the kernels below, with `sign` the axis' sign.
+  // Axis along +-e_k: the kernels below, with `sign` the axis' sign; any
+  // other axis: tree_step.
   JointKernel kernel(S& sign) const {
     const int k = coordinate_axis(axis, sign);
-    return k >= 0 ? kernel_along(JointKernel::revolute_x, k) : JointKernel::general;
+    return k >= 0 ? kernel_along(JointKernel::revolute_x, k) : JointKernel::revolute_axis;
+  }
+  // Tree frame, any axis: pose = base * Rot(axis, angle) (Rodrigues), and
+  // H* = [w; t x w] for w = R_base axis (the rotation leaves its axis fixed)
+  // through the body origin t.
+  SOADYN_ALWAYS_INLINE void tree_step(const Transform<S>& base, const S& angle, Transform<S>& pose,
+                                      Mat6N<S>& s) const {
+    pose.rotation.noalias() = base.rotation * axis_angle_rotation(axis, angle);
+    pose.translation = base.translation;
+    const Vec3<S> w = base.rotation * axis;
+    s.col(0) << w, pose.translation.cross(w);
   }
   // Kernels of an axis along sign * e_Axis; `angle` = sign * q. Body frame:
   // pose = placement * Rot; the subspace and zero bias stay as Data was built.
