@@ -76,6 +76,15 @@ struct HingeModes {
 // (algorithms/dynamics_path.hxx), fixed by the model's structure and stored
 // when it changes. A tree-frame path falls back to body frames for a call in
 // which a body lies beyond its tree-frame reach (tree_frame_reach.hxx).
+// Bounds of the models whose loops constrained_dynamics solves through the
+// mass matrix (ModelTpl::loops_through_mass_matrix): at most this many DOFs,
+// and at most this many ancestors-or-self per DOF on average. Measured
+// (bench/results/history.md): the four-bar (3 DOFs, 1.3) 0.85x and a Delta
+// robot (18, 2.8) 0.97x the articulated path's time; a 23-DOF random tree
+// (10.4) 1.09x and talos (38, 9.7) 1.30x.
+constexpr int kMassMatrixLoopsMaxDofs = 24;
+constexpr int kMassMatrixLoopsMaxMeanDepth = 4;
+
 enum class DynamicsPath : std::uint8_t {
   rigid_tree_frames,      // no flexible body: tree frames, rigid steps only
   appendage_tree_frames,  // flexible bodies with no body on a node: tree frames
@@ -234,6 +243,14 @@ class ModelTpl {
 
   // Set by every structural change (add_body, add_flexible_body); a copy carries it.
   DynamicsPath dynamics_path = DynamicsPath::rigid_tree_frames;
+  // Whether constrained_dynamics solves the loops through the mass matrix
+  // (CRBA, its tree-sparse factor) rather than the articulated-body response:
+  // on small shallow trees (at most kMassMatrixLoopsMaxDofs DOFs, each with
+  // at most kMassMatrixLoopsMaxMeanDepth ancestors-or-self on average) the
+  // factor costs next to nothing and the articulated sweeps' per-body
+  // constants dominate; beyond, the articulated path's O(N) wins.
+  // Set with dynamics_path.
+  bool loops_through_mass_matrix = false;
 
   std::vector<Frame<S>> frames;
   // Closed loops, in the order added, and their equation count (the sum of

@@ -141,15 +141,21 @@ void restrict_jacobian_columns(const MatX<S>& C, Keep&& keep, MatX<S>& restricte
     if (!keep(k)) restricted.col(k).setZero();
 }
 
-// The same restriction written transposed (nv x m), in one pass over C.
+// The same restriction written transposed (nv x m), in one pass over C
+// (flat loops: a few entries per column, where expressions cost more to set
+// up than to run).
 template <class S, class Keep>
 void restrict_jacobian_columns_transposed(const MatX<S>& C, Keep&& keep, MatX<S>& restricted_transposed) {
+  using std::abs;
   const S floor = jacobian_noise_floor(C);
+  const Eigen::Index rows = C.rows(), stride = restricted_transposed.rows();
   for (Eigen::Index k = 0; k < C.cols(); ++k) {
+    const S* const c = C.data() + k * rows;
+    S* const out = restricted_transposed.data() + k;  // row k: entries `stride` apart
     if (keep(k))
-      restricted_transposed.row(k) = (C.col(k).array().abs() > floor).select(C.col(k), S(0)).transpose();
+      for (Eigen::Index r = 0; r < rows; ++r) out[r * stride] = abs(c[r]) > floor ? c[r] : S(0);
     else
-      restricted_transposed.row(k).setZero();
+      for (Eigen::Index r = 0; r < rows; ++r) out[r * stride] = S(0);
   }
 }
 

@@ -15,15 +15,15 @@ namespace soadyn {
 
 namespace detail {
 
-// M with prescribed rows and columns replaced by the identity, and C with the
-// prescribed columns (and its rounding noise) zeroed: the regular block of the
-// problem at full size.
+// M with prescribed rows and columns replaced by the identity, and C_r' (C
+// with the prescribed columns and its rounding noise zeroed, transposed) in
+// half_solved_ct: the regular block of the problem at full size.
 template <class S>
 void substitute_prescribed(const ModelTpl<S>& m, LoopData<S>& ld, const MatX<S>& M) {
   ld.regular_mass = M;
   replace_prescribed_by_identity(m, ld.regular_mass);
-  restrict_jacobian_columns(ld.jacobian, [&](Eigen::Index k) { return !m.is_prescribed(static_cast<int>(k)); },
-                            ld.constraint_jacobian_regular);
+  restrict_jacobian_columns_transposed(
+      ld.jacobian, [&](Eigen::Index k) { return !m.is_prescribed(static_cast<int>(k)); }, ld.half_solved_ct);
 }
 
 // Loop wrenches W lambda from the multipliers (loops/loop.hpp), with the
@@ -116,19 +116,34 @@ int inconsistent_loop(const ModelTpl<S>& m, DataTpl<S>& d) {
   // The size of the terms of closure equation i: |kappa_i| + |C_i| (|qdd| +
   // |qdd_free|), qdd_free the accelerations without loop forces (a locked
   // mechanism has qdd = 0, its equations balance the loop forces' share).
-  ld.equation_scale = ld.kappa.cwiseAbs();
-  for (int k = 0; k < m.nv; ++k) {
-    const S size = abs(d.qdd[k]) + abs(ld.free_acceleration[k]);
-    ld.equation_scale += ld.jacobian.col(k).cwiseAbs() * size;
+  // Flat loops over C (column-major, m x nv): a few entries per column.
+  const Eigen::Index rows = m.nloop_equations;
+  const S* const C = ld.jacobian.data();
+  S* const scale = ld.equation_scale.data();
+  S* const residual = ld.closure_acceleration_error.data();
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    scale[i] = abs(ld.kappa[i]);
+    residual[i] = S(0);  // C_i qdd - kappa_i
   }
-  const S largest_scale = m.nloop_equations > 0 ? ld.equation_scale.maxCoeff() : S(0);
+  for (int k = 0; k < m.nv; ++k) {
+    const S* const c = C + static_cast<Eigen::Index>(k) * rows;
+    const S qdd = d.qdd[k], size = abs(qdd) + abs(ld.free_acceleration[k]);
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      scale[i] += abs(c[i]) * size;
+      residual[i] += c[i] * qdd;
+    }
+  }
+  S largest_scale = S(0);
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    residual[i] -= ld.kappa[i];
+    largest_scale = std::max(largest_scale, scale[i]);
+  }
   int worst = -1;
   S worst_ratio = S(1);
   for (std::size_t l = 0; l < m.loops.size(); ++l) {
     const LoopTpl<S>& loop = m.loops[l];
     for (int i = loop.first_row; i < loop.first_row + loop.rows(); ++i) {
-      const S scale = ld.equation_scale[i];
-      const S ratio = abs(ld.jacobian.row(i).dot(d.qdd) - ld.kappa[i]) / (tol * (scale + tol * (largest_scale + S(1))));
+      const S ratio = abs(residual[i]) / (tol * (scale[i] + tol * (largest_scale + S(1))));
       if (ratio > worst_ratio) {
         worst_ratio = ratio;
         worst = static_cast<int>(l);
@@ -200,6 +215,14 @@ Status finish_constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d) {
   return status;
 }
 
+// The Delassus matrix K = A' B (m x m; A, B: nv x m), symmetric: its lower
+// triangle, all the solve reads, as dot products of contiguous columns.
+template <class S>
+void delassus_lower_triangle(const MatX<S>& A, const MatX<S>& B, MatX<S>& K) {
+  for (Eigen::Index j = 0; j < K.cols(); ++j)
+    for (Eigen::Index i = j; i < K.rows(); ++i) K(i, j) = A.col(i).dot(B.col(j));
+}
+
 template <class S>
 Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& u) {
   LoopData<S>& ld = d.loops;
@@ -219,10 +242,8 @@ Status constrained_solve(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<
   tree_ltl_solve_transposed(U, m.dof_parent, m.dof_run_start, ld.free_acceleration);
   tree_ltl_solve(U, m.dof_parent, m.dof_run_start, ld.free_acceleration);
   // Y = L'^-1 C_r', so that C_r M_rr^-1 C_r' = Y' Y (one half-solve per equation).
-  ld.half_solved_ct = ld.constraint_jacobian_regular.transpose();
   tree_ltl_solve_transposed(U, m.dof_parent, m.dof_run_start, ld.half_solved_ct);
-  // lazyProduct: coefficient-wise, without the blocked product's workspace.
-  ld.delassus.noalias() = ld.half_solved_ct.transpose().lazyProduct(ld.half_solved_ct);
+  delassus_lower_triangle(ld.half_solved_ct, ld.half_solved_ct, ld.delassus);
   // rhs = kappa - C qdd_free: the free accelerations carry qdd_p on prescribed rows.
   ld.rhs = ld.kappa;
   ld.rhs.noalias() -= ld.jacobian * ld.free_acceleration;
@@ -291,12 +312,8 @@ Status articulated_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
   restrict_jacobian_columns_transposed(
       ld.jacobian, [&](Eigen::Index k) { return !m.is_prescribed(static_cast<int>(k)); }, ld.regular_jacobian_transposed);
   unit_multiplier_response(m, d);
-  // K = C_r Y, symmetric: its lower triangle (all the solve reads) as dot
-  // products of contiguous columns (Y's rows off the loaded DOFs are zero).
-  const MatX<S>& Y = ld.unit_response.qdd;
-  for (int j = 0; j < m.nloop_equations; ++j)
-    for (int i = j; i < m.nloop_equations; ++i)
-      ld.delassus(i, j) = ld.regular_jacobian_transposed.col(i).dot(Y.col(j));
+  // K = C_r Y (Y's rows off the loaded DOFs are zero).
+  delassus_lower_triangle(ld.regular_jacobian_transposed, ld.unit_response.qdd, ld.delassus);
   if (semidefinite_min_norm_solve(ld.delassus, ld.rhs, delassus_threshold<S>(), ld.delassus_solve, ld.multipliers) < 0)
     return {StatusCode::non_finite_result, -1};
   add_loop_forces_to_sweeps(m, d);
@@ -311,7 +328,7 @@ Status rigid_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const Con
                                   const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext,
                                   DynamicsOutputs outputs) {
   if (m.nloops() == 0) return rigid_hybrid_dynamics(m, d, q, v, u, f_ext, outputs);
-  Status status = m.dynamics_path == DynamicsPath::rigid_tree_frames
+  Status status = m.dynamics_path == DynamicsPath::rigid_tree_frames && !m.loops_through_mass_matrix
                       ? articulated_constrained_dynamics(m, d, q, v, u, f_ext)
                       : Status{StatusCode::beyond_tree_frame_reach, -1};
   if (status.code == StatusCode::beyond_tree_frame_reach) status = mass_matrix_constrained_dynamics(m, d, q, v, u, f_ext);

@@ -77,6 +77,7 @@ struct LoopData {
         constraint_jacobian_regular(MatX<S>::Zero(m, nv)), regular_jacobian_transposed(MatX<S>::Zero(nv, m)),
         half_solved_ct(MatX<S>::Zero(nv, m)),
         delassus(MatX<S>::Zero(m, m)), delassus_solve(m), rhs(VecX<S>::Zero(m)), equation_scale(VecX<S>::Zero(m)),
+        closure_acceleration_error(VecX<S>::Zero(m)),
         free_acceleration(VecX<S>::Zero(nv)), bias(VecX<S>::Zero(nv)), null_basis(MatX<S>::Zero(m, m)),
         null_work(VecX<S>::Zero(m)), actuation_map(MatX<S>::Zero(nv, m)), actuation_gram(MatX<S>::Zero(m, m)),
         actuation_solve(m), actuation_rhs(VecX<S>::Zero(m)), actuation_step(VecX<S>::Zero(m)),
@@ -103,13 +104,14 @@ struct LoopData {
   Mat6X<S> relative_jacobian;              // [omega_A - omega_B; v_A - v_B(P)] as a 6 x nv map of v
   MatX<S> regular_mass;                    // M with the prescribed rows and columns replaced by the identity,
                                            // then its tree-sparse factor, M_rr = L' L (U = L' in the upper triangle)
-  MatX<S> constraint_jacobian_regular;     // C with the prescribed columns zeroed
+  MatX<S> constraint_jacobian_regular;     // C with the fixed columns zeroed (loop assembly)
   MatX<S> regular_jacobian_transposed;     // its transpose (the articulated-body solve)
   MatX<S> half_solved_ct;                  // Y = L'^-1 C_r' with M_rr = L' L (tree_cholesky.hpp)
   MatX<S> delassus;                        // C_r M_rr^-1 C_r' (m x m)
   SemidefiniteSolveScratch<S> delassus_solve;  // minimum-norm multipliers (semidefinite_solve.hpp)
   VecX<S> rhs;
   VecX<S> equation_scale;                  // per closure equation, the size of its terms (inconsistent_loop)
+  VecX<S> closure_acceleration_error;      // C qdd - kappa (inconsistent_loop)
   VecX<S> free_acceleration;               // qdd without loop forces
   VecX<S> bias;                            // h - J' f_ext
   // Minimum-norm actuator forces (constrained_dynamics.hpp, redundant actuation):
