@@ -146,6 +146,18 @@ void bind_model(py::module_& mod) {
       .def_property_readonly("nloops", [](const ModelHandle& h) { return h.model.nloops(); }, "Number of closed loops.")
       .def_property_readonly("nloop_equations", [](const ModelHandle& h) { return h.model.nloop_equations; },
                              "Number of loop-closure equations (the rows of loop_jacobian).")
+      .def_property_readonly(
+          "loop_solver",
+          [](const ModelHandle& h) {
+            const soadyn::Model& m = h.model;
+            return std::string(m.dynamics_path == soadyn::DynamicsPath::rigid_tree_frames && !m.loops_through_mass_matrix
+                                   ? "articulated"
+                                   : "mass matrix");
+          },
+          "How constrained_dynamics solves the loops of this model: 'articulated' (the articulated-body "
+          "response to unit multipliers, O(N) in the bodies) or 'mass matrix' (M by CRBA, factored with the "
+          "tree's sparsity: small shallow rigid trees, and models with flexible bodies). A call with a body "
+          "beyond its tree-frame reach takes the mass matrix in body frames.")
       .def("_set_prescribed_indices",
            [](ModelHandle& h, const std::vector<int>& dofs, bool flag) {
              const auto lock = h.lock_for_change();

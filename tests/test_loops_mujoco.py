@@ -42,7 +42,7 @@ import pytest
 import soadyn
 from error_log import ErrorLog, report_fixture
 from test_pinocchio_oracle import BodySpec, build_soadyn, random_specs
-from trees import random_inertia, random_rotation
+from trees import random_inertia, random_rotation, random_unit
 
 RTOL = 1e-9
 KINDS = ("point", "revolute", "prismatic", "weld", "distance")
@@ -63,6 +63,27 @@ def spatial_specs(seed: int, floating: bool) -> list[BodySpec]:
     """test_pinocchio_oracle's random tree, helical joints made cylindrical."""
     return [dataclasses.replace(s, kind="cylindrical") if s.kind == "helical" else s
             for s in random_specs(seed, floating)]
+
+
+SHALLOW_KINDS = ("revolute", "prismatic", "universal", "cylindrical", "planar", "spherical", "translation")
+
+
+def shallow_specs(seed: int) -> list[BodySpec]:
+    """A small shallow spatial tree (3-6 bodies, none deeper than a child of a world-hinged body):
+    constrained_dynamics solves its loops through the mass matrix (Model.loop_solver)."""
+    rng = np.random.default_rng(700 + seed)
+    specs: list[BodySpec] = []
+    for i in range(int(rng.integers(3, 7))):
+        # Off the world, or off the previous body when that one hangs off the world (depth-first order).
+        parent = i - 1 if i > 0 and specs[i - 1].parent < 0 and rng.uniform() < 0.6 else -1
+        axis = random_unit(rng)
+        axis2 = np.cross(axis, random_unit(rng))
+        specs.append(BodySpec(
+            name=f"b{i}", parent=parent, kind=str(rng.choice(SHALLOW_KINDS)), axis=axis,
+            axis2=axis2 / np.linalg.norm(axis2), pitch=0.0, rotation=random_rotation(rng),
+            translation=rng.uniform(-0.5, 0.5, size=3), mass=float(rng.uniform(0.5, 3.0)),
+            com=rng.uniform(-0.3, 0.3, size=3), inertia=random_inertia(rng) * rng.uniform(0.5, 2.0)))
+    return specs
 
 
 def rot_z(angle: float) -> np.ndarray:
@@ -426,8 +447,11 @@ def reference_solution(eq: Equations, prescribed: np.ndarray, u: np.ndarray):
 
 @functools.lru_cache(maxsize=None)
 def _tree(tree: str, seed: int):
-    specs = planar_specs(seed) if tree == "planar" else spatial_specs(seed, tree == "floating")
-    return specs
+    if tree == "planar":
+        return planar_specs(seed)
+    if tree == "shallow":
+        return shallow_specs(seed)
+    return spatial_specs(seed, tree == "floating")
 
 
 def build_case(tree: str, seed: int, nloops: int):
@@ -452,7 +476,7 @@ def build_case(tree: str, seed: int, nloops: int):
     return m, model, specs, loops, q, rng
 
 
-TREES = ("floating", "fixed", "planar")
+TREES = ("floating", "fixed", "planar", "shallow")
 CASES = [(tree, seed, nloops) for tree in TREES for seed in range(12) for nloops in (1, 2, 3, 4)]
 IDS = [f"{t}-seed{s}-{n}loops" for t, s, n in CASES]
 
@@ -501,11 +525,14 @@ def test_constrained_dynamics_matches_mujoco(tree, seed, nloops, prescribed_frac
 
 def test_cases_cover_every_kind_redundancy_and_mode():
     """The case list is what the module claims: every kind in every tree family, planar cuts
-    redundant, spatial ones of full rank in some cases, prescribed DOFs in loops."""
+    redundant, spatial ones of full rank in some cases, prescribed DOFs in loops; the shallow trees'
+    loops solved through the mass matrix, the large spatial trees' by the articulated-body response."""
     seen, ranks = set(), {"redundant": 0, "full rank": 0}
     for tree, seed, nloops in CASES:
         m, model, specs, loops, q, _ = build_case(tree, seed, nloops)
         seen |= {(tree, l.kind) for l in loops}
+        if tree != "planar":
+            assert m.loop_solver == ("mass matrix" if tree == "shallow" else "articulated"), (tree, seed)
         C = mujoco_equations(m, model, specs, loops, q, np.zeros(m.nv)).C
         ranks["redundant" if np.linalg.matrix_rank(C, tol=1e-9) < C.shape[0] else "full rank"] += 1
     assert seen == {(t, k) for t in TREES for k in KINDS}

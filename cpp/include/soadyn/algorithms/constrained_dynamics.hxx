@@ -3,7 +3,7 @@
 #include "soadyn/algorithms/constrained_dynamics.hpp"
 #include "soadyn/algorithms/articulated_loop_response.hxx"
 #include "soadyn/algorithms/dynamics_path.hxx"
-#include "soadyn/algorithms/crba.hpp"
+#include "soadyn/algorithms/crba.hxx"
 #include "soadyn/algorithms/hybrid.hxx"
 #include "soadyn/algorithms/kinematics.hpp"
 #include "soadyn/algorithms/loop_closure.hxx"
@@ -277,6 +277,24 @@ Status mass_matrix_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
   return detail::constrained_solve(m, d, u);
 }
 
+// The same for a rigid model whose loops go through the mass matrix
+// (ModelTpl::loops_through_mass_matrix), in tree frames: M and h - J' f_ext
+// from one pair of sweeps sharing the kinematics
+// (tree_frame_mass_matrix_and_bias), the loop equations read from the
+// tree-frame kinematics those sweeps leave. Returns beyond_tree_frame_reach,
+// having changed no output, when a body lies too far from its tree origin
+// for tree frames.
+template <class S>
+Status tree_frame_mass_matrix_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
+                                                   const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext) {
+  const Status inertia = tree_frame_mass_matrix_and_bias(m, d, q.data(), velocities_unless_at_rest(m, v), f_ext);
+  if (!inertia.ok()) return inertia;
+  d.loops.bias = d.tau;
+  set_world_poses_from_tree_frames(m, d, q.data());
+  loop_equations_from<TreeFrameLoopKinematics>(m, d, LoopTerms::acceleration);
+  return detail::constrained_solve(m, d, u);
+}
+
 // constrained_dynamics through the articulated-body factorisation of the
 // tree-frame hybrid sweeps (rigid models): the inward sweeps give the
 // factors, the outward steps on the loop bodies' root paths their
@@ -328,9 +346,10 @@ Status rigid_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const Con
                                   const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext,
                                   DynamicsOutputs outputs) {
   if (m.nloops() == 0) return rigid_hybrid_dynamics(m, d, q, v, u, f_ext, outputs);
-  Status status = m.dynamics_path == DynamicsPath::rigid_tree_frames && !m.loops_through_mass_matrix
-                      ? articulated_constrained_dynamics(m, d, q, v, u, f_ext)
-                      : Status{StatusCode::beyond_tree_frame_reach, -1};
+  Status status{StatusCode::beyond_tree_frame_reach, -1};
+  if (m.dynamics_path == DynamicsPath::rigid_tree_frames)
+    status = m.loops_through_mass_matrix ? tree_frame_mass_matrix_constrained_dynamics(m, d, q, v, u, f_ext)
+                                         : articulated_constrained_dynamics(m, d, q, v, u, f_ext);
   if (status.code == StatusCode::beyond_tree_frame_reach) status = mass_matrix_constrained_dynamics(m, d, q, v, u, f_ext);
   if (!status.ok()) return status;
   // A full-rank Delassus system is solved exactly: only a rank-deficient one

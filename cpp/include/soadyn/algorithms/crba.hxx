@@ -19,6 +19,60 @@ namespace detail {
 // M again.
 // Returns beyond_tree_frame_reach, having formed no M, when a body lies
 // beyond its tree-frame reach (tree_frame_reach.hxx).
+// The columns of body i's DOFs in M (both triangles), from its composite
+// inertia (in tree_articulated_inertia[i], its subtree's inertias already
+// added) and the subspaces in tree_subspace_columns; their entries are
+// added to `probe`, and the composite inertia to the parent's.
+template <class S>
+SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, S& probe) {
+  const Mat6X<S>& H = d.sweep.tree_subspace_columns;
+  MatX<S>& M = d.mass_matrix;
+  const Mat6<S>& composite = d.sweep.tree_articulated_inertia[i];
+  for (int k = m.v_index[i]; k < m.v_index[i] + m.nv_body[i]; ++k) {
+    const Vec6<S> F = composite * H.col(k);  // force of a unit acceleration of DOF k
+    S* const column_k = &M(0, k);
+    S column_sum(0);  // a chain per column, not one through the whole matrix
+    for_each_ancestor_run(k, true, m.dof_parent, m.dof_run_start, [&](int first, int last) {
+      if (last >= first + 5 && m.dof_parent[static_cast<std::size_t>(first)] < 0) {
+        const std::size_t root = static_cast<std::size_t>(m.dof_body[static_cast<std::size_t>(first)]);
+        if (m.joint_kernel[root] == JointKernel::free) {
+          // A free root's H* is diag(R, R) (FreeJoint::tree_step): its six rows are R' F, two 3x3 products.
+          const Mat3<S>& R = d.sweep.tree_pose[root].rotation;
+          Vec6<S> rows;
+          rows.template head<3>().noalias() = R.transpose() * F.template head<3>();
+          rows.template tail<3>().noalias() = R.transpose() * F.template tail<3>();
+          for (int a = 0; a < 6; ++a) column_k[first + a] = M(k, first + a) = rows[a];
+          column_sum += rows.sum();
+          first += 6;
+        }
+      }
+      for (int j = first; j <= last; ++j) {
+        const S value = H.col(j).dot(F);
+        column_k[j] = value;
+        M(k, j) = value;  // both triangles here: no transposed copy afterwards
+        column_sum += value;
+      }
+    });
+    probe += column_sum;
+  }
+  const int p = m.parent[i];
+  if (p >= 0) d.sweep.tree_articulated_inertia[static_cast<std::size_t>(p)] += composite;
+}
+
+// M's armature, and its check: a finite probe (the sum of all entries)
+// proves M finite without reading it again.
+template <class S>
+Status finish_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, S probe) {
+  MatX<S>& M = d.mass_matrix;
+  if (m.has_armature) {
+    M.diagonal() += Eigen::Map<const VecX<S>>(m.armature.data(), m.nv);
+    probe += M.diagonal().sum();
+  }
+  using std::isfinite;
+  if (!isfinite(scalar_value(probe))) return check_finite_columns(M);  // names the column; a false alarm (the sum overflowed) passes
+  return Status{};
+}
+
 template <class S>
 Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
@@ -30,47 +84,44 @@ Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
                              d.sweep.tree_articulated_inertia[i]);
     H.middleCols(m.v_index[i], m.nv_body[i]) = d.sweep.tree_subspace[i];
   }
-  MatX<S>& M = d.mass_matrix;
+  S probe(0);
+  for (std::size_t i = n; i-- > 0;) composite_body_columns(m, d, i, probe);
+  return finish_mass_matrix(m, d, probe);
+}
+
+// M and the bias forces h - J' f_ext (inverse dynamics at qdd = 0, in
+// d.tau) of a rigid model in one pair of tree-frame sweeps, sharing the
+// kinematics: outward, each body's pose, subspace, velocity, inertia
+// (tree_rigid_body_step), its acceleration at qdd = 0 (in tree_acceleration,
+// the base accelerating at world_acceleration: what the loop equations read
+// for kappa) and its force I a + b; inward, the hinge forces H' f (Jain &
+// Rodriguez 1993, Eq. 1, all bodies of a tree in one frame: no transforms)
+// and the composite-body columns of M. Returns beyond_tree_frame_reach,
+// having formed neither, when a body lies beyond its tree-frame reach.
+template <class S>
+Status tree_frame_mass_matrix_and_bias(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* f_ext) {
+  const std::size_t n = static_cast<std::size_t>(m.nbodies());
+  const Vec6<S> world_acc = world_acceleration(m);
+  Mat6X<S>& H = d.sweep.tree_subspace_columns;
+  for (std::size_t i = 0; i < n; ++i) {
+    tree_velocity_step(m, d, i, q, v);
+    if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
+    tree_rigid_body_step(m, d, i, v, f_ext);
+    const int p = m.parent[i];
+    Vec6<S>& a = d.sweep.tree_acceleration[i];
+    a = (p >= 0 ? d.sweep.tree_acceleration[static_cast<std::size_t>(p)] : world_acc) + d.sweep.tree_coriolis[i];
+    d.sweep.tree_bias_and_children_z[i].noalias() += d.sweep.tree_articulated_inertia[i] * a;  // f = I a + b
+    H.middleCols(m.v_index[i], m.nv_body[i]) = d.sweep.tree_subspace[i];
+  }
   S probe(0);
   for (std::size_t i = n; i-- > 0;) {
-    const Mat6<S>& composite = d.sweep.tree_articulated_inertia[i];
-    for (int k = m.v_index[i]; k < m.v_index[i] + m.nv_body[i]; ++k) {
-      const Vec6<S> F = composite * H.col(k);  // force of a unit acceleration of DOF k
-      S* const column_k = &M(0, k);
-      S column_sum(0);  // a chain per column, not one through the whole matrix
-      for_each_ancestor_run(k, true, m.dof_parent, m.dof_run_start, [&](int first, int last) {
-        if (last >= first + 5 && m.dof_parent[static_cast<std::size_t>(first)] < 0) {
-          const std::size_t root = static_cast<std::size_t>(m.dof_body[static_cast<std::size_t>(first)]);
-          if (m.joint_kernel[root] == JointKernel::free) {
-            // A free root's H* is diag(R, R) (FreeJoint::tree_step): its six rows are R' F, two 3x3 products.
-            const Mat3<S>& R = d.sweep.tree_pose[root].rotation;
-            Vec6<S> rows;
-            rows.template head<3>().noalias() = R.transpose() * F.template head<3>();
-            rows.template tail<3>().noalias() = R.transpose() * F.template tail<3>();
-            for (int a = 0; a < 6; ++a) column_k[first + a] = M(k, first + a) = rows[a];
-            column_sum += rows.sum();
-            first += 6;
-          }
-        }
-        for (int j = first; j <= last; ++j) {
-          const S value = H.col(j).dot(F);
-          column_k[j] = value;
-          M(k, j) = value;  // both triangles here: no transposed copy afterwards
-          column_sum += value;
-        }
-      });
-      probe += column_sum;
-    }
+    const Vec6<S>& f = d.sweep.tree_bias_and_children_z[i];  // with the children's added
+    d.tau.segment(m.v_index[i], m.nv_body[i]).noalias() = d.sweep.tree_subspace[i].transpose() * f;
     const int p = m.parent[i];
-    if (p >= 0) d.sweep.tree_articulated_inertia[static_cast<std::size_t>(p)] += composite;
+    if (p >= 0) d.sweep.tree_bias_and_children_z[static_cast<std::size_t>(p)] += f;
+    composite_body_columns(m, d, i, probe);
   }
-  if (m.has_armature) {
-    M.diagonal() += Eigen::Map<const VecX<S>>(m.armature.data(), m.nv);
-    probe += M.diagonal().sum();
-  }
-  using std::isfinite;
-  if (!isfinite(scalar_value(probe))) return check_finite_columns(M);  // names the column; a false alarm (the sum overflowed) passes
-  return Status{};
+  return finish_mass_matrix(m, d, probe);
 }
 
 // Models with flexible bodies, and rigid models with a body beyond its
