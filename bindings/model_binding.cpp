@@ -150,13 +150,13 @@ void bind_model(py::module_& mod) {
           "loop_solver",
           [](const ModelHandle& h) {
             const soadyn::Model& m = h.model;
-            return std::string(m.dynamics_path == soadyn::DynamicsPath::rigid_tree_frames && !m.loops_through_mass_matrix
+            return std::string(m.dynamics_path == soadyn::DynamicsPath::rigid_tree_frames && !m.loops_through_mass_matrix()
                                    ? "articulated"
                                    : "mass matrix");
           },
           "How constrained_dynamics solves the loops of this model: 'articulated' (the articulated-body "
           "response to unit multipliers, O(N) in the bodies) or 'mass matrix' (M by CRBA, factored with the "
-          "tree's sparsity: small shallow rigid trees, and models with flexible bodies). A call with a body "
+          "tree's sparsity: rigid trees where that factor is cheap for their number of loop equations, and models with flexible bodies). A call with a body "
           "beyond its tree-frame reach takes the mass matrix in body frames.")
       .def("_set_prescribed_indices",
            [](ModelHandle& h, const std::vector<int>& dofs, bool flag) {

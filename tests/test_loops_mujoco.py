@@ -525,16 +525,20 @@ def test_constrained_dynamics_matches_mujoco(tree, seed, nloops, prescribed_frac
 
 def test_cases_cover_every_kind_redundancy_and_mode():
     """The case list is what the module claims: every kind in every tree family, planar cuts
-    redundant, spatial ones of full rank in some cases, prescribed DOFs in loops; the shallow trees'
-    loops solved through the mass matrix, the large spatial trees' by the articulated-body response."""
-    seen, ranks = set(), {"redundant": 0, "full rank": 0}
+    redundant, spatial ones of full rank in some cases, prescribed DOFs in loops; both of
+    constrained_dynamics' solvers (Model.loop_solver) run every kind: the shallow trees through the
+    mass matrix, the floating ones by the articulated-body response (the others as their sparsity
+    and loop count decide)."""
+    seen, ranks, solved = set(), {"redundant": 0, "full rank": 0}, set()
     for tree, seed, nloops in CASES:
         m, model, specs, loops, q, _ = build_case(tree, seed, nloops)
         seen |= {(tree, l.kind) for l in loops}
-        if tree != "planar":
+        solved |= {(m.loop_solver, l.kind) for l in loops}
+        if tree in ("shallow", "floating"):
             assert m.loop_solver == ("mass matrix" if tree == "shallow" else "articulated"), (tree, seed)
         C = mujoco_equations(m, model, specs, loops, q, np.zeros(m.nv)).C
         ranks["redundant" if np.linalg.matrix_rank(C, tol=1e-9) < C.shape[0] else "full rank"] += 1
     assert seen == {(t, k) for t in TREES for k in KINDS}
+    assert solved == {(solver, k) for solver in ("articulated", "mass matrix") for k in KINDS}
     print(f"\ncases: {ranks}")
     assert ranks["redundant"] >= 10 and ranks["full rank"] >= 10, ranks

@@ -185,7 +185,7 @@ class _Model:
     @property
     def loop_solver(self) -> str:
         """
-        How constrained_dynamics solves the loops of this model: 'articulated' (the articulated-body response to unit multipliers, O(N) in the bodies) or 'mass matrix' (M by CRBA, factored with the tree's sparsity: small shallow rigid trees, and models with flexible bodies). A call with a body beyond its tree-frame reach takes the mass matrix in body frames.
+        How constrained_dynamics solves the loops of this model: 'articulated' (the articulated-body response to unit multipliers, O(N) in the bodies) or 'mass matrix' (M by CRBA, factored with the tree's sparsity: rigid trees where that factor is cheap for their number of loop equations, and models with flexible bodies). A call with a body beyond its tree-frame reach takes the mass matrix in body frames.
         """
     @property
     def nq(self) -> int:

@@ -19,6 +19,7 @@
 #pragma once
 #include <cstdint>
 #include <stdexcept>
+#include <type_traits>
 #include <string>
 #include <unordered_map>
 #include "soadyn/flex/flexible_body.hpp"
@@ -76,14 +77,16 @@ struct HingeModes {
 // (algorithms/dynamics_path.hxx), fixed by the model's structure and stored
 // when it changes. A tree-frame path falls back to body frames for a call in
 // which a body lies beyond its tree-frame reach (tree_frame_reach.hxx).
-// Bounds of the models whose loops constrained_dynamics solves through the
-// mass matrix (ModelTpl::loops_through_mass_matrix): at most this many DOFs,
-// and at most this many ancestors-or-self per DOF on average. Measured
-// (bench/results/history.md): the four-bar (3 DOFs, 1.3) 0.85x and a Delta
-// robot (18, 2.8) 0.97x the articulated path's time; a 23-DOF random tree
-// (10.4) 1.09x and talos (38, 9.7) 1.30x.
-constexpr int kMassMatrixLoopsMaxDofs = 24;
-constexpr int kMassMatrixLoopsMaxMeanDepth = 4;
+// The models whose loops constrained_dynamics solves through the mass matrix
+// (ModelTpl::loops_through_mass_matrix): those whose tree-sparse factor of M
+// costs at most this much (ModelTpl::tree_factor_work) per loop equation.
+// Against the articulated path, the mass-matrix path (in tree frames) took,
+// same machine (bench/results/history.md): four-bar (work 6, 3 equations)
+// 0.72x, a Delta robot (181, 9) 0.75x, random trees (687, 3) 0.89x,
+// (1798, 12) 0.81x and (3172, 12) 0.87x; but (3172, 3) 1.11x, (4538, 6) 1.09x,
+// a 24-DOF chain (4900, 3) 1.10x, talos (4087, 12) 1.08x and a 58-DOF tree
+// (41125, 12) 1.6x.
+constexpr int kMassMatrixLoopsWorkPerEquation = 300;
 
 enum class DynamicsPath : std::uint8_t {
   rigid_tree_frames,      // no flexible body: tree frames, rigid steps only
@@ -243,14 +246,25 @@ class ModelTpl {
 
   // Set by every structural change (add_body, add_flexible_body); a copy carries it.
   DynamicsPath dynamics_path = DynamicsPath::rigid_tree_frames;
+  // The work of factoring M with the tree's sparsity (tree_cholesky.hpp), up
+  // to a constant: the sum over DOFs of the square of their count of
+  // ancestors-or-self. Set with dynamics_path.
+  std::size_t tree_factor_work = 0;
   // Whether constrained_dynamics solves the loops through the mass matrix
-  // (CRBA, its tree-sparse factor) rather than the articulated-body response:
-  // on small shallow trees (at most kMassMatrixLoopsMaxDofs DOFs, each with
-  // at most kMassMatrixLoopsMaxMeanDepth ancestors-or-self on average) the
-  // factor costs next to nothing and the articulated sweeps' per-body
-  // constants dominate; beyond, the articulated path's O(N) wins.
-  // Set with dynamics_path.
-  bool loops_through_mass_matrix = false;
+  // (CRBA, its tree-sparse factor) rather than by the articulated-body
+  // response to unit multipliers: rigid models whose factor is cheap for
+  // their number of loop equations (kMassMatrixLoopsWorkPerEquation), where
+  // the articulated sweeps' per-body constants and the response's load
+  // cases cost more. Models with flexible bodies always take the mass matrix.
+  // In single precision, rigid models keep the articulated path: on the
+  // ill-conditioned cases of the float-versus-double test of the loops
+  // (cond(M_rr) up to 2e3), the mass-matrix path's largest error was 1.3e-4
+  // where the articulated path's stays below 9e-5.
+  bool loops_through_mass_matrix() const {
+    return !std::is_same<S, float>::value && dynamics_path == DynamicsPath::rigid_tree_frames &&
+           tree_factor_work <= static_cast<std::size_t>(kMassMatrixLoopsWorkPerEquation) *
+                                   static_cast<std::size_t>(nloop_equations);
+  }
 
   std::vector<Frame<S>> frames;
   // Closed loops, in the order added, and their equation count (the sum of

@@ -316,13 +316,13 @@ void ModelTpl<S>::refresh_dynamics_path() {
   dynamics_path = on_nodes               ? DynamicsPath::body_frames
                   : has_flexible_bodies() ? DynamicsPath::appendage_tree_frames
                                           : DynamicsPath::rigid_tree_frames;
-  // The mass-matrix factor's work grows with the sum over DOFs of their
-  // ancestors-or-self (its fill); the articulated path's with the bodies.
-  std::size_t fill = 0;
-  for (int k = 0; k < nv; ++k)
-    for (int j = k; j >= 0; j = dof_parent[static_cast<std::size_t>(j)]) ++fill;
-  loops_through_mass_matrix = dynamics_path == DynamicsPath::rigid_tree_frames && nv <= kMassMatrixLoopsMaxDofs &&
-                              fill <= static_cast<std::size_t>(kMassMatrixLoopsMaxMeanDepth * nv);
+  std::vector<std::size_t> depth(static_cast<std::size_t>(nv));  // ancestors-or-self of each DOF (a parent's index is lower)
+  tree_factor_work = 0;
+  for (std::size_t k = 0; k < depth.size(); ++k) {
+    const int p = dof_parent[k];
+    depth[k] = p >= 0 ? depth[static_cast<std::size_t>(p)] + 1 : 1;
+    tree_factor_work += depth[k] * depth[k];
+  }
 }
 
 template <class S>

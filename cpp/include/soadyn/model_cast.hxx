@@ -116,7 +116,7 @@ ModelTpl<T> ModelTpl<S>::cast() const {
   out.check_tree_frame_reach = check_tree_frame_reach;
   out.reach_checks_needed = reach_checks_needed;
   out.dynamics_path = dynamics_path;
-  out.loops_through_mass_matrix = loops_through_mass_matrix;
+  out.tree_factor_work = tree_factor_work;
   for (const auto& f : frames) out.frames.push_back(Frame<T>{f.name, f.body, c::transform<T>(f.placement), f.node});
   for (const auto& l : loops) {
     LoopTpl<T> o;

@@ -278,7 +278,7 @@ Status mass_matrix_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
 }
 
 // The same for a rigid model whose loops go through the mass matrix
-// (ModelTpl::loops_through_mass_matrix), in tree frames: M and h - J' f_ext
+// (ModelTpl::loops_through_mass_matrix()), in tree frames: M and h - J' f_ext
 // from one pair of sweeps sharing the kinematics
 // (tree_frame_mass_matrix_and_bias), the loop equations read from the
 // tree-frame kinematics those sweeps leave. Returns beyond_tree_frame_reach,
@@ -348,7 +348,7 @@ Status rigid_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const Con
   if (m.nloops() == 0) return rigid_hybrid_dynamics(m, d, q, v, u, f_ext, outputs);
   Status status{StatusCode::beyond_tree_frame_reach, -1};
   if (m.dynamics_path == DynamicsPath::rigid_tree_frames)
-    status = m.loops_through_mass_matrix ? tree_frame_mass_matrix_constrained_dynamics(m, d, q, v, u, f_ext)
+    status = m.loops_through_mass_matrix() ? tree_frame_mass_matrix_constrained_dynamics(m, d, q, v, u, f_ext)
                                          : articulated_constrained_dynamics(m, d, q, v, u, f_ext);
   if (status.code == StatusCode::beyond_tree_frame_reach) status = mass_matrix_constrained_dynamics(m, d, q, v, u, f_ext);
   if (!status.ok()) return status;
