@@ -439,12 +439,14 @@ def main() -> int:
         return f"mu {c.settings.mu:g}, {c.settings.max_iter} iter."
 
     def row(c, t):
-        return (f"| {c.name} | {c.m.nv} | {equations(c)} | {c.rank} | {t['soadyn']:.2f} | {t['pinocchio']:.2f} | "
-                f"**{t['ratio']:.2f}** | {t['cpp']:.2f} | {settings(c)} | {c.agreement:.0e} |")
+        solver = c.m.loop_solver if c.m.nloops else "(no loops)"
+        return (f"| {c.name} | {c.m.nv} | {equations(c)} | {c.rank} | {solver} | {t['soadyn']:.2f} | "
+                f"{t['pinocchio']:.2f} | **{t['ratio']:.2f}** | {t['cpp']:.2f} | {settings(c)} | {c.agreement:.0e} |")
 
-    header = ("| model | nv | loop equations | rank | soadyn.constrained_dynamics (us) | pin.constraintDynamics (us) | "
-              "**soadyn / Pinocchio** (goal <= 0.7) | soadyn C++ (us) | Pinocchio settings | qdd agreement |")
-    rule = "|---|---:|---:|---:|---:|---:|---:|---:|---|---:|"
+    header = ("| model | nv | loop equations | rank | soadyn loop solver | soadyn.constrained_dynamics (us) | "
+              "pin.constraintDynamics (us) | **soadyn / Pinocchio** (goal <= 0.7) | soadyn C++ (us) | "
+              "Pinocchio settings | qdd agreement |")
+    rule = "|---|---:|---:|---:|---|---:|---:|---:|---:|---|---:|"
     hyb_rows = []
     for name in (ROBOTS if hybrid else []):
         cpp = median_ratio([a[name]["cpp"] for a in hybrid["after"]], [b[name]["cpp"] for b in hybrid["before"]])
@@ -470,6 +472,10 @@ def main() -> int:
         "cheapest that reproduce soadyn's accelerations: the agreement column is the largest relative difference "
         "of qdd over the states). soadyn C++: `_time_cpp(m, \"constrained\", ...)` over the same states (median of "
         "7 repetitions), the binding's share being the difference; Pinocchio's C++ time was not measured.",
+        "- soadyn's loop solver (`Model.loop_solver`, chosen per model): 'mass matrix' (M and the bias forces from "
+        "one pair of tree-frame sweeps, M factored with the tree's sparsity) where that factor's work, the sum over "
+        "DOFs of their ancestors-or-self squared, is at most 300 per loop equation; 'articulated' (the "
+        "articulated-body response to unit multipliers) otherwise.",
         "",
         "## Per call", "",
         header, rule,
