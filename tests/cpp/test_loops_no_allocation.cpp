@@ -6,9 +6,10 @@
 // loops leave free, so many calls are redundantly actuated (the minimum-norm
 // actuator forces) and some have closure accelerations that cannot be met
 // (inconsistent_loop_equations, with the least-squares answer): both paths
-// run in full and are counted, on the rigid tree (the articulated-body
-// response) and on the same tree with flexible bodies added (the mass-matrix
-// path). Before counting, a distance loop added
+// run in full and are counted, on a 60-body rigid tree (the articulated-body
+// response), on a 20-body one, the four-bar and the Delta robot (the
+// mass-matrix path in tree frames), and on the 20-body tree with flexible
+// bodies added (the mass-matrix path in body frames). Before counting, a distance loop added
 // without a length takes the distance between its frames at the neutral
 // configuration, or at a given one.
 #include <cmath>
@@ -18,6 +19,7 @@
 #include "soadyn/soadyn.hpp"
 #include "allocation_counter.hpp"
 #include "random_tree.hpp"
+#include "soadyn/scenes.hpp"
 
 using namespace soadyn_test;
 
@@ -127,13 +129,29 @@ int main(int argc, char**) {
   soadyn::Model model = soadyn_test::build_model<double>(soadyn_test::random_tree_spec(2024, 20));
   add_every_kind_of_loop(model);
   const int length_failures = check_measured_distance_lengths(model);
-  // Rigid: the articulated-body response (articulated_loop_response.hxx).
-  // With flexible bodies (not in the loops): the mass-matrix path.
+  // The loop solvers (Model::loops_through_mass_matrix): a 60-body rigid
+  // tree with the same loops takes the articulated-body response
+  // (articulated_loop_response.hxx); the 20-body tree, the four-bar and the
+  // Delta robot (scenes.hpp) the mass matrix in tree frames; with flexible
+  // bodies (not in the loops), the mass matrix in body frames.
+  soadyn::Model large = soadyn_test::build_model<double>(soadyn_test::random_tree_spec(2024, 60));
+  add_every_kind_of_loop(large);
   soadyn::Model flexible = model;
   soadyn_test::add_flexible_bodies(flexible);
-  const bool rigid_ok = run_counted("rigid tree", model);
-  const bool flexible_ok = run_counted("tree with flexible bodies", flexible);
-  const bool pass = rigid_ok && flexible_ok && length_failures == 0;
+  const soadyn::Model four_bar = soadyn::four_bar_model<double>(soadyn::LoopKind::point);
+  const soadyn::Model delta = soadyn::delta_robot_model<double>();
+  const auto solver = [](const soadyn::Model& m) { return m.loops_through_mass_matrix() ? "mass matrix" : "articulated"; };
+  std::printf("loop solvers: 60-body tree %s, 20-body tree %s, four-bar %s, Delta robot %s\n", solver(large),
+              solver(model), solver(four_bar), solver(delta));
+  const bool solvers_as_claimed = !large.loops_through_mass_matrix() && model.loops_through_mass_matrix() &&
+                                  four_bar.loops_through_mass_matrix() && delta.loops_through_mass_matrix();
+  const bool large_ok = run_counted("60-body rigid tree", large);
+  const bool rigid_ok = run_counted("20-body rigid tree", model);
+  const bool flexible_ok = run_counted("20-body tree with flexible bodies", flexible);
+  const bool four_bar_ok = run_counted("four-bar", four_bar);
+  const bool delta_ok = run_counted("Delta robot", delta);
+  const bool pass = solvers_as_claimed && large_ok && rigid_ok && flexible_ok && four_bar_ok && delta_ok &&
+                    length_failures == 0;
   std::printf("test_loops_no_allocation: %s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;
 }

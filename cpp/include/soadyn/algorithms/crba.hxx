@@ -8,17 +8,6 @@ namespace soadyn {
 
 namespace detail {
 
-// Composite-rigid-body algorithm (rigid models) in tree frames
-// (tree_frame_steps.hpp): composite inertias add without a congruence, and
-// a column block F = Ic(i) H*(i) needs no transform on its way to the root,
-// M(j, k) = H*(j)' F for every DOF j on the path from DOF k to the root.
-// Those DOFs are walked as runs of consecutive indices (model.dof_run_start),
-// the subspaces of all DOFs lie side by side in one 6 x nv matrix, and a
-// free root's six rows are R' F. Every entry is added to its column's sum as
-// it is written; a finite total of the sums proves M finite without reading
-// M again.
-// Returns beyond_tree_frame_reach, having formed no M, when a body lies
-// beyond its tree-frame reach (tree_frame_reach.hxx).
 // The columns of body i's DOFs in M (both triangles), from its composite
 // inertia (in tree_articulated_inertia[i], its subtree's inertias already
 // added) and the subspaces in tree_subspace_columns; their entries are
@@ -73,6 +62,17 @@ Status finish_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, S probe) {
   return Status{};
 }
 
+// Composite-rigid-body algorithm (rigid models) in tree frames
+// (tree_frame_steps.hpp): composite inertias add without a congruence, and
+// a column block F = Ic(i) H*(i) needs no transform on its way to the root,
+// M(j, k) = H*(j)' F for every DOF j on the path from DOF k to the root.
+// Those DOFs are walked as runs of consecutive indices (model.dof_run_start),
+// the subspaces of all DOFs lie side by side in one 6 x nv matrix, and a
+// free root's six rows are R' F. Every entry is added to its column's sum as
+// it is written; a finite total of the sums proves M finite without reading
+// M again.
+// Returns beyond_tree_frame_reach, having formed no M, when a body lies
+// beyond its tree-frame reach (tree_frame_reach.hxx).
 template <class S>
 Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());

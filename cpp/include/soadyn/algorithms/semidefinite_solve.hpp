@@ -41,8 +41,8 @@ int semidefinite_min_norm_solve(const MatX<S>& A, const VecX<S>& b, S relative_t
   const auto column = [F, m](Eigen::Index j) { return F + j * m; };
   int* const permutation = s.permutation.data();
   for (Eigen::Index i = 0; i < m; ++i) permutation[i] = static_cast<int>(i);
-  S largest = S(0);
-  for (Eigen::Index i = 0; i < m; ++i) largest = i == 0 ? column(0)[0] : std::max(largest, column(i)[i]);
+  S largest = m > 0 ? F[0] : S(0);
+  for (Eigen::Index i = 1; i < m; ++i) largest = std::max(largest, column(i)[i]);
   const S threshold = relative_threshold * largest;
   Eigen::Index k = 0;
   for (; k < m; ++k) {
