@@ -82,21 +82,28 @@ def check_sim_no_allocation(output: str) -> None:
 
 
 def check_loops_no_allocation(output: str) -> None:
-    """10^4 constrained_dynamics calls (and loop_residual, loop_rank) on a tree with a loop of every kind, rigid
-    (the articulated-body response) and with flexible bodies added (the mass-matrix path)."""
+    """10^4 constrained_dynamics calls (and loop_residual, loop_rank) on each of five models: trees of 60 and 20
+    bodies with a loop of every kind (the articulated-body response; the mass matrix in tree frames), the
+    20-body tree with flexible bodies added (the mass matrix in body frames), the four-bar and the Delta robot
+    (the mass matrix in tree frames)."""
     require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
-    require(bool(lines(r"^rigid tree: \d+ bodies \(0 flexible\)$", output)), "the rigid tree")
-    require(bool(lines(r"^tree with flexible bodies: \d+ bodies \([1-9]\d* flexible\)$", output)),
+    require(bool(lines(r"^loop solvers: 60-body tree articulated, 20-body tree mass matrix, four-bar mass matrix, "
+                       r"Delta robot mass matrix$", output)), "both loop solvers run")
+    require(bool(lines(r"^60-body rigid tree: 60 bodies \(0 flexible\)$", output)), "the 60-body rigid tree")
+    require(bool(lines(r"^20-body rigid tree: 20 bodies \(0 flexible\)$", output)), "the 20-body rigid tree")
+    require(bool(lines(r"^20-body tree with flexible bodies: \d+ bodies \([1-9]\d* flexible\)$", output)),
             "the tree with flexible bodies")
-    require(len(lines(r"^loops: 5, equations: 20, nv = \d+", output)) == 2, "five loops, 20 equations, twice")
-    require(len(lines(r"^calls: 10000 constrained_dynamics; failed statuses: 0$", output)) == 2,
+    require(bool(lines(r"^four-bar: 3 bodies \(0 flexible\)$", output)), "the four-bar")
+    require(bool(lines(r"^Delta robot: 10 bodies \(0 flexible\)$", output)), "the Delta robot")
+    require(len(lines(r"^loops: 5, equations: 20, nv = \d+", output)) == 3, "five loops, 20 equations, on the trees")
+    require(len(lines(r"^calls: 10000 constrained_dynamics; failed statuses: 0$", output)) == 5,
             "10^4 calls on each model, none failed")
     require(len(lines(r"^joint wrench calls: [1-9]\d*; rank-deficient Delassus with prescribed DOFs: [1-9]\d*; "
-                      r"inconsistent loop equations \(least-squares answer\): \d+$", output)) == 2,
+                      r"inconsistent loop equations \(least-squares answer\): \d+$", output)) == 5,
             "joint wrenches and the minimum-norm actuator forces exercised on each model")
     require(len(lines(r"^distance loop without length \((neutral|at q)\): ", output)) == 2,
             "distance loops measured at the neutral and at a given configuration")
-    require(len(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)) == 2,
+    require(len(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)) == 5,
             "zero allocations on each model")
     require(bool(lines(r"^test_loops_no_allocation: PASS$", output)), "the PASS line")
 
