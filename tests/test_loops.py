@@ -291,3 +291,29 @@ def test_a_regular_dof_whose_jacobian_column_is_rounding_noise_feels_no_loop_for
     qdd_free, _ = soadyn.hybrid_dynamics(free, q, v, u)
     assert abs(qdd[1] - qdd_free[1]) <= 1e-9 * max(1.0, abs(qdd_free[1]))
     assert qdd[0] == 0.0
+
+
+def _model_with_solver(solver):
+    """The four-bar (its loops solved through the mass matrix) or a random 12-20 body tree closed by a
+    point loop (the articulated-body response): each loop solver of constrained_dynamics."""
+    if solver == "mass matrix":
+        m = four_bar("point")
+        q, v = four_bar_state(0.7, 1.3)
+    else:
+        m, _, _, _, q, v, _, _ = closed_loop_case(0, True, 1, ("point",))
+    assert m.loop_solver == solver
+    return m, q, v
+
+
+@pytest.mark.parametrize("solver", ["mass matrix", "articulated"])
+def test_overflow_is_a_named_error_in_either_loop_solver(solver):
+    """Finite inputs whose dynamics overflow raise DynamicsError naming the call, never return inf or NaN;
+    the model then computes normally again."""
+    m, q, v = _model_with_solver(solver)
+    u = np.zeros(m.nv)
+    expected = soadyn.constrained_dynamics(m, q, v, u)
+    for q_, v_, u_ in ((q, np.full(m.nv, 1e200), u), (q, v, np.full(m.nv, 1e308))):
+        with pytest.raises(soadyn.DynamicsError, match="constrained_dynamics"):
+            soadyn.constrained_dynamics(m, q_, v_, u_)
+    for a, b in zip(soadyn.constrained_dynamics(m, q, v, u), expected):
+        np.testing.assert_array_equal(a, b)
