@@ -75,6 +75,7 @@ struct SweepData {
   aligned_vector<Mat6N<S>> tree_regular_subspace;      // the regular columns of H*(i) (mixed hinges)
   aligned_vector<Mat6N<S>> tree_gain;                  // G(i) = P H*_r D^-1
   Mat6X<S> tree_subspace_columns;  // H*(i) of every body side by side, 6 x nv: the mass matrix's columns (crba.hxx)
+  aligned_vector<InertiaParameters<S>> tree_composite_inertia;  // the composite inertia's ten parameters (crba.hxx)
 
   // Hinge coordinates (no frame).
   aligned_vector<VecN<S>> innovation;                  // nu(i) = D^-1 eps(i) (Eq. 28)

@@ -9,16 +9,16 @@ namespace soadyn {
 namespace detail {
 
 // The columns of body i's DOFs in M (both triangles), from its composite
-// inertia (in tree_articulated_inertia[i], its subtree's inertias already
-// added) and the subspaces in tree_subspace_columns; their entries are
-// added to `probe`, and the composite inertia to the parent's.
+// inertia (ten parameters in tree_composite_inertia[i], its subtree's
+// inertias already added) and the subspaces in tree_subspace_columns; their
+// entries are added to `probe`, and the composite inertia to the parent's.
 template <class S>
 SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, S& probe) {
   const Mat6X<S>& H = d.sweep.tree_subspace_columns;
   MatX<S>& M = d.mass_matrix;
-  const Mat6<S>& composite = d.sweep.tree_articulated_inertia[i];
+  const InertiaParameters<S>& composite = d.sweep.tree_composite_inertia[i];
   for (int k = m.v_index[i]; k < m.v_index[i] + m.nv_body[i]; ++k) {
-    const Vec6<S> F = composite * H.col(k);  // force of a unit acceleration of DOF k
+    const Vec6<S> F = momentum(composite, H.col(k));  // force of a unit acceleration of DOF k
     S* const column_k = &M(0, k);
     S column_sum(0);  // a chain per column, not one through the whole matrix
     for_each_ancestor_run(k, true, m.dof_parent, m.dof_run_start, [&](int first, int last) {
@@ -45,7 +45,7 @@ SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S
     probe += column_sum;
   }
   const int p = m.parent[i];
-  if (p >= 0) d.sweep.tree_articulated_inertia[static_cast<std::size_t>(p)] += composite;
+  if (p >= 0) d.sweep.tree_composite_inertia[static_cast<std::size_t>(p)] += composite;
 }
 
 // M's armature, and its check: a finite probe (the sum of all entries)
@@ -80,8 +80,8 @@ Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
   for (std::size_t i = 0; i < n; ++i) {
     tree_joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
-    spatial_inertia_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i],
-                             d.sweep.tree_articulated_inertia[i]);
+    d.sweep.tree_composite_inertia[i] =
+        inertia_parameters_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i]);
     H.middleCols(m.v_index[i], m.nv_body[i]) = d.sweep.tree_subspace[i];
   }
   S probe(0);
@@ -106,11 +106,12 @@ Status tree_frame_mass_matrix_and_bias(const ModelTpl<S>& m, DataTpl<S>& d, cons
   for (std::size_t i = 0; i < n; ++i) {
     tree_velocity_step(m, d, i, q, v);
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
-    tree_rigid_body_step(m, d, i, v, f_ext);
+    const InertiaParameters<S> inertia = tree_rigid_body_step(m, d, i, v, f_ext);
+    d.sweep.tree_composite_inertia[i] = inertia;
     const int p = m.parent[i];
     Vec6<S>& a = d.sweep.tree_acceleration[i];
     a = (p >= 0 ? d.sweep.tree_acceleration[static_cast<std::size_t>(p)] : world_acc) + d.sweep.tree_coriolis[i];
-    d.sweep.tree_bias_and_children_z[i].noalias() += d.sweep.tree_articulated_inertia[i] * a;  // f = I a + b
+    d.sweep.tree_bias_and_children_z[i] += momentum(inertia, a);  // f = I a + b
     H.middleCols(m.v_index[i], m.nv_body[i]) = d.sweep.tree_subspace[i];
   }
   S probe(0);

@@ -136,7 +136,8 @@ SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d
   const Vec6<S> joint_velocity = subspace_times(d.sweep.tree_subspace[i], v + m.v_index[i]);
   d.sweep.tree_velocity[i] =
       p >= 0 ? Vec6<S>(d.sweep.tree_velocity[static_cast<std::size_t>(p)] + joint_velocity) : joint_velocity;
-  d.sweep.tree_coriolis[i] = motion_cross(d.sweep.tree_velocity[i], joint_velocity) + joint_rate;
+  motion_cross_into(d.sweep.tree_velocity[i], joint_velocity, d.sweep.tree_coriolis[i]);
+  if (joint_has_rate_term(m.joint_kernel[i])) d.sweep.tree_coriolis[i] += joint_rate;
 }
 
 // Whether body i sits beyond the distance from its tree origin at which tree
@@ -150,19 +151,27 @@ SOADYN_ALWAYS_INLINE bool beyond_tree_frame_reach(const ModelTpl<S>& m, const Da
 
 // Body terms of rigid body i in its tree frame: M(i) into
 // tree_articulated_inertia[i] (the start of P) and b(i) = V x* (M V) - f_ext
-// into tree_bias_force[i] and tree_bias_and_children_z[i]; `f_ext` as in steps.hpp.
+// into tree_bias_force[i] and tree_bias_and_children_z[i]; `f_ext` as in
+// steps.hpp. Returns M(i)'s ten parameters.
 template <class S>
-SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v, const S* f_ext) {
+SOADYN_ALWAYS_INLINE InertiaParameters<S> tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i,
+                                                               const S* v, const S* f_ext) {
   const Transform<S>& pose = d.sweep.tree_pose[i];
-  Mat6<S>& inertia = d.sweep.tree_articulated_inertia[i];
-  spatial_inertia_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i], inertia);
+  const InertiaParameters<S> parameters = inertia_parameters_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i]);
+  assign_spatial_inertia(parameters, d.sweep.tree_articulated_inertia[i]);
+  // b is stored entry by entry in both places: a copy read back from memory
+  // right after scalar stores would stall store forwarding.
   Vec6<S>& b = d.sweep.tree_bias_force[i];
-  if (v)
-    b = force_cross(d.sweep.tree_velocity[i], Vec6<S>(inertia * d.sweep.tree_velocity[i]));
-  else
-    b.setZero();
-  if (f_ext) b -= pose.force_to_parent(Eigen::Map<const Vec6<S>>(f_ext + 6 * i));
-  d.sweep.tree_bias_and_children_z[i] = b;
+  Vec6<S>& z = d.sweep.tree_bias_and_children_z[i];
+  const Vec6<S> external = f_ext ? pose.force_to_parent(Eigen::Map<const Vec6<S>>(f_ext + 6 * i)) : Vec6<S>::Zero();
+  if (v) {
+    const Vec6<S>& V = d.sweep.tree_velocity[i];
+    force_cross_each(V, momentum(parameters, V), [&](int k, const S& x) { z[k] = b[k] = x - external[k]; });
+  } else {
+    b = -external;
+    z = b;
+  }
+  return parameters;
 }
 
 // Body terms of flexible appendage i (appendage_step.hpp) in its tree frame:
@@ -177,7 +186,7 @@ inline void tree_flexible_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::si
   Mat6<S> P;
   Vec6<S> z;
   appendage_step(m, d, i, q, v, u, f_ext, Vec6<S>(pose.motion_to_child(d.sweep.tree_velocity[i])), P, z);
-  d.sweep.tree_articulated_inertia[i] = pose.inertia_to_parent(P);
+  pose.inertia_to_parent_into(P, d.sweep.tree_articulated_inertia[i]);
   d.sweep.tree_bias_and_children_z[i] = pose.force_to_parent(z);
 }
 

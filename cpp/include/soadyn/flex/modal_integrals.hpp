@@ -59,12 +59,13 @@ namespace soadyn {
 
 // out = base + M x for a column-major rows x cols matrix M, all in
 // contiguous memory (flattened modal invariants). No allocation. out may not
-// overlap base, M or x.
+// overlap base, M or x. Column by column: the sizes are a few modes, where a
+// general matrix-vector kernel's set-up costs more than the products.
 template <class S>
 inline void affine_columns(const S* base, const S* M, Eigen::Index rows, Eigen::Index cols, const S* x, S* out) {
   Eigen::Map<VecX<S>> result(out, rows);
   result = Eigen::Map<const VecX<S>>(base, rows);
-  result.noalias() += Eigen::Map<const MatX<S>>(M, rows, cols) * Eigen::Map<const VecX<S>>(x, cols);
+  for (Eigen::Index c = 0; c < cols; ++c) result += x[c] * Eigen::Map<const VecX<S>>(M + c * rows, rows);
 }
 
 template <class S>

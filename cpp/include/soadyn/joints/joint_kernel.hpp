@@ -28,6 +28,11 @@ enum class JointKernel : std::uint8_t {
   general,
 };
 
+// Whether the kernel's joint has a velocity-product term of its own (dS/dt v
+// with S varying in the body frame): the universal joint and the general
+// path; every other kernel's tree step returns zero for it.
+constexpr bool joint_has_rate_term(JointKernel k) { return k == JointKernel::universal || k == JointKernel::general; }
+
 // The coordinate axis k and sign s with axis = s e_k, or k = -1.
 template <class S>
 int coordinate_axis(const Vec3<S>& axis, S& sign) {

@@ -64,7 +64,7 @@ struct RevoluteJoint {
     pose.rotation.noalias() = base.rotation * axis_angle_rotation(axis, angle);
     pose.translation = base.translation;
     const Vec3<S> w = base.rotation * axis;
-    s.col(0) << w, pose.translation.cross(w);
+    store_as_pairs(w, Vec3<S>(pose.translation.cross(w)), s.col(0));
   }
   // Kernels of an axis along sign * e_Axis; `angle` = sign * q. Body frame:
   // pose = placement * Rot; the subspace and zero bias stay as Data was built.
@@ -79,7 +79,7 @@ struct RevoluteJoint {
                                                      Transform<S>& pose, Mat6N<S>& s) {
     rotate_about_coordinate_axis<Axis>(base, angle, pose);
     const Vec3<S> w = pose.rotation.col(Axis) * sign;
-    s.col(0) << w, pose.translation.cross(w);
+    store_as_pairs(w, Vec3<S>(pose.translation.cross(w)), s.col(0));
   }
 };
 

@@ -68,8 +68,8 @@ struct UniversalJoint {
     }
     pose.translation = root ? Vec3<S>::Zero() : base.translation;
     const Vec3<S> w1 = base.rotation * axis1, w2 = pose.rotation * axis2;
-    s.col(0) << w1, pose.translation.cross(w1);
-    s.col(1) << w2, pose.translation.cross(w2);
+    store_as_pairs(w1, Vec3<S>(pose.translation.cross(w1)), s.col(0));
+    store_as_pairs(w2, Vec3<S>(pose.translation.cross(w2)), s.col(1));
     if (!v) return Vec6<S>::Zero();
     const Vec3<S> c = (v[0] * v[1]) * w1.cross(w2);
     Vec6<S> bias;

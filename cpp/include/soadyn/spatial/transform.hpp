@@ -69,6 +69,12 @@ struct Transform {
   // articulated) from B coordinates to A coordinates, done blockwise:
   // rotate each 3x3 block, then shift the reference point by `translation`.
   Mat6<S> inertia_to_parent(const Mat6<S>& I) const {
+    Mat6<S> r;
+    inertia_to_parent_into(I, r);
+    return r;
+  }
+  // The same written into r (no 6x6 temporary to copy; r must not alias I).
+  void inertia_to_parent_into(const Mat6<S>& I, Mat6<S>& r) const {
     const Mat3<S>& R = rotation;
     const Mat3<S> A = R * I.template topLeftCorner<3, 3>() * R.transpose();
     const Mat3<S> B = R * I.template topRightCorner<3, 3>() * R.transpose();
@@ -83,12 +89,10 @@ struct Transform {
       Y.col(c) = p.cross(Vec3<S>(C.col(c)));
     }
     for (int c = 0; c < 3; ++c) Z.col(c) = p.cross(Vec3<S>(Y.row(c).transpose()));  // Z = [p]x Y'
-    Mat6<S> r;
     r.template topLeftCorner<3, 3>() = A + X + X.transpose() + Z.transpose();
     r.template topRightCorner<3, 3>() = B + Y;
     r.template bottomLeftCorner<3, 3>() = (B + Y).transpose();
     r.template bottomRightCorner<3, 3>() = C;
-    return r;
   }
 
   template <class T>
