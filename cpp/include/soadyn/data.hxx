@@ -43,7 +43,7 @@ DataTpl<S>::DataTpl(const ModelTpl<S>& model)
   w.tree_acceleration.assign(n, Vec6<S>::Zero());
   w.tree_hinge_force.assign(n, Vec6<S>::Zero());
   w.tree_articulated_inertia.assign(n, Mat6<S>::Zero());
-  w.tree_composite_inertia.assign(n, InertiaParameters<S>{});
+  w.tree_composite_inertia.assign(n, InertiaParameters<S>{Eigen::Matrix<S, 10, 1>::Zero()});
   w.tree_bias_and_children_z.assign(n, Vec6<S>::Zero());
   w.tree_regular_subspace.resize(n);
   w.tree_gain.resize(n);

@@ -17,6 +17,11 @@ SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S
   const Mat6X<S>& H = d.sweep.tree_subspace_columns;
   MatX<S>& M = d.mass_matrix;
   const InertiaParameters<S>& composite = d.sweep.tree_composite_inertia[i];
+  // Into the parent's first: the parent's columns, next, then read sums whose
+  // stores have long retired (read at once, a sum's 2-vector stores would not
+  // forward to the unaligned pairs the products load).
+  const int p = m.parent[i];
+  if (p >= 0) d.sweep.tree_composite_inertia[static_cast<std::size_t>(p)] += composite;
   for (int k = m.v_index[i]; k < m.v_index[i] + m.nv_body[i]; ++k) {
     const Vec6<S> F = momentum(composite, H.col(k));  // force of a unit acceleration of DOF k
     S* const column_k = &M(0, k);
@@ -44,8 +49,6 @@ SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S
     });
     probe += column_sum;
   }
-  const int p = m.parent[i];
-  if (p >= 0) d.sweep.tree_composite_inertia[static_cast<std::size_t>(p)] += composite;
 }
 
 // M's armature, and its check: a finite probe (the sum of all entries)
@@ -80,8 +83,8 @@ Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
   for (std::size_t i = 0; i < n; ++i) {
     tree_joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
-    d.sweep.tree_composite_inertia[i] =
-        inertia_parameters_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i]);
+    inertia_parameters_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i],
+                                d.sweep.tree_composite_inertia[i]);
     H.middleCols(m.v_index[i], m.nv_body[i]) = d.sweep.tree_subspace[i];
   }
   S probe(0);
@@ -106,8 +109,8 @@ Status tree_frame_mass_matrix_and_bias(const ModelTpl<S>& m, DataTpl<S>& d, cons
   for (std::size_t i = 0; i < n; ++i) {
     tree_velocity_step(m, d, i, q, v);
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
-    const InertiaParameters<S> inertia = tree_rigid_body_step(m, d, i, v, f_ext);
-    d.sweep.tree_composite_inertia[i] = inertia;
+    const InertiaParameters<S>& inertia = d.sweep.tree_composite_inertia[i];
+    tree_rigid_body_step(m, d, i, v, f_ext, d.sweep.tree_composite_inertia[i]);
     const int p = m.parent[i];
     Vec6<S>& a = d.sweep.tree_acceleration[i];
     a = (p >= 0 ? d.sweep.tree_acceleration[static_cast<std::size_t>(p)] : world_acc) + d.sweep.tree_coriolis[i];

@@ -152,12 +152,12 @@ SOADYN_ALWAYS_INLINE bool beyond_tree_frame_reach(const ModelTpl<S>& m, const Da
 // Body terms of rigid body i in its tree frame: M(i) into
 // tree_articulated_inertia[i] (the start of P) and b(i) = V x* (M V) - f_ext
 // into tree_bias_force[i] and tree_bias_and_children_z[i]; `f_ext` as in
-// steps.hpp. Returns M(i)'s ten parameters.
+// steps.hpp; M(i)'s ten parameters into `parameters`.
 template <class S>
-SOADYN_ALWAYS_INLINE InertiaParameters<S> tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i,
-                                                               const S* v, const S* f_ext) {
+SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v,
+                                               const S* f_ext, InertiaParameters<S>& parameters) {
   const Transform<S>& pose = d.sweep.tree_pose[i];
-  const InertiaParameters<S> parameters = inertia_parameters_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i]);
+  inertia_parameters_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i], parameters);
   assign_spatial_inertia(parameters, d.sweep.tree_articulated_inertia[i]);
   // b is stored entry by entry in both places: a copy read back from memory
   // right after scalar stores would stall store forwarding.
@@ -171,7 +171,6 @@ SOADYN_ALWAYS_INLINE InertiaParameters<S> tree_rigid_body_step(const ModelTpl<S>
     b = -external;
     z = b;
   }
-  return parameters;
 }
 
 // Body terms of flexible appendage i (appendage_step.hpp) in its tree frame:

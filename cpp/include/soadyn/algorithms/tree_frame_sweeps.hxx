@@ -99,7 +99,8 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
         continue;
       }
     }
-    tree_rigid_body_step(m, d, i, v, f_ext);
+    InertiaParameters<S> inertia;
+    tree_rigid_body_step(m, d, i, v, f_ext, inertia);
     if (!needs_articulated_inertia<Modes>(m, i)) {  // Newton-Euler: alpha = alpha+ + H* qdd + a, f = M alpha + b
       const int p = m.parent[i];
       w.tree_acceleration[i] = (p >= 0 ? w.tree_acceleration[static_cast<std::size_t>(p)] : world_acc) + w.tree_coriolis[i];

@@ -34,38 +34,41 @@ Mat6<S> spatial_inertia(const S& mass, const Vec3<S>& com, const Mat3<S>& inerti
 // and the mass.
 template <class S>
 struct InertiaParameters {
-  S xx, yy, zz, xy, xz, yz;
-  Vec3<S> mc;
-  S mass;
+  // xx yy zz xy xz yz (I_o), m c, m: one vector, so that a sum is five
+  // 2-vector additions whose stores later 2-vector loads can forward from.
+  Eigen::Matrix<S, 10, 1> values;
+
+  const S& xx() const { return values[0]; }
+  const S& yy() const { return values[1]; }
+  const S& zz() const { return values[2]; }
+  const S& xy() const { return values[3]; }
+  const S& xz() const { return values[4]; }
+  const S& yz() const { return values[5]; }
+  auto mc() const { return values.template segment<3>(6); }
+  const S& mass() const { return values[9]; }
   // The inertia of two bodies together, both about the same origin: ten
   // additions where the 6x6 form takes 36 (composite inertias, crba.hxx).
   InertiaParameters& operator+=(const InertiaParameters& o) {
-    xx += o.xx, yy += o.yy, zz += o.zz, xy += o.xy, xz += o.xz, yz += o.yz;
-    mc += o.mc;
-    mass += o.mass;
+    values += o.values;
     return *this;
   }
 };
 
 // The parameters of a body whose frame has `pose` in a frame F, in F's
-// coordinates and about F's origin: the centre of mass and the rotational
-// inertia carried to F (c' = R c + t, R Ic R').
+// coordinates and about F's origin, written into p: the centre of mass and
+// the rotational inertia carried to F (c' = R c + t, R Ic R'). Written in
+// place: a copy of p would read its scalar stores back as 2-vectors.
 template <class S>
-SOADYN_ALWAYS_INLINE InertiaParameters<S> inertia_parameters_in_frame(const Transform<S>& pose, const S& mass,
-                                                                     const Vec3<S>& com, const Mat3<S>& inertia_com) {
+SOADYN_ALWAYS_INLINE void inertia_parameters_in_frame(const Transform<S>& pose, const S& mass, const Vec3<S>& com,
+                                                      const Mat3<S>& inertia_com, InertiaParameters<S>& p) {
   const Mat3<S>& R = pose.rotation;
   const Mat3<S> half = R * inertia_com;  // R Ic R' is symmetric: its six entries are rows of R Ic dotted with rows of R
   const Vec3<S> c = pose.apply_point(com);
   const Vec3<S> mc = mass * c;
   const S shift = mc.dot(c);  // -m [c]x[c]x = m (|c|^2 1 - c c')
-  return {half.row(0).dot(R.row(0)) + shift - mc.x() * c.x(),
-          half.row(1).dot(R.row(1)) + shift - mc.y() * c.y(),
-          half.row(2).dot(R.row(2)) + shift - mc.z() * c.z(),
-          half.row(1).dot(R.row(0)) - mc.x() * c.y(),
-          half.row(2).dot(R.row(0)) - mc.x() * c.z(),
-          half.row(2).dot(R.row(1)) - mc.y() * c.z(),
-          mc,
-          mass};
+  p.values << half.row(0).dot(R.row(0)) + shift - mc.x() * c.x(), half.row(1).dot(R.row(1)) + shift - mc.y() * c.y(),
+      half.row(2).dot(R.row(2)) + shift - mc.z() * c.z(), half.row(1).dot(R.row(0)) - mc.x() * c.y(),
+      half.row(2).dot(R.row(0)) - mc.x() * c.z(), half.row(2).dot(R.row(1)) - mc.y() * c.z(), mc, mass;
 }
 
 // The spatial inertia of those parameters, [I_o, [mc]x; -[mc]x, m 1], written
@@ -73,14 +76,14 @@ SOADYN_ALWAYS_INLINE InertiaParameters<S> inertia_parameters_in_frame(const Tran
 // copy, and no symmetric temporary is stored and read back.
 template <class S>
 SOADYN_ALWAYS_INLINE void assign_spatial_inertia(const InertiaParameters<S>& p, Mat6<S>& I) {
-  const Vec3<S>& mc = p.mc;
-  const S zero(0);
-  I.col(0) << p.xx, p.xy, p.xz, zero, -mc.z(), mc.y();
-  I.col(1) << p.xy, p.yy, p.yz, mc.z(), zero, -mc.x();
-  I.col(2) << p.xz, p.yz, p.zz, -mc.y(), mc.x(), zero;
-  I.col(3) << zero, mc.z(), -mc.y(), p.mass, zero, zero;
-  I.col(4) << -mc.z(), zero, mc.x(), zero, p.mass, zero;
-  I.col(5) << mc.y(), -mc.x(), zero, zero, zero, p.mass;
+  const Vec3<S> mc = p.mc();
+  const S zero(0), m = p.mass();
+  I.col(0) << p.xx(), p.xy(), p.xz(), zero, -mc.z(), mc.y();
+  I.col(1) << p.xy(), p.yy(), p.yz(), mc.z(), zero, -mc.x();
+  I.col(2) << p.xz(), p.yz(), p.zz(), -mc.y(), mc.x(), zero;
+  I.col(3) << zero, mc.z(), -mc.y(), m, zero, zero;
+  I.col(4) << -mc.z(), zero, mc.x(), zero, m, zero;
+  I.col(5) << mc.y(), -mc.x(), zero, zero, zero, m;
 }
 
 // The momentum I V of those parameters, [I_o w + mc x v; m v - mc x w], from
@@ -88,14 +91,14 @@ SOADYN_ALWAYS_INLINE void assign_spatial_inertia(const InertiaParameters<S>& p, 
 // would be read back as 2-vectors (a store-forwarding stall).
 template <class S, class Motion>
 SOADYN_ALWAYS_INLINE Vec6<S> momentum(const InertiaParameters<S>& p, const Motion& V) {
-  const Vec3<S>& mc = p.mc;
+  const S* a = p.values.data();  // xx yy zz xy xz yz mcx mcy mcz m
+  const Vec3<S> angular(a[0] * V[0] + a[3] * V[1] + a[4] * V[2] + a[7] * V[5] - a[8] * V[4],
+                        a[3] * V[0] + a[1] * V[1] + a[5] * V[2] + a[8] * V[3] - a[6] * V[5],
+                        a[4] * V[0] + a[5] * V[1] + a[2] * V[2] + a[6] * V[4] - a[7] * V[3]);
+  const Vec3<S> linear(a[9] * V[3] - a[7] * V[2] + a[8] * V[1], a[9] * V[4] - a[8] * V[0] + a[6] * V[2],
+                       a[9] * V[5] - a[6] * V[1] + a[7] * V[0]);
   Vec6<S> h;
-  h[0] = p.xx * V[0] + p.xy * V[1] + p.xz * V[2] + mc[1] * V[5] - mc[2] * V[4];
-  h[1] = p.xy * V[0] + p.yy * V[1] + p.yz * V[2] + mc[2] * V[3] - mc[0] * V[5];
-  h[2] = p.xz * V[0] + p.yz * V[1] + p.zz * V[2] + mc[0] * V[4] - mc[1] * V[3];
-  h[3] = p.mass * V[3] - mc[1] * V[2] + mc[2] * V[1];
-  h[4] = p.mass * V[4] - mc[2] * V[0] + mc[0] * V[2];
-  h[5] = p.mass * V[5] - mc[0] * V[1] + mc[1] * V[0];
+  store_as_pairs(angular, linear, h);  // F is read as 2-vectors at once (crba.hxx)
   return h;
 }
 
@@ -104,7 +107,9 @@ SOADYN_ALWAYS_INLINE Vec6<S> momentum(const InertiaParameters<S>& p, const Motio
 template <class S>
 SOADYN_ALWAYS_INLINE void spatial_inertia_in_frame(const Transform<S>& pose, const S& mass, const Vec3<S>& com,
                                                    const Mat3<S>& inertia_com, Mat6<S>& I) {
-  assign_spatial_inertia(inertia_parameters_in_frame(pose, mass, com, inertia_com), I);
+  InertiaParameters<S> p;
+  inertia_parameters_in_frame(pose, mass, com, inertia_com, p);
+  assign_spatial_inertia(p, I);
 }
 
 // Mass, centre of mass and rotational inertia about it, read back from a

@@ -62,18 +62,17 @@ SOADYN_ALWAYS_INLINE void store_as_pairs(const Vec3<S>& a, const Vec3<S>& b, Out
 }
 
 // Motion cross product v x m (Featherstone's crm): [w x mw; w x mv + vl x mw],
-// written element by element into r (r must not alias v or m). The sweeps
-// use this form: a product assembled from two 3-vector cross products is
-// stored as scalars and read back as 2-vectors across the halves, which
-// stalls store forwarding (perf: about 10 % of the tree-frame inward sweep).
+// stored into r as three 2-vectors (r must not alias v or m). The sweeps use
+// this form: a product assembled from two 3-vector cross products was stored
+// as scalars and read back as 2-vectors across the halves, which stalls
+// store forwarding (perf: about 10 % of the tree-frame inward sweep).
 template <class S>
 SOADYN_ALWAYS_INLINE void motion_cross_into(const Vec6<S>& v, const Vec6<S>& m, Vec6<S>& r) {
-  r[0] = v[1] * m[2] - v[2] * m[1];
-  r[1] = v[2] * m[0] - v[0] * m[2];
-  r[2] = v[0] * m[1] - v[1] * m[0];
-  r[3] = (v[1] * m[5] - v[2] * m[4]) + (v[4] * m[2] - v[5] * m[1]);
-  r[4] = (v[2] * m[3] - v[0] * m[5]) + (v[5] * m[0] - v[3] * m[2]);
-  r[5] = (v[0] * m[4] - v[1] * m[3]) + (v[3] * m[1] - v[4] * m[0]);
+  store_as_pairs(Vec3<S>(v[1] * m[2] - v[2] * m[1], v[2] * m[0] - v[0] * m[2], v[0] * m[1] - v[1] * m[0]),
+                 Vec3<S>((v[1] * m[5] - v[2] * m[4]) + (v[4] * m[2] - v[5] * m[1]),
+                         (v[2] * m[3] - v[0] * m[5]) + (v[5] * m[0] - v[3] * m[2]),
+                         (v[0] * m[4] - v[1] * m[3]) + (v[3] * m[1] - v[4] * m[0])),
+                 r);
 }
 
 // Force cross product v x* f (Featherstone's crf): [w x n + vl x f; w x f],
