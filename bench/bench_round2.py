@@ -8,7 +8,9 @@ Pinocchio's peer_bench once (../shared/tools/peer_bench). Per child:
   states): mass_matrix (CRBA), hybrid_dynamics (all regular) and inverse_dynamics on the
   bench_robots robots, and hybrid_dynamics and mass_matrix of the cassini model;
 - the cassini RK4 step at 1 ms as the HIL scene runs it (turntable and gimbal driven,
-  soadyn.hil.scene_simulator): Simulator._run of `steps` steps, per-step time, median of 7.
+  soadyn.hil.scene_simulator): Simulator._run of `steps` steps, per-step time, median of 7;
+- where cassini's hybrid_dynamics time goes: the same call on the scene with parts removed
+  (the saved model's bodies filtered, cassini_without).
 Ratios are medians over rounds of the ratio within a round.
 
 Writes bench/results/round2.md. Usage: python bench/bench_round2.py [--quick] [--before DIR --before-rev REV]
@@ -29,6 +31,24 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tests"))
 sys.path.insert(0, str(HERE))
 ROBOTS = ["ur5", "panda", "solo12", "talos"]
+BOOMS = ("magnetometer_boom", "plasma_wave_antenna")
+WHEELS = ("wheel_1", "wheel_2", "wheel_3", "wheel_4")
+SLOSH = ("oxidizer_slosh", "fuel_slosh")
+CASSINI_PARTS = {"all 15 bodies": (), "without the two flexible booms": BOOMS, "without the four wheels": WHEELS,
+                 "without the two slosh pendulums": SLOSH,
+                 "the bus and its six other bodies (none of the above)": BOOMS + WHEELS + SLOSH}
+
+
+def cassini_without(soadyn, names):
+    """The cassini model without the bodies `names`: its saved file with those bodies left out."""
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "cassini.json"
+        soadyn.save_model(soadyn.scenes.cassini(), path)
+        spec = json.loads(path.read_text())
+        spec["bodies"] = [body for body in spec["bodies"] if body["name"] not in names]
+        path.write_text(json.dumps(spec))
+        return soadyn.load_model(path)
 ALGORITHMS = {"crba": "mass_matrix (CRBA)", "hybrid": "hybrid_dynamics", "rnea": "inverse_dynamics"}
 
 
@@ -61,6 +81,11 @@ def child(calls: int, steps: int) -> None:
         sim._run(steps)
         per_step.append((time.perf_counter() - start) / steps * 1e6)
     out["cassini"]["step"] = float(np.median(per_step))
+    out["cassini_parts"] = {}
+    parts = CASSINI_PARTS if hasattr(soadyn, "load_model") else {}  # the round's starting build has no model files
+    for label, names in parts.items():
+        part = cassini_without(soadyn, names)
+        out["cassini_parts"][label] = {"nv": part.nv, "hybrid": _time_cpp(part, "hybrid", *states(part), calls)}
     print(json.dumps(out))
 
 
@@ -141,8 +166,17 @@ def main() -> int:
         f"**{ratio('cassini', 'hybrid'):.2f}** |",
         f"| mass_matrix (composite bodies with augmented flexible bodies), C++ | {med('before', 'cassini', 'crba'):.2f} | "
         f"{med('after', 'cassini', 'crba'):.2f} | **{ratio('cassini', 'crba'):.2f}** |",
-        "", "Times on a shared, possibly noisy machine: compare the ratios, measured in the same run.",
+        "", "## Where cassini's hybrid_dynamics time goes (this build)", "",
+        "The same C++ call on the scene with parts removed (`cassini_without`: the saved model's bodies "
+        "filtered); medians over rounds.", "",
+        "| scene | nv | hybrid_dynamics (us) | share of the whole scene's time |",
+        "|---|---:|---:|---:|",
     ]
+    whole = float(np.median([run["cassini_parts"]["all 15 bodies"]["hybrid"] for run in runs["after"]]))
+    for label in CASSINI_PARTS:
+        t = float(np.median([run["cassini_parts"][label]["hybrid"] for run in runs["after"]]))
+        lines.append(f"| {label} | {runs['after'][0]['cassini_parts'][label]['nv']} | {t:.2f} | {t / whole:.2f} |")
+    lines += ["", "Times on a shared, possibly noisy machine: compare the ratios, measured in the same run."]
     out = HERE / "results" / "round2.md"
     out.write_text("\n".join(lines) + "\n")
     print(out.read_text())

@@ -109,8 +109,8 @@ Status tree_frame_mass_matrix_and_bias(const ModelTpl<S>& m, DataTpl<S>& d, cons
   for (std::size_t i = 0; i < n; ++i) {
     tree_velocity_step(m, d, i, q, v);
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
-    const InertiaParameters<S>& inertia = d.sweep.tree_composite_inertia[i];
-    tree_rigid_body_step(m, d, i, v, f_ext, d.sweep.tree_composite_inertia[i]);
+    InertiaParameters<S>& inertia = d.sweep.tree_composite_inertia[i];  // the body's own, then its subtree's
+    tree_rigid_body_step(m, d, i, v, f_ext, inertia);
     const int p = m.parent[i];
     Vec6<S>& a = d.sweep.tree_acceleration[i];
     a = (p >= 0 ? d.sweep.tree_acceleration[static_cast<std::size_t>(p)] : world_acc) + d.sweep.tree_coriolis[i];
