@@ -149,16 +149,16 @@ SOADYN_ALWAYS_INLINE bool beyond_tree_frame_reach(const ModelTpl<S>& m, const Da
          d.sweep.tree_pose[i].translation.squaredNorm() > m.tree_frame_reach_squared[i];
 }
 
-// Body terms of rigid body i in its tree frame: M(i) into
-// tree_articulated_inertia[i] (the start of P) and b(i) = V x* (M V) - f_ext
-// into tree_bias_force[i] and tree_bias_and_children_z[i]; `f_ext` as in
-// steps.hpp; M(i)'s ten parameters into `parameters`.
+// Body terms of rigid body i in its tree frame: M(i)'s ten parameters into
+// `parameters` and b(i) = V x* (M V) - f_ext into tree_bias_force[i] and
+// tree_bias_and_children_z[i]; `f_ext` as in steps.hpp. The articulated-body
+// sweeps start P from M (tree_frame_sweeps.hxx); the mass matrix's sweep
+// needs only the parameters (crba.hxx).
 template <class S>
 SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v,
                                                const S* f_ext, InertiaParameters<S>& parameters) {
   const Transform<S>& pose = d.sweep.tree_pose[i];
   inertia_parameters_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i], parameters);
-  assign_spatial_inertia(parameters, d.sweep.tree_articulated_inertia[i]);
   // b is stored entry by entry in both places: a copy read back from memory
   // right after scalar stores would stall store forwarding.
   Vec6<S>& b = d.sweep.tree_bias_force[i];

@@ -101,12 +101,12 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     }
     InertiaParameters<S> inertia;
     tree_rigid_body_step(m, d, i, v, f_ext, inertia);
+    assign_spatial_inertia(inertia, w.tree_articulated_inertia[i]);  // the start of P
     if (!needs_articulated_inertia<Modes>(m, i)) {  // Newton-Euler: alpha = alpha+ + H* qdd + a, f = M alpha + b
       const int p = m.parent[i];
       w.tree_acceleration[i] = (p >= 0 ? w.tree_acceleration[static_cast<std::size_t>(p)] : world_acc) + w.tree_coriolis[i];
       w.tree_acceleration[i] += subspace_times(w.tree_subspace[i], u + m.v_index[i]);
-      w.tree_hinge_force[i] = w.tree_bias_force[i];
-      w.tree_hinge_force[i].noalias() += w.tree_articulated_inertia[i] * w.tree_acceleration[i];
+      w.tree_hinge_force[i] = w.tree_bias_force[i] + momentum(inertia, w.tree_acceleration[i]);
     }
   }
   Mat6<S> never_formed;  // P+ is added to the parent as it is formed, or only applied (articulated_plus_times)
