@@ -108,6 +108,23 @@ def check_loops_no_allocation(output: str) -> None:
     require(bool(lines(r"^test_loops_no_allocation: PASS$", output)), "the PASS line")
 
 
+def check_joint_angles(output: str) -> None:
+    """The joint-angle table against std::sin and std::cos, in double and float, and non-finite angles."""
+    require(bool(lines(r"^model: 48 bodies, 36 table slots, kernel (libmvec AVX2|libmvec SSE2|std)$", output)),
+            "36 slots on the 48-body chain, and the kernel named")
+    match = re.search(r"^double: (\d+) angles, max error (\S+) ulp; float: (\d+) angles, max error (\S+) ulp "
+                      r"\(tolerance 4 ulp\)$", output, re.MULTILINE)
+    require(match is not None, "the error line")
+    require(int(match.group(1)) >= 2000 and int(match.group(3)) >= 1900, "about 2000 angles in each precision")
+    require(max(float(match.group(2)), float(match.group(4))) <= 4.0, "within 4 ulp")
+    kernels = lines(r"^kernels: (.*)$", output)
+    require(len(kernels) == 1 and kernels[0].endswith("std (0.00 ulp)"), "every kernel compared, std last")
+    require(not kernels[0].startswith("libmvec") or "libmvec SSE2" in kernels[0], "the SSE2 kernel compared")
+    require(bool(lines(r"^non-finite angles: 108 of 108 double entries NaN, 108 of 108 float$", output)),
+            "NaN for every non-finite angle")
+    require(bool(lines(r"^test_joint_angles: PASS$", output)), "the PASS line")
+
+
 def check_loop_force_stiffness_no_allocation(output: str) -> None:
     """2000 calls on a 20-body tree with one loop of every kind, against central differences."""
     require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
@@ -224,6 +241,7 @@ CHECKS = {
     "test_force_elements_no_allocation": check_force_elements_no_allocation,
     "test_parameters_no_allocation": check_parameters_no_allocation,
     "test_model_file": check_model_file,
+    "test_joint_angles": check_joint_angles,
     "test_batch": check_batch,
 }
 

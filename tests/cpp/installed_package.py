@@ -102,13 +102,16 @@ def install(build: Path, source: Path, scratch: Path) -> None:
     require(version.group(1) == pyproject_version(source),
             f"the C++ package's version {version.group(1)} equal to pyproject.toml's {pyproject_version(source)}")
 
-    # soadyn::core links Eigen only, and its archive calls no socket, thread or scheduling function.
+    # soadyn::core links Eigen only (and, where the C library has it, glibc's
+    # vector math library, as a part of the C library like libm: the joint
+    # angles' sines, cpp/src/joint_angles.cpp), and its archive calls no
+    # socket, thread or scheduling function.
     targets = (config_dir / "soadynTargets.cmake").read_text()
     core = re.search(r"set_target_properties\(soadyn::core PROPERTIES(.*?)\n\)", targets, re.DOTALL)
     require(core is not None, "soadyn::core in soadynTargets.cmake")
     links = re.search(r'INTERFACE_LINK_LIBRARIES "([^"]*)"', core.group(1))
-    require(links is not None and links.group(1) == "Eigen3::Eigen",
-            f"soadyn::core linking Eigen3::Eigen only (it links {links.group(1) if links else 'nothing'})")
+    require(links is not None and links.group(1) in ("Eigen3::Eigen", "Eigen3::Eigen;mvec"),
+            f"soadyn::core linking Eigen3::Eigen (and libmvec) only (it links {links.group(1) if links else 'nothing'})")
     undefined = run(["nm", "-u", "--format=just-symbols", str(libraries / "libsoadyn.a")], show_output=False)
     forbidden = {"socket", "bind", "connect", "sendto", "recvfrom", "setsockopt", "pthread_create",
                  "pthread_setschedparam", "sched_setscheduler", "mlockall", "clock_nanosleep"}

@@ -205,6 +205,11 @@ class ModelTpl {
   aligned_vector<Mat3<S>> inertia_com;     // rotational inertia about the centre of mass, body frame
   std::vector<JointKernel> joint_kernel;   // joints/joint_kernel.hpp
   std::vector<S> axis_sign;                // +-1: the axis of an axis-aligned revolute or prismatic joint is axis_sign e_k
+  // Axis-aligned revolute joints (the revolute_x/y/z kernels) have their
+  // sines and cosines computed together before each tree-frame sweep
+  // (algorithms/joint_angles.hpp): per body, its slot in that table (-1: none);
+  // per slot, its body.
+  std::vector<int> angle_slot, angle_bodies;
   std::vector<int> q_index, v_index, nq_body, nv_body;
   std::vector<HingeModes> modes;
   // Flexible bodies: index into flexible_bodies (-1: rigid), modal

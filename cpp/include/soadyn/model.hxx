@@ -258,6 +258,11 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
   S sign;
   joint_kernel.push_back(classify_joint(joint, sign));
   axis_sign.push_back(sign);
+  const bool tabulated_angle = joint_kernel.back() == JointKernel::revolute_x ||
+                               joint_kernel.back() == JointKernel::revolute_y ||
+                               joint_kernel.back() == JointKernel::revolute_z;
+  angle_slot.push_back(tabulated_angle ? static_cast<int>(angle_bodies.size()) : -1);
+  if (tabulated_angle) angle_bodies.push_back(index);
   q_index.push_back(nq);
   v_index.push_back(nv);
   nq_body.push_back(jq);

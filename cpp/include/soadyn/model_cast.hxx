@@ -89,6 +89,8 @@ ModelTpl<T> ModelTpl<S>::cast() const {
   for (const auto& x : inertia_com) out.inertia_com.push_back(x.template cast<T>());
   out.joint_kernel = joint_kernel;
   out.axis_sign = c::scalars<T>(axis_sign);
+  out.angle_slot = angle_slot;
+  out.angle_bodies = angle_bodies;
   out.q_index = q_index;
   out.v_index = v_index;
   out.nq_body = nq_body;

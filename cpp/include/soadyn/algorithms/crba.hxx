@@ -80,6 +80,7 @@ template <class S>
 Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   Mat6X<S>& H = d.sweep.tree_subspace_columns;
+  tabulate_joint_angles(m, d.sweep, q.data());
   for (std::size_t i = 0; i < n; ++i) {
     tree_joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
@@ -106,6 +107,7 @@ Status tree_frame_mass_matrix_and_bias(const ModelTpl<S>& m, DataTpl<S>& d, cons
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   const Vec6<S> world_acc = world_acceleration(m);
   Mat6X<S>& H = d.sweep.tree_subspace_columns;
+  tabulate_joint_angles(m, d.sweep, q);
   for (std::size_t i = 0; i < n; ++i) {
     tree_velocity_step(m, d, i, q, v);
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};

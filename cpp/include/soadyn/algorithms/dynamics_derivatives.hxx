@@ -247,6 +247,7 @@ Status inverse_derivative_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDe
   w.inverse_dq.setZero();
   w.inverse_dv.setZero();
   d.mass_matrix.setZero();
+  tabulate_joint_angles(m, d.sweep, q);
   for (std::size_t i = 0; i < n; ++i) {
     derivative_kinematics_step(m, d, w, i, q, v, f_ext);
     derivative_acceleration_step(m, d, w, i, v, qdd, world_acc, true);
@@ -305,6 +306,7 @@ Status one_sweep_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynam
   w.inverse_dq.setZero();  // blocks between DOFs of different branches stay zero
   w.inverse_dv.setZero();
   d.mass_matrix.setZero();
+  tabulate_joint_angles(m, d.sweep, q);
   for (std::size_t i = 0; i < n; ++i) {
     derivative_kinematics_step(m, d, w, i, q, v, f_ext);
     derivative_acceleration_step(m, d, w, i, v, static_cast<const S*>(nullptr), world_acc, false);

@@ -56,6 +56,7 @@ template <class S>
 void coriolis_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, EquationTermsWorkspace<S>& w, const S* q, const S* v,
                      Eigen::Ref<MatX<S>> coriolis) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
+  tabulate_joint_angles(m, d.sweep, q);
   for (std::size_t i = 0; i < n; ++i) {  // base to tip
     tree_velocity_step(m, d, i, q, v);
     spatial_inertia_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i], w.composite_inertia[i]);

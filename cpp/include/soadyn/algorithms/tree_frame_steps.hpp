@@ -26,6 +26,7 @@
 #include <type_traits>
 
 #include "soadyn/algorithms/appendage_step.hpp"
+#include "soadyn/algorithms/joint_angles.hpp"
 #include "soadyn/joints/joint.hpp"
 
 namespace soadyn {
@@ -81,7 +82,8 @@ SOADYN_ALWAYS_INLINE void compose_with_placement(const Transform<S>& parent, con
 // joint's velocity-product acceleration in the tree frame (zero for every
 // joint but the universal one). A root body's tree pose has no translation.
 // The kernels' code lives with their joints (joints/revolute.hpp,
-// prismatic.hpp, free.hpp, universal.hpp, spherical.hpp).
+// prismatic.hpp, free.hpp, universal.hpp, spherical.hpp). Every sweep calls
+// tabulate_joint_angles with the same q before its first body.
 template <class S>
 inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   const int p = m.parent[i];
@@ -93,12 +95,18 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
     detail::compose_with_placement(d.sweep.tree_pose[static_cast<std::size_t>(p)], m.placement[i], base);
   Transform<S>& pose = d.sweep.tree_pose[i];
   Mat6N<S>& s = d.sweep.tree_subspace[i];
-  // The 1-DOF kernels' coordinate along +e_k.
+  // The 1-DOF kernels' coordinate along +e_k; a revolute kernel's cosine and
+  // sine of it, from the sweep's table (tabulate_joint_angles).
   const auto x = [&] { return q[m.q_index[i]] * m.axis_sign[i]; };
+  const auto turn = [&](auto axis) {
+    const Eigen::Index slot = m.angle_slot[i];
+    RevoluteJoint<S>::template aligned_tree_step<decltype(axis)::value>(
+        base, d.sweep.tree_joint_cosine[slot], d.sweep.tree_joint_sine[slot], m.axis_sign[i], pose, s);
+  };
   switch (m.joint_kernel[i]) {
-    case JointKernel::revolute_x: RevoluteJoint<S>::template aligned_tree_step<0>(base, x(), m.axis_sign[i], pose, s); break;
-    case JointKernel::revolute_y: RevoluteJoint<S>::template aligned_tree_step<1>(base, x(), m.axis_sign[i], pose, s); break;
-    case JointKernel::revolute_z: RevoluteJoint<S>::template aligned_tree_step<2>(base, x(), m.axis_sign[i], pose, s); break;
+    case JointKernel::revolute_x: turn(std::integral_constant<int, 0>{}); break;
+    case JointKernel::revolute_y: turn(std::integral_constant<int, 1>{}); break;
+    case JointKernel::revolute_z: turn(std::integral_constant<int, 2>{}); break;
     case JointKernel::prismatic_x:
     case JointKernel::prismatic_y:
     case JointKernel::prismatic_z: {

@@ -90,6 +90,7 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
                                 const S* f_ext, const Vec6<S>& world_acc) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   SweepData<S>& w = d.sweep;
+  tabulate_joint_angles(m, w, q);
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, M, b (Eq. 1); all-prescribed regions' accelerations
     tree_velocity_step(m, d, i, q, v);
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};

@@ -7,16 +7,22 @@ namespace soadyn {
 // pose = base * Rot(e_Axis, angle): the rotation about a coordinate axis
 // mixes two columns of base's rotation (cyclic order Axis, Axis+1, Axis+2):
 // 12 multiplications instead of Rodrigues' formula and a 3x3 product.
+// `c` and `s` are the angle's cosine and sine.
 template <int Axis, class S>
-SOADYN_ALWAYS_INLINE void rotate_about_coordinate_axis(const Transform<S>& base, const S& angle, Transform<S>& pose) {
-  using std::cos;
-  using std::sin;
+SOADYN_ALWAYS_INLINE void rotate_about_coordinate_axis(const Transform<S>& base, const S& c, const S& s,
+                                                       Transform<S>& pose) {
   constexpr int a1 = (Axis + 1) % 3, a2 = (Axis + 2) % 3;
-  const S c = cos(angle), s = sin(angle);
   pose.translation = base.translation;
   pose.rotation.col(Axis) = base.rotation.col(Axis);
   pose.rotation.col(a1) = c * base.rotation.col(a1) + s * base.rotation.col(a2);
   pose.rotation.col(a2) = c * base.rotation.col(a2) - s * base.rotation.col(a1);
+}
+
+template <int Axis, class S>
+SOADYN_ALWAYS_INLINE void rotate_about_coordinate_axis(const Transform<S>& base, const S& angle, Transform<S>& pose) {
+  using std::cos;
+  using std::sin;
+  rotate_about_coordinate_axis<Axis>(base, S(cos(angle)), S(sin(angle)), pose);
 }
 
 // pose = base * Rot(e_axis, angle) for a run-time axis 0, 1 or 2.
@@ -73,11 +79,12 @@ struct RevoluteJoint {
     rotate_about_coordinate_axis<Axis>(placement, angle, pose);
   }
   // Tree frame (algorithms/tree_frame_steps.hpp): pose = base * Rot, and
-  // H* = [w; t x w] for the axis w = sign R e_Axis through the body origin t.
+  // H* = [w; t x w] for the axis w = sign R e_Axis through the body origin t;
+  // the angle's cosine and sine come from the sweep's table (joint_angles.hpp).
   template <int Axis>
-  static SOADYN_ALWAYS_INLINE void aligned_tree_step(const Transform<S>& base, const S& angle, const S& sign,
-                                                     Transform<S>& pose, Mat6N<S>& s) {
-    rotate_about_coordinate_axis<Axis>(base, angle, pose);
+  static SOADYN_ALWAYS_INLINE void aligned_tree_step(const Transform<S>& base, const S& cosine, const S& sine,
+                                                     const S& sign, Transform<S>& pose, Mat6N<S>& s) {
+    rotate_about_coordinate_axis<Axis>(base, cosine, sine, pose);
     const Vec3<S> w = pose.rotation.col(Axis) * sign;
     store_as_pairs(w, Vec3<S>(pose.translation.cross(w)), s.col(0));
   }

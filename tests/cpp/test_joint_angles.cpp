@@ -1,0 +1,204 @@
+// The joint-angle table the tree-frame sweeps read (soadyn/algorithms/
+// joint_angles.hpp) against the C library's std::sin and std::cos: a chain
+// of axis-aligned revolute joints about +-x, +-y and +-z, with joints of
+// other kinds between them (they take no slot), at angles from 1e-300 to
+// 1e22, random angles, exact multiples of pi/2, and non-finite angles.
+// - every axis-aligned revolute joint has a slot, every other joint none;
+// - the table's angle is the coordinate times the axis' sign, exactly;
+// - its sine and cosine are within 4 units in the last place of 1 of the
+//   C library's (the vector library's documented bound), in double and float,
+//   for the kernel the sweeps use and for every other kernel this processor
+//   can run;
+// - an infinite or NaN angle gives NaN, never a crash or a finite value.
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "random_tree.hpp"
+#include "soadyn/algorithms/joint_angles.hpp"
+#include "soadyn/model_cast.hxx"  // ModelTpl::cast
+#include "soadyn/soadyn.hpp"
+
+namespace {
+
+int failures = 0;
+
+void check(bool ok, const std::string& what) {
+  if (!ok) {
+    ++failures;
+    std::printf("FAIL: %s\n", what.c_str());
+  }
+}
+
+// 48 bodies in a chain: every fourth a prismatic, spherical or any-axis
+// revolute joint, the rest revolute about +-e_k.
+soadyn::Model chain_model() {
+  soadyn::Model m;
+  soadyn_test::Random rng(7);
+  std::string parent = "world";
+  for (int b = 0; b < 48; ++b) {
+    const double sign = (b / 3) % 2 == 0 ? 1.0 : -1.0;
+    const soadyn::Vec3<double> axis = sign * soadyn::Vec3<double>::Unit(b % 3);
+    soadyn::JointModel<double> joint = soadyn::RevoluteJoint<double>{axis};
+    if (b % 4 == 3) {
+      switch ((b / 4) % 3) {
+        case 0: joint = soadyn::PrismaticJoint<double>{axis}; break;
+        case 1: joint = soadyn::SphericalJoint<double>{}; break;
+        default: joint = soadyn::RevoluteJoint<double>{rng.unit_vector()}; break;
+      }
+    }
+    soadyn::Transform<double> placement;
+    placement.rotation = rng.rotation();
+    placement.translation = rng.uniform_vector3(0.3);
+    const std::string name = "link" + std::to_string(b);
+    m.add_body(name, parent, joint, placement, 1.0, rng.uniform_vector3(0.1), rng.box_inertia(1.0, 0.1, 0.3));
+    parent = name;
+  }
+  return m;
+}
+
+// Angles for the slots, cycled: tiny to huge, random, and multiples of pi/2.
+std::vector<double> test_angles(soadyn_test::Random& rng, int count) {
+  std::vector<double> a = {0.0,     -0.0,    1e-300, -1e-300, 1e-8,  std::acos(-1.0) / 2, std::acos(-1.0),
+                           -std::acos(-1.0), 3 * std::acos(-1.0) / 2, 1e3,  -1e5,  123456.789, 1e8,
+                           -1e15,   1e22,    -1e22,  std::numeric_limits<double>::max()};
+  while (static_cast<int>(a.size()) < count) a.push_back(rng.uniform(-20.0, 20.0));
+  return a;
+}
+
+template <class S>
+double ulp_error_of_one(S value, S reference) {
+  return std::abs(static_cast<double>(value) - static_cast<double>(reference)) /
+         static_cast<double>(std::numeric_limits<S>::epsilon());
+}
+
+// Sets q from `angles` (one per slot, cycled from `first`), tabulates, and
+// compares. Returns the largest error in units of epsilon.
+template <class S>
+double compare(const soadyn::ModelTpl<S>& m, soadyn::DataTpl<S>& d, const std::vector<double>& angles,
+               std::size_t first, int& compared) {
+  Eigen::Matrix<S, Eigen::Dynamic, 1> q(m.nq);
+  soadyn::neutral_configuration<S>(m, q);
+  const std::size_t slots = m.angle_bodies.size();
+  for (std::size_t k = 0; k < slots; ++k) {
+    const std::size_t body = static_cast<std::size_t>(m.angle_bodies[k]);
+    q[m.q_index[body]] = static_cast<S>(angles[(first + k) % angles.size()]);
+  }
+  soadyn::tabulate_joint_angles(m, d.sweep, q.data());
+  double worst = 0;
+  for (std::size_t k = 0; k < slots; ++k) {
+    const std::size_t body = static_cast<std::size_t>(m.angle_bodies[k]);
+    const Eigen::Index slot = static_cast<Eigen::Index>(k);
+    const S angle = q[m.q_index[body]] * m.axis_sign[body];
+    const S table_angle = d.sweep.tree_joint_angle[slot];
+    check(table_angle == angle || (std::isnan(table_angle) && std::isnan(angle)),
+          "slot " + std::to_string(k) + ": the angle is not sign times coordinate");
+    const double e = std::max(ulp_error_of_one(d.sweep.tree_joint_sine[slot], S(std::sin(angle))),
+                              ulp_error_of_one(d.sweep.tree_joint_cosine[slot], S(std::cos(angle))));
+    check(e <= 4.0, "slot " + std::to_string(k) + ": angle " + std::to_string(static_cast<double>(angle)) + " off by " +
+                        std::to_string(e) + " ulp");
+    worst = std::max(worst, e);
+    ++compared;
+  }
+  return worst;
+}
+
+// Infinite and NaN angles in every slot: the table holds NaN.
+template <class S>
+int non_finite(const soadyn::ModelTpl<S>& m, soadyn::DataTpl<S>& d) {
+  int nan_entries = 0;
+  for (const S bad : {std::numeric_limits<S>::infinity(), -std::numeric_limits<S>::infinity(),
+                      std::numeric_limits<S>::quiet_NaN()}) {
+    Eigen::Matrix<S, Eigen::Dynamic, 1> q(m.nq);
+  soadyn::neutral_configuration<S>(m, q);
+    for (const int body : m.angle_bodies) q[m.q_index[static_cast<std::size_t>(body)]] = bad;
+    soadyn::tabulate_joint_angles(m, d.sweep, q.data());
+    for (std::size_t k = 0; k < m.angle_bodies.size(); ++k) {
+      const Eigen::Index slot = static_cast<Eigen::Index>(k);
+      const bool nan = std::isnan(d.sweep.tree_joint_sine[slot]) && std::isnan(d.sweep.tree_joint_cosine[slot]);
+      check(nan, "slot " + std::to_string(k) + ": a non-finite angle gave a number");
+      nan_entries += nan ? 1 : 0;
+    }
+  }
+  return nan_entries;
+}
+
+// Every kernel this processor can run, on the raw angles and on non-finite
+// ones; returns "name (max error)" for each.
+std::string compare_kernels(std::vector<double> angles) {
+  for (const double bad : {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                           std::numeric_limits<double>::quiet_NaN()})
+    angles.push_back(bad);
+  while (angles.size() % 4 != 0) angles.push_back(0.5);
+  std::string summary;
+  for (const soadyn::detail::SineCosineKernel& kernel : soadyn::detail::available_sine_cosine_kernels()) {
+    std::vector<double> sine(angles.size()), cosine(angles.size());
+    kernel.run(angles.data(), sine.data(), cosine.data(), static_cast<Eigen::Index>(angles.size()));
+    double worst = 0;
+    for (std::size_t k = 0; k < angles.size(); ++k) {
+      const std::string at = std::string(kernel.name) + ", angle " + std::to_string(angles[k]);
+      if (!std::isfinite(angles[k])) {
+        check(std::isnan(sine[k]) && std::isnan(cosine[k]), at + ": a number for a non-finite angle");
+        continue;
+      }
+      const double e = std::max(ulp_error_of_one(sine[k], std::sin(angles[k])),
+                                ulp_error_of_one(cosine[k], std::cos(angles[k])));
+      check(e <= 4.0, at + ": off by " + std::to_string(e) + " ulp");
+      worst = std::max(worst, e);
+    }
+    char line[96];
+    std::snprintf(line, sizeof line, "%s%s (%.2f ulp)", summary.empty() ? "" : ", ", kernel.name, worst);
+    summary += line;
+  }
+  return summary;
+}
+
+}  // namespace
+
+int main() {
+  const soadyn::Model m = chain_model();
+  int aligned = 0;
+  for (int b = 0; b < m.nbodies(); ++b) {
+    const soadyn::JointKernel k = m.joint_kernel[static_cast<std::size_t>(b)];
+    const bool revolute_aligned = k == soadyn::JointKernel::revolute_x || k == soadyn::JointKernel::revolute_y ||
+                                  k == soadyn::JointKernel::revolute_z;
+    const int slot = m.angle_slot[static_cast<std::size_t>(b)];
+    check(revolute_aligned ? slot >= 0 && m.angle_bodies[static_cast<std::size_t>(slot)] == b : slot == -1,
+          "body " + std::to_string(b) + ": wrong slot");
+    aligned += revolute_aligned ? 1 : 0;
+  }
+  check(aligned == 36 && static_cast<int>(m.angle_bodies.size()) == 36, "36 axis-aligned revolute joints");
+  std::printf("model: %d bodies, %zu table slots, kernel %s\n", m.nbodies(), m.angle_bodies.size(),
+              soadyn::joint_angle_kernel());
+
+  soadyn_test::Random rng(11);
+  const std::vector<double> angles = test_angles(rng, 2000);
+  soadyn::Data d(m);
+  int compared = 0;
+  double worst = 0;
+  for (std::size_t first = 0; first < angles.size(); first += m.angle_bodies.size())
+    worst = std::max(worst, compare(m, d, angles, first, compared));
+  const int nan_entries = non_finite(m, d);
+  std::printf("kernels: %s\n", compare_kernels(angles).c_str());
+
+  const soadyn::ModelTpl<float> mf = m.cast<float>();
+  soadyn::DataTpl<float> df(mf);
+  std::vector<double> float_angles;
+  for (const double a : angles)
+    if (std::abs(a) < 1e30) float_angles.push_back(a);
+  int compared_float = 0;
+  double worst_float = 0;
+  for (std::size_t first = 0; first < float_angles.size(); first += mf.angle_bodies.size())
+    worst_float = std::max(worst_float, compare(mf, df, float_angles, first, compared_float));
+  const int nan_entries_float = non_finite(mf, df);
+
+  std::printf("double: %d angles, max error %.2f ulp; float: %d angles, max error %.2f ulp (tolerance 4 ulp)\n",
+              compared, worst, compared_float, worst_float);
+  std::printf("non-finite angles: %d of %d double entries NaN, %d of %d float\n", nan_entries,
+              3 * static_cast<int>(m.angle_bodies.size()), nan_entries_float,
+              3 * static_cast<int>(mf.angle_bodies.size()));
+  if (failures == 0) std::printf("test_joint_angles: PASS\n");
+  return failures == 0 ? 0 : 1;
+}
