@@ -272,6 +272,23 @@ def test_mass_matrix(seed, floating):
     check("mass_matrix", c.map.matrix(soadyn.mass_matrix(c.m, c.q)), M)
 
 
+@pytest.mark.parametrize("seed", SEEDS)
+def test_mass_matrix_does_not_depend_on_the_free_root_pose(seed):
+    """The free joint's velocity is the root body's twist in its own frame, so M
+    cannot depend on where the root is or how it is turned: soadyn's M is
+    unchanged to the bit when the root moves, and still matches Pinocchio's."""
+    c = make_case(seed, True)
+    assert c.m.joint_types[0] == "free" and c.m.parents[0] == -1
+    moved = c.q.copy()
+    moved[0:3] = c.rng.normal(size=3) * 10.0
+    quaternion = c.rng.normal(size=4)
+    moved[3:7] = quaternion / np.linalg.norm(quaternion)
+    M = soadyn.mass_matrix(c.m, moved)
+    assert np.array_equal(M, soadyn.mass_matrix(c.m, c.q))
+    M_pin = pin.crba(c.model, c.data, c.map.q(moved))
+    check("mass_matrix, root moved", c.map.matrix(M), np.triu(M_pin) + np.triu(M_pin, 1).T)
+
+
 # soadyn call and its Pinocchio counterpart: (model, q, v, x[, f_ext]) -> generalized vector.
 DYNAMICS = {"inverse_dynamics": (soadyn.inverse_dynamics, pin.rnea), "forward_dynamics": (soadyn.forward_dynamics, pin.aba)}
 

@@ -12,7 +12,9 @@ namespace detail {
 // inertia (ten parameters in tree_composite_inertia[i], its subtree's
 // inertias already added) and the subspaces in tree_subspace_columns; their
 // entries are added to `probe`, and the composite inertia to the parent's.
-template <class S>
+// FreeRootFrames: a free root's tree frame has the root body's orientation
+// (composite_rigid_body), so its H* is the identity and its six rows are F.
+template <bool FreeRootFrames, class S>
 SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, S& probe) {
   const Mat6X<S>& H = d.sweep.tree_subspace_columns;
   MatX<S>& M = d.mass_matrix;
@@ -30,11 +32,14 @@ SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S
       if (last >= first + 5 && m.dof_parent[static_cast<std::size_t>(first)] < 0) {
         const std::size_t root = static_cast<std::size_t>(m.dof_body[static_cast<std::size_t>(first)]);
         if (m.joint_kernel[root] == JointKernel::free) {
-          // A free root's H* is diag(R, R) (FreeJoint::tree_step): its six rows are R' F, two 3x3 products.
-          const Mat3<S>& R = d.sweep.tree_pose[root].rotation;
           Vec6<S> rows;
-          rows.template head<3>().noalias() = R.transpose() * F.template head<3>();
-          rows.template tail<3>().noalias() = R.transpose() * F.template tail<3>();
+          if constexpr (FreeRootFrames) {
+            rows = F;
+          } else {  // H* = diag(R, R) (FreeJoint::tree_step): the rows are R' F, two 3x3 products
+            const Mat3<S>& R = d.sweep.tree_pose[root].rotation;
+            rows.template head<3>().noalias() = R.transpose() * F.template head<3>();
+            rows.template tail<3>().noalias() = R.transpose() * F.template tail<3>();
+          }
           for (int a = 0; a < 6; ++a) column_k[first + a] = M(k, first + a) = rows[a];
           column_sum += rows.sum();
           first += 6;
@@ -73,7 +78,11 @@ Status finish_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, S probe) {
 // the subspaces of all DOFs lie side by side in one 6 x nv matrix, and a
 // free root's six rows are R' F. Every entry is added to its column's sum as
 // it is written; a finite total of the sums proves M finite without reading
-// M again.
+// M again. A free root's tree frame takes the root body's orientation: M(j, k)
+// = H*(j)' Ic H*(k) is the same in any frame all of a tree's bodies share,
+// and in this one the root's H* is the identity (its rows of M are F itself)
+// and M does not depend on the root's orientation, as it must not (the free
+// joint's velocity is the body's twist in its own frame).
 // Returns beyond_tree_frame_reach, having formed no M, when a body lies
 // beyond its tree-frame reach (tree_frame_reach.hxx).
 template <class S>
@@ -82,14 +91,19 @@ Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
   Mat6X<S>& H = d.sweep.tree_subspace_columns;
   tabulate_joint_angles(m, d.sweep, q.data());
   for (std::size_t i = 0; i < n; ++i) {
-    tree_joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
+    if (m.parent[i] < 0 && m.joint_kernel[i] == JointKernel::free) {
+      d.sweep.tree_pose[i] = Transform<S>();
+      d.sweep.tree_subspace[i].setIdentity();
+    } else {
+      tree_joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
+    }
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
     inertia_parameters_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i],
                                 d.sweep.tree_composite_inertia[i]);
     H.middleCols(m.v_index[i], m.nv_body[i]) = d.sweep.tree_subspace[i];
   }
   S probe(0);
-  for (std::size_t i = n; i-- > 0;) composite_body_columns(m, d, i, probe);
+  for (std::size_t i = n; i-- > 0;) composite_body_columns<true>(m, d, i, probe);
   return finish_mass_matrix(m, d, probe);
 }
 
@@ -125,7 +139,7 @@ Status tree_frame_mass_matrix_and_bias(const ModelTpl<S>& m, DataTpl<S>& d, cons
     d.tau.segment(m.v_index[i], m.nv_body[i]).noalias() = d.sweep.tree_subspace[i].transpose() * f;
     const int p = m.parent[i];
     if (p >= 0) d.sweep.tree_bias_and_children_z[static_cast<std::size_t>(p)] += f;
-    composite_body_columns(m, d, i, probe);
+    composite_body_columns<false>(m, d, i, probe);
   }
   return finish_mass_matrix(m, d, probe);
 }
