@@ -12,7 +12,7 @@ namespace detail {
 // inertia (ten parameters in tree_composite_inertia[i], its subtree's
 // inertias already added) and the subspaces in tree_subspace_columns; their
 // entries are added to `probe`, and the composite inertia to the parent's.
-// FreeRootFrames: a free root's tree frame has the root body's orientation
+// FreeRootFrames: a free root's tree frame is the root's body frame
 // (composite_rigid_body), so its H* is the identity and its six rows are F.
 template <bool FreeRootFrames, class S>
 SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, S& probe) {
@@ -78,11 +78,14 @@ Status finish_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, S probe) {
 // the subspaces of all DOFs lie side by side in one 6 x nv matrix, and a
 // free root's six rows are R' F. Every entry is added to its column's sum as
 // it is written; a finite total of the sums proves M finite without reading
-// M again. A free root's tree frame takes the root body's orientation: M(j, k)
-// = H*(j)' Ic H*(k) is the same in any frame all of a tree's bodies share,
-// and in this one the root's H* is the identity (its rows of M are F itself)
-// and M does not depend on the root's orientation, as it must not (the free
-// joint's velocity is the body's twist in its own frame).
+// M again. A root whose joint has a constant subspace in its body frame
+// (every robot's: revolute, prismatic, free) lends its tree its body frame:
+// M(j, k) = H*(j)' Ic H*(k) is the same in any frame all of a tree's bodies
+// share, and in this one the root's pose is the identity and its H* the
+// constant body-frame subspace. M then depends on neither the root's joint
+// coordinates nor its pose, as it must not (a free joint's velocity is the
+// body's twist in its own frame), and a free root's H* is the identity: its
+// rows of M are F itself.
 // Returns beyond_tree_frame_reach, having formed no M, when a body lies
 // beyond its tree-frame reach (tree_frame_reach.hxx).
 template <class S>
@@ -91,9 +94,9 @@ Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
   Mat6X<S>& H = d.sweep.tree_subspace_columns;
   tabulate_joint_angles(m, d.sweep, q.data());
   for (std::size_t i = 0; i < n; ++i) {
-    if (m.parent[i] < 0 && m.joint_kernel[i] == JointKernel::free) {
+    if (m.parent[i] < 0 && joint_has_constant_body_subspace(m.joint_kernel[i])) {
       d.sweep.tree_pose[i] = Transform<S>();
-      d.sweep.tree_subspace[i].setIdentity();
+      d.sweep.tree_subspace[i] = d.sweep.body_subspace[i];
     } else {
       tree_joint_step(m, d, i, q.data(), static_cast<const S*>(nullptr));
     }

@@ -33,6 +33,13 @@ enum class JointKernel : std::uint8_t {
 // path; every other kernel's tree step returns zero for it.
 constexpr bool joint_has_rate_term(JointKernel k) { return k == JointKernel::universal || k == JointKernel::general; }
 
+// Whether the kernel's joint has a constant motion subspace in its body
+// frame, the one Data's constructor writes into body_subspace: the
+// axis-aligned revolute and prismatic joints, the free and the fixed joint.
+constexpr bool joint_has_constant_body_subspace(JointKernel k) {
+  return k <= JointKernel::prismatic_z || k == JointKernel::free || k == JointKernel::fixed;
+}
+
 // The coordinate axis k and sign s with axis = s e_k, or k = -1.
 template <class S>
 int coordinate_axis(const Vec3<S>& axis, S& sign) {
