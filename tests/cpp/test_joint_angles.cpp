@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "failure_count.hpp"
 #include "random_tree.hpp"
 #include "soadyn/algorithms/joint_angles.hpp"
 #include "soadyn/model_cast.hxx"  // ModelTpl::cast
@@ -23,14 +24,8 @@
 
 namespace {
 
-int failures = 0;
-
-void check(bool ok, const std::string& what) {
-  if (!ok) {
-    ++failures;
-    std::printf("FAIL: %s\n", what.c_str());
-  }
-}
+using soadyn_test::check;
+using soadyn_test::failures;
 
 // 48 bodies in a chain: every fourth a prismatic, spherical or any-axis
 // revolute joint, the rest revolute about +-e_k.

@@ -12,19 +12,14 @@
 #include <string>
 #include <vector>
 
+#include "failure_count.hpp"
 #include "random_tree.hpp"
 #include "soadyn/soadyn.hpp"
 
 namespace {
 
-int failures = 0;
-
-void check(bool ok, const std::string& what) {
-  if (!ok) {
-    ++failures;
-    std::printf("FAIL: %s\n", what.c_str());
-  }
-}
+using soadyn_test::check;
+using soadyn_test::failures;
 
 // Bit-identical dynamics of two models at 5 random states.
 bool same_dynamics(const soadyn::Model& a, const soadyn::Model& b) {
