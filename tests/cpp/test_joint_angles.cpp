@@ -9,11 +9,15 @@
 //   C library's (the vector library's documented bound), in double and float,
 //   for the kernel the sweeps use and for every other kernel this processor
 //   can run;
-// - an infinite or NaN angle gives NaN, never a crash or a finite value.
+// - an infinite or NaN angle gives NaN, never a crash or a finite value;
+// - eight threads making the process's first calls at once get the same
+//   tables as one thread.
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "failure_count.hpp"
@@ -150,10 +154,47 @@ std::string compare_kernels(std::vector<double> angles) {
   return summary;
 }
 
+// Eight threads make the process's first tabulations at once (the kernel is
+// chosen by whichever gets there first), each on its own Data, 1000 times;
+// every table must equal the one a single thread makes afterwards. Returns
+// the number of tables that differ.
+int first_calls_from_threads(const soadyn::Model& m, const std::vector<double>& angles) {
+  constexpr int kThreads = 8, kCalls = 1000;
+  Eigen::VectorXd q(m.nq);
+  soadyn::neutral_configuration<double>(m, q);
+  for (std::size_t k = 0; k < m.angle_bodies.size(); ++k)
+    q[m.q_index[static_cast<std::size_t>(m.angle_bodies[k])]] = angles[k % angles.size()];
+  std::vector<soadyn::Data> data(kThreads, soadyn::Data(m));
+  std::atomic<int> ready{0}, differing{0};
+  std::vector<std::thread> threads;
+  std::vector<Eigen::VectorXd> sines(kThreads), cosines(kThreads);
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      ++ready;
+      while (ready.load() < kThreads) {
+      }
+      for (int call = 0; call < kCalls; ++call) soadyn::tabulate_joint_angles(m, data[t].sweep, q.data());
+      sines[t] = data[t].sweep.tree_joint_sine;
+      cosines[t] = data[t].sweep.tree_joint_cosine;
+    });
+  for (std::thread& thread : threads) thread.join();
+  soadyn::Data reference(m);
+  soadyn::tabulate_joint_angles(m, reference.sweep, q.data());
+  for (int t = 0; t < kThreads; ++t)
+    if (sines[t] != reference.sweep.tree_joint_sine || cosines[t] != reference.sweep.tree_joint_cosine) ++differing;
+  check(differing.load() == 0, "a thread's table differs from the single-thread table");
+  return differing.load();
+}
+
 }  // namespace
 
 int main() {
   const soadyn::Model m = chain_model();
+  {
+    soadyn_test::Random rng(5);
+    const int differing = first_calls_from_threads(m, test_angles(rng, 64));
+    std::printf("threads: 8 threads from the process's first call, 1000 tables each, %d differ\n", differing);
+  }
   int aligned = 0;
   for (int b = 0; b < m.nbodies(); ++b) {
     const soadyn::JointKernel k = m.joint_kernel[static_cast<std::size_t>(b)];
