@@ -8,6 +8,7 @@
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
+#include "soadyn/algorithms/joint_angles.hpp"
 #include "soadyn/soadyn.hpp"
 
 namespace soadyn_py {
@@ -44,6 +45,9 @@ std::vector<std::string> loop_names(const soadyn::Model& m) {
 void bind_algorithms(py::module_& mod) {
   py::register_exception<DynamicsError>(mod, "DynamicsError", PyExc_ArithmeticError);
   mod.attr("QUATERNION_TOLERANCE") = kQuaternionTolerance;
+  mod.def("_joint_angle_kernel", &soadyn::joint_angle_kernel,
+          "The kernel of the joint angles' sines and cosines on this processor (algorithms/joint_angles.hpp): "
+          "results agree bit for bit only between processes that use the same one.");
 
   mod.def("forward_dynamics",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle tau, py::handle f_ext) {

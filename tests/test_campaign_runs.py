@@ -381,3 +381,30 @@ def test_an_unreachable_scheduler_is_one_line_exit_1(tiny, tmp_path, capsys, mon
     assert "Traceback" not in err
     assert err.strip().splitlines()[-1].startswith(
         f"soadyn campaign: error: cannot reach the Dask scheduler at tcp://127.0.0.1:{port}: ")
+
+
+class _WorkersReporting:
+    """A Dask client stand-in whose `run` returns what each worker reports."""
+
+    def __init__(self, reports: dict):
+        self.reports = reports
+
+    def run(self, function):
+        return dict(self.reports)
+
+
+def test_a_worker_with_another_joint_angle_kernel_stops_the_campaign():
+    """Processors whose sines and cosines of the joint angles round differently (libmvec's AVX2 or
+    SSE2 kernel, or std::sin) would not give bit-identical runs: such a worker is refused by name,
+    and one that agrees on everything is accepted."""
+    from soadyn.campaign import execute
+
+    mine = execute._versions()
+    assert mine["joint_angle_kernel"] in ("libmvec AVX2", "libmvec SSE2", "std")
+    other_kernel = "std" if mine["joint_angle_kernel"] != "std" else "libmvec SSE2"
+    differing = {"tcp://10.0.0.2:4000": dict(mine, joint_angle_kernel=other_kernel)}
+    with pytest.raises(campaign.CampaignError, match=r"worker tcp://10\.0\.0\.2:4000 has .*joint_angle_kernel "
+                                                      + re.escape(other_kernel)):
+        execute._check_workers(_WorkersReporting(differing), say=lambda line: None)
+    agreeing = {"tcp://10.0.0.3:4000": dict(mine)}
+    assert execute._check_workers(_WorkersReporting(agreeing), say=lambda line: None) == 1

@@ -670,6 +670,8 @@ def _set_parameter(model: _Model, name: str, value: typing.Any) -> None:
     ...
 def _slider_crank_state(crank_angle: typing.SupportsFloat | typing.SupportsIndex, crank_rate: typing.SupportsFloat | typing.SupportsIndex) -> tuple:
     ...
+def _joint_angle_kernel() -> str:
+    """The kernel of the joint angles' sines and cosines on this processor (algorithms/joint_angles.hpp): results agree bit for bit only between processes that use the same one."""
 def _time_cpp(model: _Model, algorithm: str, q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], u: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], calls: typing.SupportsInt | typing.SupportsIndex = 20000, repetitions: typing.SupportsInt | typing.SupportsIndex = 7) -> float:
     """
     Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea', 'crba', 'constrained'

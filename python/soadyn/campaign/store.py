@@ -64,7 +64,10 @@ def trajectory_table(spec, trajectory: dict):
 def software() -> dict:
     from .. import __version__
 
-    versions = {"soadyn": __version__, "numpy": np.__version__, "python": platform.python_version()}
+    from .._soadyn import _joint_angle_kernel
+
+    versions = {"soadyn": __version__, "numpy": np.__version__, "python": platform.python_version(),
+                "joint_angle_kernel": _joint_angle_kernel()}
     try:
         import pyarrow
 

@@ -75,8 +75,8 @@ Status finish_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, S probe) {
 // a column block F = Ic(i) H*(i) needs no transform on its way to the root,
 // M(j, k) = H*(j)' F for every DOF j on the path from DOF k to the root.
 // Those DOFs are walked as runs of consecutive indices (model.dof_run_start),
-// the subspaces of all DOFs lie side by side in one 6 x nv matrix, and a
-// free root's six rows are R' F. Every entry is added to its column's sum as
+// and the subspaces of all DOFs lie side by side in one 6 x nv matrix.
+// Every entry is added to its column's sum as
 // it is written; a finite total of the sums proves M finite without reading
 // M again. A root whose joint has a constant subspace in its body frame
 // (every robot's: revolute, prismatic, free) lends its tree its body frame:
