@@ -16,27 +16,35 @@ namespace soadyn {
 namespace {
 
 using detail::SineCosineKernel;
+using Sources = JointAngleSources<double>;
 
-void sine_cosine_std(const double* angle, double* sine, double* cosine, Eigen::Index n) {
-  for (Eigen::Index k = 0; k < n; ++k) {
+// Slot k's angle, or 0 past the last slot (a vector's spare lanes).
+double angle_or_zero(const Sources& sources, Eigen::Index k) { return k < sources.n ? sources[k] : 0.0; }
+
+void sine_cosine_std(const Sources& sources, double* angle, double* sine, double* cosine) {
+  for (Eigen::Index k = 0; k < sources.n; ++k) {
+    angle[k] = sources[k];
     sine[k] = std::sin(angle[k]);
     cosine[k] = std::cos(angle[k]);
   }
 }
 
 #ifdef SOADYN_HAVE_LIBMVEC
-void sine_cosine_sse2(const double* angle, double* sine, double* cosine, Eigen::Index n) {
-  for (Eigen::Index k = 0; k < n; k += 2) {
-    const __m128d x = _mm_loadu_pd(angle + k);
+void sine_cosine_sse2(const Sources& sources, double* angle, double* sine, double* cosine) {
+  for (Eigen::Index k = 0; k < sources.n; k += 2) {
+    const __m128d x = _mm_set_pd(angle_or_zero(sources, k + 1), sources[k]);
+    _mm_storeu_pd(angle + k, x);
     _mm_storeu_pd(sine + k, _ZGVbN2v_sin(x));
     _mm_storeu_pd(cosine + k, _ZGVbN2v_cos(x));
   }
 }
 
-__attribute__((target("avx2,fma"))) void sine_cosine_avx2(const double* angle, double* sine, double* cosine,
-                                                          Eigen::Index n) {
-  for (Eigen::Index k = 0; k < n; k += 4) {
-    const __m256d x = _mm256_loadu_pd(angle + k);
+__attribute__((target("avx2,fma"))) void sine_cosine_avx2(const Sources& sources, double* angle, double* sine,
+                                                          double* cosine) {
+  for (Eigen::Index k = 0; k < sources.n; k += 4) {
+    const __m256d x = _mm256_set_pd(angle_or_zero(sources, k + 3), angle_or_zero(sources, k + 2),
+                                    angle_or_zero(sources, k + 1), sources[k]);
+    _mm256_storeu_pd(angle + k, x);
     _mm256_storeu_pd(sine + k, _ZGVdN4v_sin(x));
     _mm256_storeu_pd(cosine + k, _ZGVdN4v_cos(x));
   }
@@ -62,17 +70,17 @@ SineCosineKernel choose_kernel() {
 #endif
 }
 
-void choose_and_run(const double* angle, double* sine, double* cosine, Eigen::Index n);
+void choose_and_run(const Sources& sources, double* angle, double* sine, double* cosine);
 
 // Constant-initialised to choose_and_run, which stores the choice on the first
 // call: valid from any static initialiser, and lock free (a relaxed atomic
 // load per call).
-std::atomic<void (*)(const double*, double*, double*, Eigen::Index)> chosen_kernel{choose_and_run};
+std::atomic<void (*)(const Sources&, double*, double*, double*)> chosen_kernel{choose_and_run};
 
-void choose_and_run(const double* angle, double* sine, double* cosine, Eigen::Index n) {
+void choose_and_run(const Sources& sources, double* angle, double* sine, double* cosine) {
   const SineCosineKernel kernel = choose_kernel();
   chosen_kernel.store(kernel.run, std::memory_order_relaxed);
-  kernel.run(angle, sine, cosine, n);
+  kernel.run(sources, angle, sine, cosine);
 }
 
 }  // namespace
@@ -87,10 +95,9 @@ std::vector<SineCosineKernel> detail::available_sine_cosine_kernels() {
 }
 
 void tabulate_joint_angles(const ModelTpl<double>& m, SweepData<double>& sweep, const double* q) {
-  gather_joint_angles(m, sweep, q);
   const auto kernel = chosen_kernel.load(std::memory_order_relaxed);
-  kernel(sweep.tree_joint_angle.data(), sweep.tree_joint_sine.data(), sweep.tree_joint_cosine.data(),
-         sweep.tree_joint_angle.size());
+  kernel(joint_angle_sources(m, q), sweep.tree_joint_angle.data(), sweep.tree_joint_sine.data(),
+         sweep.tree_joint_cosine.data());
 }
 
 const char* joint_angle_kernel() { return choose_kernel().name; }

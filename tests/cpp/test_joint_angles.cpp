@@ -130,13 +130,26 @@ std::string compare_kernels(std::vector<double> angles) {
   for (const double bad : {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
                            std::numeric_limits<double>::quiet_NaN()})
     angles.push_back(bad);
-  while (angles.size() % 4 != 0) angles.push_back(0.5);
+  angles.push_back(0.5);  // a count that is not a multiple of four: the last vector's spare lanes
+  // Slot k reads coordinate k with sign +1 (odd slots) or -1 (even slots, from negated coordinates).
+  std::vector<int> identity(angles.size());
+  std::vector<double> coordinate(angles.size()), sign(angles.size());
+  for (std::size_t k = 0; k < angles.size(); ++k) {
+    identity[k] = static_cast<int>(k);
+    sign[k] = k % 2 == 0 ? -1.0 : 1.0;
+    coordinate[k] = sign[k] * angles[k];
+  }
+  const soadyn::JointAngleSources<double> sources{coordinate.data(), identity.data(), identity.data(), sign.data(),
+                                                  static_cast<Eigen::Index>(angles.size())};
+  const std::size_t padded = (angles.size() + 3) / 4 * 4;
   std::string summary;
   for (const soadyn::detail::SineCosineKernel& kernel : soadyn::detail::available_sine_cosine_kernels()) {
-    std::vector<double> sine(angles.size()), cosine(angles.size());
-    kernel.run(angles.data(), sine.data(), cosine.data(), static_cast<Eigen::Index>(angles.size()));
+    std::vector<double> angle(padded, -7.0), sine(padded, -7.0), cosine(padded, -7.0);
+    kernel.run(sources, angle.data(), sine.data(), cosine.data());
     double worst = 0;
     for (std::size_t k = 0; k < angles.size(); ++k) {
+      check(angle[k] == angles[k] || (std::isnan(angle[k]) && std::isnan(angles[k])),
+            std::string(kernel.name) + ": slot " + std::to_string(k) + "'s angle is not sign times coordinate");
       const std::string at = std::string(kernel.name) + ", angle " + std::to_string(angles[k]);
       if (!std::isfinite(angles[k])) {
         check(std::isnan(sine[k]) && std::isnan(cosine[k]), at + ": a number for a non-finite angle");
