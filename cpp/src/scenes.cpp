@@ -174,13 +174,14 @@ void drive_cassini(SimulatorTpl<S>& sim) {
   for (int k = 0; k < 2; ++k) {
     const S amplitude = S(0.5 * 3.14159265358979323846 / 180.0), omega = S(2 * 3.14159265358979323846 / 20.0);
     const S phase = S(k) * S(3.14159265358979323846 / 2);
+    const S start = amplitude / omega * std::cos(phase);  // the position's constant term, once
     CallbackSource<S> command;
-    command.fn = [amplitude, omega, phase](S t) {
+    command.fn = [amplitude, omega, phase, start](S t) {
       using std::cos;
       using std::sin;
       const S angle = omega * t + phase;
-      return MotionSample<S>{amplitude / omega * (cos(phase) - cos(angle)), amplitude * sin(angle),
-                             amplitude * omega * cos(angle)};
+      const S cosine = cos(angle), sine = sin(angle);
+      return MotionSample<S>{start - amplitude / omega * cosine, amplitude * sine, amplitude * omega * cosine};
     };
     sim.prescribe(sim.model().dof_index(axes[k]), command);
   }

@@ -276,10 +276,11 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     if (armature) D += armature[0];
     if (!(D > threshold)) return 0;
     factor(0, 0) = D;
-    const Vec6<S> g = u / D;
+    const S inverse_D = S(1) / D;  // one division, not seven
+    const Vec6<S> g = u * inverse_D;
     const S e = torque[0] - Sr.col(0).dot(z);
     G.col(0) = g;
-    nu[0] = e / D;
+    nu[0] = e * inverse_D;
     deliver_p_plus<Mode>(P, g, u, P_plus);
     z_plus = z + g * e;
     return -1;

@@ -153,8 +153,10 @@ SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d
 // bodies whose geometry does not bound that distance below the reach.
 template <class S>
 SOADYN_ALWAYS_INLINE bool beyond_tree_frame_reach(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i) {
-  return m.reach_checks_needed && m.check_tree_frame_reach[i] &&
-         d.sweep.tree_pose[i].translation.squaredNorm() > m.tree_frame_reach_squared[i];
+  if (!(m.reach_checks_needed && m.check_tree_frame_reach[i])) return false;
+  const Vec3<S>& t = d.sweep.tree_pose[i].translation;  // just stored: read entry by entry (in_register)
+  const S x = in_register(t[0]), y = in_register(t[1]), z = in_register(t[2]);
+  return x * x + y * y + z * z > m.tree_frame_reach_squared[i];
 }
 
 // Body terms of rigid body i in its tree frame: M(i)'s ten parameters into

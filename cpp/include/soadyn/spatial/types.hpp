@@ -61,13 +61,40 @@ SOADYN_ALWAYS_INLINE void store_as_pairs(const Vec3<S>& a, const Vec3<S>& b, Out
   out.template segment<2>(4) = Pair(b[1], b[2]);
 }
 
+// x itself, held in a register the optimiser cannot see into (x86 float
+// and double; other scalars pass through). Reading a 6-vector that was
+// just stored through such values keeps GCC from merging neighbouring
+// reads into one 2-vector load across two stores (a load straddling two
+// stores cannot take its data from the store buffer and waits about a dozen
+// cycles: perf found such loads in the velocity step's cross product).
+template <class S>
+SOADYN_ALWAYS_INLINE S in_register(S x) {
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && defined(__SSE2__)
+  if constexpr (std::is_same_v<S, double> || std::is_same_v<S, float>) asm("" : "+x"(x));
+#endif
+  return x;
+}
+
+// The six entries of a 6-vector read one by one (in_register).
+template <class S>
+struct Scalars6 {
+  S e[6];
+  template <class Vector>
+  SOADYN_ALWAYS_INLINE explicit Scalars6(const Vector& x)
+      : e{in_register(x[0]), in_register(x[1]), in_register(x[2]),
+          in_register(x[3]), in_register(x[4]), in_register(x[5])} {}
+  SOADYN_ALWAYS_INLINE const S& operator[](int k) const { return e[k]; }
+};
+
 // Motion cross product v x m (Featherstone's crm): [w x mw; w x mv + vl x mw],
 // stored into r as three 2-vectors (r must not alias v or m). The sweeps use
 // this form: a product assembled from two 3-vector cross products was stored
 // as scalars and read back as 2-vectors across the halves, which stalls
-// store forwarding (perf: about 10 % of the tree-frame inward sweep).
+// store forwarding (perf: about 10 % of the tree-frame inward sweep); the
+// operands are read entry by entry for the same reason (in_register).
 template <class S>
-SOADYN_ALWAYS_INLINE void motion_cross_into(const Vec6<S>& v, const Vec6<S>& m, Vec6<S>& r) {
+SOADYN_ALWAYS_INLINE void motion_cross_into(const Vec6<S>& V, const Vec6<S>& M, Vec6<S>& r) {
+  const Scalars6<S> v(V), m(M);
   store_as_pairs(Vec3<S>(v[1] * m[2] - v[2] * m[1], v[2] * m[0] - v[0] * m[2], v[0] * m[1] - v[1] * m[0]),
                  Vec3<S>((v[1] * m[5] - v[2] * m[4]) + (v[4] * m[2] - v[5] * m[1]),
                          (v[2] * m[3] - v[0] * m[5]) + (v[5] * m[0] - v[3] * m[2]),
