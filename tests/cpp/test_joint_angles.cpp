@@ -1,9 +1,11 @@
 // The joint-angle table the tree-frame sweeps read (soadyn/algorithms/
 // joint_angles.hpp) against the C library's std::sin and std::cos: a chain
 // of axis-aligned revolute joints about +-x, +-y and +-z, with joints of
-// other kinds between them (they take no slot), at angles from 1e-300 to
-// 1e22, random angles, exact multiples of pi/2, and non-finite angles.
-// - every axis-aligned revolute joint has a slot, every other joint none;
+// other kinds between them (universal joints about coordinate axes take two
+// slots, the others none), at angles from 1e-300 to 1e22, random angles,
+// exact multiples of pi/2, and non-finite angles.
+// - every axis-aligned revolute joint has a slot, every universal joint
+//   about coordinate axes two, every other joint none;
 // - the table's angle is the coordinate times the axis' sign, exactly;
 // - its sine and cosine are within 4 units in the last place of 1 of the
 //   C library's (the vector library's documented bound), in double and float,
@@ -31,8 +33,9 @@ namespace {
 using soadyn_test::check;
 using soadyn_test::failures;
 
-// 48 bodies in a chain: every fourth a prismatic, spherical or any-axis
-// revolute joint, the rest revolute about +-e_k.
+// 48 bodies in a chain: every fourth a prismatic, spherical, any-axis
+// revolute, universal about -e_k and e_k+1, or universal with one axis off
+// the coordinate axes; the rest revolute about +-e_k.
 soadyn::Model chain_model() {
   soadyn::Model m;
   soadyn_test::Random rng(7);
@@ -42,10 +45,13 @@ soadyn::Model chain_model() {
     const soadyn::Vec3<double> axis = sign * soadyn::Vec3<double>::Unit(b % 3);
     soadyn::JointModel<double> joint = soadyn::RevoluteJoint<double>{axis};
     if (b % 4 == 3) {
-      switch ((b / 4) % 3) {
+      const soadyn::Vec3<double> next_axis = soadyn::Vec3<double>::Unit((b + 1) % 3);
+      switch ((b / 4) % 5) {
         case 0: joint = soadyn::PrismaticJoint<double>{axis}; break;
         case 1: joint = soadyn::SphericalJoint<double>{}; break;
-        default: joint = soadyn::RevoluteJoint<double>{rng.unit_vector()}; break;
+        case 2: joint = soadyn::RevoluteJoint<double>{rng.unit_vector()}; break;
+        case 3: joint = soadyn::UniversalJoint<double>{-axis, next_axis}; break;
+        default: joint = soadyn::UniversalJoint<double>{axis, soadyn::Vec3<double>(next_axis + 0.5 * axis)}; break;
       }
     }
     soadyn::Transform<double> placement;
@@ -80,17 +86,13 @@ double compare(const soadyn::ModelTpl<S>& m, soadyn::DataTpl<S>& d, const std::v
                std::size_t first, int& compared) {
   Eigen::Matrix<S, Eigen::Dynamic, 1> q(m.nq);
   soadyn::neutral_configuration<S>(m, q);
-  const std::size_t slots = m.angle_bodies.size();
-  for (std::size_t k = 0; k < slots; ++k) {
-    const std::size_t body = static_cast<std::size_t>(m.angle_bodies[k]);
-    q[m.q_index[body]] = static_cast<S>(angles[(first + k) % angles.size()]);
-  }
+  const std::size_t slots = m.angle_coordinates.size();
+  for (std::size_t k = 0; k < slots; ++k) q[m.angle_coordinates[k]] = static_cast<S>(angles[(first + k) % angles.size()]);
   soadyn::tabulate_joint_angles(m, d.sweep, q.data());
   double worst = 0;
   for (std::size_t k = 0; k < slots; ++k) {
-    const std::size_t body = static_cast<std::size_t>(m.angle_bodies[k]);
     const Eigen::Index slot = static_cast<Eigen::Index>(k);
-    const S angle = q[m.q_index[body]] * m.axis_sign[body];
+    const S angle = q[m.angle_coordinates[k]] * m.angle_signs[k];
     const S table_angle = d.sweep.tree_joint_angle[slot];
     check(table_angle == angle || (std::isnan(table_angle) && std::isnan(angle)),
           "slot " + std::to_string(k) + ": the angle is not sign times coordinate");
@@ -112,9 +114,9 @@ int non_finite(const soadyn::ModelTpl<S>& m, soadyn::DataTpl<S>& d) {
                       std::numeric_limits<S>::quiet_NaN()}) {
     Eigen::Matrix<S, Eigen::Dynamic, 1> q(m.nq);
   soadyn::neutral_configuration<S>(m, q);
-    for (const int body : m.angle_bodies) q[m.q_index[static_cast<std::size_t>(body)]] = bad;
+    for (const int coordinate : m.angle_coordinates) q[coordinate] = bad;
     soadyn::tabulate_joint_angles(m, d.sweep, q.data());
-    for (std::size_t k = 0; k < m.angle_bodies.size(); ++k) {
+    for (std::size_t k = 0; k < m.angle_coordinates.size(); ++k) {
       const Eigen::Index slot = static_cast<Eigen::Index>(k);
       const bool nan = std::isnan(d.sweep.tree_joint_sine[slot]) && std::isnan(d.sweep.tree_joint_cosine[slot]);
       check(nan, "slot " + std::to_string(k) + ": a non-finite angle gave a number");
@@ -132,14 +134,14 @@ std::string compare_kernels(std::vector<double> angles) {
     angles.push_back(bad);
   angles.push_back(0.5);  // a count that is not a multiple of four: the last vector's spare lanes
   // Slot k reads coordinate k with sign +1 (odd slots) or -1 (even slots, from negated coordinates).
-  std::vector<int> identity(angles.size());
+  std::vector<int> coordinate_index(angles.size());
   std::vector<double> coordinate(angles.size()), sign(angles.size());
   for (std::size_t k = 0; k < angles.size(); ++k) {
-    identity[k] = static_cast<int>(k);
+    coordinate_index[k] = static_cast<int>(k);
     sign[k] = k % 2 == 0 ? -1.0 : 1.0;
     coordinate[k] = sign[k] * angles[k];
   }
-  const soadyn::JointAngleSources<double> sources{coordinate.data(), identity.data(), identity.data(), sign.data(),
+  const soadyn::JointAngleSources<double> sources{coordinate.data(), coordinate_index.data(), sign.data(),
                                                   static_cast<Eigen::Index>(angles.size())};
   const std::size_t padded = (angles.size() + 3) / 4 * 4;
   std::string summary;
@@ -175,8 +177,7 @@ int first_calls_from_threads(const soadyn::Model& m, const std::vector<double>& 
   constexpr int kThreads = 8, kCalls = 1000;
   Eigen::VectorXd q(m.nq);
   soadyn::neutral_configuration<double>(m, q);
-  for (std::size_t k = 0; k < m.angle_bodies.size(); ++k)
-    q[m.q_index[static_cast<std::size_t>(m.angle_bodies[k])]] = angles[k % angles.size()];
+  for (std::size_t k = 0; k < m.angle_coordinates.size(); ++k) q[m.angle_coordinates[k]] = angles[k % angles.size()];
   std::vector<soadyn::Data> data(kThreads, soadyn::Data(m));
   std::atomic<int> ready{0}, differing{0};
   std::vector<std::thread> threads;
@@ -208,18 +209,31 @@ int main() {
     const int differing = first_calls_from_threads(m, test_angles(rng, 64));
     std::printf("threads: 8 threads from the process's first call, 1000 tables each, %d differ\n", differing);
   }
-  int aligned = 0;
+  int aligned = 0, aligned_universal = 0;
   for (int b = 0; b < m.nbodies(); ++b) {
-    const soadyn::JointKernel k = m.joint_kernel[static_cast<std::size_t>(b)];
+    const std::size_t i = static_cast<std::size_t>(b);
+    const soadyn::JointKernel k = m.joint_kernel[i];
     const bool revolute_aligned = k == soadyn::JointKernel::revolute_x || k == soadyn::JointKernel::revolute_y ||
                                   k == soadyn::JointKernel::revolute_z;
-    const int slot = m.angle_slot[static_cast<std::size_t>(b)];
-    check(revolute_aligned ? slot >= 0 && m.angle_bodies[static_cast<std::size_t>(slot)] == b : slot == -1,
-          "body " + std::to_string(b) + ": wrong slot");
+    const auto* universal = std::get_if<soadyn::UniversalJoint<double>>(&m.joints[i]);
+    double sign1 = 0, sign2 = 0;
+    const bool universal_aligned = universal && soadyn::coordinate_axis(universal->axis1, sign1) >= 0 &&
+                                   soadyn::coordinate_axis(universal->axis2, sign2) >= 0;
+    const int slot = m.angle_slot[i];
+    const std::size_t s = static_cast<std::size_t>(slot);
+    const bool right = revolute_aligned    ? slot >= 0 && m.angle_coordinates[s] == m.q_index[i] &&
+                                              m.angle_signs[s] == m.axis_sign[i]
+                       : universal_aligned ? slot >= 0 && m.angle_coordinates[s] == m.q_index[i] &&
+                                                 m.angle_coordinates[s + 1] == m.q_index[i] + 1 &&
+                                                 m.angle_signs[s] == sign1 && m.angle_signs[s + 1] == sign2
+                                           : slot == -1;
+    check(right, "body " + std::to_string(b) + ": wrong slot");
     aligned += revolute_aligned ? 1 : 0;
+    aligned_universal += universal_aligned ? 1 : 0;
   }
-  check(aligned == 36 && static_cast<int>(m.angle_bodies.size()) == 36, "36 axis-aligned revolute joints");
-  std::printf("model: %d bodies, %zu table slots, kernel %s\n", m.nbodies(), m.angle_bodies.size(),
+  check(aligned == 36 && aligned_universal == 2 && static_cast<int>(m.angle_coordinates.size()) == 40,
+        "36 axis-aligned revolute joints and 2 universal joints about coordinate axes");
+  std::printf("model: %d bodies, %zu table slots, kernel %s\n", m.nbodies(), m.angle_coordinates.size(),
               soadyn::joint_angle_kernel());
 
   soadyn_test::Random rng(11);
@@ -227,7 +241,7 @@ int main() {
   soadyn::Data d(m);
   int compared = 0;
   double worst = 0;
-  for (std::size_t first = 0; first < angles.size(); first += m.angle_bodies.size())
+  for (std::size_t first = 0; first < angles.size(); first += m.angle_coordinates.size())
     worst = std::max(worst, compare(m, d, angles, first, compared));
   const int nan_entries = non_finite(m, d);
   std::printf("kernels: %s\n", compare_kernels(angles).c_str());
@@ -239,15 +253,15 @@ int main() {
     if (std::abs(a) < 1e30) float_angles.push_back(a);
   int compared_float = 0;
   double worst_float = 0;
-  for (std::size_t first = 0; first < float_angles.size(); first += mf.angle_bodies.size())
+  for (std::size_t first = 0; first < float_angles.size(); first += mf.angle_coordinates.size())
     worst_float = std::max(worst_float, compare(mf, df, float_angles, first, compared_float));
   const int nan_entries_float = non_finite(mf, df);
 
   std::printf("double: %d angles, max error %.2f ulp; float: %d angles, max error %.2f ulp (tolerance 4 ulp)\n",
               compared, worst, compared_float, worst_float);
   std::printf("non-finite angles: %d of %d double entries NaN, %d of %d float\n", nan_entries,
-              3 * static_cast<int>(m.angle_bodies.size()), nan_entries_float,
-              3 * static_cast<int>(mf.angle_bodies.size()));
+              3 * static_cast<int>(m.angle_coordinates.size()), nan_entries_float,
+              3 * static_cast<int>(mf.angle_coordinates.size()));
   if (failures == 0) std::printf("test_joint_angles: PASS\n");
   return failures == 0 ? 0 : 1;
 }

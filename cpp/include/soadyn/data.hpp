@@ -76,7 +76,7 @@ struct SweepData {
   aligned_vector<Mat6N<S>> tree_gain;                  // G(i) = P H*_r D^-1
   Mat6X<S> tree_subspace_columns;  // H*(i) of every body side by side, 6 x nv: the mass matrix's columns (crba.hxx)
   aligned_vector<InertiaParameters<S>> tree_composite_inertia;  // the composite inertia's ten parameters (crba.hxx)
-  // Per slot of model.angle_bodies, zero-padded to a multiple of four: the
+  // Per slot of model.angle_coordinates, zero-padded to a multiple of four: the
   // joint angle (sign times coordinate), its sine and its cosine
   // (algorithms/joint_angles.hpp).
   VecX<S> tree_joint_angle, tree_joint_sine, tree_joint_cosine;

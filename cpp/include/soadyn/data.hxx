@@ -67,7 +67,7 @@ DataTpl<S>::DataTpl(const ModelTpl<S>& model)
       w.attachment_subspace[i].setZero(6, model.n_modes[static_cast<std::size_t>(model.parent[i])]);
   if (model.has_flexible_bodies() || model.reach_checks_needed) w.unit_acceleration.setZero(model.nv);
   w.tree_subspace_columns.setZero(6, model.nv);
-  const Eigen::Index angle_slots = (static_cast<Eigen::Index>(model.angle_bodies.size()) + 3) / 4 * 4;
+  const Eigen::Index angle_slots = (static_cast<Eigen::Index>(model.angle_coordinates.size()) + 3) / 4 * 4;
   w.tree_joint_angle.setZero(angle_slots);
   w.tree_joint_sine.setZero(angle_slots);
   w.tree_joint_cosine.setZero(angle_slots);

@@ -205,11 +205,14 @@ class ModelTpl {
   aligned_vector<Mat3<S>> inertia_com;     // rotational inertia about the centre of mass, body frame
   std::vector<JointKernel> joint_kernel;   // joints/joint_kernel.hpp
   std::vector<S> axis_sign;                // +-1: the axis of an axis-aligned revolute or prismatic joint is axis_sign e_k
-  // Axis-aligned revolute joints (the revolute_x/y/z kernels) have their
+  // Rotations about coordinate axes (the revolute_x/y/z kernels, and both
+  // rotations of a universal joint whose axes are coordinate axes) have their
   // sines and cosines computed together before each tree-frame sweep
-  // (algorithms/joint_angles.hpp): per body, its slot in that table (-1: none);
-  // per slot, its body.
-  std::vector<int> angle_slot, angle_bodies;
+  // (algorithms/joint_angles.hpp): per body, its first slot in that table
+  // (-1: none); per slot, the coordinate (index into q) and the sign of its
+  // angle: angle = angle_signs[k] q[angle_coordinates[k]].
+  std::vector<int> angle_slot, angle_coordinates;
+  std::vector<S> angle_signs;
   std::vector<int> q_index, v_index, nq_body, nv_body;
   std::vector<HingeModes> modes;
   // Flexible bodies: index into flexible_bodies (-1: rigid), modal

@@ -258,11 +258,12 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
   S sign;
   joint_kernel.push_back(classify_joint(joint, sign));
   axis_sign.push_back(sign);
-  const bool tabulated_angle = joint_kernel.back() == JointKernel::revolute_x ||
-                               joint_kernel.back() == JointKernel::revolute_y ||
-                               joint_kernel.back() == JointKernel::revolute_z;
-  angle_slot.push_back(tabulated_angle ? static_cast<int>(angle_bodies.size()) : -1);
-  if (tabulated_angle) angle_bodies.push_back(index);
+  const std::vector<S> angle_signs_of_joint = tabulated_angle_signs(joint, joint_kernel.back(), sign);
+  angle_slot.push_back(angle_signs_of_joint.empty() ? -1 : static_cast<int>(angle_coordinates.size()));
+  for (std::size_t k = 0; k < angle_signs_of_joint.size(); ++k) {
+    angle_coordinates.push_back(nq + static_cast<int>(k));
+    angle_signs.push_back(angle_signs_of_joint[k]);
+  }
   q_index.push_back(nq);
   v_index.push_back(nv);
   nq_body.push_back(jq);

@@ -90,7 +90,8 @@ ModelTpl<T> ModelTpl<S>::cast() const {
   out.joint_kernel = joint_kernel;
   out.axis_sign = c::scalars<T>(axis_sign);
   out.angle_slot = angle_slot;
-  out.angle_bodies = angle_bodies;
+  out.angle_coordinates = angle_coordinates;
+  out.angle_signs = c::scalars<T>(angle_signs);
   out.q_index = q_index;
   out.v_index = v_index;
   out.nq_body = nq_body;

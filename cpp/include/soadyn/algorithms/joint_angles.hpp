@@ -1,5 +1,6 @@
-// The sines and cosines of a model's axis-aligned revolute joint angles (the
-// revolute_x/y/z kernels, model.angle_bodies), all in one pass before a
+// The sines and cosines of a model's rotations about coordinate axes (the
+// revolute_x/y/z kernels and axis-aligned universal joints,
+// model.angle_coordinates), all in one pass before a
 // tree-frame outward sweep, for the joint steps to read
 // (tree_frame_steps.hpp). One pass lets glibc's vector math library
 // (libmvec) take four angles per call on processors with AVX2 and FMA, two
@@ -13,27 +14,25 @@
 
 namespace soadyn {
 
-// Where the angle of slot k < n comes from: q[q_index[body[k]]] * sign[body[k]]
-// (model.angle_bodies, q_index, axis_sign).
+// Where the angle of slot k < n comes from: sign[k] * q[coordinate[k]]
+// (model.angle_signs, angle_coordinates).
 template <class S>
 struct JointAngleSources {
   const S* q;
-  const int* body;
-  const int* q_index;
+  const int* coordinate;
   const S* sign;
   Eigen::Index n;
 
-  S operator[](Eigen::Index k) const { return q[q_index[body[k]]] * sign[body[k]]; }
+  S operator[](Eigen::Index k) const { return q[coordinate[k]] * sign[k]; }
 };
 
 template <class S>
 JointAngleSources<S> joint_angle_sources(const ModelTpl<S>& m, const S* q) {
-  return {q, m.angle_bodies.data(), m.q_index.data(), m.axis_sign.data(),
-          static_cast<Eigen::Index>(m.angle_bodies.size())};
+  return {q, m.angle_coordinates.data(), m.angle_signs.data(), static_cast<Eigen::Index>(m.angle_coordinates.size())};
 }
 
 // Fills sweep.tree_joint_angle, tree_joint_sine and tree_joint_cosine for
-// every slot of model.angle_bodies. Allocation free. Double precision: the
+// every slot of model.angle_coordinates. Allocation free. Double precision: the
 // overload in joint_angles.cpp; other scalars one angle at a time.
 void tabulate_joint_angles(const ModelTpl<double>& m, SweepData<double>& sweep, const double* q);
 

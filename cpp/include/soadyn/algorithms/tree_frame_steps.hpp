@@ -54,8 +54,12 @@ template <class S>
 inline Vec6<S> universal_tree_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const Transform<S>& base,
                                    const S* q, const S* v, bool root) {
   const UniversalJoint<S>& joint = *std::get_if<UniversalJoint<S>>(&m.joints[i]);
-  return joint.tree_step(base, q + m.q_index[i], v ? v + m.v_index[i] : nullptr, root, d.sweep.tree_pose[i],
-                         d.sweep.tree_subspace[i]);
+  const S* joint_v = v ? v + m.v_index[i] : nullptr;
+  const int slot = m.angle_slot[i];
+  if (slot >= 0)  // both axes along coordinate axes: the angles' sines and cosines are tabulated
+    return joint.aligned_tree_step(base, &d.sweep.tree_joint_cosine[slot], &d.sweep.tree_joint_sine[slot], joint_v,
+                                   root, d.sweep.tree_pose[i], d.sweep.tree_subspace[i]);
+  return joint.tree_step(base, q + m.q_index[i], joint_v, root, d.sweep.tree_pose[i], d.sweep.tree_subspace[i]);
 }
 
 // base = parent * placement, written column by column as the joint kernels

@@ -11,6 +11,7 @@
 // virtual call; the joint's own struct (revolute.hpp, ...) holds the code.
 #pragma once
 #include <string>
+#include <vector>
 #include <type_traits>
 #include "soadyn/joints/joint_types.hpp"
 
@@ -88,6 +89,23 @@ JointKernel classify_joint(const JointModel<S>& j, S& sign) {
           return JointKernel::general;
       },
       j);
+}
+
+// The signs of the joint's angles that the sweeps' table holds
+// (algorithms/joint_angles.hpp), one per tabulated coordinate, in order: an
+// axis-aligned revolute joint's one (`kernel` and `sign` from
+// classify_joint), a universal joint's two when both its axes are coordinate
+// axes; none for any other joint.
+template <class S>
+std::vector<S> tabulated_angle_signs(const JointModel<S>& j, JointKernel kernel, const S& sign) {
+  if (kernel == JointKernel::revolute_x || kernel == JointKernel::revolute_y || kernel == JointKernel::revolute_z)
+    return {sign};
+  if (const auto* universal = std::get_if<UniversalJoint<S>>(&j)) {
+    S sign1, sign2;
+    if (coordinate_axis(universal->axis1, sign1) >= 0 && coordinate_axis(universal->axis2, sign2) >= 0)
+      return {sign1, sign2};
+  }
+  return {};
 }
 
 // Pose, subspace and bias at (q, v); q and v point at the joint's blocks.

@@ -25,14 +25,24 @@ SOADYN_ALWAYS_INLINE void rotate_about_coordinate_axis(const Transform<S>& base,
   rotate_about_coordinate_axis<Axis>(base, S(cos(angle)), S(sin(angle)), pose);
 }
 
-// pose = base * Rot(e_axis, angle) for a run-time axis 0, 1 or 2.
+// pose = base * Rot(e_axis, angle) for a run-time axis 0, 1 or 2, from the
+// angle's cosine `c` and sine `s`.
+template <class S>
+inline void rotate_about_coordinate_axis(int axis, const Transform<S>& base, const S& c, const S& s,
+                                         Transform<S>& pose) {
+  switch (axis) {
+    case 0: rotate_about_coordinate_axis<0>(base, c, s, pose); return;
+    case 1: rotate_about_coordinate_axis<1>(base, c, s, pose); return;
+    default: rotate_about_coordinate_axis<2>(base, c, s, pose); return;
+  }
+}
+
+// The same from the angle itself.
 template <class S>
 inline void rotate_about_coordinate_axis(int axis, const Transform<S>& base, const S& angle, Transform<S>& pose) {
-  switch (axis) {
-    case 0: rotate_about_coordinate_axis<0>(base, angle, pose); return;
-    case 1: rotate_about_coordinate_axis<1>(base, angle, pose); return;
-    default: rotate_about_coordinate_axis<2>(base, angle, pose); return;
-  }
+  using std::cos;
+  using std::sin;
+  rotate_about_coordinate_axis(axis, base, S(cos(angle)), S(sin(angle)), pose);
 }
 
 template <class S>

@@ -66,6 +66,25 @@ struct UniversalJoint {
     } else {
       pose.rotation.noalias() = base.rotation * (axis_angle_rotation(axis1, q[0]) * axis_angle_rotation(axis2, q[1]));
     }
+    return tree_subspace_and_bias(base, v, root, pose, s);
+  }
+  // The same for axes along coordinate axes, with the cosines and sines of
+  // the two angles (sign times coordinate) from the sweep's table
+  // (algorithms/joint_angles.hpp; ModelTpl::angle_slot).
+  Vec6<S> aligned_tree_step(const Transform<S>& base, const S* cosine, const S* sine, const S* v, bool root,
+                            Transform<S>& pose, Mat6N<S>& s) const {
+    S sign1, sign2;
+    const int k1 = coordinate_axis(axis1, sign1), k2 = coordinate_axis(axis2, sign2);
+    Transform<S> first;
+    rotate_about_coordinate_axis(k1, base, cosine[0], sine[0], first);
+    rotate_about_coordinate_axis(k2, first, cosine[1], sine[1], pose);
+    return tree_subspace_and_bias(base, v, root, pose, s);
+  }
+
+ private:
+  // The tree-frame translation, subspace and bias once pose.rotation is set.
+  Vec6<S> tree_subspace_and_bias(const Transform<S>& base, const S* v, bool root, Transform<S>& pose,
+                                 Mat6N<S>& s) const {
     pose.translation = root ? Vec3<S>::Zero() : base.translation;
     const Vec3<S> w1 = base.rotation * axis1, w2 = pose.rotation * axis2;
     store_as_pairs(w1, Vec3<S>(pose.translation.cross(w1)), s.col(0));
