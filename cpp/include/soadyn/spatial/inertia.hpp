@@ -106,11 +106,8 @@ SOADYN_ALWAYS_INLINE void assign_spatial_inertia(const InertiaParameters<S>& p, 
 template <class S, class Motion>
 SOADYN_ALWAYS_INLINE Vec6<S> momentum(const InertiaParameters<S>& p, const Motion& motion) {
   // Both operands are often just stored: read entry by entry (in_register).
-  const Scalars6<S> V(motion);
-  const S* stored = p.values.data();  // xx yy zz xy xz yz mcx mcy mcz m
-  const S a[10] = {in_register(stored[0]), in_register(stored[1]), in_register(stored[2]), in_register(stored[3]),
-                   in_register(stored[4]), in_register(stored[5]), in_register(stored[6]), in_register(stored[7]),
-                   in_register(stored[8]), in_register(stored[9])};
+  const ScalarsInRegister<S, 6> V(motion);
+  const ScalarsInRegister<S, 10> a(p.values);  // xx yy zz xy xz yz mcx mcy mcz m
   const Vec3<S> angular(a[0] * V[0] + a[3] * V[1] + a[4] * V[2] + a[7] * V[5] - a[8] * V[4],
                         a[3] * V[0] + a[1] * V[1] + a[5] * V[2] + a[8] * V[3] - a[6] * V[5],
                         a[4] * V[0] + a[5] * V[1] + a[2] * V[2] + a[6] * V[4] - a[7] * V[3]);

@@ -75,14 +75,14 @@ SOADYN_ALWAYS_INLINE S in_register(S x) {
   return x;
 }
 
-// The six entries of a 6-vector read one by one (in_register).
-template <class S>
-struct Scalars6 {
-  S e[6];
+// The first N entries of a vector, read one by one (in_register).
+template <class S, int N>
+struct ScalarsInRegister {
+  S e[N];
   template <class Vector>
-  SOADYN_ALWAYS_INLINE explicit Scalars6(const Vector& x)
-      : e{in_register(x[0]), in_register(x[1]), in_register(x[2]),
-          in_register(x[3]), in_register(x[4]), in_register(x[5])} {}
+  SOADYN_ALWAYS_INLINE explicit ScalarsInRegister(const Vector& x) {
+    for (int k = 0; k < N; ++k) e[k] = in_register(S(x[k]));
+  }
   SOADYN_ALWAYS_INLINE const S& operator[](int k) const { return e[k]; }
 };
 
@@ -94,7 +94,7 @@ struct Scalars6 {
 // operands are read entry by entry for the same reason (in_register).
 template <class S>
 SOADYN_ALWAYS_INLINE void motion_cross_into(const Vec6<S>& V, const Vec6<S>& M, Vec6<S>& r) {
-  const Scalars6<S> v(V), m(M);
+  const ScalarsInRegister<S, 6> v(V), m(M);
   store_as_pairs(Vec3<S>(v[1] * m[2] - v[2] * m[1], v[2] * m[0] - v[0] * m[2], v[0] * m[1] - v[1] * m[0]),
                  Vec3<S>((v[1] * m[5] - v[2] * m[4]) + (v[4] * m[2] - v[5] * m[1]),
                          (v[2] * m[3] - v[0] * m[5]) + (v[5] * m[0] - v[3] * m[2]),
