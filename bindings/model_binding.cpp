@@ -249,6 +249,13 @@ void bind_model(py::module_& mod) {
       .def_property_readonly("parents", [](const ModelHandle& h) { return h.model.parent; })
       .def_property_readonly("q_index", [](const ModelHandle& h) { return h.model.q_index; })
       .def_property_readonly("v_index", [](const ModelHandle& h) { return h.model.v_index; })
+      .def_property_readonly(
+          "constant_tree_inertia",
+          [](const ModelHandle& h) {
+            return std::vector<bool>(h.model.constant_tree_inertia.begin(), h.model.constant_tree_inertia.end());
+          },
+          "Per body: whether the dynamics read its inertia formed once (constant in its free root's frame: "
+          "welded to the root, or turning about an axis of mass symmetry on it).")
       .def_property_readonly("masses", [](const ModelHandle& h) { return h.model.mass; })
       .def_property_readonly("n_modes", [](const ModelHandle& h) { return h.model.n_modes; },
                              "Modal coordinates per body (0 for a rigid body).")

@@ -212,6 +212,11 @@ class _Model:
     @property
     def v_index(self) -> list[int]:
         ...
+    @property
+    def constant_tree_inertia(self) -> list[bool]:
+        """
+        Per body: whether the dynamics read its inertia formed once (constant in its free root's frame: welded to the root, or turning about an axis of mass symmetry on it).
+        """
 class NonphysicalInertiaError(ValueError):
     pass
 class DynamicsError(ArithmeticError):

@@ -244,7 +244,17 @@ int main() {
   for (std::size_t first = 0; first < angles.size(); first += m.angle_coordinates.size())
     worst = std::max(worst, compare(m, d, angles, first, compared));
   const int nan_entries = non_finite(m, d);
-  std::printf("kernels: %s\n", compare_kernels(angles).c_str());
+  // The kernels also on angles where the reduction by pi/2 is hardest (the
+  // neighbours of multiples of pi/2 up to 2^20 of them) and across the
+  // polynomial kernel's reach (1e9) and beyond it.
+  std::vector<double> kernel_angles = angles;
+  for (double multiple = 1; multiple < 1 << 20; multiple *= 3) {
+    const double near = multiple * std::acos(-1.0) / 2;
+    for (const double a : {near, std::nextafter(near, 0.0), std::nextafter(near, 1e300), -near})
+      kernel_angles.push_back(a);
+  }
+  for (int k = 0; k < 400; ++k) kernel_angles.push_back(rng.uniform(-1.2e9, 1.2e9));
+  std::printf("kernels: %s\n", compare_kernels(kernel_angles).c_str());
 
   const soadyn::ModelTpl<float> mf = m.cast<float>();
   soadyn::DataTpl<float> df(mf);

@@ -41,6 +41,7 @@ DataTpl<S>::DataTpl(const ModelTpl<S>& model)
   w.tree_coriolis.assign(n, Vec6<S>::Zero());
   w.tree_bias_force.assign(n, Vec6<S>::Zero());
   w.tree_acceleration.assign(n, Vec6<S>::Zero());
+  w.tree_world_acceleration.assign(n, Vec6<S>::Zero());
   w.tree_hinge_force.assign(n, Vec6<S>::Zero());
   w.tree_articulated_inertia.assign(n, Mat6<S>::Zero());
   w.tree_composite_inertia.assign(n, InertiaParameters<S>{Eigen::Matrix<S, 10, 1>::Zero()});

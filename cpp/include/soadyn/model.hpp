@@ -185,8 +185,11 @@ class ModelTpl {
 
   // After a change of mass, com, inertia_com / inertia or placement
   // (parameters.hpp): refreshes what is derived from them (the tree-frame
-  // reach). Allocation free.
-  void refresh_derived_parameters() { refresh_tree_frame_reach(); }
+  // reach, the constant tree-frame inertias). Allocation free.
+  void refresh_derived_parameters() {
+    refresh_tree_frame_reach();
+    refresh_constant_tree_inertia();
+  }
 
   // Name lookups; -1 when absent.
   int body_index(const std::string& name) const;
@@ -252,6 +255,17 @@ class ModelTpl {
   std::vector<std::uint8_t> check_tree_frame_reach;
   bool reach_checks_needed = false;
 
+  // Inertias the dynamics sweeps need not form (constant_tree_inertia.hxx):
+  // there a free root's tree frame is its own body frame, so a rigid body
+  // welded to it (through fixed joints), or turning on such a body about an
+  // axis of symmetry of its mass (a reaction wheel, a turntable), has the
+  // same inertia in its tree frame in every configuration. Per body: 1 when
+  // it does, and then its ten inertia parameters in that frame. Floating-point
+  // scalars only (an automatic-differentiation scalar keeps every inertia's
+  // derivatives by forming it per call).
+  std::vector<std::uint8_t> constant_tree_inertia;
+  aligned_vector<InertiaParameters<S>> tree_inertia_parameters;
+
   // Set by every structural change (add_body, add_flexible_body); a copy carries it.
   DynamicsPath dynamics_path = DynamicsPath::rigid_tree_frames;
   // The work of factoring M with the tree's sparsity (tree_cholesky.hpp), up
@@ -301,6 +315,7 @@ class ModelTpl {
   void refresh_modes();
   void refresh_body_modes(int body);
   void refresh_tree_frame_reach();
+  void refresh_constant_tree_inertia();
   void refresh_dynamics_path();
   // add_body / add_flexible_body after the parent is resolved; `flexible`
   // null for a rigid body.
@@ -314,6 +329,10 @@ class ModelTpl {
   std::unordered_map<std::string, int> body_lookup_, dof_lookup_, frame_lookup_;
   // refresh_tree_frame_reach's scratch, kept so that a refresh allocates nothing.
   std::vector<S> subtree_radius_, distance_bound_;
+  // refresh_constant_tree_inertia's: per body, whether its pose in its free
+  // root's body frame is constant, and that pose.
+  std::vector<std::uint8_t> welded_to_free_root_;
+  aligned_vector<Transform<S>> pose_in_free_root_;
 };
 
 using Model = ModelTpl<double>;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include "soadyn/modal_rule.hpp"
 #include "soadyn/model.hpp"
+#include "soadyn/constant_tree_inertia.hxx"
 #include "soadyn/tree_frame_reach.hxx"
 #include "soadyn/validation.hpp"
 #include "soadyn/loops/add_loop.hxx"
@@ -227,6 +228,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
     frame_lookup_[name] = static_cast<int>(frames.size());
     frames.push_back(Frame<S>{name, parent_body, X, -1});
     refresh_tree_frame_reach();
+    refresh_constant_tree_inertia();
     refresh_dynamics_path();
     ++version;
     return -1;
@@ -298,6 +300,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
   refresh_body_modes(index);
   refresh_modes();
   refresh_tree_frame_reach();
+  refresh_constant_tree_inertia();
   refresh_dynamics_path();
   ++version;
   return index;

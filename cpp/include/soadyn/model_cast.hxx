@@ -118,6 +118,7 @@ ModelTpl<T> ModelTpl<S>::cast() const {
   out.tree_frame_reach_squared = c::scalars<T>(tree_frame_reach_squared);
   out.check_tree_frame_reach = check_tree_frame_reach;
   out.reach_checks_needed = reach_checks_needed;
+  out.refresh_constant_tree_inertia();  // from the converted inertias (none cached for a non-floating-point T)
   out.dynamics_path = dynamics_path;
   out.tree_factor_work = tree_factor_work;
   for (const auto& f : frames) out.frames.push_back(Frame<T>{f.name, f.body, c::transform<T>(f.placement), f.node});

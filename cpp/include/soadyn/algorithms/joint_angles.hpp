@@ -2,10 +2,11 @@
 // revolute_x/y/z kernels and axis-aligned universal joints,
 // model.angle_coordinates), all in one pass before a
 // tree-frame outward sweep, for the joint steps to read
-// (tree_frame_steps.hpp). One pass lets glibc's vector math library
-// (libmvec) take four angles per call on processors with AVX2 and FMA, two
-// with SSE2; computed one by one, sincos was a fifth of the mass matrix's
-// time. Where the C library has no libmvec, and for other scalar types than
+// (tree_frame_steps.hpp). One pass takes four angles at a time: on x86
+// processors with AVX2 and FMA, a polynomial kernel of our own, in registers
+// (joint_angles.cpp); elsewhere glibc's vector math library (libmvec), two
+// angles per call with SSE2. Computed one by one, sincos was a fifth of the
+// mass matrix's time. Without either, and for other scalar types than
 // double, the pass calls std::sin and std::cos.
 #pragma once
 #include <vector>
@@ -50,7 +51,7 @@ void tabulate_joint_angles(const ModelTpl<S>& m, SweepData<S>& sweep, const S* q
 }
 
 // The double-precision kernel this processor gets:
-// "libmvec AVX2", "libmvec SSE2" or "std" (benchmarks report it).
+// "polynomial AVX2", "libmvec SSE2" or "std" (benchmarks report it).
 const char* joint_angle_kernel();
 
 namespace detail {

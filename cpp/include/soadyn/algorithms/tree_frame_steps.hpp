@@ -22,6 +22,19 @@
 // Velocity products: with H* constant in the body frame, its rate in the tree
 // frame is V x H*, so the Coriolis term of Eq. 1 is a(k) = V(k) x (H* qdot),
 // plus the joint's own bias for joints whose subspace varies (universal).
+//
+// Free roots (`FreeRootFrames`, the forward and hybrid dynamics sweeps): a
+// tree whose root has a free joint takes the root's body frame at this
+// instant as its tree frame instead of the world's orientation. The
+// recursions hold in it as in any frame; the root's pose is the identity and
+// its H* the identity (its velocity is its body-frame twist, the free joint's
+// v), so the root has no joint step, its children's bases are their
+// placements, and a body welded to the root, or turning about an axis of
+// mass symmetry on a welded body, has a constant inertia there (formed once:
+// constant_tree_inertia.hxx). The world's acceleration, -gravity, is carried
+// into the root's frame once per call. The loops' and the derivatives' sweeps,
+// which read tree-frame quantities as world-oriented, keep the world's
+// orientation.
 #pragma once
 #include <type_traits>
 
@@ -82,19 +95,30 @@ SOADYN_ALWAYS_INLINE void compose_with_placement(const Transform<S>& parent, con
 
 }  // namespace detail
 
+// Whether body i is a root with a free joint.
+template <class S>
+SOADYN_ALWAYS_INLINE bool is_free_root(const ModelTpl<S>& m, int i) {
+  const std::size_t b = static_cast<std::size_t>(i);
+  return m.parent[b] < 0 && m.joint_kernel[b] == JointKernel::free;
+}
+
 // Pose of body i in its tree frame and its motion subspace there; returns the
 // joint's velocity-product acceleration in the tree frame (zero for every
 // joint but the universal one). A root body's tree pose has no translation.
 // The kernels' code lives with their joints (joints/revolute.hpp,
 // prismatic.hpp, free.hpp, universal.hpp, spherical.hpp). Every sweep calls
 // tabulate_joint_angles with the same q before its first body.
-template <class S>
+// FreeRootFrames: a free root's tree frame is its body frame (above), so a
+// child of a free root has its placement for base.
+template <bool FreeRootFrames = false, class S>
 inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   const int p = m.parent[i];
   const bool root = p < 0;
   Transform<S> base;
   if (root)
     base.rotation = m.placement[i].rotation;
+  else if (FreeRootFrames && is_free_root(m, p))
+    base = m.placement[i];
   else
     detail::compose_with_placement(d.sweep.tree_pose[static_cast<std::size_t>(p)], m.placement[i], base);
   Transform<S>& pose = d.sweep.tree_pose[i];
@@ -136,9 +160,9 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
 // Tree-frame kinematics of body i (Jain & Rodriguez 1993, Eq. 1): pose and subspace,
 // V(i) = V(parent) + H* qdot and a(i) = V(i) x (H* qdot) + joint bias.
 // `v` null: zero velocity (impulse problems).
-template <class S>
+template <bool FreeRootFrames = false, class S>
 SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
-  const Vec6<S> joint_rate = tree_joint_step(m, d, i, q, v);
+  const Vec6<S> joint_rate = tree_joint_step<FreeRootFrames>(m, d, i, q, v);
   if (!v) {
     d.sweep.tree_velocity[i].setZero();
     d.sweep.tree_coriolis[i].setZero();
@@ -150,6 +174,30 @@ SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d
       p >= 0 ? Vec6<S>(d.sweep.tree_velocity[static_cast<std::size_t>(p)] + joint_velocity) : joint_velocity;
   motion_cross_into(d.sweep.tree_velocity[i], joint_velocity, d.sweep.tree_coriolis[i]);
   if (joint_has_rate_term(m.joint_kernel[i])) d.sweep.tree_coriolis[i] += joint_rate;
+}
+
+// Kinematics of free root i in its own body frame (FreeRootFrames): pose and
+// H* the identity, V(i) = v_i, a(i) = V x (H* v) = 0, and the world's
+// acceleration [0; -g] carried into the body frame by the root's world
+// rotation R (placement times the free joint's): [0; -R' g].
+template <class S>
+inline void free_root_body_frame_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
+                                      const Vec6<S>& world_acc) {
+  SweepData<S>& w = d.sweep;
+  w.tree_pose[i] = Transform<S>();
+  w.tree_subspace[i].setIdentity();
+  if (v)
+    w.tree_velocity[i] = Eigen::Map<const Vec6<S>>(v + m.v_index[i]);
+  else
+    w.tree_velocity[i].setZero();
+  w.tree_coriolis[i].setZero();
+  Vec6<S>& a = w.tree_world_acceleration[i];
+  if (world_acc.template tail<3>().isZero() && world_acc.template head<3>().isZero()) {  // no gravity: no rotation
+    a.setZero();
+    return;
+  }
+  const Mat3<S> R = m.placement[i].rotation * quaternion_rotation(q + m.q_index[i] + 3);
+  a << R.transpose() * world_acc.template head<3>(), R.transpose() * world_acc.template tail<3>();
 }
 
 // Whether body i sits beyond the distance from its tree origin at which tree
@@ -168,11 +216,16 @@ SOADYN_ALWAYS_INLINE bool beyond_tree_frame_reach(const ModelTpl<S>& m, const Da
 // tree_bias_and_children_z[i]; `f_ext` as in steps.hpp. The articulated-body
 // sweeps start P from M (tree_frame_sweeps.hxx); the mass matrix's sweep
 // needs only the parameters (crba.hxx).
-template <class S>
+// FreeRootFrames: a body with a constant inertia in its free root's frame
+// (model.constant_tree_inertia) reads it.
+template <bool FreeRootFrames = false, class S>
 SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v,
                                                const S* f_ext, InertiaParameters<S>& parameters) {
   const Transform<S>& pose = d.sweep.tree_pose[i];
-  inertia_parameters_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i], parameters);
+  if (FreeRootFrames && m.constant_tree_inertia[i])
+    parameters = m.tree_inertia_parameters[i];
+  else
+    inertia_parameters_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i], parameters);
   // b is stored entry by entry in both places: a copy read back from memory
   // right after scalar stores would stall store forwarding.
   Vec6<S>& b = d.sweep.tree_bias_force[i];

@@ -1,0 +1,222 @@
+"""Bodies with a constant inertia in their free root's frame (cpp/include/soadyn/
+constant_tree_inertia.hxx): on a free-flying bus, reaction wheels and a turntable
+whose mass is symmetric about their axes. The forward and hybrid dynamics and the
+mass matrix read those inertias formed once, in the bus's body frame, where the
+world's gravity must be carried; Pinocchio, which forms every inertia per call in
+its own frames, is the oracle. Gravity is oblique so that every component counts.
+Changing a parameter (set_parameter) must refresh the stored inertias, and break
+or restore a body's symmetry.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import soadyn
+from error_log import ErrorLog, report_fixture
+from pinocchio_mapping import JointMatch, PinocchioMapping, free_joint_names
+from trees import random_inertia, random_rotation, random_unit
+
+RTOL = 1e-10
+GRAVITY = np.array([0.7, -1.9, -9.4])
+STATES = range(6)
+
+LOG = ErrorLog("Pinocchio", RTOL)
+check = LOG.check
+report_errors = report_fixture(LOG)
+
+
+@dataclass
+class Body:
+    name: str
+    parent: int               # body index, -1: the world
+    axis: np.ndarray | None   # revolute axis; None: free joint
+    rotation: np.ndarray
+    translation: np.ndarray
+    mass: float
+    com: np.ndarray
+    inertia: np.ndarray
+    constant: bool            # expected: inertia constant in the bus frame
+
+
+def axis(k: int, sign: float = 1.0) -> np.ndarray:
+    e = np.zeros(3)
+    e[k] = sign
+    return e
+
+
+def symmetric_inertia(k: int, axial: float, transverse: float) -> np.ndarray:
+    d = np.full(3, transverse)
+    d[k] = axial
+    return np.diag(d)
+
+
+def spacecraft() -> list[Body]:
+    """A bus with five symmetric rotors (constant inertias) and five bodies that are not, in
+    depth-first order (Pinocchio's mass matrix needs each subtree's DOFs contiguous)."""
+    rng = np.random.default_rng(7)
+
+    def body(name, parent, joint_axis, mass, com, inertia, constant):
+        return Body(name, parent, joint_axis, random_rotation(rng), rng.uniform(-1.0, 1.0, 3), mass,
+                    np.asarray(com, dtype=float), inertia, constant)
+
+    return [
+        Body("bus", -1, None, np.eye(3), np.zeros(3), 900.0, np.array([0.1, -0.05, 0.6]),
+             random_inertia(rng) * 300.0, True),
+        body("wheel_x", 0, axis(0), 8.0, [0.03, 0, 0], symmetric_inertia(0, 0.09, 0.05), True),
+        body("wheel_y", 0, axis(1, -1.0), 8.0, [0, -0.02, 0], symmetric_inertia(1, 0.09, 0.05), True),
+        body("wheel_z", 0, axis(2), 8.0, [0, 0, 0], symmetric_inertia(2, 0.09, 0.05), True),
+        # Carried by a turning body: moves in the bus frame whatever its mass.
+        body("spinner", 3, axis(2), 2.0, [0, 0, 0], symmetric_inertia(2, 0.02, 0.01), False),
+        body("turntable", 0, axis(2, -1.0), 60.0, [0, 0, 0.2], symmetric_inertia(2, 4.0, 2.5), True),
+        body("platform", 5, axis(0), 20.0, [0.1, 0.2, 0.0], random_inertia(rng), False),
+        # On the bus, but not symmetric about the axis.
+        body("arm", 0, axis(2), 15.0, [0, 0, 0.4], np.diag([1.0, 1.1, 0.3]), False),
+        body("offset", 0, axis(1), 5.0, [1e-3, 0, 0], symmetric_inertia(1, 0.2, 0.1), False),
+        # Symmetric about an axis that is not a coordinate axis of its frame.
+        body("tilted", 0, random_unit(rng), 3.0, [0, 0, 0], np.eye(3) * 0.1, False),
+    ]
+
+
+def build_soadyn(bodies: list[Body]) -> soadyn.Model:
+    m = soadyn.Model()
+    m.gravity = GRAVITY
+    for b in bodies:
+        joint = soadyn.Joint.free() if b.axis is None else soadyn.Joint.revolute(b.axis)
+        m.add_body(b.name, b.parent, joint, placement=(b.rotation, b.translation), mass=b.mass, com=b.com,
+                   inertia=b.inertia)
+    return m
+
+
+def build_pinocchio(bodies: list[Body]) -> pin.Model:
+    model = pin.Model()
+    model.gravity.linear = GRAVITY
+    for b in bodies:
+        joint = pin.JointModelFreeFlyer() if b.axis is None else pin.JointModelRevoluteUnaligned(b.axis)
+        jid = model.addJoint(b.parent + 1, joint, pin.SE3(b.rotation, b.translation), b.name)
+        model.appendBodyToJoint(jid, pin.Inertia(b.mass, b.com, b.inertia), pin.SE3.Identity())
+    return model
+
+
+class Case:
+    def __init__(self, bodies: list[Body]):
+        self.bodies = bodies
+        self.m = build_soadyn(bodies)
+        self.model = build_pinocchio(bodies)
+        self.data = self.model.createData()
+        joints = []
+        for i, b in enumerate(bodies):
+            jid = self.model.getJointId(b.name)
+            if b.axis is None:
+                q_names, v_names = free_joint_names(b.name)
+            else:
+                q_names = v_names = (self.m.dof_names[self.m.v_index[i]],)
+            joints.append(JointMatch(jid, q_names, v_names))
+        self.map = PinocchioMapping(self.m, self.model, joints)
+        self.joint_ids = [self.model.getJointId(b.name) for b in bodies]
+
+    def rebuild_oracle(self) -> None:
+        """Pinocchio's model from the bodies as they now are (after a parameter change)."""
+        self.model = build_pinocchio(self.bodies)
+        self.data = self.model.createData()
+
+    def state(self, k: int):
+        rng = np.random.default_rng(100 + k)
+        q = soadyn.random_configuration(self.m, k)
+        return q, rng.normal(size=self.m.nv) * 2.0, rng.normal(size=self.m.nv), rng.normal(size=(self.m.nbodies, 6))
+
+
+def compare_all(c: Case, label: str) -> None:
+    """Forward, inverse and hybrid dynamics and the mass matrix at STATES, against Pinocchio."""
+    prescribed = c.m.copy()
+    mask = np.zeros(c.m.nv, dtype=bool)
+    for name in ("turntable", "wheel_y", "platform"):
+        mask[c.m.v_index[c.m.body_names.index(name)]] = True
+    prescribed.set_prescribed(mask)
+    for k in STATES:
+        q, v, x, f = c.state(k)
+        q_pin, v_pin = c.map.q(q), c.map.v(v)
+        check(f"{label}: forward_dynamics", c.map.v(soadyn.forward_dynamics(c.m, q, v, x)),
+              pin.aba(c.model, c.data, q_pin, v_pin, c.map.v(x)))
+        check(f"{label}: forward_dynamics f_ext", c.map.v(soadyn.forward_dynamics(c.m, q, v, x, f_ext=f)),
+              pin.aba(c.model, c.data, q_pin, v_pin, c.map.v(x), c.map.f_ext(f, c.joint_ids)))
+        check(f"{label}: inverse_dynamics", c.map.v(soadyn.inverse_dynamics(c.m, q, v, x)),
+              pin.rnea(c.model, c.data, q_pin, v_pin, c.map.v(x)))
+        M_pin = pin.crba(c.model, c.data, q_pin)
+        check(f"{label}: mass_matrix", c.map.matrix_to_pin(soadyn.mass_matrix(c.m, q)),
+              np.triu(M_pin) + np.triu(M_pin, 1).T)
+        qdd, tau = soadyn.hybrid_dynamics(prescribed, q, v, x)
+        np.testing.assert_array_equal(qdd[mask], x[mask])
+        np.testing.assert_array_equal(tau[~mask], x[~mask])
+        check(f"{label}: hybrid_dynamics", c.map.v(tau), pin.rnea(c.model, c.data, q_pin, v_pin, c.map.v(qdd)))
+
+
+def constant_flags(c: Case) -> list[bool]:
+    return [bool(x) for x in c.m.constant_tree_inertia]
+
+
+def test_which_bodies_have_constant_inertia():
+    c = Case(spacecraft())
+    assert constant_flags(c) == [b.constant for b in c.bodies]
+
+
+def test_dynamics_match_pinocchio_with_constant_inertias():
+    c = Case(spacecraft())
+    assert sum(constant_flags(c)) == 5
+    compare_all(c, "spacecraft")
+
+
+def test_dynamics_do_not_depend_on_the_root_pose_through_the_stored_inertias():
+    """The same relative state with the bus turned and moved: hinge accelerations of a
+    gravity-free spacecraft are the same (its dynamics do not know where it is)."""
+    c = Case(spacecraft())
+    c.m.gravity = np.zeros(3)
+    q, v, x, _ = c.state(0)
+    turned = q.copy()
+    turned[0:3] += [3.0, -40.0, 2.5]
+    quaternion = np.random.default_rng(3).normal(size=4)
+    turned[3:7] = quaternion / np.linalg.norm(quaternion)
+    np.testing.assert_allclose(soadyn.forward_dynamics(c.m, turned, v, x), soadyn.forward_dynamics(c.m, q, v, x),
+                               rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("change", ["wheel asymmetric", "wheel com off the axis", "bus inertia", "wheel placement"])
+def test_a_parameter_change_refreshes_the_stored_inertias(change):
+    c = Case(spacecraft())
+    wheel = c.bodies[1]
+    if change == "wheel asymmetric":
+        wheel.inertia = np.diag([0.09, 0.05, 0.051])
+        c.m.set_parameter("wheel_x.inertia", wheel.inertia)
+        expected = False
+    elif change == "wheel com off the axis":
+        wheel.com = np.array([0.03, 0.0, 0.01])
+        c.m.set_parameter("wheel_x.com", wheel.com)
+        expected = False
+    elif change == "bus inertia":
+        bus = c.bodies[0]
+        bus.inertia = bus.inertia * 1.5 + np.eye(3) * 10.0
+        c.m.set_parameter("bus.inertia", bus.inertia)
+        expected = True
+    else:
+        wheel.translation = wheel.translation + [0.2, -0.1, 0.3]
+        placement = np.eye(4)
+        placement[:3, :3], placement[:3, 3] = wheel.rotation, wheel.translation
+        c.m.set_parameter("wheel_x.placement", placement)
+        expected = True
+    assert constant_flags(c)[1 if change != "bus inertia" else 0] == expected
+    c.rebuild_oracle()
+    compare_all(c, change)
+
+
+def test_a_restored_symmetry_makes_the_inertia_constant_again():
+    c = Case(spacecraft())
+    arm = c.bodies[7]
+    assert arm.name == "arm" and not constant_flags(c)[7]
+    arm.inertia = np.diag([1.0, 1.0, 0.3])
+    c.m.set_parameter("arm.inertia", arm.inertia)
+    assert constant_flags(c)[7]
+    c.rebuild_oracle()
+    compare_all(c, "arm made symmetric")
