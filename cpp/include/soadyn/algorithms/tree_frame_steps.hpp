@@ -192,7 +192,7 @@ inline void free_root_body_frame_step(const ModelTpl<S>& m, DataTpl<S>& d, std::
     w.tree_velocity[i].setZero();
   w.tree_coriolis[i].setZero();
   Vec6<S>& a = w.tree_world_acceleration[i];
-  if (world_acc.template tail<3>().isZero() && world_acc.template head<3>().isZero()) {  // no gravity: no rotation
+  if (world_acc == Vec6<S>::Zero()) {  // exactly no gravity (a spacecraft, an impulse): no rotation
     a.setZero();
     return;
   }
