@@ -1,11 +1,12 @@
-"""Bodies with a constant inertia in their free root's frame (cpp/include/soadyn/
-constant_tree_inertia.hxx): on a free-flying bus, reaction wheels and a turntable
-whose mass is symmetric about their axes. The forward and hybrid dynamics and the
-mass matrix read those inertias formed once, in the bus's body frame, where the
-world's gravity must be carried; Pinocchio, which forms every inertia per call in
-its own frames, is the oracle. Gravity is oblique so that every component counts.
-Changing a parameter (set_parameter) must refresh the stored inertias, and break
-or restore a body's symmetry.
+"""Bodies with a constant inertia in their root's frame (cpp/include/soadyn/
+constant_tree_inertia.hxx): on a bus, reaction wheels and a turntable whose mass
+is symmetric about their axes. The bus flies free, or turns or slides on a joint
+about a coordinate axis (a fixed-base robot's first joint). The forward and hybrid
+dynamics and the mass matrix read those inertias formed once, in the bus's body
+frame, where the world's gravity must be carried; Pinocchio, which forms every
+inertia per call in its own frames, is the oracle. Gravity is oblique so that every
+component counts. Changing a parameter (set_parameter) must refresh the stored
+inertias, and break or restore a body's symmetry.
 """
 from __future__ import annotations
 
@@ -33,13 +34,14 @@ report_errors = report_fixture(LOG)
 class Body:
     name: str
     parent: int               # body index, -1: the world
-    axis: np.ndarray | None   # revolute axis; None: free joint
+    axis: np.ndarray | None   # revolute (or prismatic) axis; None: free joint
     rotation: np.ndarray
     translation: np.ndarray
     mass: float
     com: np.ndarray
     inertia: np.ndarray
     constant: bool            # expected: inertia constant in the bus frame
+    prismatic: bool = False
 
 
 def axis(k: int, sign: float = 1.0) -> np.ndarray:
@@ -54,18 +56,23 @@ def symmetric_inertia(k: int, axial: float, transverse: float) -> np.ndarray:
     return np.diag(d)
 
 
-def spacecraft() -> list[Body]:
+# The bus's joint: free, or about a coordinate axis of its frame (a robot's first joint).
+ROOTS = {"free": (None, False), "revolute": (axis(0, -1.0), False), "prismatic": (axis(1), True)}
+
+
+def spacecraft(root: str = "free") -> list[Body]:
     """A bus with five symmetric rotors (constant inertias) and five bodies that are not, in
     depth-first order (Pinocchio's mass matrix needs each subtree's DOFs contiguous)."""
     rng = np.random.default_rng(7)
+    root_axis, root_prismatic = ROOTS[root]
 
     def body(name, parent, joint_axis, mass, com, inertia, constant):
         return Body(name, parent, joint_axis, random_rotation(rng), rng.uniform(-1.0, 1.0, 3), mass,
                     np.asarray(com, dtype=float), inertia, constant)
 
     return [
-        Body("bus", -1, None, np.eye(3), np.zeros(3), 900.0, np.array([0.1, -0.05, 0.6]),
-             random_inertia(rng) * 300.0, True),
+        Body("bus", -1, root_axis, random_rotation(np.random.default_rng(11)), np.zeros(3), 900.0,
+             np.array([0.1, -0.05, 0.6]), random_inertia(rng) * 300.0, True, root_prismatic),
         body("wheel_x", 0, axis(0), 8.0, [0.03, 0, 0], symmetric_inertia(0, 0.09, 0.05), True),
         body("wheel_y", 0, axis(1, -1.0), 8.0, [0, -0.02, 0], symmetric_inertia(1, 0.09, 0.05), True),
         body("wheel_z", 0, axis(2), 8.0, [0, 0, 0], symmetric_inertia(2, 0.09, 0.05), True),
@@ -85,7 +92,8 @@ def build_soadyn(bodies: list[Body]) -> soadyn.Model:
     m = soadyn.Model()
     m.gravity = GRAVITY
     for b in bodies:
-        joint = soadyn.Joint.free() if b.axis is None else soadyn.Joint.revolute(b.axis)
+        joint = (soadyn.Joint.free() if b.axis is None else
+                 soadyn.Joint.prismatic(b.axis) if b.prismatic else soadyn.Joint.revolute(b.axis))
         m.add_body(b.name, b.parent, joint, placement=(b.rotation, b.translation), mass=b.mass, com=b.com,
                    inertia=b.inertia)
     return m
@@ -95,7 +103,8 @@ def build_pinocchio(bodies: list[Body]) -> pin.Model:
     model = pin.Model()
     model.gravity.linear = GRAVITY
     for b in bodies:
-        joint = pin.JointModelFreeFlyer() if b.axis is None else pin.JointModelRevoluteUnaligned(b.axis)
+        joint = (pin.JointModelFreeFlyer() if b.axis is None else
+                 pin.JointModelPrismaticUnaligned(b.axis) if b.prismatic else pin.JointModelRevoluteUnaligned(b.axis))
         jid = model.addJoint(b.parent + 1, joint, pin.SE3(b.rotation, b.translation), b.name)
         model.appendBodyToJoint(jid, pin.Inertia(b.mass, b.com, b.inertia), pin.SE3.Identity())
     return model
@@ -141,7 +150,8 @@ def prescribed_copies(c: Case) -> list:
         mask = np.zeros(c.m.nv, dtype=bool)
         for name in names:
             b = c.m.body_names.index(name)
-            mask[c.m.v_index[b]:c.m.v_index[b] + (6 if name == "bus" else 1)] = True
+            end = c.m.v_index[b + 1] if b + 1 < c.m.nbodies else c.m.nv
+            mask[c.m.v_index[b]:end] = True
         m = c.m.copy()
         m.set_prescribed(mask)
         copies.append((m, mask))
@@ -173,15 +183,17 @@ def constant_flags(c: Case) -> list[bool]:
     return [bool(x) for x in c.m.constant_tree_inertia]
 
 
-def test_which_bodies_have_constant_inertia():
-    c = Case(spacecraft())
+@pytest.mark.parametrize("root", sorted(ROOTS))
+def test_which_bodies_have_constant_inertia(root):
+    c = Case(spacecraft(root))
     assert constant_flags(c) == [b.constant for b in c.bodies]
 
 
-def test_dynamics_match_pinocchio_with_constant_inertias():
-    c = Case(spacecraft())
+@pytest.mark.parametrize("root", sorted(ROOTS))
+def test_dynamics_match_pinocchio_with_constant_inertias(root):
+    c = Case(spacecraft(root))
     assert sum(constant_flags(c)) == 5
-    compare_all(c, "spacecraft")
+    compare_all(c, f"{root} bus")
 
 
 def test_dynamics_do_not_depend_on_the_root_pose_through_the_stored_inertias():

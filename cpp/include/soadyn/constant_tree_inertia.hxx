@@ -1,20 +1,22 @@
 // Which bodies have a constant inertia in their tree frame (templated
 // implementation of ModelTpl::refresh_constant_tree_inertia, model.hpp).
 //
-// The forward and hybrid dynamics sweeps express a tree whose root has a
-// free joint in the root's body frame (algorithms/tree_frame_steps.hpp), so
-// a rigid body's inertia there is the body's own inertia carried by its pose
-// relative to the root. That pose is constant for the root itself and for
-// every rigid body joined to it by fixed joints (welded: a spacecraft's
-// instruments and booms). A body whose revolute joint turns it about a
-// coordinate axis of its own frame, on a welded parent, moves, but its
-// inertia does not when its mass is symmetric about that axis: centre of
-// mass on the axis, and the rotational inertia about it diagonal with equal
-// moments about the two other axes (a reaction wheel, a turntable, a gimbal
-// ring of uniform mass). Those bodies' ten inertia parameters are formed
-// here, once, and the sweeps read them instead of forming them per call.
-// The symmetry is tested exactly, as the inertia is given: a rotor whose two
-// transverse moments differ in the last bit is formed per call, as before.
+// The forward and hybrid dynamics sweeps and the CRBA express a tree whose
+// root joint has a constant body-frame subspace (free, revolute or
+// prismatic about a coordinate axis, fixed) in the root's body frame
+// (algorithms/tree_frame_steps.hpp), so a rigid body's inertia there is the
+// body's own inertia carried by its pose relative to the root. That pose is
+// constant for the root itself and for every rigid body joined to it by
+// fixed joints (welded: a spacecraft's instruments and booms, a robot's
+// base plate). A body whose revolute joint turns it about a coordinate axis
+// of its own frame, on a welded parent, moves, but its inertia does not when
+// its mass is symmetric about that axis: centre of mass on the axis, and the
+// rotational inertia about it diagonal with equal moments about the two
+// other axes (a reaction wheel, a turntable, a gimbal ring of uniform mass).
+// Those bodies' ten inertia parameters are formed here, once, and the sweeps
+// read them instead of forming them per call. The symmetry is tested
+// exactly, as the inertia is given: a rotor whose two transverse moments
+// differ in the last bit is formed per call, as before.
 #pragma once
 #include <type_traits>
 #include "soadyn/model.hpp"
@@ -41,30 +43,30 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
   const std::size_t n = parent.size();
   constant_tree_inertia.assign(n, 0);
   tree_inertia_parameters.resize(n);
-  welded_to_free_root_.assign(n, 0);
-  pose_in_free_root_.resize(n);
+  welded_to_root_.assign(n, 0);
+  pose_in_root_.resize(n);
   if constexpr (!std::is_floating_point_v<S>) return;
   for (std::size_t i = 0; i < n; ++i) {
     if (flexible_index[i] >= 0 || attachment_node[i] >= 0) continue;  // rigid bodies on a body frame only
     const int p = parent[i];
     const JointKernel kernel = joint_kernel[i];
     if (p < 0) {
-      if (kernel != JointKernel::free) continue;
-      welded_to_free_root_[i] = 1;
-      pose_in_free_root_[i] = Transform<S>();
+      if (!joint_has_constant_body_subspace(kernel)) continue;
+      welded_to_root_[i] = 1;
+      pose_in_root_[i] = Transform<S>();
     } else {
       const std::size_t pp = static_cast<std::size_t>(p);
-      if (!welded_to_free_root_[pp]) continue;
+      if (!welded_to_root_[pp]) continue;
       const bool welded = kernel == JointKernel::fixed;
       const int axis = static_cast<int>(kernel) - static_cast<int>(JointKernel::revolute_x);
       const bool coordinate_axis = kernel == JointKernel::revolute_x || kernel == JointKernel::revolute_y ||
                                    kernel == JointKernel::revolute_z;
       if (!welded && !(coordinate_axis && detail::mass_symmetric_about_axis(axis, com[i], inertia_com[i]))) continue;
-      welded_to_free_root_[i] = welded ? 1 : 0;
-      pose_in_free_root_[i] = pose_in_free_root_[pp] * placement[i];  // a turning body's at angle 0: the same inertia
+      welded_to_root_[i] = welded ? 1 : 0;
+      pose_in_root_[i] = pose_in_root_[pp] * placement[i];  // a turning body's at angle 0: the same inertia
     }
     constant_tree_inertia[i] = 1;
-    inertia_parameters_in_frame(pose_in_free_root_[i], mass[i], com[i], inertia_com[i], tree_inertia_parameters[i]);
+    inertia_parameters_in_frame(pose_in_root_[i], mass[i], com[i], inertia_com[i], tree_inertia_parameters[i]);
   }
 }
 

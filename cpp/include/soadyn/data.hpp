@@ -69,7 +69,7 @@ struct SweepData {
   aligned_vector<Vec6<S>> tree_coriolis;               // a(i)
   aligned_vector<Vec6<S>> tree_bias_force;             // b(i) of a rigid body (an appendage's is in body_bias_force)
   aligned_vector<Vec6<S>> tree_acceleration;           // alpha(i), including the -gravity base acceleration
-  aligned_vector<Vec6<S>> tree_world_acceleration;     // of a free root in its body frame: -gravity there
+  aligned_vector<Vec6<S>> tree_world_acceleration;     // of a root in its body frame: -gravity there
   aligned_vector<Vec6<S>> tree_hinge_force;            // f(i) (Eq. 29)
   aligned_vector<Mat6<S>> tree_articulated_inertia;    // P(i); the composite inertia in the mass matrix
   aligned_vector<Vec6<S>> tree_bias_and_children_z;    // b(i) + sum of the children's z+ (Eq. 28)

@@ -255,8 +255,10 @@ class ModelTpl {
   std::vector<std::uint8_t> check_tree_frame_reach;
   bool reach_checks_needed = false;
 
-  // Inertias the dynamics sweeps need not form (constant_tree_inertia.hxx):
-  // there a free root's tree frame is its own body frame, so a rigid body
+  // Inertias the dynamics sweeps and the CRBA need not form
+  // (constant_tree_inertia.hxx): there a root whose joint has a constant
+  // body-frame subspace (free, revolute or prismatic about a coordinate
+  // axis, fixed) has its own body frame for its tree frame, so a rigid body
   // welded to it (through fixed joints), or turning on such a body about an
   // axis of symmetry of its mass (a reaction wheel, a turntable), has the
   // same inertia in its tree frame in every configuration. Per body: 1 when
@@ -329,10 +331,10 @@ class ModelTpl {
   std::unordered_map<std::string, int> body_lookup_, dof_lookup_, frame_lookup_;
   // refresh_tree_frame_reach's scratch, kept so that a refresh allocates nothing.
   std::vector<S> subtree_radius_, distance_bound_;
-  // refresh_constant_tree_inertia's: per body, whether its pose in its free
+  // refresh_constant_tree_inertia's: per body, whether its pose in its
   // root's body frame is constant, and that pose.
-  std::vector<std::uint8_t> welded_to_free_root_;
-  aligned_vector<Transform<S>> pose_in_free_root_;
+  std::vector<std::uint8_t> welded_to_root_;
+  aligned_vector<Transform<S>> pose_in_root_;
 };
 
 using Model = ModelTpl<double>;

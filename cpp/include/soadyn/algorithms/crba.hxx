@@ -97,11 +97,11 @@ Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
     if (m.parent[i] < 0 && joint_has_constant_body_subspace(m.joint_kernel[i])) {
       d.sweep.tree_pose[i] = Transform<S>();
       d.sweep.tree_subspace[i] = d.sweep.body_subspace[i];
-    } else {  // a free root's frame is its body frame, as in the dynamics sweeps: its children's bases are their placements
+    } else {  // such a root's frame is its body frame, as in the dynamics sweeps: its children's bases are their placements
       tree_joint_step<true>(m, d, i, q.data(), static_cast<const S*>(nullptr));
     }
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
-    if (m.constant_tree_inertia[i])  // constant in its free root's frame (constant_tree_inertia.hxx)
+    if (m.constant_tree_inertia[i])  // constant in its root's frame (constant_tree_inertia.hxx)
       d.sweep.tree_composite_inertia[i] = m.tree_inertia_parameters[i];
     else
       inertia_parameters_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i],

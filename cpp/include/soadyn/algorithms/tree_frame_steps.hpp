@@ -23,18 +23,21 @@
 // frame is V x H*, so the Coriolis term of Eq. 1 is a(k) = V(k) x (H* qdot),
 // plus the joint's own bias for joints whose subspace varies (universal).
 //
-// Free roots (`FreeRootFrames`, the forward and hybrid dynamics sweeps): a
-// tree whose root has a free joint takes the root's body frame at this
-// instant as its tree frame instead of the world's orientation. The
-// recursions hold in it as in any frame; the root's pose is the identity and
-// its H* the identity (its velocity is its body-frame twist, the free joint's
+// Roots in their own frames (`RootBodyFrames`: the forward and hybrid
+// dynamics sweeps; the CRBA likewise, crba.hxx): a tree whose root joint has
+// a constant subspace in the root's body frame (free; revolute or prismatic
+// about a coordinate axis, as every robot's first joint; fixed) takes the
+// root's body frame at this instant as its tree frame instead of the world's
+// orientation. The recursions hold in it as in any frame; the root's pose is
+// the identity and its H* its constant body-frame subspace (a free root's
+// is the identity: its velocity is its body-frame twist, the free joint's
 // v), so the root has no joint step, its children's bases are their
 // placements, and a body welded to the root, or turning about an axis of
 // mass symmetry on a welded body, has a constant inertia there (formed once:
 // constant_tree_inertia.hxx). The world's acceleration, -gravity, is carried
-// into the root's frame once per call. The loops' and the derivatives' sweeps,
-// which read tree-frame quantities as world-oriented, keep the world's
-// orientation.
+// into the root's frame once per call. The loops' and the derivatives'
+// sweeps, which read tree-frame quantities as world-oriented, keep the
+// world's orientation.
 #pragma once
 #include <type_traits>
 
@@ -102,22 +105,30 @@ SOADYN_ALWAYS_INLINE bool is_free_root(const ModelTpl<S>& m, int i) {
   return m.parent[b] < 0 && m.joint_kernel[b] == JointKernel::free;
 }
 
+// Whether body i is a root whose tree frame is its own body frame under
+// RootBodyFrames (above): its joint's subspace is constant in that frame.
+template <class S>
+SOADYN_ALWAYS_INLINE bool is_body_frame_root(const ModelTpl<S>& m, int i) {
+  const std::size_t b = static_cast<std::size_t>(i);
+  return m.parent[b] < 0 && joint_has_constant_body_subspace(m.joint_kernel[b]);
+}
+
 // Pose of body i in its tree frame and its motion subspace there; returns the
 // joint's velocity-product acceleration in the tree frame (zero for every
 // joint but the universal one). A root body's tree pose has no translation.
 // The kernels' code lives with their joints (joints/revolute.hpp,
 // prismatic.hpp, free.hpp, universal.hpp, spherical.hpp). Every sweep calls
 // tabulate_joint_angles with the same q before its first body.
-// FreeRootFrames: a free root's tree frame is its body frame (above), so a
-// child of a free root has its placement for base.
-template <bool FreeRootFrames = false, class S>
+// RootBodyFrames: such a root's tree frame is its body frame (above), so its
+// children have their placements for bases.
+template <bool RootBodyFrames = false, class S>
 inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   const int p = m.parent[i];
   const bool root = p < 0;
   Transform<S> base;
   if (root)
     base.rotation = m.placement[i].rotation;
-  else if (FreeRootFrames && is_free_root(m, p))
+  else if (RootBodyFrames && is_body_frame_root(m, p))
     base = m.placement[i];
   else
     detail::compose_with_placement(d.sweep.tree_pose[static_cast<std::size_t>(p)], m.placement[i], base);
@@ -160,9 +171,9 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
 // Tree-frame kinematics of body i (Jain & Rodriguez 1993, Eq. 1): pose and subspace,
 // V(i) = V(parent) + H* qdot and a(i) = V(i) x (H* qdot) + joint bias.
 // `v` null: zero velocity (impulse problems).
-template <bool FreeRootFrames = false, class S>
+template <bool RootBodyFrames = false, class S>
 SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
-  const Vec6<S> joint_rate = tree_joint_step<FreeRootFrames>(m, d, i, q, v);
+  const Vec6<S> joint_rate = tree_joint_step<RootBodyFrames>(m, d, i, q, v);
   if (!v) {
     d.sweep.tree_velocity[i].setZero();
     d.sweep.tree_coriolis[i].setZero();
@@ -176,18 +187,19 @@ SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d
   if (joint_has_rate_term(m.joint_kernel[i])) d.sweep.tree_coriolis[i] += joint_rate;
 }
 
-// Kinematics of free root i in its own body frame (FreeRootFrames): pose and
-// H* the identity, V(i) = v_i, a(i) = V x (H* v) = 0, and the world's
-// acceleration [0; -g] carried into the body frame by the root's world
-// rotation R (placement times the free joint's): [0; -R' g].
+// Kinematics of root i in its own body frame (RootBodyFrames): pose the
+// identity, H* the joint's constant body-frame subspace, V(i) = H* v_i and
+// a(i) = V x (H* v) = 0, and the world's acceleration [0; -g] carried into
+// the body frame by the root's world rotation R (placement times the
+// joint's): [0; -R' g].
 template <class S>
-inline void free_root_body_frame_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
-                                      const Vec6<S>& world_acc) {
+inline void root_body_frame_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
+                                 const Vec6<S>& world_acc) {
   SweepData<S>& w = d.sweep;
   w.tree_pose[i] = Transform<S>();
-  w.tree_subspace[i].setIdentity();
+  w.tree_subspace[i] = w.body_subspace[i];
   if (v)
-    w.tree_velocity[i] = Eigen::Map<const Vec6<S>>(v + m.v_index[i]);
+    w.tree_velocity[i] = subspace_times(w.body_subspace[i], v + m.v_index[i]);
   else
     w.tree_velocity[i].setZero();
   w.tree_coriolis[i].setZero();
@@ -196,7 +208,16 @@ inline void free_root_body_frame_step(const ModelTpl<S>& m, DataTpl<S>& d, std::
     a.setZero();
     return;
   }
-  const Mat3<S> R = m.placement[i].rotation * quaternion_rotation(q + m.q_index[i] + 3);
+  Transform<S> world_pose = m.placement[i];
+  const JointKernel kernel = m.joint_kernel[i];
+  if (kernel == JointKernel::free) {
+    world_pose.rotation = m.placement[i].rotation * quaternion_rotation(q + m.q_index[i] + 3);
+  } else if (kernel <= JointKernel::revolute_z) {  // the angle's cosine and sine from the sweep's table
+    const std::size_t slot = static_cast<std::size_t>(m.angle_slot[i]);
+    rotate_about_coordinate_axis(static_cast<int>(kernel) - static_cast<int>(JointKernel::revolute_x), m.placement[i],
+                                 w.tree_joint_cosine[slot], w.tree_joint_sine[slot], world_pose);
+  }  // prismatic and fixed joints do not turn the body
+  const Mat3<S>& R = world_pose.rotation;
   a << R.transpose() * world_acc.template head<3>(), R.transpose() * world_acc.template tail<3>();
 }
 
@@ -216,13 +237,13 @@ SOADYN_ALWAYS_INLINE bool beyond_tree_frame_reach(const ModelTpl<S>& m, const Da
 // tree_bias_and_children_z[i]; `f_ext` as in steps.hpp. The articulated-body
 // sweeps start P from M (tree_frame_sweeps.hxx); the mass matrix's sweep
 // needs only the parameters (crba.hxx).
-// FreeRootFrames: a body with a constant inertia in its free root's frame
+// RootBodyFrames: a body with a constant inertia in its root's frame
 // (model.constant_tree_inertia) reads it.
-template <bool FreeRootFrames = false, class S>
+template <bool RootBodyFrames = false, class S>
 SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v,
                                                const S* f_ext, InertiaParameters<S>& parameters) {
   const Transform<S>& pose = d.sweep.tree_pose[i];
-  if (FreeRootFrames && m.constant_tree_inertia[i])
+  if (RootBodyFrames && m.constant_tree_inertia[i])
     parameters = m.tree_inertia_parameters[i];
   else
     inertia_parameters_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i], parameters);

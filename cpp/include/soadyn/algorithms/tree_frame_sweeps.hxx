@@ -21,9 +21,9 @@ namespace detail {
 //   alpha = P^-1 (H^-* T - z),  H^-* = H (orthogonal blocks),
 // one 6x6 Cholesky factorisation instead of D = H P H*, G and P+.
 // Stores alpha in acceleration[i] and P's factor in hinge_factor[i];
-// returns the DOF of a singular P, or -1. FreeRootFrames: the tree frame is
-// the root's body frame, H = 1 and alpha = P^-1 (T - z).
-template <bool FreeRootFrames, class S>
+// returns the DOF of a singular P, or -1. RootBodyFrames: the tree frame is
+// the root's body frame, where H = 1 and alpha = P^-1 (T - z).
+template <bool RootBodyFrames, class S>
 inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u) {
   const Mat6N<S>& s = d.sweep.tree_subspace[i];
   Mat6<S>& L = d.sweep.hinge_factor[i];
@@ -32,7 +32,7 @@ inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, 
   if (bad >= 0) return m.v_index[i] + bad;
   const Eigen::Map<const Vec6<S>> torque(u + m.v_index[i]);
   Vec6<S>& alpha = d.sweep.tree_acceleration[i];
-  if constexpr (FreeRootFrames)
+  if constexpr (RootBodyFrames)
     alpha = torque;
   else
     alpha << s.template topLeftCorner<3, 3>() * torque.template head<3>(),
@@ -43,15 +43,15 @@ inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, 
 }
 
 // qdd = H^-1 (alpha - alpha+ - a) of that free root, H^-1 = H* (orthogonal
-// blocks; FreeRootFrames: H = 1, a = 0 and alpha+ the world's acceleration in
+// blocks; RootBodyFrames: H = 1, a = 0 and alpha+ the world's acceleration in
 // the root's frame).
-template <bool FreeRootFrames, class S>
+template <bool RootBodyFrames, class S>
 inline void free_root_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u, const Vec6<S>& world_acc,
                               bool want_force) {
   SweepData<S>& w = d.sweep;
   const Mat6N<S>& s = w.tree_subspace[i];
   const int vi = m.v_index[i];
-  if constexpr (FreeRootFrames) {
+  if constexpr (RootBodyFrames) {
     d.qdd.template segment<6>(vi) = w.tree_acceleration[i] - w.tree_world_acceleration[i];
   } else {
     const Vec6<S> relative = w.tree_acceleration[i] - world_acc - w.tree_coriolis[i];
@@ -77,11 +77,11 @@ inline bool is_regular_free_root(const ModelTpl<S>& m, std::size_t i) {
 }
 
 // The acceleration a root's tree frame gives its parent, the world: [0; -g]
-// in the world's orientation, or in a free root's body frame (FreeRootFrames).
-template <bool FreeRootFrames, class S>
+// in the world's orientation, or in the root's body frame (RootBodyFrames).
+template <bool RootBodyFrames, class S>
 SOADYN_ALWAYS_INLINE const Vec6<S>& root_world_acceleration(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i,
                                                             const Vec6<S>& world_acc) {
-  if (FreeRootFrames && m.joint_kernel[i] == JointKernel::free) return d.sweep.tree_world_acceleration[i];
+  if (RootBodyFrames && joint_has_constant_body_subspace(m.joint_kernel[i])) return d.sweep.tree_world_acceleration[i];
   return world_acc;
 }
 
@@ -103,19 +103,20 @@ SOADYN_ALWAYS_INLINE int tree_hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, 
 // the accelerations of all-prescribed regions; tip to base P, z, G, nu
 // (Eq. 28). `v` null means zero velocity. Returns beyond_tree_frame_reach,
 // having changed no output, when a body lies too far from its tree origin
-// for tree frames (the caller then uses body frames). FreeRootFrames: a free
-// root's tree frame is its body frame (tree_frame_steps.hpp).
-template <ModePolicy Modes, bool Flex, bool FreeRootFrames = false, class S>
+// for tree frames (the caller then uses body frames). RootBodyFrames: a
+// root's tree frame is its body frame where its joint allows
+// (tree_frame_steps.hpp).
+template <ModePolicy Modes, bool Flex, bool RootBodyFrames = false, class S>
 Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u,
                                 const S* f_ext, const Vec6<S>& world_acc) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   SweepData<S>& w = d.sweep;
   tabulate_joint_angles(m, w, q);
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, M, b (Eq. 1); all-prescribed regions' accelerations
-    if (FreeRootFrames && is_free_root(m, static_cast<int>(i)))
-      free_root_body_frame_step(m, d, i, q, v, world_acc);
+    if (RootBodyFrames && is_body_frame_root(m, static_cast<int>(i)))
+      root_body_frame_step(m, d, i, q, v, world_acc);
     else
-      tree_velocity_step<FreeRootFrames>(m, d, i, q, v);
+      tree_velocity_step<RootBodyFrames>(m, d, i, q, v);
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
     if constexpr (Flex) {
       if (m.is_flexible(static_cast<int>(i))) {  // modal DOFs always regular: P^ and z^ at once
@@ -124,12 +125,12 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
       }
     }
     InertiaParameters<S> inertia;
-    tree_rigid_body_step<FreeRootFrames>(m, d, i, v, f_ext, inertia);
+    tree_rigid_body_step<RootBodyFrames>(m, d, i, v, f_ext, inertia);
     assign_spatial_inertia(inertia, w.tree_articulated_inertia[i]);  // the start of P
     if (!needs_articulated_inertia<Modes>(m, i)) {  // Newton-Euler: alpha = alpha+ + H* qdd + a, f = M alpha + b
       const int p = m.parent[i];
       w.tree_acceleration[i] = (p >= 0 ? w.tree_acceleration[static_cast<std::size_t>(p)]
-                                       : root_world_acceleration<FreeRootFrames>(m, d, i, world_acc)) +
+                                       : root_world_acceleration<RootBodyFrames>(m, d, i, world_acc)) +
                                w.tree_coriolis[i];
       w.tree_acceleration[i] += subspace_times(w.tree_subspace[i], u + m.v_index[i]);
       w.tree_hinge_force[i] = w.tree_bias_force[i] + momentum(inertia, w.tree_acceleration[i]);
@@ -149,7 +150,7 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
       continue;
     }
     if (is_regular_free_root<Modes>(m, i)) {
-      const int bad = free_root_inward<FreeRootFrames>(m, d, i, u);
+      const int bad = free_root_inward<RootBodyFrames>(m, d, i, u);
       if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
       continue;
     }
@@ -178,15 +179,15 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
 }
 
 // The third sweep's step for body i (Eq. 29), its parent's acceleration known.
-template <ModePolicy Modes, bool Flex, bool FreeRootFrames = false, class S>
+template <ModePolicy Modes, bool Flex, bool RootBodyFrames = false, class S>
 SOADYN_ALWAYS_INLINE void tree_outward_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
                                             const Vec6<S>& world_acc, bool want_force) {
   if (!needs_articulated_inertia<Modes>(m, i)) return;
   const int p = m.parent[i];
   const Vec6<S>& alpha_plus = p >= 0 ? d.sweep.tree_acceleration[static_cast<std::size_t>(p)]
-                                     : root_world_acceleration<FreeRootFrames>(m, d, i, world_acc);
+                                     : root_world_acceleration<RootBodyFrames>(m, d, i, world_acc);
   if (is_regular_free_root<Modes>(m, i))
-    free_root_outward<FreeRootFrames>(m, d, i, u, world_acc, want_force);
+    free_root_outward<RootBodyFrames>(m, d, i, u, world_acc, want_force);
   else if (regular_hinge<Modes>(m, i))
     hinge_outward<Frames::tree, true>(m, d, i, u, alpha_plus, want_force);
   else  // some DOF prescribed
@@ -198,19 +199,19 @@ SOADYN_ALWAYS_INLINE void tree_outward_step(const ModelTpl<S>& m, DataTpl<S>& d,
 
 // The third sweep (base to tip, Eq. 29) and the outputs' checks; `want_force`
 // also leaves every hinge force in data.hinge_force (body frame).
-template <ModePolicy Modes, bool Flex, bool FreeRootFrames = false, class S>
+template <ModePolicy Modes, bool Flex, bool RootBodyFrames = false, class S>
 Status tree_frame_outward_sweep(const ModelTpl<S>& m, DataTpl<S>& d, const S* u, const Vec6<S>& world_acc,
                                 bool want_force) {
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i)
-    tree_outward_step<Modes, Flex, FreeRootFrames>(m, d, i, u, world_acc, want_force);
+    tree_outward_step<Modes, Flex, RootBodyFrames>(m, d, i, u, world_acc, want_force);
   if (want_force) hinge_forces_to_body_frames(d);
   const Status s = check_finite(d.qdd);
   if constexpr (Modes == ModePolicy::all_regular) return s;  // tau is the given torque
   return s.ok() ? check_prescribed_finite(m, d.tau) : s;
 }
 
-// The three sweeps in tree frames (arguments as above), free roots in their
-// body frames: these sweeps' outputs are joint-space (and hinge forces in
+// The three sweeps in tree frames (arguments as above), roots in their body
+// frames where their joints allow: these sweeps' outputs are joint-space (and hinge forces in
 // body frames), so no caller sees the tree frame's orientation.
 template <ModePolicy Modes, bool Flex, class S>
 Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u, const S* f_ext,
