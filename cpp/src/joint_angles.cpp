@@ -26,6 +26,14 @@ using Sources = JointAngleSources<double>;
 // Slot k's angle, or 0 past the last slot (a vector's spare lanes).
 double angle_or_zero(const Sources& sources, Eigen::Index k) { return k < sources.n ? sources[k] : 0.0; }
 
+#ifdef SOADYN_HAVE_AVX2_KERNEL
+// Slots k .. k + 3 in one AVX register, read straight from the coordinates.
+__attribute__((target("avx2,fma"))) inline __m256d four_angles(const Sources& sources, Eigen::Index k) {
+  return _mm256_set_pd(angle_or_zero(sources, k + 3), angle_or_zero(sources, k + 2), angle_or_zero(sources, k + 1),
+                       sources[k]);
+}
+#endif
+
 void sine_cosine_std(const Sources& sources, double* angle, double* sine, double* cosine) {
   for (Eigen::Index k = 0; k < sources.n; ++k) {
     angle[k] = sources[k];
@@ -47,8 +55,7 @@ void sine_cosine_sse2(const Sources& sources, double* angle, double* sine, doubl
 __attribute__((target("avx2,fma"))) void sine_cosine_libmvec_avx2(const Sources& sources, double* angle,
                                                                   double* sine, double* cosine) {
   for (Eigen::Index k = 0; k < sources.n; k += 4) {
-    const __m256d x = _mm256_set_pd(angle_or_zero(sources, k + 3), angle_or_zero(sources, k + 2),
-                                    angle_or_zero(sources, k + 1), sources[k]);
+    const __m256d x = four_angles(sources, k);
     _mm256_storeu_pd(angle + k, x);
     _mm256_storeu_pd(sine + k, _ZGVdN4v_sin(x));
     _mm256_storeu_pd(cosine + k, _ZGVdN4v_cos(x));
@@ -112,8 +119,7 @@ __attribute__((target("avx2,fma"))) void sine_cosine_polynomial_avx2(const Sourc
   const __m256d reach = _mm256_set1_pd(kPolynomialReach);
   const __m256d magnitude_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffff));
   for (Eigen::Index k = 0; k < sources.n; k += 4) {
-    const __m256d x = _mm256_set_pd(angle_or_zero(sources, k + 3), angle_or_zero(sources, k + 2),
-                                    angle_or_zero(sources, k + 1), sources[k]);
+    const __m256d x = four_angles(sources, k);
     _mm256_storeu_pd(angle + k, x);
     // A finite angle beyond the reach: the whole vector from the C library
     // (NaN and infinities stay here, and come out NaN).
