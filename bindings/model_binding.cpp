@@ -28,6 +28,9 @@ struct JointSpec {
 
 namespace {
 
+// A per-body flag vector (std::uint8_t) as a Python list of bools.
+std::vector<bool> as_bools(const std::vector<std::uint8_t>& flags) { return {flags.begin(), flags.end()}; }
+
 // Joint.<type>(parameters..., name=""): one static factory per alternative
 // of JointModel, its arguments named by the joint type's parameter_names.
 template <class J, class... P, std::size_t... I>
@@ -250,12 +253,13 @@ void bind_model(py::module_& mod) {
       .def_property_readonly("q_index", [](const ModelHandle& h) { return h.model.q_index; })
       .def_property_readonly("v_index", [](const ModelHandle& h) { return h.model.v_index; })
       .def_property_readonly(
-          "constant_tree_inertia",
-          [](const ModelHandle& h) {
-            return std::vector<bool>(h.model.constant_tree_inertia.begin(), h.model.constant_tree_inertia.end());
-          },
+          "constant_tree_inertia", [](const ModelHandle& h) { return as_bools(h.model.constant_tree_inertia); },
           "Per body: whether the dynamics read its inertia formed once (constant in its free root's frame: "
           "welded to the root, or turning about an axis of mass symmetry on it).")
+      .def_property_readonly(
+          "appendage_in_root_frame", [](const ModelHandle& h) { return as_bools(h.model.appendage_in_root_frame); },
+          "Per body: whether it is a flexible appendage welded to its root, whose modal integrals the dynamics "
+          "read formed once in the root's frame.")
       .def_property_readonly("masses", [](const ModelHandle& h) { return h.model.mass; })
       .def_property_readonly("n_modes", [](const ModelHandle& h) { return h.model.n_modes; },
                              "Modal coordinates per body (0 for a rigid body).")

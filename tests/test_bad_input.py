@@ -101,6 +101,29 @@ def test_zero_mass_free_floating_body_is_singular():
 
 
 @pytest.mark.parametrize(
+    "mass, inertia, com, dof",
+    [
+        # A point mass: nothing resists a rotation about its origin.
+        (2.0, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], "rod:wx"),
+        # A thin rod along z: no inertia about its axis, the third rotation.
+        (2.0, [1.0, 1.0, 0.0], [0.0, 0.0, 0.0], "rod:wz"),
+        # The same rod along y with its centre of mass off the origin: the rotation about
+        # y through the centre of mass is free, and the free joint's DOFs reach it first
+        # at the x translation (the pivot order of P = L D L', rotations first).
+        (2.0, [1.0, 0.0, 1.0], [0.0, 0.0, 0.5], "rod:vx"),
+    ],
+)
+def test_singular_free_body_names_its_first_singular_dof(mass, inertia, com, dof):
+    m = soadyn.Model()
+    m.add_body("rod", None, soadyn.Joint.free(), mass=mass, inertia=inertia, com=com)
+    q = soadyn.neutral_configuration(m)
+    for call in (lambda: soadyn.forward_dynamics(m, q, np.zeros(6), np.zeros(6)),
+                 lambda: soadyn.hybrid_dynamics(m, q, np.zeros(6), np.zeros(6))):
+        with pytest.raises(soadyn.DynamicsError, match=f"'{dof}' is singular"):
+            call()
+
+
+@pytest.mark.parametrize(
     "kw, message",
     [
         (dict(mass=-1.0), "body 'new': mass -1 is negative"),

@@ -160,8 +160,9 @@ LAYOUT_PARTS = {
         ("c3", "f0", "revolute", "rigid"),
     ],
     # Appendages: flexible bodies with nothing on their nodes (the tree-frame sweeps
-    # eliminate their modes in the body frame): a boom clamped to a free-floating rigid
-    # root, a hinged one carrying a body on its reference frame, one on a sliding body.
+    # eliminate their modes in the body frame, or in the root's frame for a boom welded
+    # to the root): a boom clamped to a free-floating rigid root, a hinged one carrying a
+    # body on its reference frame, one on a sliding body.
     "appendages": [
         ("b0", None, "free", "rigid"),
         ("f1", "b0", "fixed", "flexible-damped"),
@@ -446,7 +447,12 @@ def test_trees_cover_the_flexible_features(layout, seed):
     on_node = [p for p in parts if p.parent is not None and ":" in p.parent]
     on_frame = [p for p in parts if any(p.parent == f.name for f in flexible)]
     assert on_frame
+    # Appendages welded to the free root have their modes eliminated in the root's
+    # frame, with the integrals held there: the oracle checks that path on f1.
+    welded = [p.name for p in flexible if layout == "appendages" and p.joint[0] == "fixed" and p.parent == "b0"]
+    assert [name for name, flag in zip(m.body_names, m.appendage_in_root_frame) if flag] == welded
     if layout == "appendages":
+        assert welded == ["f1"]
         assert not on_node
         assert {p.joint[0] for p in flexible} == {"fixed", "revolute", "prismatic"}
     else:

@@ -217,6 +217,11 @@ class _Model:
         """
         Per body: whether the dynamics read its inertia formed once (constant in its free root's frame: welded to the root, or turning about an axis of mass symmetry on it).
         """
+    @property
+    def appendage_in_root_frame(self) -> list[bool]:
+        """
+        Per body: whether it is a flexible appendage welded to its root, whose modal integrals the dynamics read formed once in the root's frame.
+        """
 class NonphysicalInertiaError(ValueError):
     pass
 class DynamicsError(ArithmeticError):

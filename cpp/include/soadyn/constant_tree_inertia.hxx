@@ -16,7 +16,9 @@
 // Those bodies' ten inertia parameters are formed here, once, and the sweeps
 // read them instead of forming them per call. The symmetry is tested
 // exactly, as the inertia is given: a rotor whose two transverse moments
-// differ in the last bit is formed per call, as before.
+// differ in the last bit is formed per call, as before. A flexible
+// appendage welded to such a root has its modal integrals formed here in
+// the root's frame, once (ModelTpl::root_frame_integrals).
 #pragma once
 #include <type_traits>
 #include "soadyn/model.hpp"
@@ -45,11 +47,21 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
   tree_inertia_parameters.resize(n);
   welded_to_root_.assign(n, 0);
   pose_in_root_.resize(n);
+  appendage_in_root_frame.assign(n, 0);
+  root_frame_integrals.resize(flexible_bodies.size());
   if constexpr (!std::is_floating_point_v<S>) return;
   for (std::size_t i = 0; i < n; ++i) {
-    if (flexible_index[i] >= 0 || attachment_node[i] >= 0) continue;  // rigid bodies on a body frame only
     const int p = parent[i];
     const JointKernel kernel = joint_kernel[i];
+    const int flexible = flexible_index[i];
+    if (flexible >= 0 && p >= 0 && attachment_node[i] < 0 && kernel == JointKernel::fixed &&
+        welded_to_root_[static_cast<std::size_t>(p)]) {  // a welded appendage (if no body sits on its nodes)
+      appendage_in_root_frame[i] = 1;
+      pose_in_root_[i] = pose_in_root_[static_cast<std::size_t>(p)] * placement[i];
+      const std::size_t f = static_cast<std::size_t>(flexible);
+      flexible_bodies[f].modal_integrals().in_frame(pose_in_root_[i], root_frame_integrals[f]);
+    }
+    if (flexible >= 0 || attachment_node[i] >= 0) continue;  // rigid bodies on a body frame only
     if (p < 0) {
       if (!joint_has_constant_body_subspace(kernel)) continue;
       welded_to_root_[i] = 1;

@@ -88,7 +88,7 @@ struct SweepData {
   // later solves with it: one regular DOF, D itself in (0, 0); more, its
   // Cholesky factor L (D = L L') in the lower triangle of the top-left
   // n_r x n_r block. A regular free root solved outright (free_root_inward):
-  // the factor of its P.
+  // its P^-1.
   aligned_vector<Mat6<S>> hinge_factor;
   VecX<S> unit_acceleration;  // mass-matrix columns (flexible models, bodies beyond tree-frame reach)
 

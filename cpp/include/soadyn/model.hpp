@@ -267,6 +267,14 @@ class ModelTpl {
   // derivatives by forming it per call).
   std::vector<std::uint8_t> constant_tree_inertia;
   aligned_vector<InertiaParameters<S>> tree_inertia_parameters;
+  // Likewise a flexible appendage welded to such a root (through fixed
+  // joints): its pose in the root's frame is constant, so its modal
+  // integrals are held in that frame too (ModalIntegrals::in_frame), and the
+  // sweeps eliminate its modes there, with no congruence to the tree frame.
+  // Per body: 1 for such an appendage; per flexible body (flexible_index):
+  // its integrals in its root's body frame, where flagged.
+  std::vector<std::uint8_t> appendage_in_root_frame;
+  std::vector<ModalIntegrals<S>> root_frame_integrals;
 
   // Set by every structural change (add_body, add_flexible_body); a copy carries it.
   DynamicsPath dynamics_path = DynamicsPath::rigid_tree_frames;

@@ -22,17 +22,19 @@
 
 namespace soadyn {
 
-// Body-frame P^ and z^ of flexible appendage i, given its body-frame
-// velocity V; leaves b_V - f_ext in sweep.body_bias_force[i], and G' in
-// gain_transpose and nu in innovation of its FlexibleBodyData
-// (modal_accelerations reads them). `v` null: zero
-// velocity with no elastic force (impulse problems), as flexible_bias_step.
-// `f_ext` as in steps.hpp.
+// P^ and z^ of flexible appendage i in the frame of its modal integrals
+// `mi` (the body's own, or the same body described in its root's frame:
+// ModelTpl::root_frame_integrals), given its velocity V and the external
+// wrench on it (null: none) in that frame; leaves b_V - f_ext in
+// sweep.body_bias_force[i], and G' in gain_transpose and nu in innovation
+// of its FlexibleBodyData (modal_accelerations reads them, with the
+// acceleration in the same frame). `v` null: zero velocity with no elastic
+// force (impulse problems), as flexible_bias_step.
 template <class S>
-inline void appendage_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v, const S* u,
-                           const S* f_ext, const Vec6<S>& V, Mat6<S>& P, Vec6<S>& z) {
+inline void appendage_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi,
+                           const S* q, const S* v, const S* u, const Vec6<S>* external, const Vec6<S>& V, Mat6<S>& P,
+                           Vec6<S>& z) {
   const int body = static_cast<int>(i);
-  const ModalIntegrals<S>& mi = m.flexible_body(body).modal_integrals();
   FlexibleBodyData<S>& fd = flexible_data(m, d, i);
   const int n = mi.n_modes;
   const auto eta = modal_coordinates(m, body, q);
@@ -75,7 +77,7 @@ inline void appendage_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, c
     b.setZero();
     b_e.setZero();
   }
-  if (f_ext) b -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
+  if (external) b -= *external;
 
   // Elimination: G' = [Y W], nu, P^ and z^.
   const MatX<S>& M_inv = mi.modal_mass_inverse;

@@ -113,6 +113,14 @@ SOADYN_ALWAYS_INLINE bool is_body_frame_root(const ModelTpl<S>& m, int i) {
   return m.parent[b] < 0 && joint_has_constant_body_subspace(m.joint_kernel[b]);
 }
 
+// Whether appendage i's modes are eliminated in its tree frame, with its
+// integrals held there (RootBodyFrames: an appendage welded to a
+// body-frame root, ModelTpl::appendage_in_root_frame), not in its body frame.
+template <bool RootBodyFrames, class S>
+SOADYN_ALWAYS_INLINE bool appendage_eliminated_in_tree_frame(const ModelTpl<S>& m, std::size_t i) {
+  return RootBodyFrames && m.appendage_in_root_frame[i];
+}
+
 // Pose of body i in its tree frame and its motion subspace there; returns the
 // joint's velocity-product acceleration in the tree frame (zero for every
 // joint but the universal one). A root body's tree pose has no translation.
@@ -266,13 +274,27 @@ SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>&
 // to the tree frame by one congruence. Children add their P+ and z+ to them;
 // once alpha(i) is known, eta_ddot = nu - G' alpha (modal_accelerations,
 // flexible_steps.hpp, with alpha carried to the body frame).
-template <class S>
+// RootBodyFrames, for an appendage welded to a body-frame root: the modes
+// are eliminated in the tree frame itself, with the integrals held there
+// (ModelTpl::root_frame_integrals), and alpha is read as it is
+// (appendage_eliminated_in_tree_frame).
+template <bool RootBodyFrames, class S>
 inline void tree_flexible_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
                                     const S* u, const S* f_ext) {
   const Transform<S>& pose = d.sweep.tree_pose[i];
+  Vec6<S> external;
+  if (f_ext) external = Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
+  if (appendage_eliminated_in_tree_frame<RootBodyFrames>(m, i)) {
+    if (f_ext) external = pose.force_to_parent(external);
+    const std::size_t f = static_cast<std::size_t>(m.flexible_index[i]);
+    appendage_step(m, d, i, m.root_frame_integrals[f], q, v, u, f_ext ? &external : nullptr,
+                   d.sweep.tree_velocity[i], d.sweep.tree_articulated_inertia[i], d.sweep.tree_bias_and_children_z[i]);
+    return;
+  }
   Mat6<S> P;
   Vec6<S> z;
-  appendage_step(m, d, i, q, v, u, f_ext, Vec6<S>(pose.motion_to_child(d.sweep.tree_velocity[i])), P, z);
+  appendage_step(m, d, i, m.flexible_body(static_cast<int>(i)).modal_integrals(), q, v, u, f_ext ? &external : nullptr,
+                 Vec6<S>(pose.motion_to_child(d.sweep.tree_velocity[i])), P, z);
   pose.inertia_to_parent_into(P, d.sweep.tree_articulated_inertia[i]);
   d.sweep.tree_bias_and_children_z[i] = pose.force_to_parent(z);
 }

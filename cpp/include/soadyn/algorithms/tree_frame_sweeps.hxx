@@ -9,7 +9,7 @@
 // inertia to carry, body frames need fewer operations.
 #pragma once
 #include "soadyn/algorithms/hinge_steps.hpp"
-#include "soadyn/algorithms/small_cholesky.hpp"
+#include "soadyn/algorithms/spd_inverse6.hpp"
 #include "soadyn/algorithms/tree_frame_steps.hpp"
 
 namespace soadyn {
@@ -19,26 +19,26 @@ namespace detail {
 // blockdiag(R, R), is invertible, so Eq. 28 gives P+ = 0 and the hinge
 // equation H (P alpha + z) = T fixes the body's acceleration outright:
 //   alpha = P^-1 (H^-* T - z),  H^-* = H (orthogonal blocks),
-// one 6x6 Cholesky factorisation instead of D = H P H*, G and P+.
-// Stores alpha in acceleration[i] and P's factor in hinge_factor[i];
-// returns the DOF of a singular P, or -1. RootBodyFrames: the tree frame is
-// the root's body frame, where H = 1 and alpha = P^-1 (T - z).
+// with P^-1 by 3x3 blocks (spd_inverse6.hpp) instead of D = H P H*, G and P+.
+// Stores alpha in acceleration[i] and P^-1 in hinge_factor[i]; returns the
+// DOF of a singular P, or -1. RootBodyFrames: the tree frame is the root's
+// body frame, where H = 1 and alpha = P^-1 (T - z).
 template <bool RootBodyFrames, class S>
 inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u) {
   const Mat6N<S>& s = d.sweep.tree_subspace[i];
-  Mat6<S>& L = d.sweep.hinge_factor[i];
-  L = d.sweep.tree_articulated_inertia[i];
-  const int bad = cholesky_in_place(L, singular_pivot_threshold(L));
+  const Mat6<S>& P = d.sweep.tree_articulated_inertia[i];
+  Mat6<S>& P_inverse = d.sweep.hinge_factor[i];
+  const int bad = spd_inverse6(P, singular_pivot_threshold(P), P_inverse);
   if (bad >= 0) return m.v_index[i] + bad;
   const Eigen::Map<const Vec6<S>> torque(u + m.v_index[i]);
-  Vec6<S>& alpha = d.sweep.tree_acceleration[i];
+  Vec6<S> residual;  // H^-* T - z
   if constexpr (RootBodyFrames)
-    alpha = torque;
+    residual = torque;
   else
-    alpha << s.template topLeftCorner<3, 3>() * torque.template head<3>(),
+    residual << s.template topLeftCorner<3, 3>() * torque.template head<3>(),
         s.template bottomRightCorner<3, 3>() * torque.template tail<3>();
-  alpha -= d.sweep.tree_bias_and_children_z[i];
-  cholesky_solve_in_place(L, alpha);
+  residual -= d.sweep.tree_bias_and_children_z[i];
+  d.sweep.tree_acceleration[i].noalias() = P_inverse * residual;
   return -1;
 }
 
@@ -120,7 +120,7 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
     if constexpr (Flex) {
       if (m.is_flexible(static_cast<int>(i))) {  // modal DOFs always regular: P^ and z^ at once
-        tree_flexible_body_step(m, d, i, q, v, u, f_ext);
+        tree_flexible_body_step<RootBodyFrames>(m, d, i, q, v, u, f_ext);
         continue;
       }
     }
@@ -194,7 +194,10 @@ SOADYN_ALWAYS_INLINE void tree_outward_step(const ModelTpl<S>& m, DataTpl<S>& d,
     hinge_outward<Frames::tree, false>(m, d, i, u, alpha_plus, want_force);
   if constexpr (Flex)
     if (m.is_flexible(static_cast<int>(i)))
-      modal_accelerations(m, d, i, u, Vec6<S>(d.sweep.tree_pose[i].motion_to_child(d.sweep.tree_acceleration[i])));
+      modal_accelerations(m, d, i, u,
+                          appendage_eliminated_in_tree_frame<RootBodyFrames>(m, i)
+                              ? d.sweep.tree_acceleration[i]
+                              : Vec6<S>(d.sweep.tree_pose[i].motion_to_child(d.sweep.tree_acceleration[i])));
 }
 
 // The third sweep (base to tip, Eq. 29) and the outputs' checks; `want_force`

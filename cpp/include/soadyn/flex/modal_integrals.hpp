@@ -54,6 +54,7 @@
 // M(eta): about 12 n_m^2 multiply-adds plus copying the constant blocks.
 #pragma once
 #include "soadyn/flex/flexible_node.hpp"
+#include "soadyn/spatial/transform.hpp"
 
 namespace soadyn {
 
@@ -107,6 +108,16 @@ struct ModalIntegrals {
   void inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, const Vec6<S>& V, const Vec6<S>& momentum,
                      const MatX<S>& rates, Eigen::Ref<VecX<S>> out) const;
 
+  // The same integrals for the body described in a frame where its own
+  // frame has the pose X = (R, p): node positions R r + p, mode shapes
+  // R Phi, rotary inertias R J R'. From these, without the nodes:
+  //   c0' = R c0 + m p,  S1' = R S1,  sum J' = R (sum J) R',
+  //   E0' = R E0 R' + (R c0) p' + p (R c0)' + m p p',
+  //   A_k' = R A_k R' + p (R S1 e_k)',  B_kl' = R B_kl R',
+  //   H0' = R H0 + [p]x R S1,  Q_k' = R Q_k  ([R r]x R = R [r]x),
+  //   M_ee and M_ee^-1 unchanged,  W' = W R',  m 1 - S1' W' = R (m 1 - S1 W) R'.
+  // `out` is overwritten; with this mode count already, without allocating.
+  void in_frame(const Transform<S>& X, ModalIntegrals& out) const;
   // The same integrals in scalar T (e.g. an automatic-differentiation scalar).
   template <class T>
   ModalIntegrals<T> cast() const {

@@ -76,6 +76,46 @@ ModalIntegrals<S> ModalIntegrals<S>::from_nodes(const FlexibleNodes<S>& nodes, i
 }
 
 template <class S>
+void ModalIntegrals<S>::in_frame(const Transform<S>& X, ModalIntegrals<S>& out) const {
+  const Mat3<S>& R = X.rotation;
+  const Vec3<S>& p = X.translation;
+  const int n = n_modes;
+  const auto congruence = [&](const S* from, S* to) {  // a 3x3 block B -> R B R'
+    Eigen::Map<Mat3<S>>(to).noalias() = R * Eigen::Map<const Mat3<S>>(from) * R.transpose();
+  };
+  out.n_modes = n;
+  out.mass = mass;
+  const Vec3<S> first = R * first_moment;
+  out.first_moment = first + mass * p;
+  out.second_moment = R * second_moment * R.transpose() + first * p.transpose() + p * first.transpose() +
+                       mass * p * p.transpose();
+  out.rotary_inertia = R * rotary_inertia * R.transpose();
+  out.modal_first_moment.resize(3, n);
+  out.angular_coupling.resize(3, n);
+  out.second_moment_linear.resize(3, 3 * n);
+  out.second_moment_quadratic.resize(3, 3 * n * n);
+  out.angular_coupling_linear.resize(3, n * n);
+  const Mat3<S> p_cross = skew(p);
+  for (int k = 0; k < n; ++k) {
+    const Vec3<S> s1 = R * modal_first_moment.col(k);
+    out.modal_first_moment.col(k) = s1;
+    out.angular_coupling.col(k) = R * angular_coupling.col(k) + p_cross * s1;
+    congruence(second_moment_linear.data() + 9 * k, out.second_moment_linear.data() + 9 * k);
+    out.second_moment_linear.template middleCols<3>(3 * k) += p * s1.transpose();
+    for (int l = 0; l < n; ++l) congruence(second_moment_quadratic.data() + 9 * (k * n + l),
+                                           out.second_moment_quadratic.data() + 9 * (k * n + l));
+  }
+  for (int c = 0; c < n * n; ++c) out.angular_coupling_linear.col(c) = R * angular_coupling_linear.col(c);
+  out.modal_mass = modal_mass;
+  out.modal_mass_inverse = modal_mass_inverse;
+  out.modal_first_moment_gain.resize(n, 3);
+  for (int r = 0; r < n; ++r)
+    out.modal_first_moment_gain.row(r) = (R * modal_first_moment_gain.row(r).transpose()).transpose();
+  const Mat3<S> translational = R * translational_appendage_inertia * R.transpose();
+  out.translational_appendage_inertia = S(0.5) * (translational + translational.transpose());
+}
+
+template <class S>
 Vec3<S> ModalIntegrals<S>::first_moment_at(const Eigen::Ref<const VecX<S>>& eta) const {
   return first_moment + modal_first_moment * eta;  // Eq. (2)
 }

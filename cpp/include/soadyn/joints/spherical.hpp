@@ -30,7 +30,7 @@ struct UnitQuaternionSpace {
   }
   static void retract(const S* q0, const S* xi, S* q) { rotate(q0, Vec3<S>(xi[0], xi[1], xi[2]), q); }
   static void chart_rate(const S*, const S* xi, const S* w, S* rate) {
-    Eigen::Map<Vec3<S>>{rate} = so3_right_jacobian_inverse(Vec3<S>(xi[0], xi[1], xi[2])) * Vec3<S>(w[0], w[1], w[2]);
+    Eigen::Map<Vec3<S>>{rate} = so3_right_jacobian_inverse_times(Vec3<S>(xi[0], xi[1], xi[2]), Vec3<S>(w[0], w[1], w[2]));
   }
   // The chart's first-order maps (joints/vector_space.hpp): q = q0 exp(xi), so
   // q0 exp(e) exp(xi) = q exp(exp(xi)' e) and q0 exp(xi + d) = q exp(Jr(xi) d).

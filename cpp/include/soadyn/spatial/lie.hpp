@@ -101,17 +101,29 @@ Vec3<S> so3_right_jacobian_rate(const Vec3<S>& theta, const Vec3<S>& theta_dot) 
   return -da * along * cross + db * along * theta.cross(cross) + b * theta_dot.cross(cross);
 }
 
-// Inverse right Jacobian of SO(3): I + [xi]x/2 + (1/t^2 - (1 + cos t)/(2 t sin t)) [xi]x^2.
+// The coefficient of [xi]x^2 in the inverse right Jacobian of SO(3) below,
+// c = 1/t^2 - (1 + cos t)/(2 t sin t), from t^2 = |xi|^2.
 template <class S>
-Mat3<S> so3_right_jacobian_inverse(const Vec3<S>& xi) {
+S so3_right_jacobian_inverse_coefficient(const S& t2) {
   using std::cos;
   using std::sin;
   using std::sqrt;
-  const S t2 = xi.squaredNorm();
-  const S c = t2 < S(1e-6) ? S(S(1) / S(12) + t2 / S(720))
-                           : S(S(1) / t2 - (S(1) + cos(sqrt(t2))) / (S(2) * sqrt(t2) * sin(sqrt(t2))));
+  return t2 < S(1e-6) ? S(S(1) / S(12) + t2 / S(720))
+                      : S(S(1) / t2 - (S(1) + cos(sqrt(t2))) / (S(2) * sqrt(t2) * sin(sqrt(t2))));
+}
+
+// Inverse right Jacobian of SO(3): I + [xi]x/2 + c [xi]x^2.
+template <class S>
+Mat3<S> so3_right_jacobian_inverse(const Vec3<S>& xi) {
   const Mat3<S> k = skew(xi);
-  return Mat3<S>::Identity() + k / S(2) + c * (k * k);
+  return Mat3<S>::Identity() + k / S(2) + so3_right_jacobian_inverse_coefficient(xi.squaredNorm()) * (k * k);
+}
+
+// Jr^-1(xi) w without the matrix: w + xi x w / 2 + c xi x (xi x w).
+template <class S>
+Vec3<S> so3_right_jacobian_inverse_times(const Vec3<S>& xi, const Vec3<S>& w) {
+  const Vec3<S> k_w = xi.cross(w);
+  return w + k_w / S(2) + so3_right_jacobian_inverse_coefficient(xi.squaredNorm()) * xi.cross(k_w);
 }
 
 // d/dxi of Jr^-1(xi) w (3 x 3). With Jr^-1 = I + K/2 + c(t) K^2, K = [xi]x,
