@@ -260,6 +260,11 @@ void bind_model(py::module_& mod) {
           "appendage_in_root_frame", [](const ModelHandle& h) { return as_bools(h.model.appendage_in_root_frame); },
           "Per body: whether it is a flexible appendage welded to its root, whose modal integrals the dynamics "
           "read formed once in the root's frame.")
+      .def_property_readonly(
+          "constant_leaf_hinge", [](const ModelHandle& h) { return as_bools(h.model.constant_leaf_hinge); },
+          "Per body: whether it is a leaf turning about an axis of mass symmetry on a body welded to its root "
+          "(a reaction wheel), whose hinge terms D, G and P+ the dynamics read formed once (when its DOF is "
+          "regular and has no armature).")
       .def_property_readonly("masses", [](const ModelHandle& h) { return h.model.mass; })
       .def_property_readonly("n_modes", [](const ModelHandle& h) { return h.model.n_modes; },
                              "Modal coordinates per body (0 for a rigid body).")

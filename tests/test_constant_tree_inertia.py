@@ -183,10 +183,38 @@ def constant_flags(c: Case) -> list[bool]:
     return [bool(x) for x in c.m.constant_tree_inertia]
 
 
+def leaf_hinge_names(c: Case) -> list[str]:
+    return [name for name, flag in zip(c.m.body_names, c.m.constant_leaf_hinge) if flag]
+
+
 @pytest.mark.parametrize("root", sorted(ROOTS))
 def test_which_bodies_have_constant_inertia(root):
     c = Case(spacecraft(root))
     assert constant_flags(c) == [b.constant for b in c.bodies]
+    # Of those, the leaves that turn read their hinge step's D, G and P+ formed once:
+    # wheel_z and the turntable carry bodies, so their articulated inertias move.
+    assert leaf_hinge_names(c) == ["wheel_x", "wheel_y"]
+
+
+def test_a_wheel_with_armature_forms_its_hinge_step_per_call():
+    """Armature changes D: the wheel with one takes the general step; Pinocchio's
+    model.armature is the oracle, and the wheel without keeps the constant terms."""
+    c = Case(spacecraft())
+    wheel = c.m.body_names.index("wheel_x")
+    dof = c.m.v_index[wheel]
+    armature = np.zeros(c.m.nv)
+    armature[dof] = 0.37
+    c.m.set_armature(dof, armature[dof])
+    c.model.armature[:] = c.map.v(armature)
+    c.data = c.model.createData()
+    for k in STATES:
+        q, v, x, f = c.state(k)
+        q_pin, v_pin = c.map.q(q), c.map.v(v)
+        check("armature: forward_dynamics", c.map.v(soadyn.forward_dynamics(c.m, q, v, x, f_ext=f)),
+              pin.aba(c.model, c.data, q_pin, v_pin, c.map.v(x), c.map.f_ext(f, c.joint_ids)))
+        for prescribed, mask in prescribed_copies(c):
+            qdd, tau = soadyn.hybrid_dynamics(prescribed, q, v, x)
+            check("armature: hybrid_dynamics", c.map.v(tau), pin.rnea(c.model, c.data, q_pin, v_pin, c.map.v(qdd)))
 
 
 @pytest.mark.parametrize("root", sorted(ROOTS))
@@ -234,6 +262,7 @@ def test_a_parameter_change_refreshes_the_stored_inertias(change):
         c.m.set_parameter("wheel_x.placement", placement)
         expected = True
     assert constant_flags(c)[1 if change != "bus inertia" else 0] == expected
+    assert leaf_hinge_names(c) == (["wheel_x", "wheel_y"] if expected else ["wheel_y"])
     c.rebuild_oracle()
     compare_all(c, change)
 

@@ -222,6 +222,11 @@ class _Model:
         """
         Per body: whether it is a flexible appendage welded to its root, whose modal integrals the dynamics read formed once in the root's frame.
         """
+    @property
+    def constant_leaf_hinge(self) -> list[bool]:
+        """
+        Per body: whether it is a leaf turning about an axis of mass symmetry on a body welded to its root (a reaction wheel), whose hinge terms D, G and P+ the dynamics read formed once (when its DOF is regular and has no armature).
+        """
 class NonphysicalInertiaError(ValueError):
     pass
 class DynamicsError(ArithmeticError):

@@ -21,6 +21,7 @@
 // the root's frame, once (ModelTpl::root_frame_integrals).
 #pragma once
 #include <type_traits>
+#include "soadyn/algorithms/steps.hpp"
 #include "soadyn/model.hpp"
 
 namespace soadyn {
@@ -49,6 +50,8 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
   pose_in_root_.resize(n);
   appendage_in_root_frame.assign(n, 0);
   root_frame_integrals.resize(flexible_bodies.size());
+  constant_leaf_hinge.assign(n, 0);
+  leaf_hinge_terms.resize(n);
   if constexpr (!std::is_floating_point_v<S>) return;
   for (std::size_t i = 0; i < n; ++i) {
     const int p = parent[i];
@@ -79,6 +82,41 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
     }
     constant_tree_inertia[i] = 1;
     inertia_parameters_in_frame(pose_in_root_[i], mass[i], com[i], inertia_com[i], tree_inertia_parameters[i]);
+  }
+  refresh_constant_leaf_hinges();
+}
+
+// Among those bodies, the leaves that turn: their hinge terms
+// (constant_hinge_terms.hpp), from the subspace [w; t x w] of the revolute
+// tree step (joints/revolute.hpp), constant here, and the leaf's P, its inertia.
+template <class S>
+void ModelTpl<S>::refresh_constant_leaf_hinges() {
+  const std::size_t n = parent.size();
+  has_children_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (parent[i] >= 0) has_children_[static_cast<std::size_t>(parent[i])] = 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const JointKernel kernel = joint_kernel[i];
+    const bool turns = kernel == JointKernel::revolute_x || kernel == JointKernel::revolute_y ||
+                       kernel == JointKernel::revolute_z;
+    if (!constant_tree_inertia[i] || has_children_[i] || parent[i] < 0 || !turns) continue;
+    const int axis = static_cast<int>(kernel) - static_cast<int>(JointKernel::revolute_x);
+    const Transform<S>& pose = pose_in_root_[i];  // at angle 0; the axis and its point do not move
+    const Vec3<S> w = pose.rotation.col(axis) * axis_sign[i];
+    Vec6<S> subspace;
+    subspace << w, pose.translation.cross(w);
+    Mat6<S> P;
+    assign_spatial_inertia(tree_inertia_parameters[i], P);
+    const Vec6<S> u = P * subspace;
+    const S D = subspace.dot(u);
+    if (!(D > singular_pivot_threshold(P))) continue;  // left to the general step, which names the DOF
+    ConstantHingeTerms<S>& terms = leaf_hinge_terms[i];
+    terms.articulated_d = D;
+    terms.inverse_d = S(1) / D;
+    terms.gain = u * terms.inverse_d;
+    terms.articulated_plus = P;
+    terms.articulated_plus.noalias() -= terms.gain * u.transpose();
+    constant_leaf_hinge[i] = 1;
   }
 }
 

@@ -22,6 +22,7 @@
 #include <type_traits>
 #include <string>
 #include <unordered_map>
+#include "soadyn/constant_hinge_terms.hpp"
 #include "soadyn/flex/flexible_body.hpp"
 #include "soadyn/force_elements/force_elements.hpp"
 #include "soadyn/joints/joint.hpp"
@@ -275,6 +276,12 @@ class ModelTpl {
   // its integrals in its root's body frame, where flagged.
   std::vector<std::uint8_t> appendage_in_root_frame;
   std::vector<ModalIntegrals<S>> root_frame_integrals;
+  // And a leaf among the bodies with a constant inertia there that turns
+  // about a coordinate axis (a reaction wheel) has a constant subspace too,
+  // so its regular hinge step's D, G and P+ are constants
+  // (constant_hinge_terms.hpp). Per body: 1 when they are, and the terms.
+  std::vector<std::uint8_t> constant_leaf_hinge;
+  aligned_vector<ConstantHingeTerms<S>> leaf_hinge_terms;
 
   // Set by every structural change (add_body, add_flexible_body); a copy carries it.
   DynamicsPath dynamics_path = DynamicsPath::rigid_tree_frames;
@@ -326,6 +333,7 @@ class ModelTpl {
   void refresh_body_modes(int body);
   void refresh_tree_frame_reach();
   void refresh_constant_tree_inertia();
+  void refresh_constant_leaf_hinges();
   void refresh_dynamics_path();
   // add_body / add_flexible_body after the parent is resolved; `flexible`
   // null for a rigid body.
@@ -341,7 +349,7 @@ class ModelTpl {
   std::vector<S> subtree_radius_, distance_bound_;
   // refresh_constant_tree_inertia's: per body, whether its pose in its
   // root's body frame is constant, and that pose.
-  std::vector<std::uint8_t> welded_to_root_;
+  std::vector<std::uint8_t> welded_to_root_, has_children_;
   aligned_vector<Transform<S>> pose_in_root_;
 };
 

@@ -42,6 +42,31 @@ inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, 
   return -1;
 }
 
+// Whether leaf i's hinge step reads its constant terms (RootBodyFrames:
+// the tree frame is its root's body frame; ModelTpl::leaf_hinge_terms): its
+// DOF regular, with no armature, which would change D.
+template <ModePolicy Modes, bool RootBodyFrames, class S>
+SOADYN_ALWAYS_INLINE bool constant_leaf_hinge(const ModelTpl<S>& m, std::size_t i) {
+  return RootBodyFrames && m.constant_leaf_hinge[i] && regular_hinge<Modes>(m, i) && !m.modes[i].has_armature;
+}
+
+// Eq. 28 for such a leaf, with D, G and P+ read: z = b + P a,
+// eps = T - H z, nu = D^-1 eps, z+ = z + G eps; P+ added to its parent's P.
+template <class S>
+SOADYN_ALWAYS_INLINE void constant_leaf_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
+                                               Vec6<S>& z_plus) {
+  const ConstantHingeTerms<S>& terms = m.leaf_hinge_terms[i];
+  SweepData<S>& w = d.sweep;
+  Vec6<S> z = w.tree_bias_and_children_z[i];
+  z.noalias() += w.tree_articulated_inertia[i] * w.tree_coriolis[i];
+  const S e = u[m.v_index[i]] - w.tree_subspace[i].col(0).dot(z);
+  w.tree_gain[i].col(0) = terms.gain;
+  w.innovation[i][0] = e * terms.inverse_d;
+  w.hinge_factor[i](0, 0) = terms.articulated_d;
+  z_plus = z + terms.gain * e;
+  w.tree_articulated_inertia[static_cast<std::size_t>(m.parent[i])] += terms.articulated_plus;
+}
+
 // qdd = H^-1 (alpha - alpha+ - a) of that free root, H^-1 = H* (orthogonal
 // blocks; RootBodyFrames: H = 1, a = 0 and alpha+ the world's acceleration in
 // the root's frame).
@@ -156,6 +181,11 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     }
     const Mat6<S>* P_out = nullptr;
     const bool into_parent = p >= 0 && needs_articulated_inertia<Modes>(m, pp);
+    if (into_parent && constant_leaf_hinge<Modes, RootBodyFrames>(m, i)) {
+      constant_leaf_inward(m, d, i, u, z_plus);
+      w.tree_bias_and_children_z[pp] += z_plus;
+      continue;
+    }
     const bool regular = regular_hinge<Modes>(m, i);
     const int bad = regular ? tree_hinge_inward<true>(m, d, i, u, into_parent, never_formed, z_plus, P_out)
                             : tree_hinge_inward<false>(m, d, i, u, into_parent, never_formed, z_plus, P_out);
