@@ -124,6 +124,27 @@ def test_singular_free_body_names_its_first_singular_dof(mass, inertia, com, dof
 
 
 @pytest.mark.parametrize(
+    "inertia, dof",
+    [
+        # A point mass on the joint's centre: neither axis moves anything.
+        ([0.0, 0.0, 0.0], "pendulum:1"),
+        # A thin rod along y: no inertia about the second axis (y at zero angles).
+        ([1.0, 0.0, 1.0], "pendulum:2"),
+    ],
+)
+def test_singular_universal_joint_names_its_first_singular_dof(inertia, dof):
+    m = soadyn.Model()
+    m.add_body("base", None, soadyn.Joint.revolute([0, 0, 1]), mass=5.0, inertia=[1.0, 1.0, 1.0])
+    m.add_body("pendulum", "base", soadyn.Joint.universal([1, 0, 0], [0, 1, 0]), mass=2.0, inertia=inertia)
+    q = soadyn.neutral_configuration(m)
+    zeros = np.zeros(m.nv)
+    for call in (lambda: soadyn.forward_dynamics(m, q, zeros, zeros),
+                 lambda: soadyn.hybrid_dynamics(m, q, zeros, zeros)):
+        with pytest.raises(soadyn.DynamicsError, match=f"'{dof}' is singular"):
+            call()
+
+
+@pytest.mark.parametrize(
     "kw, message",
     [
         (dict(mass=-1.0), "body 'new': mass -1 is negative"),

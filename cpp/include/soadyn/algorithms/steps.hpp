@@ -223,6 +223,43 @@ SOADYN_ALWAYS_INLINE void deliver_p_plus(const Mat6<S>& P, const Gain& G, const 
   }
 }
 
+// The rest of articulated_hinge_step_fixed for two regular DOFs (a universal
+// joint), D = [a b; b c] given: G and nu by D = L' diag(a, d1) L'' (L' unit
+// lower triangular, l = b / a, d1 = c - l b), two divisions and no square
+// root on the way to P+ and z+; the pivots a and d1 are the Cholesky
+// factor's squared, tested against `threshold` as cholesky_in_place does.
+// The Cholesky factor itself, for later solves, is formed beside them, as
+// cholesky_in_place forms it.
+template <PlusMode Mode, class S>
+SOADYN_ALWAYS_INLINE int two_dof_hinge_step(const Mat6<S>& P, const Eigen::Matrix<S, 6, 2>& U,
+                                            const Eigen::Matrix<S, 2, 2>& D, const Eigen::Matrix<S, 2, 1>& e,
+                                            Mat6N<S>& G, VecN<S>& nu, Mat6<S>& factor, Mat6<S>& P_plus,
+                                            const Vec6<S>& z, Vec6<S>& z_plus, const S& threshold) {
+  using std::sqrt;
+  const S a = D(0, 0), b = D(1, 0), c = D(1, 1);
+  if (!(a > threshold)) return 0;
+  const S inverse_a = S(1) / a, l = b * inverse_a, d1 = c - l * b;
+  if (!(d1 > threshold)) return 1;
+  const S inverse_d1 = S(1) / d1;
+  const auto solve = [&](const auto& x0, const auto& x1, auto&& y0, auto&& y1) {  // [y0 y1] = D^-1 [x0 x1]
+    y1 = (x1 - l * x0) * inverse_d1;
+    y0 = x0 * inverse_a - l * y1;
+  };
+  Eigen::Matrix<S, 6, 2> gain;
+  solve(U.col(0), U.col(1), gain.col(0), gain.col(1));
+  solve(e[0], e[1], nu[0], nu[1]);
+  G = gain;
+  deliver_p_plus<Mode>(P, gain, U, P_plus);
+  z_plus = z;
+  z_plus.noalias() += gain * e;
+  const S root_a = sqrt(a), lower = b * (S(1) / root_a);
+  factor(0, 0) = root_a;
+  factor(0, 1) = b;  // the upper triangle as cholesky_in_place leaves it
+  factor(1, 0) = lower;
+  factor(1, 1) = sqrt(c - lower * lower);
+  return -1;
+}
+
 // articulated_hinge_step (below) for a hinge of N regular DOFs, N fixed at
 // compile time: universal (2), spherical (3) and free (6) joints.
 template <int N, PlusMode Mode, class S>
@@ -238,6 +275,7 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
   Eigen::Matrix<S, N, N> L = s.transpose() * U;  // D = S' P S (+ armature), factored in place
   if (armature)
     for (int k = 0; k < N; ++k) L(k, k) += armature[k];
+  if constexpr (N == 2) return two_dof_hinge_step<Mode>(P, U, L, e, G, nu, factor, P_plus, z, z_plus, threshold);
   const int bad = cholesky_in_place(L, threshold);
   if (bad >= 0) return bad;
   factor.template topLeftCorner<N, N>() = L;
