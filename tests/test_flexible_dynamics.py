@@ -7,7 +7,7 @@ import pytest
 
 import soadyn
 from soadyn import FlexibleBody, scenes
-from flexible_trees import assembled_mass_matrix, random_flexible_state, random_flexible_tree
+from flexible_trees import assembled_mass_matrix, random_flexible_body, random_flexible_state, random_flexible_tree
 from test_energy_momentum import flow_derivative, total_energy
 from test_flexible_body import BETA_L, euler_bernoulli_frequencies
 
@@ -381,3 +381,21 @@ def test_node_load_changes_momentum_and_energy_as_the_applied_force():
                                   m, q, v, qdd)
     assert abs(energy_rate - power) <= 1e-6 * max(1.0, abs(power))
     assert abs(wrench @ v[:6] + modal @ v[6:] - power) <= 1e-6 * max(1.0, abs(power))  # virtual power
+
+
+def test_only_welded_appendages_keep_their_integrals_in_the_root_frame():
+    """A flexible body welded to a free root holds its modal integrals in the root's frame
+    (Model.appendage_in_root_frame) while nothing sits on its nodes; a body on one of its
+    nodes makes it no appendage. Cassini's two booms are such appendages, and its wheels
+    and turntable leaves with constant hinge terms (Model.constant_leaf_hinge)."""
+    m = soadyn.Model()
+    m.add_body("bus", None, soadyn.Joint.free(), mass=10.0, inertia=[1.0, 2.0, 2.5])
+    m.add_flexible_body("boom", "bus", random_flexible_body(np.random.default_rng(5)), soadyn.Joint.fixed(),
+                        (np.eye(3), [0.2, 0.0, 0.0]))
+    assert m.appendage_in_root_frame == [False, True]
+    m.add_body("tip", "boom:a", soadyn.Joint.revolute([0.0, 0.0, 1.0]), mass=1.0, inertia=[0.1, 0.1, 0.1])
+    assert m.appendage_in_root_frame == [False, False, False]
+    cassini = scenes.cassini()
+    flagged = lambda flags: [name for name, flag in zip(cassini.body_names, flags) if flag]
+    assert flagged(cassini.appendage_in_root_frame) == ["magnetometer_boom", "plasma_wave_antenna"]
+    assert flagged(cassini.constant_leaf_hinge) == ["turntable", "wheel_1", "wheel_2", "wheel_3", "wheel_4"]

@@ -230,6 +230,19 @@ def check_batch(output: str) -> None:
     require(bool(lines(r"^test_batch: PASS$", output)), "the PASS line")
 
 
+def check_small_solves(output: str) -> None:
+    """The free root's inverse and the two-DOF hinge step against LLT and cholesky_in_place."""
+    require(bool(lines(r"^spd_inverse6: 2000 random P \(condition up to 1e6\), max relative error / condition \S+$",
+                       output)), "2000 block inverses")
+    require(bool(lines(r"^spd_inverse6: singular pivot named as by cholesky_in_place: 6 of 6$", output)),
+            "every singular pivot named")
+    require(bool(lines(r"^two-DOF hinge: 2000 random D, max relative error of G \S+, factors within 2 ulp of "
+                       r"cholesky_in_place's: 2000$", output)), "2000 two-DOF steps with the factor of cholesky_in_place")
+    require(bool(lines(r"^two-DOF hinge: nearly singular D named pivot (1|-1), factor finite: yes$", output)),
+            "the nearly singular D")
+    require(bool(lines(r"^PASS: 0 failures$", output)), "no failure")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
@@ -246,6 +259,7 @@ CHECKS = {
     "test_parameters_no_allocation": check_parameters_no_allocation,
     "test_model_file": check_model_file,
     "test_joint_angles": check_joint_angles,
+    "test_small_solves": check_small_solves,
     "test_batch": check_batch,
 }
 

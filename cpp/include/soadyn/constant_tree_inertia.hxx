@@ -53,12 +53,16 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
   constant_leaf_hinge.assign(n, 0);
   leaf_hinge_terms.resize(n);
   if constexpr (!std::is_floating_point_v<S>) return;
+  // Per body: bit 1, some body is its child; bit 2, on one of its nodes.
+  has_children_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (parent[i] >= 0) has_children_[static_cast<std::size_t>(parent[i])] |= attachment_node[i] >= 0 ? 3 : 1;
   for (std::size_t i = 0; i < n; ++i) {
     const int p = parent[i];
     const JointKernel kernel = joint_kernel[i];
     const int flexible = flexible_index[i];
-    if (flexible >= 0 && p >= 0 && attachment_node[i] < 0 && kernel == JointKernel::fixed &&
-        welded_to_root_[static_cast<std::size_t>(p)]) {  // a welded appendage (if no body sits on its nodes)
+    if (flexible >= 0 && p >= 0 && attachment_node[i] < 0 && !(has_children_[i] & 2) &&
+        kernel == JointKernel::fixed && welded_to_root_[static_cast<std::size_t>(p)]) {  // a welded appendage
       appendage_in_root_frame[i] = 1;
       pose_in_root_[i] = pose_in_root_[static_cast<std::size_t>(p)] * placement[i];
       const std::size_t f = static_cast<std::size_t>(flexible);
@@ -92,10 +96,7 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
 template <class S>
 void ModelTpl<S>::refresh_constant_leaf_hinges() {
   const std::size_t n = parent.size();
-  has_children_.assign(n, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    if (parent[i] >= 0) has_children_[static_cast<std::size_t>(parent[i])] = 1;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < n; ++i) {  // has_children_: refresh_constant_tree_inertia's
     const JointKernel kernel = joint_kernel[i];
     const bool turns = kernel == JointKernel::revolute_x || kernel == JointKernel::revolute_y ||
                        kernel == JointKernel::revolute_z;

@@ -348,7 +348,8 @@ class ModelTpl {
   // refresh_tree_frame_reach's scratch, kept so that a refresh allocates nothing.
   std::vector<S> subtree_radius_, distance_bound_;
   // refresh_constant_tree_inertia's: per body, whether its pose in its
-  // root's body frame is constant, and that pose.
+  // root's body frame is constant, and that pose; whether it has children
+  // (bit 1) and children on its nodes (bit 2).
   std::vector<std::uint8_t> welded_to_root_, has_children_;
   aligned_vector<Transform<S>> pose_in_root_;
 };

@@ -1,56 +1,52 @@
-// Inverse of a free root's 6x6 articulated inertia, by 3x3 blocks. A 6x6
-// Cholesky factorisation waits on six square roots and six divisions in
-// turn, and its substitutions on each other; the block inverse takes two
-// divisions and otherwise products that run side by side, and every later
-// solve with it is one matrix-vector product.
+// Inverse of a free root's 6x6 articulated inertia. A Cholesky factor
+// waits on a square root and a division per column in turn, and every
+// solve with it on two chains of substitutions; P = L D L' (L unit lower
+// triangular) needs no square root, and the inverse formed from it,
+// P^-1 = L^-T D^-1 L^-1, turns every solve into one matrix-vector product
+// whose entries are independent. Both are backward stable for a positive
+// definite P, so the inverse's error stays of the order of the rounding
+// unit times P's condition number (an inverse by 3x3 adjugates loses far
+// more: up to 1e-11 times the condition on random matrices).
 #pragma once
 #include "soadyn/spatial/types.hpp"
 
 namespace soadyn {
 
-namespace detail {
-
-// Inverse of a symmetric 3x3 matrix by its adjugate, if its LDL' pivots are
-// all above `threshold`; otherwise the index of the first that is not (in
-// exact arithmetic the pivots are the ratios of leading principal minors,
-// m1, m2 / m1, m3 / m2, compared here without dividing).
-template <class S>
-SOADYN_ALWAYS_INLINE int symmetric_inverse3(const Mat3<S>& A, S threshold, Mat3<S>& inverse) {
-  const S a = A(0, 0), b = A(1, 0), c = A(2, 0), dd = A(1, 1), e = A(2, 1), f = A(2, 2);
-  const S c00 = dd * f - e * e, c01 = c * e - b * f, c02 = b * e - c * dd;
-  const S c11 = a * f - c * c, c12 = b * c - a * e, c22 = a * dd - b * b;
-  const S det = a * c00 + b * c01 + c * c02;
-  if (!(a > threshold)) return 0;
-  if (!(c22 > threshold * a)) return 1;
-  if (!(det > threshold * c22)) return 2;
-  const S r = S(1) / det;
-  inverse << c00 * r, c01 * r, c02 * r, c01 * r, c11 * r, c12 * r, c02 * r, c12 * r, c22 * r;
-  return -1;
-}
-
-}  // namespace detail
-
-// P^-1 of a symmetric positive definite P = [A B; B' C] (3x3 blocks):
-//   Y = A^-1 B,  K = C - B' Y (the Schur complement),
-//   P^-1 = [A^-1 + Y K^-1 Y', -Y K^-1; -K^-1 Y', K^-1].
-// Returns the index of the first pivot of P's LDL' factorisation not above
-// `threshold` (P not positive definite to within rounding: K's pivots are
-// P's last three), or -1. Reads P's lower triangle only.
+// P^-1 of a symmetric positive definite 6x6 P, reading its lower triangle.
+// Returns the index of the first LDL' pivot not above `threshold` (P not
+// positive definite to within rounding; the pivots are the squares of the
+// Cholesky factor's), or -1.
 template <class S>
 int spd_inverse6(const Mat6<S>& P, S threshold, Mat6<S>& inverse) {
-  Mat3<S> A_inverse, K_inverse;
-  const int bad_a = detail::symmetric_inverse3<S>(P.template topLeftCorner<3, 3>(), threshold, A_inverse);
-  if (bad_a >= 0) return bad_a;
-  const Mat3<S> B_transpose = P.template bottomLeftCorner<3, 3>();
-  const Mat3<S> Y = A_inverse * B_transpose.transpose();
-  const Mat3<S> K = P.template bottomRightCorner<3, 3>() - B_transpose * Y;
-  const int bad_k = detail::symmetric_inverse3<S>(K, threshold, K_inverse);
-  if (bad_k >= 0) return 3 + bad_k;
-  const Mat3<S> Z = Y * K_inverse;  // -(P^-1)'s top-right block
-  inverse.template topLeftCorner<3, 3>() = A_inverse + Z * Y.transpose();
-  inverse.template topRightCorner<3, 3>() = -Z;
-  inverse.template bottomLeftCorner<3, 3>() = -Z.transpose();
-  inverse.template bottomRightCorner<3, 3>() = K_inverse;
+  Mat6<S> L;      // strictly lower part: L; E(i, k) = L(i, k) d_k kept in the upper part as E(k, i)
+  S reciprocal[6];
+  for (int j = 0; j < 6; ++j) {
+    S pivot = P(j, j);
+    for (int k = 0; k < j; ++k) pivot -= L(j, k) * L(k, j);
+    if (!(pivot > threshold)) return j;
+    reciprocal[j] = S(1) / pivot;
+    for (int i = j + 1; i < 6; ++i) {
+      S x = P(i, j);
+      for (int k = 0; k < j; ++k) x -= L(i, k) * L(k, j);
+      L(j, i) = x;  // E(i, j) = L(i, j) d_j
+      L(i, j) = x * reciprocal[j];
+    }
+  }
+  // W = L^-1 (unit lower triangular), column by column.
+  Mat6<S> W = Mat6<S>::Identity();
+  for (int c = 0; c < 6; ++c)
+    for (int i = c + 1; i < 6; ++i) {
+      S x = -L(i, c);
+      for (int k = c + 1; k < i; ++k) x -= L(i, k) * W(k, c);
+      W(i, c) = x;
+    }
+  // P^-1 = W' D^-1 W: entry (i, j), i <= j, sums over k >= j.
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i <= j; ++i) {
+      S x(0);
+      for (int k = j; k < 6; ++k) x += W(k, i) * reciprocal[k] * W(k, j);
+      inverse(i, j) = inverse(j, i) = x;
+    }
   return -1;
 }
 

@@ -226,10 +226,10 @@ SOADYN_ALWAYS_INLINE void deliver_p_plus(const Mat6<S>& P, const Gain& G, const 
 // The rest of articulated_hinge_step_fixed for two regular DOFs (a universal
 // joint), D = [a b; b c] given: G and nu by D = L' diag(a, d1) L'' (L' unit
 // lower triangular, l = b / a, d1 = c - l b), two divisions and no square
-// root on the way to P+ and z+; the pivots a and d1 are the Cholesky
-// factor's squared, tested against `threshold` as cholesky_in_place does.
-// The Cholesky factor itself, for later solves, is formed beside them, as
-// cholesky_in_place forms it.
+// root on the way to P+ and z+. The Cholesky factor, for later solves, is
+// formed beside them as cholesky_in_place forms it, and its pivots are
+// tested against `threshold` as there (d1 too, the same pivot rounded
+// otherwise).
 template <PlusMode Mode, class S>
 SOADYN_ALWAYS_INLINE int two_dof_hinge_step(const Mat6<S>& P, const Eigen::Matrix<S, 6, 2>& U,
                                             const Eigen::Matrix<S, 2, 2>& D, const Eigen::Matrix<S, 2, 1>& e,
@@ -238,8 +238,11 @@ SOADYN_ALWAYS_INLINE int two_dof_hinge_step(const Mat6<S>& P, const Eigen::Matri
   using std::sqrt;
   const S a = D(0, 0), b = D(1, 0), c = D(1, 1);
   if (!(a > threshold)) return 0;
+  const S root_a = sqrt(a), lower = b * (S(1) / root_a), pivot = c - lower * lower;  // the factor's, below
   const S inverse_a = S(1) / a, l = b * inverse_a, d1 = c - l * b;
-  if (!(d1 > threshold)) return 1;
+  // Both forms of the second pivot: they differ by rounding, which can
+  // exceed the threshold when D's entries are far larger than P's diagonal.
+  if (!(pivot > threshold) || !(d1 > threshold)) return 1;
   const S inverse_d1 = S(1) / d1;
   const auto solve = [&](const auto& x0, const auto& x1, auto&& y0, auto&& y1) {  // [y0 y1] = D^-1 [x0 x1]
     y1 = (x1 - l * x0) * inverse_d1;
@@ -247,16 +250,16 @@ SOADYN_ALWAYS_INLINE int two_dof_hinge_step(const Mat6<S>& P, const Eigen::Matri
   };
   Eigen::Matrix<S, 6, 2> gain;
   solve(U.col(0), U.col(1), gain.col(0), gain.col(1));
+  nu.resize(2);  // within VecN's fixed capacity: no allocation
   solve(e[0], e[1], nu[0], nu[1]);
   G = gain;
   deliver_p_plus<Mode>(P, gain, U, P_plus);
   z_plus = z;
   z_plus.noalias() += gain * e;
-  const S root_a = sqrt(a), lower = b * (S(1) / root_a);
   factor(0, 0) = root_a;
   factor(0, 1) = b;  // the upper triangle as cholesky_in_place leaves it
   factor(1, 0) = lower;
-  factor(1, 1) = sqrt(c - lower * lower);
+  factor(1, 1) = sqrt(pivot);
   return -1;
 }
 
