@@ -282,7 +282,8 @@ void add_loop_forces_to_sweeps(const ModelTpl<S>& m, DataTpl<S>& d) {
       continue;
     }
     d.sweep.tree_bias_and_children_z[i] += dz;
-    if (hinge_has_gain(m, i)) d.sweep.innovation[i].noalias() += U.eps_of(i).middleRows(vi, h.n_regular) * lambda_i;
+    if (hinge_has_gain(m, i))  // nu's first n_r entries: a hinge step may leave it longer (the readers take n_r)
+      d.sweep.innovation[i].head(h.n_regular).noalias() += U.eps_of(i).middleRows(vi, h.n_regular) * lambda_i;
   }
 }
 
