@@ -85,9 +85,21 @@ class FlexSpec:
 # translation and a rotation, to a node moved by one mode, and to a node no mode moves.
 NODE_PLAN = ("", "t", "r", "tr", "tr", "", "t", "r")
 
+# The order in which node_plan gives nodes their modes.
+MODE_ORDER = ((1, "t"), (1, "r"), (3, "t"), (4, "r"), (6, "t"), (6, "r"), (7, "t"), (2, "r"), (5, "t"), (5, "r"))
 
-def random_flexible(rng: np.random.Generator, damping: bool, modal: bool = False) -> FlexSpec:
-    plan = list(NODE_PLAN)
+
+def node_plan(n_modes: int) -> tuple:
+    """Eight nodes moved by n_modes modes (n_modes <= 10); from two on, a node has both kinds."""
+    plan = [""] * len(NODE_PLAN)
+    for node, kind in MODE_ORDER[:n_modes]:
+        plan[node] += kind
+    return tuple(plan)
+
+
+def random_flexible(rng: np.random.Generator, damping: bool, modal: bool = False,
+                    plan: tuple = NODE_PLAN) -> FlexSpec:
+    plan = list(plan)
     rng.shuffle(plan)
     n_nodes = len(plan)
     positions = rng.uniform(-0.4, 0.4, size=(n_nodes, 3)) + np.array([0.5, 0.0, 0.0])
@@ -103,9 +115,10 @@ def random_flexible(rng: np.random.Generator, damping: bool, modal: bool = False
         K = np.diag(rng.uniform(5.0, 20.0, size=n))
         C = np.diag(rng.uniform(0.05, 0.5, size=n))
     elif damping:
-        B = rng.normal(size=(n, n - 2))  # rank-deficient: positive semidefinite
+        B = rng.normal(size=(n, max(n - 2, 1)))  # rank-deficient (from 3 modes on): positive semidefinite
         C = 0.2 * B @ B.T
-    pick = lambda kinds: int(rng.choice([j for j, k in enumerate(plan) if k in kinds]))
+    # A node of one of those kinds (any node in a plan with none: appendages carry nothing).
+    pick = lambda kinds: int(rng.choice([j for j, k in enumerate(plan) if k in kinds] or list(range(n_nodes))))
     attachments = {"a": pick(("tr",)), "b": pick(("t", "r")), "c": pick(("",))}
     return FlexSpec(positions, masses, spins, modes, K, C, attachments)
 
@@ -174,8 +187,10 @@ LAYOUT_PARTS = {
 }
 
 
-def random_parts(layout: str, seed: int) -> list[Part]:
+def random_parts(layout: str, seed: int, n_modes: int | None = None) -> list[Part]:
+    """n_modes: every flexible body's mode count (node_plan), else NODE_PLAN's."""
     rng = np.random.default_rng(seed + 17 * LAYOUTS.index(layout))
+    plan = NODE_PLAN if n_modes is None else node_plan(n_modes)
     parts = []
     for name, parent, kind, body in LAYOUT_PARTS[layout]:
         joint = (kind, random_unit(rng)) if kind in ("revolute", "prismatic") else (kind,)
@@ -187,7 +202,7 @@ def random_parts(layout: str, seed: int) -> list[Part]:
         else:
             parts.append(Part(name, parent, joint, placement,
                               flexible=random_flexible(rng, damping=body == "flexible-damped",
-                                                       modal=body == "flexible-modal")))
+                                                       modal=body == "flexible-modal", plan=plan)))
     return parts
 
 
@@ -360,8 +375,8 @@ class Mapping(PinocchioMapping):
 
 
 @functools.lru_cache(maxsize=None)
-def built(layout: str, seed: int):
-    parts = random_parts(layout, seed)
+def built(layout: str, seed: int, n_modes: int | None = None):
+    parts = random_parts(layout, seed, n_modes)
     m = build_soadyn(parts)
     tree = PinTree(parts)
     model, ids = tree.build(m.gravity)
@@ -384,8 +399,8 @@ class Case:
     v_pin: np.ndarray
 
 
-def make_case(layout: str, seed: int, state: int) -> Case:
-    parts, m, model, tree, ids, mapping = built(layout, seed)
+def make_case(layout: str, seed: int, state: int, n_modes: int | None = None) -> Case:
+    parts, m, model, tree, ids, mapping = built(layout, seed, n_modes)
     s = 100 * seed + state
     rng = np.random.default_rng(1000 + s + 7919 * LAYOUTS.index(layout))
     q = soadyn.random_configuration(m, s)
@@ -569,7 +584,26 @@ def pinocchio_wrenches(c: Case, f_ext: np.ndarray) -> list:
 @parametrize_cases
 def test_external_wrenches(layout, seed, state):
     """Forward and hybrid dynamics with a wrench on every body, rigid and flexible."""
-    c = make_case(layout, seed, state)
+    check_external_wrenches(make_case(layout, seed, state))
+
+
+@pytest.mark.parametrize("n_modes", range(1, 10))
+def test_appendages_of_every_mode_count(n_modes):
+    """The appendage step is compiled for each mode count up to six (max_fixed_appendage_modes)
+    and generic beyond: the appendages layout (a boom welded to the free root, one hinged,
+    one on a sliding body) with every flexible body at n_modes modes, with and without
+    wrenches."""
+    c = make_case("appendages", 0, 0, n_modes)
+    assert [p.flexible.n_modes for p in c.parts if p.flexible is not None] == [n_modes] * 3
+    assert sum(c.m.appendage_in_root_frame) == 1
+    tau = c.rng.normal(size=c.m.nv)
+    qdd = soadyn.forward_dynamics(c.m, c.q, c.v, tau)
+    tau_pin = c.map.v(tau + c.map.elastic(c.q, c.v))
+    check("forward_dynamics, n modes", qdd, c.map.back(pin.aba(c.model, c.data, c.q_pin, c.v_pin, tau_pin)))
+    check_external_wrenches(c)
+
+
+def check_external_wrenches(c: Case):
     f_ext = c.rng.normal(size=(c.m.nbodies, 6))
     fext = pinocchio_wrenches(c, f_ext)
     tau = c.rng.normal(size=c.m.nv)

@@ -5,6 +5,16 @@
 namespace soadyn {
 template struct ModalIntegrals<double>;
 template struct ModalIntegrals<float>;
+template void ModalIntegrals<double>::second_moment_rates<Eigen::Dynamic>(const Eigen::Ref<const VecX<double>>&,
+                                                                           MatX<double>&) const;
+template void ModalIntegrals<float>::second_moment_rates<Eigen::Dynamic>(const Eigen::Ref<const VecX<float>>&,
+                                                                         MatX<float>&) const;
+template void ModalIntegrals<double>::inertial_bias<Eigen::Dynamic>(const Eigen::Ref<const VecX<double>>&,
+                                                                     const Vec6<double>&, const Vec6<double>&,
+                                                                     const MatX<double>&, Eigen::Ref<VecX<double>>) const;
+template void ModalIntegrals<float>::inertial_bias<Eigen::Dynamic>(const Eigen::Ref<const VecX<float>>&,
+                                                                    const Vec6<float>&, const Vec6<float>&,
+                                                                    const MatX<float>&, Eigen::Ref<VecX<float>>) const;
 template MatX<double> modal_mass_matrix<double>(const FlexibleNodes<double>&, int);
 template MatX<float> modal_mass_matrix<float>(const FlexibleNodes<float>&, int);
 template struct FlexibleBodyDescription<double>;

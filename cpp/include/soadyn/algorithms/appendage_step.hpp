@@ -17,10 +17,119 @@
 //     anyway: E = E0 + sum_k eta_k (A_k + D_k'), since
 //     sum_k eta_k D_k' = sum_k eta_k A_k' + sum_kl eta_k eta_l B_kl.
 // Every product is a loop over modes of fixed-size 3-vector and 3x3 updates.
+// The step is compiled for each mode count from 1 to
+// max_fixed_appendage_modes (appendage_step.cpp), where those loops unroll
+// and the flattened invariants' products keep their sums in registers: about
+// 10 % of cassini's hybrid dynamics (two booms of four modes); other counts
+// and non-floating-point scalars take the generic code.
 #pragma once
+#include <type_traits>
 #include "soadyn/algorithms/flexible_steps.hpp"
 
 namespace soadyn {
+
+// Mode counts with a compiled step of their own (above).
+constexpr int max_fixed_appendage_modes = 6;
+
+namespace detail {
+
+// appendage_step (below) with n_m = N, or Eigen::Dynamic for any n_m.
+template <int N, class S>
+void appendage_terms(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi, const S* q,
+                     const S* v, const S* u, const Vec6<S>* external, const Vec6<S>& V, Mat6<S>& P, Vec6<S>& z) {
+  const int body = static_cast<int>(i);
+  FlexibleBodyData<S>& fd = flexible_data(m, d, i);
+  const int n = N == Eigen::Dynamic ? mi.n_modes : N;
+  using Modes = Eigen::Matrix<S, N, 1>;
+  const Eigen::Map<const Modes> eta(q + m.modal_q_index(body), n);
+  mi.template second_moment_rates<N>(modal_coordinates(m, body, q), fd.second_moment_rates);  // D_k, Eq. (7)
+  const auto D = [&](int k) { return Eigen::Map<const Mat3<S>>(fd.second_moment_rates.data() + 9 * k); };
+  const auto A = [&](int k) { return Eigen::Map<const Mat3<S>>(mi.second_moment_linear.data() + 9 * k); };
+  const Eigen::Map<const Eigen::Matrix<S, 3, N>> S1(mi.modal_first_moment.data(), 3, n);
+  // c(eta), E(eta) (Eqs. 2, 3), M_we(eta) = H0 + sum_k eta_k Q_k (Eq. 5).
+  Vec3<S> c = mi.first_moment;
+  Mat3<S> E = mi.second_moment;
+  for (int k = 0; k < n; ++k) {
+    c += eta[k] * S1.col(k);
+    E += eta[k] * (A(k) + D(k).transpose());
+  }
+  // M_we flattened: Q_k = angular_coupling_linear's columns k n_m .. k n_m +
+  // n_m - 1 are 3 n_m contiguous values, so vec(M_we) = vec(H0) + [vec(Q_0)
+  // ... vec(Q_n-1)] eta, one matrix-vector product.
+  affine_columns<times_mode_count(3, N), N>(mi.angular_coupling.data(), mi.angular_coupling_linear.data(), 3 * n, n,
+                                            eta.data(), fd.deformed_angular_coupling.data());
+  const Eigen::Map<const Eigen::Matrix<S, 3, N>> M_we(fd.deformed_angular_coupling.data(), 3, n);
+  E = S(0.5) * (E + E.transpose());
+  const Mat3<S> M_ww = E.trace() * Mat3<S>::Identity() - E + mi.rotary_inertia;  // Eq. (4)
+
+  // Bias b = [b_V; b_e]: Eqs. (8), (9) and the gyroscopic term, plus K eta + C eta_dot.
+  Vec6<S>& b = d.sweep.body_bias_force[i];
+  VecX<S>& b_e = fd.modal_bias;
+  if (v) {
+    const Eigen::Map<const Modes> eta_dot(v + m.modal_v_index(body), n);
+    const Vec3<S> omega = V.template head<3>(), vel = V.template tail<3>();
+    Vec6<S> momentum;  // (M w)_V = M_VV V + M_Ve eta_dot
+    momentum.template head<3>() = M_ww * omega + c.cross(vel);
+    momentum.template tail<3>() = mi.mass * vel - c.cross(omega);
+    for (int k = 0; k < n; ++k) {
+      momentum.template head<3>() += eta_dot[k] * M_we.col(k);
+      momentum.template tail<3>() += eta_dot[k] * S1.col(k);
+    }
+    mi.template inertial_bias<N>(modal_velocities(m, body, v), V, momentum, fd.second_moment_rates, fd.bias);
+    b = fd.bias.template head<6>();
+    modal_bias_with_elastic_forces<N>(m.flexible_body(body), fd.bias, eta, eta_dot, b_e);
+  } else {
+    b.setZero();
+    b_e.setZero();
+  }
+  if (external) b -= *external;
+
+  // Elimination: G' = [Y W], nu, P^ and z^.
+  const Eigen::Map<const Eigen::Matrix<S, N, N>> M_inv(mi.modal_mass_inverse.data(), n, n);
+  const Eigen::Map<const Eigen::Matrix<S, N, 3>> W(mi.modal_first_moment_gain.data(), n, 3);
+  MatX<S>& gain_transpose = fd.gain_transpose;
+  VecX<S>& nu = fd.innovation;
+  const S* modal_force = u + m.modal_v_index(body);
+  for (int r = 0; r < n; ++r) {
+    Vec3<S> y = Vec3<S>::Zero();
+    S x(0);
+    for (int k = 0; k < n; ++k) {
+      y += M_inv(r, k) * M_we.col(k);
+      x += M_inv(r, k) * (modal_force[k] - b_e[k]);
+    }
+    gain_transpose.template block<1, 3>(r, 0) = y.transpose();
+    gain_transpose.template block<1, 3>(r, 3) = W.row(r);
+    nu[r] = x;
+  }
+  Mat3<S> angular = M_ww, cross = skew(c);
+  Vec3<S> z_angular = b.template head<3>(), z_linear = b.template tail<3>();
+  for (int k = 0; k < n; ++k) {
+    const Vec3<S> m_k = M_we.col(k);
+    angular.noalias() -= m_k * gain_transpose.template block<1, 3>(k, 0);
+    cross.noalias() -= m_k * W.row(k);
+    z_angular += nu[k] * m_k;
+    z_linear += nu[k] * S1.col(k);
+  }
+  P.template topLeftCorner<3, 3>() = angular;
+  P.template topRightCorner<3, 3>() = cross;
+  P.template bottomLeftCorner<3, 3>() = cross.transpose();
+  P.template bottomRightCorner<3, 3>() = mi.translational_appendage_inertia;
+  z << z_angular, z_linear;
+}
+
+// Calls f(std::integral_constant<int, N>) with N = n when 1 <= n <= Max, else
+// with N = Eigen::Dynamic.
+template <int Count, int Max, class F>
+SOADYN_ALWAYS_INLINE void with_mode_count(int n, F&& f) {
+  if constexpr (Count > Max)
+    f(std::integral_constant<int, Eigen::Dynamic>{});
+  else if (n == Count)
+    f(std::integral_constant<int, Count>{});
+  else
+    with_mode_count<Count + 1, Max>(n, f);
+}
+
+}  // namespace detail
 
 // P^ and z^ of flexible appendage i in the frame of its modal integrals
 // `mi` (the body's own, or the same body described in its root's frame:
@@ -34,82 +143,30 @@ template <class S>
 inline void appendage_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi,
                            const S* q, const S* v, const S* u, const Vec6<S>* external, const Vec6<S>& V, Mat6<S>& P,
                            Vec6<S>& z) {
-  const int body = static_cast<int>(i);
-  FlexibleBodyData<S>& fd = flexible_data(m, d, i);
-  const int n = mi.n_modes;
-  const auto eta = modal_coordinates(m, body, q);
-  mi.second_moment_rates(eta, fd.second_moment_rates);  // D_k, Eq. (7)
-  const auto D = [&](int k) { return Eigen::Map<const Mat3<S>>(fd.second_moment_rates.data() + 9 * k); };
-  const auto A = [&](int k) { return Eigen::Map<const Mat3<S>>(mi.second_moment_linear.data() + 9 * k); };
-  const ModeShape3<S>& S1 = mi.modal_first_moment;
-  // c(eta), E(eta) (Eqs. 2, 3), M_we(eta) = H0 + sum_k eta_k Q_k (Eq. 5).
-  Vec3<S> c = mi.first_moment;
-  Mat3<S> E = mi.second_moment;
-  for (int k = 0; k < n; ++k) {
-    c += eta[k] * S1.col(k);
-    E += eta[k] * (A(k) + D(k).transpose());
-  }
-  // M_we flattened: Q_k = angular_coupling_linear's columns k n_m .. k n_m +
-  // n_m - 1 are 3 n_m contiguous values, so vec(M_we) = vec(H0) + [vec(Q_0)
-  // ... vec(Q_n-1)] eta, one matrix-vector product.
-  Eigen::Matrix<S, 3, Eigen::Dynamic>& M_we = fd.deformed_angular_coupling;
-  affine_columns(mi.angular_coupling.data(), mi.angular_coupling_linear.data(), 3 * n, n, eta.data(), M_we.data());
-  E = S(0.5) * (E + E.transpose());
-  const Mat3<S> M_ww = E.trace() * Mat3<S>::Identity() - E + mi.rotary_inertia;  // Eq. (4)
-
-  // Bias b = [b_V; b_e]: Eqs. (8), (9) and the gyroscopic term, plus K eta + C eta_dot.
-  Vec6<S>& b = d.sweep.body_bias_force[i];
-  VecX<S>& b_e = fd.modal_bias;
-  if (v) {
-    const auto eta_dot = modal_velocities(m, body, v);
-    const Vec3<S> omega = V.template head<3>(), vel = V.template tail<3>();
-    Vec6<S> momentum;  // (M w)_V = M_VV V + M_Ve eta_dot
-    momentum.template head<3>() = M_ww * omega + c.cross(vel);
-    momentum.template tail<3>() = mi.mass * vel - c.cross(omega);
-    for (int k = 0; k < n; ++k) {
-      momentum.template head<3>() += eta_dot[k] * M_we.col(k);
-      momentum.template tail<3>() += eta_dot[k] * S1.col(k);
-    }
-    mi.inertial_bias(eta_dot, V, momentum, fd.second_moment_rates, fd.bias);
-    b = fd.bias.template head<6>();
-    modal_bias_with_elastic_forces(m.flexible_body(body), fd.bias, eta, eta_dot, b_e);
+  if constexpr (std::is_floating_point_v<S>) {
+    detail::with_mode_count<1, max_fixed_appendage_modes>(mi.n_modes, [&](auto count) {
+      detail::appendage_terms<decltype(count)::value>(m, d, i, mi, q, v, u, external, V, P, z);
+    });
   } else {
-    b.setZero();
-    b_e.setZero();
+    detail::appendage_terms<Eigen::Dynamic>(m, d, i, mi, q, v, u, external, V, P, z);
   }
-  if (external) b -= *external;
-
-  // Elimination: G' = [Y W], nu, P^ and z^.
-  const MatX<S>& M_inv = mi.modal_mass_inverse;
-  const MatX<S>& W = mi.modal_first_moment_gain;
-  MatX<S>& gain_transpose = fd.gain_transpose;
-  VecX<S>& nu = fd.innovation;
-  const S* modal_force = u + m.modal_v_index(body);
-  for (int r = 0; r < n; ++r) {
-    Vec3<S> y = Vec3<S>::Zero();
-    S x(0);
-    for (int k = 0; k < n; ++k) {
-      y += M_inv(r, k) * M_we.col(k);
-      x += M_inv(r, k) * (modal_force[k] - b_e[k]);
-    }
-    gain_transpose.template block<1, 3>(r, 0) = y.transpose();
-    gain_transpose.template block<1, 3>(r, 3) = W.template block<1, 3>(r, 0);
-    nu[r] = x;
-  }
-  Mat3<S> angular = M_ww, cross = skew(c);
-  Vec3<S> z_angular = b.template head<3>(), z_linear = b.template tail<3>();
-  for (int k = 0; k < n; ++k) {
-    const Vec3<S> m_k = M_we.col(k);
-    angular.noalias() -= m_k * gain_transpose.template block<1, 3>(k, 0);
-    cross.noalias() -= m_k * W.template block<1, 3>(k, 0);
-    z_angular += nu[k] * m_k;
-    z_linear += nu[k] * S1.col(k);
-  }
-  P.template topLeftCorner<3, 3>() = angular;
-  P.template topRightCorner<3, 3>() = cross;
-  P.template bottomLeftCorner<3, 3>() = cross.transpose();
-  P.template bottomRightCorner<3, 3>() = mi.translational_appendage_inertia;
-  z << z_angular, z_linear;
 }
+
+// Instantiated in appendage_step.cpp, for N = 1 .. max_fixed_appendage_modes
+// and Eigen::Dynamic.
+#define SOADYN_APPENDAGE_TERMS(PREFIX, N, S)                                                                         \
+  PREFIX template void detail::appendage_terms<N, S>(const ModelTpl<S>&, DataTpl<S>&, std::size_t,                  \
+                                                     const ModalIntegrals<S>&, const S*, const S*, const S*,        \
+                                                     const Vec6<S>*, const Vec6<S>&, Mat6<S>&, Vec6<S>&);
+#define SOADYN_APPENDAGE_TERMS_ALL(PREFIX, S)                                                                        \
+  SOADYN_APPENDAGE_TERMS(PREFIX, 1, S)                                                                              \
+  SOADYN_APPENDAGE_TERMS(PREFIX, 2, S)                                                                              \
+  SOADYN_APPENDAGE_TERMS(PREFIX, 3, S)                                                                              \
+  SOADYN_APPENDAGE_TERMS(PREFIX, 4, S)                                                                              \
+  SOADYN_APPENDAGE_TERMS(PREFIX, 5, S)                                                                              \
+  SOADYN_APPENDAGE_TERMS(PREFIX, 6, S)                                                                              \
+  SOADYN_APPENDAGE_TERMS(PREFIX, Eigen::Dynamic, S)
+SOADYN_APPENDAGE_TERMS_ALL(extern, double)
+SOADYN_APPENDAGE_TERMS_ALL(extern, float)
 
 }  // namespace soadyn

@@ -95,11 +95,12 @@ inline void flexible_inertia_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size
 
 // Modal rows of the bias of a flexible body: the inertial bias's (the tail of
 // `bias`, modal_integrals.hpp) plus the elastic forces K eta + C eta_dot,
-// by columns (n_m is small: no matrix-vector kernel).
-template <class S, class Eta, class EtaDot>
+// by columns (n_m is small: no matrix-vector kernel). N: n_m at compile time,
+// or Eigen::Dynamic.
+template <int N = Eigen::Dynamic, class S, class Eta, class EtaDot>
 inline void modal_bias_with_elastic_forces(const FlexibleBodyTpl<S>& body, const VecX<S>& bias, const Eta& eta,
                                            const EtaDot& eta_dot, VecX<S>& modal_bias) {
-  const int n = body.n_modes();
+  const int n = N == Eigen::Dynamic ? body.n_modes() : N;
   const MatX<S>& K = body.stiffness();
   const MatX<S>& C = body.damping();
   for (int k = 0; k < n; ++k) modal_bias[k] = bias[6 + k];

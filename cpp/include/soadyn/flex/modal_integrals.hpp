@@ -58,15 +58,27 @@
 
 namespace soadyn {
 
+// k N: the size of k blocks of N, Eigen::Dynamic when N is.
+constexpr int times_mode_count(int k, int N) { return N == Eigen::Dynamic ? Eigen::Dynamic : k * N; }
+
 // out = base + M x for a column-major rows x cols matrix M, all in
 // contiguous memory (flattened modal invariants). No allocation. out may not
-// overlap base, M or x. Column by column: the sizes are a few modes, where a
-// general matrix-vector kernel's set-up costs more than the products.
-template <class S>
+// overlap base, M or x. Rows, Cols: the sizes at compile time when known (a
+// mode count known at compile time: each entry's sum over the columns is
+// formed in registers, pairs of rows at a time), else Eigen::Dynamic: column
+// by column, as a few modes are too few for a general matrix-vector kernel's
+// set-up to pay.
+template <int Rows, int Cols, class S>
 inline void affine_columns(const S* base, const S* M, Eigen::Index rows, Eigen::Index cols, const S* x, S* out) {
-  Eigen::Map<VecX<S>> result(out, rows);
-  result = Eigen::Map<const VecX<S>>(base, rows);
-  for (Eigen::Index c = 0; c < cols; ++c) result += x[c] * Eigen::Map<const VecX<S>>(M + c * rows, rows);
+  using Column = Eigen::Matrix<S, Rows, 1>;
+  Eigen::Map<Column> result(out, rows);
+  if constexpr (Rows != Eigen::Dynamic && Cols != Eigen::Dynamic) {
+    result = Eigen::Map<const Column>(base) +
+             Eigen::Map<const Eigen::Matrix<S, Rows, Cols>>(M).lazyProduct(Eigen::Map<const Eigen::Matrix<S, Cols, 1>>(x));
+  } else {
+    result = Eigen::Map<const Column>(base, rows);
+    for (Eigen::Index c = 0; c < cols; ++c) result += x[c] * Eigen::Map<const Column>(M + c * rows, rows);
+  }
 }
 
 template <class S>
@@ -99,12 +111,15 @@ struct ModalIntegrals {
   void augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<MatX<S>> out) const;
 
   // out = [D_0 ... D_{n_m-1}] of Eq. (7); `out` must already be 3 x 3n_m.
-  // No allocation.
+  // No allocation. N: n_m known at compile time (appendage_step.hpp), or
+  // Eigen::Dynamic.
+  template <int N = Eigen::Dynamic>
   void second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, MatX<S>& out) const;
 
   // out (6 + n_m) = dM/dt w + [V x* (M w)_V; 0] - [0; dT/deta], Eqs. (7)-(9),
   // given `momentum` = (M w)_V = M_VV V + M_Ve eta_dot and `rates` = Eq. (7)
-  // at eta. No allocation.
+  // at eta. No allocation. N as above.
+  template <int N = Eigen::Dynamic>
   void inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, const Vec6<S>& V, const Vec6<S>& momentum,
                      const MatX<S>& rates, Eigen::Ref<VecX<S>> out) const;
 
@@ -146,6 +161,20 @@ MatX<S> modal_mass_matrix(const FlexibleNodes<S>& nodes, int n_modes);
 
 extern template struct ModalIntegrals<double>;
 extern template struct ModalIntegrals<float>;
+// The mode-count-generic rates and bias (flexible_body.cpp); the fixed
+// counts are instantiated with the appendage step (appendage_step.cpp).
+extern template void ModalIntegrals<double>::second_moment_rates<Eigen::Dynamic>(const Eigen::Ref<const VecX<double>>&,
+                                                                                  MatX<double>&) const;
+extern template void ModalIntegrals<float>::second_moment_rates<Eigen::Dynamic>(const Eigen::Ref<const VecX<float>>&,
+                                                                                MatX<float>&) const;
+extern template void ModalIntegrals<double>::inertial_bias<Eigen::Dynamic>(const Eigen::Ref<const VecX<double>>&,
+                                                                            const Vec6<double>&, const Vec6<double>&,
+                                                                            const MatX<double>&,
+                                                                            Eigen::Ref<VecX<double>>) const;
+extern template void ModalIntegrals<float>::inertial_bias<Eigen::Dynamic>(const Eigen::Ref<const VecX<float>>&,
+                                                                           const Vec6<float>&, const Vec6<float>&,
+                                                                           const MatX<float>&,
+                                                                           Eigen::Ref<VecX<float>>) const;
 extern template MatX<double> modal_mass_matrix<double>(const FlexibleNodes<double>&, int);
 extern template MatX<float> modal_mass_matrix<float>(const FlexibleNodes<float>&, int);
 

@@ -162,23 +162,26 @@ void ModalIntegrals<S>::augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& e
 }
 
 template <class S>
+template <int N>
 void ModalIntegrals<S>::second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, MatX<S>& out) const {
   // D_k = A_k + (sum_l eta_l B_kl)' = A_k + sum_l eta_l B_lk (B_kl' = B_lk).
   // The B_lk of one l are n_m contiguous 3x3 blocks (column-major), so with
   // every D_k flattened into one 9 n_m-vector, [D_0 ... D_{n_m-1}] =
   // [A_0 ... A_{n_m-1}] + B eta for the 9 n_m x n_m matrix B whose column l
   // is [B_l0 ... B_l,n_m-1]: one matrix-vector product on stored memory.
-  affine_columns(second_moment_linear.data(), second_moment_quadratic.data(), 9 * n_modes, n_modes, eta.data(), out.data());
+  affine_columns<times_mode_count(9, N), N>(second_moment_linear.data(), second_moment_quadratic.data(), 9 * n_modes,
+                                             n_modes, eta.data(), out.data());
 }
 
 template <class S>
+template <int N>
 void ModalIntegrals<S>::inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, const Vec6<S>& V,
                                       const Vec6<S>& momentum, const MatX<S>& rates, Eigen::Ref<VecX<S>> out) const {
   // Q_k e_l = sum_j m_j (Phi_t,j e_k) x (Phi_t,j e_l) = -Q_l e_k, so the term
   // sum_k eta_dot_k Q_k eta_dot of Eq. (8) vanishes, and the modal rows'
   // sum_k eta_dot_k Q_k' omega (Eq. 8) - omega' Q_m eta_dot (Eq. 9) are
   // 2 sum_k eta_dot_k (Q_k e_m).omega: one dot product per mode pair k < m.
-  const int n = n_modes;
+  const int n = N == Eigen::Dynamic ? n_modes : N;
   const Vec3<S> omega = V.template head<3>(), v = V.template tail<3>();
   const Vec3<S> v_cross_omega = v.cross(omega);
   const S omega2 = omega.squaredNorm();
