@@ -172,11 +172,19 @@ def compare_all(c: Case, label: str) -> None:
         M_pin = pin.crba(c.model, c.data, q_pin)
         check(f"{label}: mass_matrix", c.map.matrix_to_pin(soadyn.mass_matrix(c.m, q)),
               np.triu(M_pin) + np.triu(M_pin, 1).T)
-        for prescribed, mask in prescribed_copies(c):
+        for prescribed, mask in [(c.m, np.zeros(c.m.nv, dtype=bool))] + prescribed_copies(c):
             qdd, tau = soadyn.hybrid_dynamics(prescribed, q, v, x)
             np.testing.assert_array_equal(qdd[mask], x[mask])
             np.testing.assert_array_equal(tau[~mask], x[~mask])
             check(f"{label}: hybrid_dynamics", c.map.v(tau), pin.rnea(c.model, c.data, q_pin, v_pin, c.map.v(qdd)))
+            # The wrenches need every body's orientation, the wheels' too (whose constant
+            # terms let the sweeps skip it otherwise), and so does f_ext.
+            for f_ext, fext_pin in ((None, ()), (f, (c.map.f_ext(f, c.joint_ids),))):
+                qdd, tau, wrenches = soadyn.hybrid_dynamics(prescribed, q, v, x, f_ext=f_ext, joint_wrenches=True)
+                check(f"{label}: hybrid_dynamics with wrenches", c.map.v(tau),
+                      pin.rnea(c.model, c.data, q_pin, v_pin, c.map.v(qdd), *fext_pin))
+                check(f"{label}: joint wrenches", wrenches,
+                      np.array([np.r_[c.data.f[j].angular, c.data.f[j].linear] for j in c.joint_ids]))
 
 
 def constant_flags(c: Case) -> list[bool]:

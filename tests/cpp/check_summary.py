@@ -231,10 +231,10 @@ def check_batch(output: str) -> None:
 
 
 def check_small_solves(output: str) -> None:
-    """The free root's inverse and the two-DOF hinge step against LLT and cholesky_in_place."""
-    require(bool(lines(r"^spd_inverse6: 2000 random P \(condition up to 1e6\), max relative error / condition \S+$",
-                       output)), "2000 block inverses")
-    require(bool(lines(r"^spd_inverse6: singular pivot named as by cholesky_in_place: 6 of 6$", output)),
+    """The free root's solve and the two-DOF hinge step against LLT and cholesky_in_place."""
+    require(bool(lines(r"^spd_factor6: 2000 random P \(condition up to 1e6\), solve's max relative error / condition \S+$",
+                       output)), "2000 free-root solves")
+    require(bool(lines(r"^spd_factor6: singular pivot named as by cholesky_in_place: 6 of 6$", output)),
             "every singular pivot named")
     require(bool(lines(r"^two-DOF hinge: 2000 random D, max relative error of G \S+, factors within 2 ulp of "
                        r"cholesky_in_place's: 2000$", output)), "2000 two-DOF steps with the factor of cholesky_in_place")

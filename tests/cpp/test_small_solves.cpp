@@ -1,5 +1,5 @@
 // The sweeps' small solves against Eigen's LLT and against
-// cholesky_in_place: the free root's inverse by LDL' (spd_inverse6.hpp) and
+// cholesky_in_place: the free root's solves by LDL' (spd_factor6.hpp) and
 // the two-DOF hinge step (steps.hpp), on random positive definite matrices
 // (solutions, factors) and on singular ones (which pivot is named, and no
 // inf or NaN on the way).
@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <random>
 #include "failure_count.hpp"
-#include "soadyn/algorithms/spd_inverse6.hpp"
+#include "soadyn/algorithms/spd_factor6.hpp"
 #include "soadyn/algorithms/steps.hpp"
 
 using namespace soadyn;
@@ -29,32 +29,38 @@ Eigen::Matrix<double, N, N> random_spd(std::mt19937& rng, double decades) {
   return Q * scales.asDiagonal() * Q.transpose();
 }
 
-void block_inverse(std::mt19937& rng) {
+void free_root_solve(std::mt19937& rng) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
   double worst = 0.0;
   int cases = 0;
   for (int k = 0; k < 2000; ++k) {
     const Mat6<double> P = random_spd<6>(rng, 6.0);
-    Mat6<double> inverse;
-    const int bad = spd_inverse6(P, singular_pivot_threshold(P), inverse);
+    Vec6<double> b;
+    for (int r = 0; r < 6; ++r) b[r] = unit(rng);
+    Mat6<double> factor;
+    const int bad = spd_factor6(P, singular_pivot_threshold(P), factor);
     check(bad == -1, "a positive definite P accepted");
-    const Mat6<double> reference = P.llt().solve(Mat6<double>::Identity());
-    const double cond = P.norm() * reference.norm();
-    worst = std::max(worst, (inverse - reference).norm() / reference.norm() / cond);
+    const Vec6<double> x = spd_solve6(factor, b);
+    const Eigen::LLT<Mat6<double>> llt(P);
+    const Vec6<double> reference = llt.solve(b);
+    const double cond = P.norm() * llt.solve(Mat6<double>::Identity()).norm();
+    worst = std::max(worst, (x - reference).norm() / reference.norm() / cond);
     ++cases;
   }
-  std::printf("spd_inverse6: %d random P (condition up to 1e6), max relative error / condition %.2e\n", cases, worst);
-  check(worst < 1e-13, "spd_inverse6 within 1e-13 x condition of LLT");
+  std::printf("spd_factor6: %d random P (condition up to 1e6), solve's max relative error / condition %.2e\n", cases,
+              worst);
+  check(worst < 1e-13, "spd_solve6 within 1e-13 x condition of LLT");
   // Singular P: the pivot named is cholesky_in_place's (a zero row k, every k).
   int agreed = 0;
   for (int zero = 0; zero < 6; ++zero) {
     Mat6<double> P = random_spd<6>(rng, 1.0);
     P.row(zero).setZero();
     P.col(zero).setZero();
-    Mat6<double> inverse, L = P;
-    const int bad = spd_inverse6(P, singular_pivot_threshold(P), inverse);
+    Mat6<double> factor, L = P;
+    const int bad = spd_factor6(P, singular_pivot_threshold(P), factor);
     agreed += bad == cholesky_in_place(L, singular_pivot_threshold(P)) && bad == zero;
   }
-  std::printf("spd_inverse6: singular pivot named as by cholesky_in_place: %d of 6\n", agreed);
+  std::printf("spd_factor6: singular pivot named as by cholesky_in_place: %d of 6\n", agreed);
   check(agreed == 6, "every singular pivot named");
 }
 
@@ -118,7 +124,7 @@ void two_dof_hinge(std::mt19937& rng) {
 
 int main() {
   std::mt19937 rng(2026);
-  block_inverse(rng);
+  free_root_solve(rng);
   two_dof_hinge(rng);
   std::printf("%s: %d failures\n", soadyn_test::failures ? "FAIL" : "PASS", soadyn_test::failures);
   return soadyn_test::failures ? 1 : 0;

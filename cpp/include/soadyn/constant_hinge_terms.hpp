@@ -4,7 +4,10 @@
 // body). A leaf's articulated inertia P is its own inertia, so with its one
 // DOF regular and no armature the terms of Jain & Rodriguez (1993), Eq. 28,
 //   u = P H*,  D = H u,  G = u D^-1,  P+ = P - G u',
-// are constants too: formed once per model, read by the sweeps.
+// are constants too: formed once per model, read by the sweeps. So are its
+// subspace and its origin in that frame: the dynamics sweeps form no pose
+// for it unless an external wrench or the hinge forces need its orientation
+// (tree_frame_steps.hpp, tree_velocity_step).
 #pragma once
 #include "soadyn/spatial/types.hpp"
 
@@ -16,6 +19,8 @@ struct ConstantHingeTerms {
   S articulated_d = S(0);                       // D
   S inverse_d = S(0);                           // D^-1
   Mat6<S> articulated_plus = Mat6<S>::Zero();   // P+
+  Vec6<S> subspace = Vec6<S>::Zero();           // H*, in the root's frame
+  Vec3<S> origin = Vec3<S>::Zero();             // the leaf's origin in the root's frame
 };
 
 }  // namespace soadyn

@@ -117,6 +117,8 @@ void ModelTpl<S>::refresh_constant_leaf_hinges() {
     terms.gain = u * terms.inverse_d;
     terms.articulated_plus = P;
     terms.articulated_plus.noalias() -= terms.gain * u.transpose();
+    terms.subspace = subspace;
+    terms.origin = pose.translation;
     constant_leaf_hinge[i] = 1;
   }
 }

@@ -63,7 +63,7 @@ struct SweepData {
   aligned_vector<Vec6<S>> attachment_bias;
 
   // Tree frames: tree-frame sweeps (tree_frame_sweeps.hxx), the composite-rigid-body mass matrix.
-  aligned_vector<Transform<S>> tree_pose;              // body i in its tree frame
+  aligned_vector<Transform<S>> tree_pose;              // body i in its tree frame (tree_velocity_step: a constant leaf's, its origin only)
   aligned_vector<Mat6N<S>> tree_subspace;              // H*(i)
   aligned_vector<Vec6<S>> tree_velocity;               // V(i)
   aligned_vector<Vec6<S>> tree_coriolis;               // a(i)

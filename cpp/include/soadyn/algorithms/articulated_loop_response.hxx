@@ -222,10 +222,10 @@ void loop_response_outward(const ModelTpl<S>& m, DataTpl<S>& d, ArticulatedRespo
       continue;
     }
     if (is_regular_free_root<ModePolicy::model_flags>(m, i)) {  // alpha = P^-1 (H^-* T - z) (free_root_inward)
-      const Mat6<S>& P_inverse = d.sweep.hinge_factor[i];
+      const Mat6<S>& factor = d.sweep.hinge_factor[i];  // P = L D L' (spd_factor6.hpp)
       const auto dz = R.z_of(i);
-      for (Eigen::Index c = 0; c < dalpha.cols(); ++c)  // fixed-size products: no heap temporary
-        dalpha.col(c) = -(P_inverse * Vec6<S>(dz.col(c)));
+      for (Eigen::Index c = 0; c < dalpha.cols(); ++c)  // fixed-size solves: no heap temporary
+        dalpha.col(c) = -spd_solve6(factor, Vec6<S>(dz.col(c)));
       dqdd.topRows(3).noalias() = s.template topLeftCorner<3, 3>().transpose() * dalpha.template topRows<3>();
       dqdd.bottomRows(3).noalias() = s.template bottomRightCorner<3, 3>().transpose() * dalpha.template bottomRows<3>();
       continue;

@@ -179,9 +179,21 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
 // Tree-frame kinematics of body i (Jain & Rodriguez 1993, Eq. 1): pose and subspace,
 // V(i) = V(parent) + H* qdot and a(i) = V(i) x (H* qdot) + joint bias.
 // `v` null: zero velocity (impulse problems).
+// RootBodyFrames without `pose_wanted`: a leaf with constant hinge terms
+// (model.constant_leaf_hinge: a wheel turning about its axis of symmetry)
+// has its constant subspace and origin read, and its pose's rotation is
+// left unformed; nothing in the dynamics sweeps reads it but an external
+// wrench or the hinge forces' output.
 template <bool RootBodyFrames = false, class S>
-SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
-  const Vec6<S> joint_rate = tree_joint_step<RootBodyFrames>(m, d, i, q, v);
+SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
+                                             bool pose_wanted = true) {
+  Vec6<S> joint_rate;  // revolute leaves have none (joint_has_rate_term)
+  if (RootBodyFrames && !pose_wanted && m.constant_leaf_hinge[i]) {
+    d.sweep.tree_pose[i].translation = m.leaf_hinge_terms[i].origin;  // for beyond_tree_frame_reach
+    d.sweep.tree_subspace[i] = m.leaf_hinge_terms[i].subspace;
+  } else {
+    joint_rate = tree_joint_step<RootBodyFrames>(m, d, i, q, v);
+  }
   if (!v) {
     d.sweep.tree_velocity[i].setZero();
     d.sweep.tree_coriolis[i].setZero();

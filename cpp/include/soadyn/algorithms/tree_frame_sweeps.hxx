@@ -9,7 +9,7 @@
 // inertia to carry, body frames need fewer operations.
 #pragma once
 #include "soadyn/algorithms/hinge_steps.hpp"
-#include "soadyn/algorithms/spd_inverse6.hpp"
+#include "soadyn/algorithms/spd_factor6.hpp"
 #include "soadyn/algorithms/tree_frame_steps.hpp"
 
 namespace soadyn {
@@ -19,16 +19,16 @@ namespace detail {
 // blockdiag(R, R), is invertible, so Eq. 28 gives P+ = 0 and the hinge
 // equation H (P alpha + z) = T fixes the body's acceleration outright:
 //   alpha = P^-1 (H^-* T - z),  H^-* = H (orthogonal blocks),
-// with P^-1 by 3x3 blocks (spd_inverse6.hpp) instead of D = H P H*, G and P+.
-// Stores alpha in acceleration[i] and P^-1 in hinge_factor[i]; returns the
-// DOF of a singular P, or -1. RootBodyFrames: the tree frame is the root's
-// body frame, where H = 1 and alpha = P^-1 (T - z).
+// with one solve with P = L D L' (spd_factor6.hpp) instead of D = H P H*, G
+// and P+. Stores alpha in acceleration[i] and P's factor in hinge_factor[i];
+// returns the DOF of a singular P, or -1. RootBodyFrames: the tree frame is
+// the root's body frame, where H = 1 and alpha = P^-1 (T - z).
 template <bool RootBodyFrames, class S>
 inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u) {
   const Mat6N<S>& s = d.sweep.tree_subspace[i];
   const Mat6<S>& P = d.sweep.tree_articulated_inertia[i];
-  Mat6<S>& P_inverse = d.sweep.hinge_factor[i];
-  const int bad = spd_inverse6(P, singular_pivot_threshold(P), P_inverse);
+  Mat6<S>& factor = d.sweep.hinge_factor[i];
+  const int bad = spd_factor6(P, singular_pivot_threshold(P), factor);
   if (bad >= 0) return m.v_index[i] + bad;
   const Eigen::Map<const Vec6<S>> torque(u + m.v_index[i]);
   Vec6<S> residual;  // H^-* T - z
@@ -38,7 +38,7 @@ inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, 
     residual << s.template topLeftCorner<3, 3>() * torque.template head<3>(),
         s.template bottomRightCorner<3, 3>() * torque.template tail<3>();
   residual -= d.sweep.tree_bias_and_children_z[i];
-  d.sweep.tree_acceleration[i].noalias() = P_inverse * residual;
+  d.sweep.tree_acceleration[i] = spd_solve6(factor, residual);
   return -1;
 }
 
@@ -130,10 +130,12 @@ SOADYN_ALWAYS_INLINE int tree_hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, 
 // having changed no output, when a body lies too far from its tree origin
 // for tree frames (the caller then uses body frames). RootBodyFrames: a
 // root's tree frame is its body frame where its joint allows
-// (tree_frame_steps.hpp).
+// (tree_frame_steps.hpp); `poses_wanted` false: the orientations of
+// leaves with constant hinge terms are not needed afterwards
+// (tree_velocity_step).
 template <ModePolicy Modes, bool Flex, bool RootBodyFrames = false, class S>
 Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u,
-                                const S* f_ext, const Vec6<S>& world_acc) {
+                                const S* f_ext, const Vec6<S>& world_acc, bool poses_wanted = true) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   SweepData<S>& w = d.sweep;
   tabulate_joint_angles(m, w, q);
@@ -141,7 +143,7 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     if (RootBodyFrames && is_body_frame_root(m, static_cast<int>(i)))
       root_body_frame_step(m, d, i, q, v, world_acc);
     else
-      tree_velocity_step<RootBodyFrames>(m, d, i, q, v);
+      tree_velocity_step<RootBodyFrames>(m, d, i, q, v, poses_wanted || f_ext);
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
     if constexpr (Flex) {
       if (m.is_flexible(static_cast<int>(i))) {  // modal DOFs always regular: P^ and z^ at once
@@ -249,7 +251,7 @@ Status tree_frame_outward_sweep(const ModelTpl<S>& m, DataTpl<S>& d, const S* u,
 template <ModePolicy Modes, bool Flex, class S>
 Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u, const S* f_ext,
                          const Vec6<S>& world_acc, bool want_force) {
-  const Status inward = tree_frame_inward_sweeps<Modes, Flex, true>(m, d, q, v, u, f_ext, world_acc);
+  const Status inward = tree_frame_inward_sweeps<Modes, Flex, true>(m, d, q, v, u, f_ext, world_acc, want_force);
   if (!inward.ok()) return inward;
   return tree_frame_outward_sweep<Modes, Flex, true>(m, d, u, world_acc, want_force);
 }
