@@ -29,7 +29,7 @@ struct FlexibleBodyData {
   explicit FlexibleBodyData(int n_modes);
 
   MatX<S> mass;                        // M(eta), (6 + n_m) square
-  MatX<S> second_moment_rates;         // [D_0 ... D_{n_m-1}] (modal_integrals.hpp, Eq. 7)
+  MatX<S> second_moment_rates;         // [sym D_0 ... sym D_{n_m-1}], packed (modal_integrals.hpp, Eq. 7)
   VecX<S> bias;                        // inertial bias (6 + n_m), modal_integrals.hpp
   VecX<S> modal_bias;                  // b_e + K eta + C eta_dot: modal rows of the body's own bias
   VecX<S> modal_bias_and_children_z;   // modal_bias + sum over bodies on nodes of Psi' z+ (articulated sweeps)

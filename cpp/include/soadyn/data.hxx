@@ -6,7 +6,7 @@ namespace soadyn {
 template <class S>
 FlexibleBodyData<S>::FlexibleBodyData(int n)
     : mass(MatX<S>::Zero(6 + n, 6 + n)),
-      second_moment_rates(MatX<S>::Zero(3, 3 * n)),
+      second_moment_rates(MatX<S>::Zero(6, n)),
       bias(VecX<S>::Zero(6 + n)),
       modal_bias(VecX<S>::Zero(n)),
       modal_bias_and_children_z(VecX<S>::Zero(n)),

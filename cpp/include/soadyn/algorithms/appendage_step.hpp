@@ -15,7 +15,9 @@
 //   - the translational block of P^ is the constant m 1 - S1 W;
 //   - E(eta) of Eq. (3) follows from the rates D_k of Eq. (7) the bias needs
 //     anyway: E = E0 + sum_k eta_k (A_k + D_k'), since
-//     sum_k eta_k D_k' = sum_k eta_k A_k' + sum_kl eta_k eta_l B_kl.
+//     sum_k eta_k D_k' = sum_k eta_k A_k' + sum_kl eta_k eta_l B_kl; E being
+//     symmetric, E = E0 + sum_k eta_k (sym A_k + sym D_k), on the packed
+//     symmetric parts the rates are formed as.
 // Every product is a loop over modes of fixed-size 3-vector and 3x3 updates.
 // The step is compiled for each mode count from 1 to
 // max_fixed_appendage_modes (appendage_step.cpp), where those loops unroll
@@ -42,16 +44,16 @@ void appendage_terms(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const M
   const int n = N == Eigen::Dynamic ? mi.n_modes : N;
   using Modes = Eigen::Matrix<S, N, 1>;
   const Eigen::Map<const Modes> eta(q + m.modal_q_index(body), n);
-  mi.template second_moment_rates<N>(modal_coordinates(m, body, q), fd.second_moment_rates);  // D_k, Eq. (7)
-  const auto D = [&](int k) { return Eigen::Map<const Mat3<S>>(fd.second_moment_rates.data() + 9 * k); };
-  const auto A = [&](int k) { return Eigen::Map<const Mat3<S>>(mi.second_moment_linear.data() + 9 * k); };
+  mi.template second_moment_rates<N>(modal_coordinates(m, body, q), fd.second_moment_rates);  // sym D_k, Eq. (7)
+  const Eigen::Map<const Eigen::Matrix<S, 6, N>> D(fd.second_moment_rates.data(), 6, n);
+  const Eigen::Map<const Eigen::Matrix<S, 6, N>> A(mi.symmetric_rate_linear.data(), 6, n);
   const Eigen::Map<const Eigen::Matrix<S, 3, N>> S1(mi.modal_first_moment.data(), 3, n);
   // c(eta), E(eta) (Eqs. 2, 3), M_we(eta) = H0 + sum_k eta_k Q_k (Eq. 5).
   Vec3<S> c = mi.first_moment;
-  Mat3<S> E = mi.second_moment;
+  Vec6<S> E_change = Vec6<S>::Zero();
   for (int k = 0; k < n; ++k) {
     c += eta[k] * S1.col(k);
-    E += eta[k] * (A(k) + D(k).transpose());
+    E_change += eta[k] * (A.col(k) + D.col(k));
   }
   // M_we flattened: Q_k = angular_coupling_linear's columns k n_m .. k n_m +
   // n_m - 1 are 3 n_m contiguous values, so vec(M_we) = vec(H0) + [vec(Q_0)
@@ -59,7 +61,7 @@ void appendage_terms(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const M
   affine_columns<times_mode_count(3, N), N>(mi.angular_coupling.data(), mi.angular_coupling_linear.data(), 3 * n, n,
                                             eta.data(), fd.deformed_angular_coupling.data());
   const Eigen::Map<const Eigen::Matrix<S, 3, N>> M_we(fd.deformed_angular_coupling.data(), 3, n);
-  E = S(0.5) * (E + E.transpose());
+  const Mat3<S> E = mi.second_moment + unpacked_symmetric(E_change);
   const Mat3<S> M_ww = E.trace() * Mat3<S>::Identity() - E + mi.rotary_inertia;  // Eq. (4)
 
   // Bias b = [b_V; b_e]: Eqs. (8), (9) and the gyroscopic term, plus K eta + C eta_dot.

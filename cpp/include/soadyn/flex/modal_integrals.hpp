@@ -47,8 +47,12 @@
 //               sum_k eta_dot_k Q_k' omega ]                                            (8)
 //   dT/deta_k = tr(D_k) |omega|^2 - omega' D_k omega + (S1 e_k).(v x omega)
 //             + omega' Q_k eta_dot.                                                     (9)
-// Q_k e_l = -Q_l e_k, so sum_k eta_dot_k Q_k eta_dot = 0. Cost about 9 n_m^2
-// multiply-adds for the rates and 2 n_m^2 for the rest.
+// Q_k e_l = -Q_l e_k, so sum_k eta_dot_k Q_k eta_dot = 0. Every use of D_k
+// reads its symmetric part only (E is symmetric; (8) reads G + G' and (9) a
+// trace and a quadratic form), so the rates are formed as
+//   sym D_k = sym A_k + sum_l eta_l sym B_lk   (sym B_lk = sym B_kl),
+// six entries each (packed_symmetric): 6 n_m^2 multiply-adds for the rates
+// and about 2 n_m^2 for the rest.
 //
 // Storage: about 13 n_m^2 + 15 n_m scalars (B_kl dominates); evaluation of
 // M(eta): about 12 n_m^2 multiply-adds plus copying the constant blocks.
@@ -57,6 +61,21 @@
 #include "soadyn/spatial/transform.hpp"
 
 namespace soadyn {
+
+// The symmetric part of a 3x3 matrix packed as (xx, yy, zz, xy, xz, yz), and back.
+template <class S>
+inline Vec6<S> packed_symmetric(const Mat3<S>& A) {
+  Vec6<S> out;
+  out << A(0, 0), A(1, 1), A(2, 2), S(0.5) * (A(0, 1) + A(1, 0)), S(0.5) * (A(0, 2) + A(2, 0)),
+      S(0.5) * (A(1, 2) + A(2, 1));
+  return out;
+}
+template <class S>
+inline Mat3<S> unpacked_symmetric(const Vec6<S>& p) {
+  Mat3<S> A;
+  A << p[0], p[3], p[4], p[3], p[1], p[5], p[4], p[5], p[2];
+  return A;
+}
 
 // k N: the size of k blocks of N, Eigen::Dynamic when N is.
 constexpr int times_mode_count(int k, int N) { return N == Eigen::Dynamic ? Eigen::Dynamic : k * N; }
@@ -93,6 +112,11 @@ struct ModalIntegrals {
   MatX<S> second_moment_quadratic;  // B_kl at columns 3(k n_m + l), 3 x 3n_m^2
   ModeShape3<S> angular_coupling;                    // H0 (3 x n_m)
   MatX<S> angular_coupling_linear;  // [Q_0 ... Q_{n-1}], 3 x n_m^2
+  // The symmetric parts, packed (packed_symmetric), from which the rates
+  // are formed: sym A_k in column k (6 x n_m), and sym B_lk in rows 6k ..
+  // 6k + 5 of column l (6 n_m x n_m).
+  MatX<S> symmetric_rate_linear;
+  MatX<S> symmetric_rate_quadratic;
   MatX<S> modal_mass;                                // M_ee (n_m x n_m)
   // For bodies that carry nothing on a node (algorithms/appendage_step.hpp):
   MatX<S> modal_mass_inverse;                        // M_ee^-1
@@ -110,18 +134,22 @@ struct ModalIntegrals {
   // the recursion calls this with a block of its preallocated Data.
   void augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<MatX<S>> out) const;
 
-  // out = [D_0 ... D_{n_m-1}] of Eq. (7); `out` must already be 3 x 3n_m.
-  // No allocation. N: n_m known at compile time (appendage_step.hpp), or
-  // Eigen::Dynamic.
+  // out = [sym D_0 ... sym D_{n_m-1}] of Eq. (7), each packed
+  // (packed_symmetric); `out` must already be 6 x n_m. No allocation. N: n_m
+  // known at compile time (appendage_step.hpp), or Eigen::Dynamic.
   template <int N = Eigen::Dynamic>
   void second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, MatX<S>& out) const;
 
   // out (6 + n_m) = dM/dt w + [V x* (M w)_V; 0] - [0; dT/deta], Eqs. (7)-(9),
-  // given `momentum` = (M w)_V = M_VV V + M_Ve eta_dot and `rates` = Eq. (7)
-  // at eta. No allocation. N as above.
+  // given `momentum` = (M w)_V = M_VV V + M_Ve eta_dot and `rates` =
+  // second_moment_rates at eta. No allocation. N as above.
   template <int N = Eigen::Dynamic>
   void inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, const Vec6<S>& V, const Vec6<S>& momentum,
                      const MatX<S>& rates, Eigen::Ref<VecX<S>> out) const;
+
+  // symmetric_rate_linear and _quadratic from second_moment_linear and
+  // _quadratic.
+  void refresh_symmetric_rates();
 
   // The same integrals for the body described in a frame where its own
   // frame has the pose X = (R, p): node positions R r + p, mode shapes
@@ -147,6 +175,8 @@ struct ModalIntegrals {
     out.second_moment_quadratic = second_moment_quadratic.template cast<T>();
     out.angular_coupling = angular_coupling.template cast<T>();
     out.angular_coupling_linear = angular_coupling_linear.template cast<T>();
+    out.symmetric_rate_linear = symmetric_rate_linear.template cast<T>();
+    out.symmetric_rate_quadratic = symmetric_rate_quadratic.template cast<T>();
     out.modal_mass = modal_mass.template cast<T>();
     out.modal_mass_inverse = modal_mass_inverse.template cast<T>();
     out.modal_first_moment_gain = modal_first_moment_gain.template cast<T>();

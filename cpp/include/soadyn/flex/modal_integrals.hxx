@@ -35,6 +35,14 @@ void add_modal_moments(const FlexibleNode<S>& node, ModalIntegrals<S>& mi) {
   }
 }
 
+// (A + A') / 2: E0 and sum J are kept symmetric to the last bit (products
+// such as m r r' round their two triangles differently), as the appendage
+// step adds symmetric changes to E0 without symmetrizing again.
+template <class S>
+Mat3<S> symmetric_part(const Mat3<S>& A) {
+  return S(0.5) * (A + A.transpose());
+}
+
 }  // namespace flex_detail
 
 template <class S>
@@ -64,6 +72,8 @@ ModalIntegrals<S> ModalIntegrals<S>::from_nodes(const FlexibleNodes<S>& nodes, i
     flex_detail::add_rigid_moments(node, mi);
     flex_detail::add_modal_moments(node, mi);
   }
+  mi.second_moment = flex_detail::symmetric_part(mi.second_moment);
+  mi.rotary_inertia = flex_detail::symmetric_part(mi.rotary_inertia);
   mi.modal_mass = modal_mass_matrix(nodes, n);
   // M_ee is positive definite (FlexibleBodyDescription::validate); its
   // inverse is symmetrized like the matrix itself.
@@ -72,7 +82,21 @@ ModalIntegrals<S> ModalIntegrals<S>::from_nodes(const FlexibleNodes<S>& nodes, i
   mi.modal_first_moment_gain = mi.modal_mass_inverse * mi.modal_first_moment.transpose();
   const Mat3<S> translational = mi.mass * Mat3<S>::Identity() - mi.modal_first_moment * mi.modal_first_moment_gain;
   mi.translational_appendage_inertia = S(0.5) * (translational + translational.transpose());
+  mi.refresh_symmetric_rates();
   return mi;
+}
+
+template <class S>
+void ModalIntegrals<S>::refresh_symmetric_rates() {
+  const int n = n_modes;
+  symmetric_rate_linear.resize(6, n);
+  symmetric_rate_quadratic.resize(6 * n, n);
+  const auto block = [](const MatX<S>& blocks, int b) { return Mat3<S>(Eigen::Map<const Mat3<S>>(blocks.data() + 9 * b)); };
+  for (int k = 0; k < n; ++k) {
+    symmetric_rate_linear.col(k) = packed_symmetric(block(second_moment_linear, k));
+    for (int l = 0; l < n; ++l)
+      symmetric_rate_quadratic.col(l).template segment<6>(6 * k) = packed_symmetric(block(second_moment_quadratic, l * n + k));
+  }
 }
 
 template <class S>
@@ -87,9 +111,10 @@ void ModalIntegrals<S>::in_frame(const Transform<S>& X, ModalIntegrals<S>& out) 
   out.mass = mass;
   const Vec3<S> first = R * first_moment;
   out.first_moment = first + mass * p;
-  out.second_moment = R * second_moment * R.transpose() + first * p.transpose() + p * first.transpose() +
-                       mass * p * p.transpose();
-  out.rotary_inertia = R * rotary_inertia * R.transpose();
+  using flex_detail::symmetric_part;
+  out.second_moment = symmetric_part<S>(R * second_moment * R.transpose() + first * p.transpose() +
+                                        p * first.transpose() + mass * p * p.transpose());
+  out.rotary_inertia = symmetric_part<S>(R * rotary_inertia * R.transpose());
   out.modal_first_moment.resize(3, n);
   out.angular_coupling.resize(3, n);
   out.second_moment_linear.resize(3, 3 * n);
@@ -113,6 +138,7 @@ void ModalIntegrals<S>::in_frame(const Transform<S>& X, ModalIntegrals<S>& out) 
     out.modal_first_moment_gain.row(r) = (R * modal_first_moment_gain.row(r).transpose()).transpose();
   const Mat3<S> translational = R * translational_appendage_inertia * R.transpose();
   out.translational_appendage_inertia = S(0.5) * (translational + translational.transpose());
+  out.refresh_symmetric_rates();
 }
 
 template <class S>
@@ -164,13 +190,12 @@ void ModalIntegrals<S>::augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& e
 template <class S>
 template <int N>
 void ModalIntegrals<S>::second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, MatX<S>& out) const {
-  // D_k = A_k + (sum_l eta_l B_kl)' = A_k + sum_l eta_l B_lk (B_kl' = B_lk).
-  // The B_lk of one l are n_m contiguous 3x3 blocks (column-major), so with
-  // every D_k flattened into one 9 n_m-vector, [D_0 ... D_{n_m-1}] =
-  // [A_0 ... A_{n_m-1}] + B eta for the 9 n_m x n_m matrix B whose column l
-  // is [B_l0 ... B_l,n_m-1]: one matrix-vector product on stored memory.
-  affine_columns<times_mode_count(9, N), N>(second_moment_linear.data(), second_moment_quadratic.data(), 9 * n_modes,
-                                             n_modes, eta.data(), out.data());
+  // sym D_k = sym A_k + sum_l eta_l sym B_lk. With every sym D_k packed into
+  // one 6 n_m-vector, [sym D_0 ... sym D_{n_m-1}] = [sym A_0 ...] + B eta for
+  // the 6 n_m x n_m matrix B whose column l is [sym B_l0 ... sym B_l,n_m-1]:
+  // one matrix-vector product on stored memory.
+  affine_columns<times_mode_count(6, N), N>(symmetric_rate_linear.data(), symmetric_rate_quadratic.data(), 6 * n_modes,
+                                            n_modes, eta.data(), out.data());
 }
 
 template <class S>
@@ -185,13 +210,18 @@ void ModalIntegrals<S>::inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, 
   const Vec3<S> omega = V.template head<3>(), v = V.template tail<3>();
   const Vec3<S> v_cross_omega = v.cross(omega);
   const S omega2 = omega.squaredNorm();
-  Mat3<S> G = Mat3<S>::Zero();       // sum_k eta_dot_k D_k
+  // tr(D) |omega|^2 - omega' D omega = <sym D, |omega|^2 1 - omega omega'>, packed
+  // with the off-diagonal weights doubled.
+  Vec6<S> weights;
+  weights << omega2 - omega.x() * omega.x(), omega2 - omega.y() * omega.y(), omega2 - omega.z() * omega.z(),
+      S(-2) * omega.x() * omega.y(), S(-2) * omega.x() * omega.z(), S(-2) * omega.y() * omega.z();
+  Vec6<S> G = Vec6<S>::Zero();       // sym of sum_k eta_dot_k D_k, packed
   Vec3<S> c_rate = Vec3<S>::Zero();  // S1 eta_dot
   for (int k = 0; k < n; ++k) {
-    const Eigen::Map<const Mat3<S>> Dk(rates.data() + 9 * k);  // rates is 3 x 3n_m, contiguous
+    const Eigen::Map<const Vec6<S>> Dk(rates.data() + 6 * k);  // rates is 6 x n_m, contiguous
     G += eta_dot[k] * Dk;
     c_rate += eta_dot[k] * modal_first_moment.col(k);
-    out[6 + k] = -(Dk.trace() * omega2 - omega.dot(Dk * omega) + modal_first_moment.col(k).dot(v_cross_omega));
+    out[6 + k] = -(weights.dot(Dk) + modal_first_moment.col(k).dot(v_cross_omega));
   }
   for (int k = 0; k < n; ++k) {
     for (int l = k + 1; l < n; ++l) {
@@ -200,7 +230,7 @@ void ModalIntegrals<S>::inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, 
       out[6 + k] -= eta_dot[l] * t;
     }
   }
-  const Mat3<S> E_rate = G + G.transpose();
+  const Mat3<S> E_rate = S(2) * unpacked_symmetric(G);  // G + G'
   // Eq. (8), rigid rows, plus the gyroscopic term V x* (M w)_V.
   out.template head<3>() = E_rate.trace() * omega - E_rate * omega + c_rate.cross(v);
   out.template segment<3>(3) = omega.cross(c_rate);
