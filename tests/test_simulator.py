@@ -148,6 +148,34 @@ def test_scheduled_prescribe_and_python_callable_source():
     assert sim.prescribed[k]
 
 
+def test_a_source_is_called_once_per_time_and_again_after_a_failure():
+    """RK4 samples a source at t + h/2 in two stages and at t + h in its last stage and
+    for the step's end positions (then the next step's first stage): each time once. A
+    raising source is asked again on the next attempt, and raises again."""
+    m = scenes.pendulum_chain(2)
+    sim = Simulator(m, 0.01, "rk4")
+    times = []
+
+    def source(t):
+        times.append(t)
+        if t > 0.1:
+            raise RuntimeError("encoder lost")
+        return np.sin(t), np.cos(t), -np.sin(t)
+
+    sim.prescribe("link_1", MotionSource.function(source))
+    times.clear()
+    sim.run(0.1)
+    assert len(times) == len(set(times)) == 20
+    np.testing.assert_allclose(sorted(times), 0.005 * np.arange(1, 21), atol=1e-15)
+    k = m.dof_index("link_1")
+    assert sim.q[k] == pytest.approx(np.sin(0.1), abs=1e-15) and sim.v[k] == pytest.approx(np.cos(0.1), abs=1e-15)
+    for attempt in range(2):
+        with pytest.raises(soadyn.DynamicsError) as info:
+            sim.step()
+        assert isinstance(info.value.__cause__, RuntimeError), attempt
+    assert sim.time == pytest.approx(0.1, abs=1e-15)
+
+
 def test_simulator_bad_input():
     m = scenes.pendulum_chain(2)
     with pytest.raises(ValueError, match="unknown integrator 'rk5'"):

@@ -35,7 +35,7 @@ struct FlexibleBodyData {
   VecX<S> modal_bias_and_children_z;   // modal_bias + sum over bodies on nodes of Psi' z+ (articulated sweeps)
   VecX<S> modal_force;                 // generalized modal force of the Newton-Euler sweeps (RNEA)
   Mat6X<S> coupling;                   // P_Ve: rigid-modal block of the articulated inertia (6 x n_m)
-  Eigen::Matrix<S, 3, Eigen::Dynamic> deformed_angular_coupling;  // M_we(eta) (3 x n_m), appendage_step.hpp
+  Eigen::Matrix<S, 3, Eigen::Dynamic> deformed_angular_coupling;  // M_we(eta) (3 x n_m): appendage_step.hpp, mode counts it has no compiled step for
   MatX<S> modal_inertia;               // P_ee (n_m x n_m), factored in place (Cholesky L) by the elimination
   MatX<S> gain_transpose;              // P_ee^-1 P_eV (n_m x 6)
   VecX<S> innovation;                  // P_ee^-1 (u_modal - modal rows of z)

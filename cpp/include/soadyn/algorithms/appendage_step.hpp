@@ -58,9 +58,17 @@ void appendage_terms(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const M
   // M_we flattened: Q_k = angular_coupling_linear's columns k n_m .. k n_m +
   // n_m - 1 are 3 n_m contiguous values, so vec(M_we) = vec(H0) + [vec(Q_0)
   // ... vec(Q_n-1)] eta, one matrix-vector product.
+  // With N fixed, M_we, G' and nu live in local storage (registers or the
+  // stack, where no store to Data's heap memory can alias them) and G' and
+  // nu are stored once at the end; without, in Data (no allocation).
+  constexpr bool fixed = N != Eigen::Dynamic;
+  Eigen::Matrix<S, 3, N> local_coupling;  // N dynamic: empty
+  Eigen::Matrix<S, N, 6> local_gain;
+  Modes local_innovation;
+  S* const coupling = fixed ? local_coupling.data() : fd.deformed_angular_coupling.data();
   affine_columns<times_mode_count(3, N), N>(mi.angular_coupling.data(), mi.angular_coupling_linear.data(), 3 * n, n,
-                                            eta.data(), fd.deformed_angular_coupling.data());
-  const Eigen::Map<const Eigen::Matrix<S, 3, N>> M_we(fd.deformed_angular_coupling.data(), 3, n);
+                                            eta.data(), coupling);
+  const Eigen::Map<const Eigen::Matrix<S, 3, N>> M_we(coupling, 3, n);
   const Mat3<S> E = mi.second_moment + unpacked_symmetric(E_change);
   const Mat3<S> M_ww = E.trace() * Mat3<S>::Identity() - E + mi.rotary_inertia;  // Eq. (4)
 
@@ -89,8 +97,8 @@ void appendage_terms(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const M
   // Elimination: G' = [Y W], nu, P^ and z^.
   const Eigen::Map<const Eigen::Matrix<S, N, N>> M_inv(mi.modal_mass_inverse.data(), n, n);
   const Eigen::Map<const Eigen::Matrix<S, N, 3>> W(mi.modal_first_moment_gain.data(), n, 3);
-  MatX<S>& gain_transpose = fd.gain_transpose;
-  VecX<S>& nu = fd.innovation;
+  Eigen::Map<Eigen::Matrix<S, N, 6>> gain_transpose(fixed ? local_gain.data() : fd.gain_transpose.data(), n, 6);
+  Eigen::Map<Modes> nu(fixed ? local_innovation.data() : fd.innovation.data(), n);
   const S* modal_force = u + m.modal_v_index(body);
   for (int r = 0; r < n; ++r) {
     Vec3<S> y = Vec3<S>::Zero();
@@ -117,6 +125,10 @@ void appendage_terms(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const M
   P.template bottomLeftCorner<3, 3>() = cross.transpose();
   P.template bottomRightCorner<3, 3>() = mi.translational_appendage_inertia;
   z << z_angular, z_linear;
+  if constexpr (fixed) {
+    fd.gain_transpose = local_gain;
+    fd.innovation = local_innovation;
+  }
 }
 
 // Calls f(std::integral_constant<int, N>) with N = n when 1 <= n <= Max, else

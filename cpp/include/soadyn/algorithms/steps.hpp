@@ -272,7 +272,8 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
   using Mat6n = Eigen::Matrix<S, 6, N>;
   using Vecn = Eigen::Matrix<S, N, 1>;
   const Mat6n s = Sr;
-  const Mat6n U = P * s;
+  Mat6n U;  // P S column by column: inlined, where the 6 x N product was a loop called out of line
+  for (int k = 0; k < N; ++k) U.col(k).noalias() = P * s.col(k);
   Vecn e = torque.template head<N>();  // eps = T - S' z
   e.noalias() -= s.transpose() * z;
   Eigen::Matrix<S, N, N> L = s.transpose() * U;  // D = S' P S (+ armature), factored in place

@@ -106,7 +106,8 @@ struct CubicSpline {
 };
 
 // A user function of time (C++). It must not allocate or throw if the
-// simulation is to stay real-time.
+// simulation is to stay real-time. A Simulator calls it once per distinct
+// time and reuses a finite result (RK4 samples t + h/2 twice).
 template <class S>
 struct CallbackSource {
   std::function<MotionSample<S>(S)> fn;

@@ -174,7 +174,19 @@ class SimulatorTpl {
   // Bodies whose joint's chart is not q = q0 + xi with dxi/dt = v (planar,
   // spherical, free): the only ones retract and chart_rates visit.
   std::vector<int> curved_chart_bodies_;
-  std::vector<MotionSource<S>> sources_;
+  // A source and its last finite sample: a source is a function of time,
+  // and an RK4 step samples it twice at t + h/2, and at t + h both in its
+  // last stage and in apply_sources (the next step's first stage again). A
+  // sample that is not finite is not kept: the next call at that time asks
+  // the source again (and a Python source raises again).
+  struct SampledSource {
+    MotionSource<S> source;
+    S time = S(0);
+    MotionSample<S> sample;
+    bool sampled = false;
+    MotionSample<S> at(S t);
+  };
+  std::vector<SampledSource> sources_;
   std::vector<Event<S>> events_;  // binary heap, earliest (time, sequence) first; capacity reserved
   std::size_t event_capacity_;
   std::int64_t events_scheduled_ = 0;

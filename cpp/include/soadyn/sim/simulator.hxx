@@ -103,6 +103,16 @@ bool finite(const MotionSample<S>& m) {
 }  // namespace detail
 
 template <class S>
+MotionSample<S> SimulatorTpl<S>::SampledSource::at(S t) {
+  if (sampled && t == time) return sample;
+  const MotionSample<S> s = sample_source(source, t);
+  sampled = detail::finite(s);
+  sample = s;
+  time = t;
+  return s;
+}
+
+template <class S>
 void SimulatorTpl<S>::set_state(const ConstVecRef<S>& q, const ConstVecRef<S>& v, S time) {
   if (q.size() != model_.nq || v.size() != model_.nv)
     throw std::invalid_argument("state has the wrong size: q needs " + std::to_string(model_.nq) + " entries and v " +
@@ -124,7 +134,7 @@ void SimulatorTpl<S>::set_state(const ConstVecRef<S>& q, const ConstVecRef<S>& v
   for (int dof = 0; dof < model_.nv; ++dof) {  // every source at the new time, before anything changes
     const std::size_t d = static_cast<std::size_t>(dof);
     if (drive_[d] != Drive::sourced) continue;
-    const MotionSample<S> s = sample_source(sources_[static_cast<std::size_t>(source_of_[d])], time);
+    const MotionSample<S> s = sources_[static_cast<std::size_t>(source_of_[d])].at(time);
     if (!detail::finite(s)) {
       const Status status{StatusCode::non_finite_source, dof};
       throw SimulationError(status, "set_state: " + describe(status));
@@ -168,7 +178,7 @@ void SimulatorTpl<S>::check_sourceable(int dof) const {
 template <class S>
 void SimulatorTpl<S>::prescribe(int dof, MotionSource<S> source) {
   check_sourceable(dof);
-  sources_.push_back(std::move(source));
+  sources_.push_back({std::move(source)});
   const Status s = switch_mode(dof, Drive::sourced, static_cast<int>(sources_.size()) - 1, true);
   if (!s.ok()) {
     sources_.pop_back();  // switch_mode changed nothing
@@ -212,7 +222,7 @@ std::int64_t SimulatorTpl<S>::schedule_prescribe(S time, int dof, MotionSource<S
   check_sourceable(dof);
   if (!detail::finite(time)) throw std::invalid_argument("event time is not finite");
   check_event_room();
-  sources_.push_back(std::move(source));
+  sources_.push_back({std::move(source)});
   Event<S> e;
   e.time = time;
   e.kind = EventKind::prescribe;
@@ -247,7 +257,7 @@ Status SimulatorTpl<S>::switch_mode(int dof, Drive drive, int source, bool impul
   const int coordinate = coordinate_of_[d];
   S target_velocity(0), anchor(0);  // anchor: the source's offset or the held position
   if (drive == Drive::sourced) {
-    const MotionSample<S> s = sample_source(sources_[static_cast<std::size_t>(source)], time_);
+    const MotionSample<S> s = sources_[static_cast<std::size_t>(source)].at(time_);
     if (!detail::finite(s)) return Status{StatusCode::non_finite_source, dof};
     target_velocity = s.velocity;
     if (coordinate >= 0) anchor = q_[coordinate] - s.position;
@@ -312,7 +322,7 @@ Status SimulatorTpl<S>::evaluate(S t, const VecX<S>& q, const VecX<S>& v, VecX<S
     const std::size_t d = static_cast<std::size_t>(model_.prescribed_dofs[static_cast<std::size_t>(k)]);
     S acceleration(0);
     if (drive_[d] == Drive::sourced) {
-      acceleration = sample_source(sources_[static_cast<std::size_t>(source_of_[d])], t).acceleration;
+      acceleration = sources_[static_cast<std::size_t>(source_of_[d])].at(t).acceleration;
       if (!detail::finite(acceleration)) return Status{StatusCode::non_finite_source, static_cast<int>(d)};
     }
     u_[static_cast<Eigen::Index>(d)] = acceleration;
@@ -444,7 +454,7 @@ Status SimulatorTpl<S>::apply_sources(S t) {
       v_[dof] = S(0);
       if (coordinate >= 0) q_[coordinate] = held_position_[dof];
     } else if (drive_[d] == Drive::sourced) {
-      const MotionSample<S> s = sample_source(sources_[static_cast<std::size_t>(source_of_[d])], t);
+      const MotionSample<S> s = sources_[static_cast<std::size_t>(source_of_[d])].at(t);
       if (!detail::finite(s.position) || !detail::finite(s.velocity)) return Status{StatusCode::non_finite_source, dof};
       v_[dof] = s.velocity;
       q_[coordinate] = source_offset_[dof] + s.position;
