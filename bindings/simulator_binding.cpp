@@ -210,8 +210,8 @@ void bind_sources(py::module_& mod) {
           py::arg("times"), py::arg("values"), "Natural cubic spline through the table (held outside it).")
       .def_static("function", [](py::function f) { return Source{soadyn::CallbackSource<double>{PythonSource(f)}}; },
           py::arg("fn"),
-          "fn(t) -> (q, v, a): a Python callable (not real-time), a function of time: a Simulator calls it once "
-          "per distinct time and reuses a finite result. If it raises or returns a non-finite value, "
+          "fn(t) -> (q, v, a): a Python callable (not real-time), a function of time: a Simulator keeps its last "
+          "finite result and reuses it when asked for the same time again. If it raises or returns a non-finite value, "
           "the step stops with DynamicsError naming the DOF (chained to the exception raised).")
       .def("sample", [](const Source& s, double t) {
             forget_source_error();

@@ -79,9 +79,9 @@ def test_a_backlog_of_our_own_is_not_blamed_on_the_machine():
     sim = chain()
     calls = []
 
-    def first_step_slow(t):  # step 0's samples (t < 0.6 ms) take 3 ms each: it misses, and the steps
-        if t < 0.0006:       # that catch up after it start late because of it
-            time.sleep(0.003)
+    def first_step_slow(t):  # step 0's new sample (t = 0.5 ms; t = 0 was taken by prescribe, before the
+        if t < 0.0006:       # run) takes 9 ms: it misses, and the steps that catch up after it start late
+            time.sleep(0.009)
         return 0.0, 0.0, 0.0
 
     sim.prescribe("link_1", MotionSource.function(first_step_slow))

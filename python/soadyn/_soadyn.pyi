@@ -255,7 +255,7 @@ class MotionSource:
     @staticmethod
     def function(fn: collections.abc.Callable) -> MotionSource:
         """
-        fn(t) -> (q, v, a): a Python callable (not real-time), a function of time: a Simulator calls it once per distinct time and reuses a finite result. If it raises or returns a non-finite value, the step stops with DynamicsError naming the DOF (chained to the exception raised).
+        fn(t) -> (q, v, a): a Python callable (not real-time), a function of time: a Simulator keeps its last finite result and reuses it when asked for the same time again. If it raises or returns a non-finite value, the step stops with DynamicsError naming the DOF (chained to the exception raised).
         """
     @staticmethod
     def polynomial(coefficients: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> MotionSource:

@@ -63,7 +63,7 @@ struct SweepData {
   aligned_vector<Vec6<S>> attachment_bias;
 
   // Tree frames: tree-frame sweeps (tree_frame_sweeps.hxx), the composite-rigid-body mass matrix.
-  aligned_vector<Transform<S>> tree_pose;              // body i in its tree frame (tree_velocity_step: a constant leaf's, its origin only)
+  aligned_vector<Transform<S>> tree_pose;              // body i in its tree frame; a constant leaf's rotation is left as it was by dynamics sweeps with neither f_ext nor joint wrenches (tree_velocity_step)
   aligned_vector<Mat6N<S>> tree_subspace;              // H*(i)
   aligned_vector<Vec6<S>> tree_velocity;               // V(i)
   aligned_vector<Vec6<S>> tree_coriolis;               // a(i)
@@ -88,7 +88,7 @@ struct SweepData {
   // later solves with it: one regular DOF, D itself in (0, 0); more, its
   // Cholesky factor L (D = L L') in the lower triangle of the top-left
   // n_r x n_r block. A regular free root solved outright (free_root_inward):
-  // its P^-1.
+  // P = L D L' (spd_factor6.hpp): L below the diagonal, 1/d_j on it.
   aligned_vector<Mat6<S>> hinge_factor;
   VecX<S> unit_acceleration;  // mass-matrix columns (flexible models, bodies beyond tree-frame reach)
 

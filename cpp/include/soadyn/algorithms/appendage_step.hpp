@@ -18,12 +18,12 @@
 //     sum_k eta_k D_k' = sum_k eta_k A_k' + sum_kl eta_k eta_l B_kl; E being
 //     symmetric, E = E0 + sum_k eta_k (sym A_k + sym D_k), on the packed
 //     symmetric parts the rates are formed as.
-// Every product is a loop over modes of fixed-size 3-vector and 3x3 updates.
-// The step is compiled for each mode count from 1 to
+// Every product is a loop over modes of fixed-size 3- and 6-vector and 3x3
+// updates. The step is compiled for each mode count from 1 to
 // max_fixed_appendage_modes (appendage_step.cpp), where those loops unroll
-// and the flattened invariants' products keep their sums in registers: about
-// 10 % of cassini's hybrid dynamics (two booms of four modes); other counts
-// and non-floating-point scalars take the generic code.
+// and the flattened invariants' products keep their sums in registers
+// (7-8 % off cassini's step and hybrid dynamics: two booms of four modes);
+// other counts and non-floating-point scalars take the generic code.
 #pragma once
 #include <type_traits>
 #include "soadyn/algorithms/flexible_steps.hpp"

@@ -54,8 +54,9 @@
 // six entries each (packed_symmetric): 6 n_m^2 multiply-adds for the rates
 // and about 2 n_m^2 for the rest.
 //
-// Storage: about 13 n_m^2 + 15 n_m scalars (B_kl dominates); evaluation of
-// M(eta): about 12 n_m^2 multiply-adds plus copying the constant blocks.
+// Storage: about 19 n_m^2 + 21 n_m scalars (B_kl and its packed symmetric
+// parts dominate); evaluation of M(eta): about 12 n_m^2 multiply-adds plus
+// copying the constant blocks.
 #pragma once
 #include "soadyn/flex/flexible_node.hpp"
 #include "soadyn/spatial/transform.hpp"

@@ -106,8 +106,9 @@ struct CubicSpline {
 };
 
 // A user function of time (C++). It must not allocate or throw if the
-// simulation is to stay real-time. A Simulator calls it once per distinct
-// time and reuses a finite result (RK4 samples t + h/2 twice).
+// simulation is to stay real-time. A Simulator keeps its last finite
+// sample and reuses it when asked for the same time again (RK4 asks for
+// t + h/2 twice, and for t + h in three places).
 template <class S>
 struct CallbackSource {
   std::function<MotionSample<S>(S)> fn;
