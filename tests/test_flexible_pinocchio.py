@@ -603,6 +603,23 @@ def test_appendages_of_every_mode_count(n_modes):
     check_external_wrenches(c)
 
 
+@pytest.mark.parametrize("n_modes", (2, 4, 7))
+def test_a_lock_impulse_on_appendages(n_modes):
+    """Locking a hinge is a plastic impact: the appendage step without velocities (the
+    impulse sweeps). With Pinocchio's M, v+ = v + M^-1 e_k lambda and v+_k = 0."""
+    c = make_case("appendages", 1, 0, n_modes)
+    M = pin.crba(c.model, c.data, c.q_pin)
+    M = c.map.matrix(np.triu(M) + np.triu(M, 1).T)
+    k = c.m.dof_index("f2")  # the hinge of the boom on a revolute joint
+    column = np.linalg.solve(M, np.eye(c.m.nv)[k])
+    expected = c.v - column * c.v[k] / column[k]
+    sim = soadyn.Simulator(c.m, 1e-3)
+    sim.set_state(c.q, c.v)
+    sim.lock(k)
+    check("lock impulse, n modes", sim.v, expected)
+    assert sim.v[k] == 0.0 and sim.energy_lost > 0.0
+
+
 def check_external_wrenches(c: Case):
     f_ext = c.rng.normal(size=(c.m.nbodies, 6))
     fext = pinocchio_wrenches(c, f_ext)
