@@ -30,15 +30,17 @@ def check_no_allocation(output: str) -> None:
     # The counter proved it sees std::vector, aligned new and libc's malloc...
     require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
     # ...and then saw nothing during 10^5 hybrid calls with flag changes, on a rigid tree, on the
-    # same tree with flexible bodies, and on that one with armatures.
+    # same tree with flexible bodies, on that one with armatures, and on the rigid tree with
+    # appendages of 8 and 4 modes.
     require(bool(lines(r"^tree with flexible bodies: \d+ bodies \([1-9]\d* flexible\)", output)),
             "a tree with flexible bodies")
     require(len(lines(r"^calls: 100000 hybrid_dynamics, \d+ other, \d+ flag changes; failed statuses: 0$",
-                      output)) == 3, "10^5 hybrid calls without a failed status, on the three models")
+                      output)) == 4, "10^5 hybrid calls without a failed status, on the four models")
     require(bool(lines(r"^flexible tree with armature: \d+ bodies \([1-9]\d* flexible\)", output)),
             "the model with armatures")
-    require(len(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)) == 3,
-            "zero allocations and frees, on the three models")
+    require(bool(lines(r"^tree with appendages: \d+ bodies \(2 flexible\)", output)), "the model with appendages")
+    require(len(lines(r"^allocations: 0 operator new, 0 malloc family; frees: 0$", output)) == 4,
+            "zero allocations and frees, on the four models")
     require(bool(lines(r"^test_no_allocation: PASS: 100000 hybrid_dynamics calls per model$", output)),
             "the PASS line")
 
