@@ -81,7 +81,7 @@ ModalIntegrals<S> ModalIntegrals<S>::from_nodes(const FlexibleNodes<S>& nodes, i
   mi.modal_mass_inverse = S(0.5) * (inverse + inverse.transpose());
   mi.modal_first_moment_gain = mi.modal_mass_inverse * mi.modal_first_moment.transpose();
   const Mat3<S> translational = mi.mass * Mat3<S>::Identity() - mi.modal_first_moment * mi.modal_first_moment_gain;
-  mi.translational_appendage_inertia = S(0.5) * (translational + translational.transpose());
+  mi.translational_appendage_inertia = flex_detail::symmetric_part<S>(translational);
   mi.refresh_symmetric_rates();
   return mi;
 }
@@ -137,7 +137,7 @@ void ModalIntegrals<S>::in_frame(const Transform<S>& X, ModalIntegrals<S>& out) 
   for (int r = 0; r < n; ++r)
     out.modal_first_moment_gain.row(r) = (R * modal_first_moment_gain.row(r).transpose()).transpose();
   const Mat3<S> translational = R * translational_appendage_inertia * R.transpose();
-  out.translational_appendage_inertia = S(0.5) * (translational + translational.transpose());
+  out.translational_appendage_inertia = flex_detail::symmetric_part<S>(translational);
   out.refresh_symmetric_rates();
 }
 
@@ -162,7 +162,7 @@ Mat3<S> ModalIntegrals<S>::second_moment_at(const Eigen::Ref<const VecX<S>>& eta
   }
   const Mat3<S> E = second_moment + linear + linear.transpose() + Eigen::Map<const Mat3<S>>(quadratic.data());
   // E is symmetric (B_lk = B_kl'); averaging makes it so in floating point.
-  return S(0.5) * (E + E.transpose());
+  return flex_detail::symmetric_part<S>(E);
 }
 
 template <class S>
