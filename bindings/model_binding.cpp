@@ -265,6 +265,15 @@ void bind_model(py::module_& mod) {
           "Per body: whether it is a leaf turning about an axis of mass symmetry on a body welded to its root "
           "(a reaction wheel), whose hinge terms D, G and P+ the dynamics read formed once (when its DOF is "
           "regular and has no armature).")
+      .def_property_readonly(
+          "leaf_terms_presummed",
+          [](const ModelHandle& h) {
+            std::vector<std::pair<bool, bool>> out;
+            for (const std::uint8_t bits : h.model.leaf_plus_presummed) out.emplace_back(bits & 1, bits & 2);
+            return out;
+          },
+          "Per body: (under the prescribed flags, with every DOF regular), whether it is a leaf whose constant "
+          "P+ (or, prescribed, its constant P) its parent's articulated inertia starts with, summed once.")
       .def_property_readonly("masses", [](const ModelHandle& h) { return h.model.mass; })
       .def_property_readonly("n_modes", [](const ModelHandle& h) { return h.model.n_modes; },
                              "Modal coordinates per body (0 for a rigid body).")

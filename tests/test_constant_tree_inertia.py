@@ -300,3 +300,56 @@ def test_a_faint_gravity_is_carried_into_the_root_frame():
     np.testing.assert_allclose(faint * 1e14, full, rtol=1e-9, atol=1e-9 * np.max(np.abs(full)))
     c.m.gravity = np.zeros(3)
     assert np.array_equal(soadyn.forward_dynamics(c.m, q, rest, rest), rest)
+
+
+def test_mode_switches_and_armature_move_wheels_in_and_out_of_the_bus_sum():
+    """The bus's articulated inertia starts with the sum of its constant leaves' terms
+    (ModelTpl::refresh_leaf_presums): a regular wheel's P+, a prescribed wheel's P. One
+    model switched back and forth between prescribed sets, then given armature on a
+    prescribed and on a regular wheel, must move each wheel in and out of the sums under
+    the flags (hybrid dynamics) and with every DOF regular (forward dynamics);
+    Pinocchio's RNEA of the hybrid solution and its ABA are the oracles at every switch."""
+    c = Case(spacecraft())
+    names = c.m.body_names
+    wheels = [names.index("wheel_x"), names.index("wheel_y")]
+
+    def mask_of(*bodies):
+        mask = np.zeros(c.m.nv, dtype=bool)
+        for name in bodies:
+            b = names.index(name)
+            end = c.m.v_index[b + 1] if b + 1 < c.m.nbodies else c.m.nv
+            mask[c.m.v_index[b]:end] = True
+        return mask
+
+    # (prescribed bodies, armature of wheel_x and wheel_y) -> expected (flags, all regular) per wheel
+    steps = [
+        ((), (0.0, 0.0), [(True, True), (True, True)]),
+        (("wheel_x",), (0.0, 0.0), [(True, True), (True, True)]),  # prescribed: its P, under the flags
+        (("bus",), (0.0, 0.0), [(False, True), (False, True)]),    # the bus forms no P under the flags
+        ((), (0.0, 0.0), [(True, True), (True, True)]),
+        (("wheel_y", "turntable"), (0.0, 0.2), [(True, True), (True, False)]),  # armature: P passes, D changes
+        (("wheel_y",), (0.3, 0.2), [(False, False), (True, False)]),
+        ((), (0.0, 0.0), [(True, True), (True, True)]),
+    ]
+    for bodies, (arm_x, arm_y), expected in steps:
+        mask = mask_of(*bodies)
+        c.m.set_prescribed(mask)
+        armature = np.zeros(c.m.nv)
+        for wheel, value in zip(wheels, (arm_x, arm_y)):
+            armature[c.m.v_index[wheel]] = value
+            c.m.set_armature(c.m.v_index[wheel], value)
+        assert [c.m.leaf_terms_presummed[w] for w in wheels] == expected, bodies
+        c.model.armature[:] = c.map.v(armature)
+        c.data = c.model.createData()
+        label = f"prescribed {bodies or 'none'}, armature {arm_x}, {arm_y}"
+        for k in STATES:
+            q, v, x, f = c.state(k)
+            q_pin, v_pin = c.map.q(q), c.map.v(v)
+            qdd, tau = soadyn.hybrid_dynamics(c.m, q, v, x)
+            np.testing.assert_array_equal(qdd[mask], x[mask])
+            check(f"{label}: hybrid_dynamics", c.map.v(tau), pin.rnea(c.model, c.data, q_pin, v_pin, c.map.v(qdd)))
+            qdd, tau = soadyn.hybrid_dynamics(c.m, q, v, x, f_ext=f)
+            check(f"{label}: hybrid_dynamics f_ext", c.map.v(tau),
+                  pin.rnea(c.model, c.data, q_pin, v_pin, c.map.v(qdd), c.map.f_ext(f, c.joint_ids)))
+            check(f"{label}: forward_dynamics", c.map.v(soadyn.forward_dynamics(c.m, q, v, x)),
+                  pin.aba(c.model, c.data, q_pin, v_pin, c.map.v(x)))

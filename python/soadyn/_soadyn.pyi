@@ -227,6 +227,11 @@ class _Model:
         """
         Per body: whether it is a leaf turning about an axis of mass symmetry on a body welded to its root (a reaction wheel), whose hinge terms D, G and P+ the dynamics read formed once (when its DOF is regular and has no armature).
         """
+    @property
+    def leaf_terms_presummed(self) -> list[tuple[bool, bool]]:
+        """
+        Per body: (under the prescribed flags, with every DOF regular), whether it is a leaf whose constant P+ (or, prescribed, its constant P) its parent's articulated inertia starts with, summed once.
+        """
 class NonphysicalInertiaError(ValueError):
     pass
 class DynamicsError(ArithmeticError):

@@ -52,6 +52,8 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
   root_frame_integrals.resize(flexible_bodies.size());
   constant_leaf_hinge.assign(n, 0);
   leaf_hinge_terms.resize(n);
+  leaf_plus_presummed.assign(n, 0);
+  leaf_presum_slot.assign(n, -1);
   if constexpr (!std::is_floating_point_v<S>) return;
   // Per body: bit 1, some body is its child; bit 2, on one of its nodes.
   has_children_.assign(n, 0);
@@ -120,6 +122,58 @@ void ModelTpl<S>::refresh_constant_leaf_hinges() {
     terms.subspace = subspace;
     terms.origin = pose.translation;
     constant_leaf_hinge[i] = 1;
+  }
+  // A slot for each welded rigid body with a leaf child that has DOFs:
+  // those leaves are the ones whose terms can be constant (above), so the
+  // slots depend on the structure alone and a change of inertia or flags
+  // refills them without allocating.
+  int slots = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int p = parent[i];
+    if (p < 0 || has_children_[i] || nv_body[i] == 0 || flexible_index[i] >= 0 || attachment_node[i] >= 0) continue;
+    const std::size_t pp = static_cast<std::size_t>(p);
+    if (welded_to_root_[pp] && leaf_presum_slot[pp] < 0) leaf_presum_slot[pp] = slots++;
+  }
+  leaf_presum_flags.resize(static_cast<std::size_t>(slots));
+  leaf_presum_regular.resize(static_cast<std::size_t>(slots));
+  refresh_leaf_presums();
+}
+
+// The sums of constant leaf terms per parent (leaf_presum_slot), under the
+// model's flags and with every DOF regular. A leaf is summed when its
+// parent's sweep forms a P (under the flags: some regular hinge on the
+// parent's path) and either its hinge terms are constant and apply (every
+// DOF regular, no armature, which would change D) or, under the flags
+// only, none of its DOFs is regular and its inertia is constant.
+template <class S>
+void ModelTpl<S>::refresh_leaf_presums() {
+  const std::size_t n = parent.size();
+  if (leaf_presum_slot.size() != n || modes.size() != n) return;  // during construction: refreshed once sized
+  for (Mat6<S>& sum : leaf_presum_flags) sum.setZero();
+  for (Mat6<S>& sum : leaf_presum_regular) sum.setZero();
+  for (std::size_t i = 0; i < n; ++i) {
+    leaf_plus_presummed[i] = 0;
+    const int p = parent[i];
+    if (p < 0 || leaf_presum_slot[static_cast<std::size_t>(p)] < 0 || has_children_[i] || nv_body[i] == 0 ||
+        !constant_tree_inertia[i])
+      continue;
+    const std::size_t slot = static_cast<std::size_t>(leaf_presum_slot[static_cast<std::size_t>(p)]);
+    const HingeModes& h = modes[i];
+    const bool constant_terms = constant_leaf_hinge[i] && !h.has_armature;
+    if (constant_terms) {
+      leaf_presum_regular[slot] += leaf_hinge_terms[i].articulated_plus;
+      leaf_plus_presummed[i] |= 2;
+    }
+    if (!modes[static_cast<std::size_t>(p)].needs_articulated_inertia) continue;  // under the flags, no P to start
+    if (constant_terms && h.n_prescribed == 0) {
+      leaf_presum_flags[slot] += leaf_hinge_terms[i].articulated_plus;
+      leaf_plus_presummed[i] |= 1;
+    } else if (h.n_regular == 0) {
+      Mat6<S> P;
+      assign_spatial_inertia(tree_inertia_parameters[i], P);
+      leaf_presum_flags[slot] += P;
+      leaf_plus_presummed[i] |= 1;
+    }
   }
 }
 

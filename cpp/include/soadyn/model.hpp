@@ -282,6 +282,21 @@ class ModelTpl {
   // (constant_hinge_terms.hpp). Per body: 1 when they are, and the terms.
   std::vector<std::uint8_t> constant_leaf_hinge;
   aligned_vector<ConstantHingeTerms<S>> leaf_hinge_terms;
+  // What such leaves add to their parent's articulated inertia is then
+  // constant too: a regular constant leaf's P+ (above), and the P of a leaf
+  // with a constant inertia whose DOFs are all prescribed (a turntable
+  // driven at a rate), which it passes on unchanged (Eq. 28 with no regular
+  // DOF). The tree-frame sweeps start the parent's P with their sum
+  // (algorithms/tree_frame_sweeps.hxx), so no call adds them one by one.
+  // Two sums, as the sweeps run under the model's prescribed flags (hybrid
+  // dynamics) or with every DOF regular (forward dynamics). Per body:
+  // leaf_plus_presummed, bit 0 (flags) and bit 1 (all regular) when its
+  // term is in its parent's sum; leaf_presum_slot, the slot of its
+  // children's sums (-1: none). The slots follow the structure; the sums
+  // and bits follow the flags, armature and inertias (refresh_leaf_presums).
+  std::vector<std::uint8_t> leaf_plus_presummed;
+  std::vector<int> leaf_presum_slot;
+  aligned_vector<Mat6<S>> leaf_presum_flags, leaf_presum_regular;
 
   // Set by every structural change (add_body, add_flexible_body); a copy carries it.
   DynamicsPath dynamics_path = DynamicsPath::rigid_tree_frames;
@@ -334,6 +349,7 @@ class ModelTpl {
   void refresh_tree_frame_reach();
   void refresh_constant_tree_inertia();
   void refresh_constant_leaf_hinges();
+  void refresh_leaf_presums();  // allocation free once the structure is set
   void refresh_dynamics_path();
   // add_body / add_flexible_body after the parent is resolved; `flexible`
   // null for a rigid body.

@@ -348,6 +348,7 @@ void ModelTpl<S>::refresh_modes() {
                                   (p >= 0 && modes[static_cast<std::size_t>(p)].needs_articulated_inertia);
     has_newton_euler_region = has_newton_euler_region || !h.needs_articulated_inertia;
   }
+  refresh_leaf_presums();
 }
 
 template <class S>
@@ -378,6 +379,7 @@ void ModelTpl<S>::set_armature(int dof, S value) {
     body_has = body_has || armature[static_cast<std::size_t>(v0 + k)] != S(0);
   modes[static_cast<std::size_t>(body)].has_armature = body_has;
   has_armature = std::any_of(armature.begin(), armature.end(), [](const S& a) { return a != S(0); });
+  refresh_leaf_presums();
 }
 
 template <class S>

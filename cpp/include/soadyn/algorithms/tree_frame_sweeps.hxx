@@ -50,11 +50,35 @@ SOADYN_ALWAYS_INLINE bool constant_leaf_hinge(const ModelTpl<S>& m, std::size_t 
   return RootBodyFrames && m.constant_leaf_hinge[i] && regular_hinge<Modes>(m, i) && !m.modes[i].has_armature;
 }
 
+// The bit of ModelTpl::leaf_plus_presummed that holds under `Modes`.
+template <ModePolicy Modes>
+constexpr std::uint8_t presum_bit() {
+  return Modes == ModePolicy::all_regular ? 2 : 1;
+}
+
+// Whether leaf i's P+ (or passed-on P) is already in its parent's P, which
+// the first sweep started with the sum of such terms (RootBodyFrames only:
+// the terms are constant in the root's body frame).
+template <ModePolicy Modes, bool RootBodyFrames, class S>
+SOADYN_ALWAYS_INLINE bool leaf_plus_presummed(const ModelTpl<S>& m, std::size_t i) {
+  return RootBodyFrames && (m.leaf_plus_presummed[i] & presum_bit<Modes>());
+}
+
+// Body i's P starts as its own inertia plus its constant leaves' terms.
+template <ModePolicy Modes, bool RootBodyFrames, class S>
+SOADYN_ALWAYS_INLINE void add_presummed_leaves(const ModelTpl<S>& m, SweepData<S>& w, std::size_t i) {
+  const int slot = RootBodyFrames ? m.leaf_presum_slot[i] : -1;
+  if (slot < 0) return;
+  const auto& sums = Modes == ModePolicy::all_regular ? m.leaf_presum_regular : m.leaf_presum_flags;
+  w.tree_articulated_inertia[i] += sums[static_cast<std::size_t>(slot)];
+}
+
 // Eq. 28 for such a leaf, with D, G and P+ read: z = b + P a,
-// eps = T - H z, nu = D^-1 eps, z+ = z + G eps; P+ added to its parent's P.
+// eps = T - H z, nu = D^-1 eps, z+ = z + G eps; P+ added to its parent's P
+// unless the parent started with it (`presummed`).
 template <class S>
 SOADYN_ALWAYS_INLINE void constant_leaf_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
-                                               Vec6<S>& z_plus) {
+                                               bool presummed, Vec6<S>& z_plus) {
   const ConstantHingeTerms<S>& terms = m.leaf_hinge_terms[i];
   SweepData<S>& w = d.sweep;
   Vec6<S> z = w.tree_bias_and_children_z[i];
@@ -64,7 +88,7 @@ SOADYN_ALWAYS_INLINE void constant_leaf_inward(const ModelTpl<S>& m, DataTpl<S>&
   w.innovation[i][0] = e * terms.inverse_d;
   w.hinge_factor[i](0, 0) = terms.articulated_d;
   z_plus = z + terms.gain * e;
-  w.tree_articulated_inertia[static_cast<std::size_t>(m.parent[i])] += terms.articulated_plus;
+  if (!presummed) w.tree_articulated_inertia[static_cast<std::size_t>(m.parent[i])] += terms.articulated_plus;
 }
 
 // qdd = H^-1 (alpha - alpha+ - a) of that free root, H^-1 = H* (orthogonal
@@ -154,6 +178,7 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     InertiaParameters<S> inertia;
     tree_rigid_body_step<RootBodyFrames>(m, d, i, v, f_ext, inertia);
     assign_spatial_inertia(inertia, w.tree_articulated_inertia[i]);  // the start of P
+    add_presummed_leaves<Modes, RootBodyFrames>(m, w, i);
     if (!needs_articulated_inertia<Modes>(m, i)) {  // Newton-Euler: alpha = alpha+ + H* qdd + a, f = M alpha + b
       const int p = m.parent[i];
       w.tree_acceleration[i] = (p >= 0 ? w.tree_acceleration[static_cast<std::size_t>(p)]
@@ -184,7 +209,7 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     const Mat6<S>* P_out = nullptr;
     const bool into_parent = p >= 0 && needs_articulated_inertia<Modes>(m, pp);
     if (into_parent && constant_leaf_hinge<Modes, RootBodyFrames>(m, i)) {
-      constant_leaf_inward(m, d, i, u, z_plus);
+      constant_leaf_inward(m, d, i, u, leaf_plus_presummed<Modes, RootBodyFrames>(m, i), z_plus);
       w.tree_bias_and_children_z[pp] += z_plus;
       continue;
     }
@@ -194,7 +219,8 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
     if (p < 0) continue;
     if (into_parent) {
-      if (P_out) w.tree_articulated_inertia[pp] += *P_out;  // a hinge with no regular DOF passes P on
+      if (P_out && !leaf_plus_presummed<Modes, RootBodyFrames>(m, i))  // a hinge with no regular DOF passes P on
+        w.tree_articulated_inertia[pp] += *P_out;
       w.tree_bias_and_children_z[pp] += z_plus;
     } else {  // the parent's acceleration is already known: f = P+ alpha(parent) + z+
       Vec6<S>& f = w.tree_hinge_force[pp];

@@ -174,6 +174,12 @@ class SimulatorTpl {
   // Bodies whose joint's chart is not q = q0 + xi with dxi/dt = v (planar,
   // spherical, free): the only ones retract and chart_rates visit.
   std::vector<int> curved_chart_bodies_;
+  // The other DOFs' coordinates (q = q0 + xi) as runs: DOFs dof..dof+length-1
+  // have coordinates coordinate..coordinate+length-1 (retract copies a run at once).
+  struct FlatChartRun {
+    int dof, coordinate, length;
+  };
+  std::vector<FlatChartRun> flat_chart_runs_;
   // A source and its last finite sample: a source is a function of time,
   // and an RK4 step samples it twice at t + h/2, and at t + h both in its
   // last stage and in apply_sources (the next step's first stage again). A

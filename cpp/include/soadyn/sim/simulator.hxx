@@ -69,6 +69,18 @@ SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integra
       dof_of_coordinate_[static_cast<std::size_t>(model_.modal_q_index(b) + k)] = static_cast<int>(dof);
     }
   }
+  for (int dof = 0; dof < nv; ++dof) {  // runs of DOFs whose coordinates follow one another in the same order
+    const int coordinate = coordinate_of_[static_cast<std::size_t>(dof)];
+    if (coordinate < 0) continue;
+    if (!flat_chart_runs_.empty()) {
+      FlatChartRun& run = flat_chart_runs_.back();
+      if (run.dof + run.length == dof && run.coordinate + run.length == coordinate) {
+        ++run.length;
+        continue;
+      }
+    }
+    flat_chart_runs_.push_back(FlatChartRun{dof, coordinate, 1});
+  }
   for (int dof = 0; dof < nv; ++dof)
     if (model_.is_prescribed(dof)) drive_[static_cast<std::size_t>(dof)] = Drive::held;
   events_.reserve(static_cast<std::size_t>(event_capacity));
@@ -344,10 +356,8 @@ void SimulatorTpl<S>::chart_rates(const VecX<S>& q, const VecX<S>& xi, const Vec
 
 template <class S>
 void SimulatorTpl<S>::retract(const VecX<S>& xi, VecX<S>& q) const {
-  for (std::size_t dof = 0; dof < coordinate_of_.size(); ++dof) {  // flat charts: q = q0 + xi
-    const int coordinate = coordinate_of_[dof];
-    if (coordinate >= 0) q[coordinate] = q0_[coordinate] + xi[static_cast<Eigen::Index>(dof)];
-  }
+  for (const FlatChartRun& run : flat_chart_runs_)  // flat charts: q = q0 + xi
+    q.segment(run.coordinate, run.length) = q0_.segment(run.coordinate, run.length) + xi.segment(run.dof, run.length);
   for (const int b : curved_chart_bodies_) {
     const std::size_t bi = static_cast<std::size_t>(b);
     chart_retract(model_.joints[bi], q0_.data() + model_.q_index[bi], xi.data() + model_.v_index[bi],
@@ -364,13 +374,24 @@ Status SimulatorTpl<S>::runge_kutta(int stages, const S* a, const S* b, const S*
   q0_ = q_;
   v0_ = v_;
   for (int s = 0; s < stages; ++s) {
-    xi_.setZero();
-    vs_ = v0_;
+    // xi = h sum_j a_sj k_xi_j, v = v0 + h sum_j a_sj k_v_j: the first term
+    // assigns, so each stage passes over the vectors once per nonzero weight.
+    bool first = true;
     for (int j = 0; j < s; ++j) {
       const S w = h * a[s * stages + j];
       if (w == S(0)) continue;
-      xi_ += w * k_xi_[static_cast<std::size_t>(j)];
-      vs_ += w * k_v_[static_cast<std::size_t>(j)];
+      if (first) {
+        xi_ = w * k_xi_[static_cast<std::size_t>(j)];
+        vs_ = v0_ + w * k_v_[static_cast<std::size_t>(j)];
+        first = false;
+      } else {
+        xi_ += w * k_xi_[static_cast<std::size_t>(j)];
+        vs_ += w * k_v_[static_cast<std::size_t>(j)];
+      }
+    }
+    if (first) {
+      xi_.setZero();
+      vs_ = v0_;
     }
     if (s == 0)
       qs_ = q0_;  // xi = 0: the chart's centre
@@ -381,16 +402,22 @@ Status SimulatorTpl<S>::runge_kutta(int stages, const S* a, const S* b, const S*
     if (s == 0) forces_ = data_.tau;
     chart_rates(qs_, xi_, vs_, k_xi_[static_cast<std::size_t>(s)]);
   }
-  xi_.setZero();
-  v_ = v0_;
-  xi_err_.setZero();
-  v_err_.setZero();
-  for (int s = 0; s < stages; ++s) {
-    xi_ += h * b[s] * k_xi_[static_cast<std::size_t>(s)];
-    v_ += h * b[s] * k_v_[static_cast<std::size_t>(s)];
-    if (b_error) {
-      xi_err_ += h * (b[s] - b_error[s]) * k_xi_[static_cast<std::size_t>(s)];
-      v_err_ += h * (b[s] - b_error[s]) * k_v_[static_cast<std::size_t>(s)];
+  // The same sums with the weights b (and b - b_error), the first stage's assigning.
+  xi_ = (h * b[0]) * k_xi_[0];
+  v_ = v0_ + (h * b[0]) * k_v_[0];
+  if (b_error) {
+    xi_err_ = (h * (b[0] - b_error[0])) * k_xi_[0];
+    v_err_ = (h * (b[0] - b_error[0])) * k_v_[0];
+  }
+  for (int s = 1; s < stages; ++s) {
+    const std::size_t k = static_cast<std::size_t>(s);
+    if (b[s] != S(0)) {
+      xi_ += (h * b[s]) * k_xi_[k];
+      v_ += (h * b[s]) * k_v_[k];
+    }
+    if (b_error && b[s] != b_error[s]) {
+      xi_err_ += (h * (b[s] - b_error[s])) * k_xi_[k];
+      v_err_ += (h * (b[s] - b_error[s])) * k_v_[k];
     }
   }
   retract(xi_, q_);
@@ -447,7 +474,8 @@ Status SimulatorTpl<S>::adaptive_step() {
 // not left to the integrated accelerations.
 template <class S>
 Status SimulatorTpl<S>::apply_sources(S t) {
-  for (int dof = 0; dof < model_.nv; ++dof) {
+  for (int k = 0; k < model_.n_prescribed; ++k) {  // the held and sourced DOFs, in ascending order
+    const int dof = model_.prescribed_dofs[static_cast<std::size_t>(k)];
     const std::size_t d = static_cast<std::size_t>(dof);
     const int coordinate = coordinate_of_[d];
     if (drive_[d] == Drive::held) {
@@ -465,6 +493,9 @@ Status SimulatorTpl<S>::apply_sources(S t) {
 
 template <class S>
 Status SimulatorTpl<S>::check_state_finite() const {
+  // A finite sum proves every entry finite; a sum that is not (a non-finite
+  // entry, or finite entries whose sum overflows) looks for the entry.
+  if (detail::finite(S(q_.sum() + v_.sum()))) return Status{};
   for (Eigen::Index k = 0; k < v_.size(); ++k)
     if (!detail::finite(v_[k])) return Status{StatusCode::non_finite_result, static_cast<int>(k)};
   for (Eigen::Index k = 0; k < q_.size(); ++k)
