@@ -11,7 +11,11 @@ Pinocchio's peer_bench once (../shared/tools/peer_bench). Per child:
   soadyn.hil.scene_simulator): Simulator._run of `steps` steps, per-step time, median of 7;
 - where cassini's hybrid_dynamics time goes: the same call on the scene with parts removed
   (the saved model's bodies filtered, cassini_without).
-Ratios are medians over rounds of the ratio within a round.
+Ratios are medians over rounds of the ratio within a round. Then paired phases, since a shared
+host's speed drifts over the seconds a round takes: the cassini step and hybrid_dynamics of
+both builds, and each robot's CRBA beside one peer_bench run on that robot, each timed in
+short children back to back, alternating the order; their ratios are the medians of the
+within-pair ratios, with interquartile ranges.
 
 Writes bench/results/round2.md. Usage: python bench/bench_round2.py [--quick] [--before DIR --before-rev REV]
 """
@@ -89,8 +93,40 @@ def child(calls: int, steps: int) -> None:
     print(json.dumps(out))
 
 
+def paired_child(steps: int, calls: int, robot_name: str) -> None:
+    """Child process of the paired phases: the cassini step and hybrid_dynamics only (robot_name
+    "-"), or one robot's CRBA with peer_bench's protocol (7 repetitions of `calls` calls)."""
+    import soadyn
+    from soadyn._soadyn import _time_cpp
+    from robots import robot
+
+    def states(m, count=64):
+        rng = np.random.default_rng(1)
+        q = np.array([soadyn.random_configuration(m, int(rng.integers(1 << 31))) for _ in range(count)])
+        return q, rng.uniform(-1, 1, (count, m.nv)), rng.uniform(-1, 1, (count, m.nv))
+
+    if robot_name != "-":
+        path, floating = robot(robot_name)
+        m = soadyn.load_urdf(path, floating_base=floating)
+        print(json.dumps({"crba": _time_cpp(m, "crba", *states(m), calls)}))
+        return
+    from soadyn.hil import scene_simulator
+    cassini = soadyn.scenes.cassini()
+    sim = scene_simulator("cassini", 1000.0)
+    sim._run(500)
+    per_step = []
+    for _ in range(7):
+        start = time.perf_counter()
+        sim._run(steps)
+        per_step.append((time.perf_counter() - start) / steps * 1e6)
+    print(json.dumps({"step": float(np.median(per_step)), "hybrid": _time_cpp(cassini, "hybrid", *states(cassini), calls)}))
+
+
 if __name__ == "__main__" and len(sys.argv) > 1 and sys.argv[1] == "--child":
     child(int(sys.argv[2]), int(sys.argv[3]))
+    sys.exit(0)
+if __name__ == "__main__" and len(sys.argv) > 1 and sys.argv[1] == "--paired-child":
+    paired_child(int(sys.argv[2]), int(sys.argv[3]), sys.argv[4])
     sys.exit(0)
 
 from bench_robots import median_ratio, peer_timings  # noqa: E402
@@ -120,6 +156,34 @@ def main() -> int:
         runs["before"] += one["before"]
         runs["after"] += one["after"]
         peers.append(peer_timings(paths))
+
+    # Paired phases: the machine's speed drifts over seconds (a shared host), so each ratio is also
+    # taken between two short measurements made back to back, many times, alternating the order.
+    pairs = 6 if args.quick else 20
+    short = alternate_builds(Path(__file__), ["--paired-child", str(steps // 4), str(calls // 4), "-"], args.before,
+                             pairs, "paired cassini")
+    paired_cassini = {alg: [a[alg] / b[alg] for a, b in zip(short["after"], short["before"])]
+                      for alg in ("step", "hybrid")}
+    env_after = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    paired_pin = {name: [] for name in ROBOTS}
+    for r in range(pairs // 2):
+        for name in ROBOTS:
+            ours = peer = None
+            for which in (("ours", "peer") if (r + ROBOTS.index(name)) % 2 == 0 else ("peer", "ours")):
+                if which == "peer":
+                    peer = peer_timings({name: paths[name]}).get(name, {}).get("crba")
+                else:
+                    out = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--paired-child", "0",
+                                          str(calls), name], env=env_after, capture_output=True, text=True,
+                                         check=True, cwd="/")
+                    ours = json.loads(out.stdout.strip().splitlines()[-1])["crba"]
+            if peer:
+                paired_pin[name].append(ours / peer)
+        print(f"paired CRBA: round {r + 1}/{pairs // 2} done", flush=True)
+
+    def spread(values):
+        q1, q2, q3 = np.percentile(values, [25, 50, 75]) if values else (float("nan"),) * 3
+        return f"**{q2:.2f}** ({q1:.2f}-{q3:.2f})"
 
     def med(build, model, alg):
         return float(np.median([run[model][alg] for run in runs[build]]))
@@ -166,6 +230,20 @@ def main() -> int:
         f"**{ratio('cassini', 'hybrid'):.2f}** |",
         f"| mass_matrix (composite bodies with augmented flexible bodies), C++ | {med('before', 'cassini', 'crba'):.2f} | "
         f"{med('after', 'cassini', 'crba'):.2f} | **{ratio('cassini', 'crba'):.2f}** |",
+        "", "## Paired measurements", "",
+        f"The ratios again, each from two short measurements made back to back (alternating which goes first), "
+        f"{pairs} pairs per build comparison and {pairs // 2} per robot against Pinocchio: the median of the "
+        f"within-pair ratios, with their interquartile range. Cassini: 7 x {steps // 4} steps and `_time_cpp` with "
+        f"{calls // 4} calls per child; CRBA: one robot per peer_bench run, beside a child timing the same robot with "
+        f"peer_bench's protocol (median of 7 repetitions of {calls} calls).", "",
+        "| ratio | median (interquartile range) |",
+        "|---|---|",
+        f"| cassini RK4 step, after / before (goal <= 0.6) | {spread(paired_cassini['step'])} |",
+        f"| cassini hybrid_dynamics, after / before | {spread(paired_cassini['hybrid'])} |",
+    ]
+    for name in ROBOTS:
+        lines.append(f"| CRBA / Pinocchio, {name} (goal <= 0.7) | {spread(paired_pin[name])} |")
+    lines += [
         "", "## Where cassini's hybrid_dynamics time goes (this build)", "",
         "The same C++ call on the scene with parts removed (`cassini_without`: the saved model's bodies "
         "filtered); medians over rounds.", "",

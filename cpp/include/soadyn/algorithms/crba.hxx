@@ -13,7 +13,9 @@ namespace detail {
 // inertias already added) and the subspaces in tree_subspace_columns; their
 // entries are added to `probe`, and the composite inertia to the parent's.
 // FreeRootFrames: a free root's tree frame is the root's body frame
-// (composite_rigid_body), so its H* is the identity and its six rows are F.
+// (composite_rigid_body), so its H* is the identity: its six rows are F, and
+// its own 6x6 block, H*' Ic H*, is its composite inertia, written as it is
+// (36 entries where six F's and 21 dot products would compute the same).
 template <bool FreeRootFrames, class S>
 SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, S& probe) {
   const Mat6X<S>& H = d.sweep.tree_subspace_columns;
@@ -24,6 +26,15 @@ SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S
   // forward to the unaligned pairs the products load).
   const int p = m.parent[i];
   if (p >= 0) d.sweep.tree_composite_inertia[static_cast<std::size_t>(p)] += composite;
+  if constexpr (FreeRootFrames) {
+    if (p < 0 && m.joint_kernel[i] == JointKernel::free) {  // H* = 1: its block of M is its composite inertia
+      Mat6<S> block;
+      assign_spatial_inertia(composite, block);
+      M.template block<6, 6>(m.v_index[i], m.v_index[i]) = block;
+      probe += block.sum();
+      return;
+    }
+  }
   for (int k = m.v_index[i]; k < m.v_index[i] + m.nv_body[i]; ++k) {
     const Vec6<S> F = momentum(composite, H.col(k));  // force of a unit acceleration of DOF k
     S* const column_k = &M(0, k);
