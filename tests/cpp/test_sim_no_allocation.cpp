@@ -339,13 +339,19 @@ int main(int argc, char**) {
     soadyn::drive_cassini(cassini);
     cassini.set_input(cassini.model().dof_index("scan_az"), 0.5);
     cassini.set_input(cassini.model().dof_index("wheel_1"), 0.1);
+    // A wheel's lock and release move its constant P+ out of and into the
+    // bus's starting sum (Model::refresh_leaf_presums), and its P into it.
+    soadyn::Simulator wheel_locks(soadyn::cassini_model<double>(), 1e-3, integrator, 256);
+    soadyn::drive_cassini(wheel_locks);
+    wheel_locks.set_input(wheel_locks.model().dof_index("wheel_2"), 0.1);
     soadyn::Simulator chain(soadyn::pendulum_chain_model<double>(10), 1e-3, integrator, 256);
     chain.set_input(0, 0.2);
     struct Case {
       const char* name;
       soadyn::Simulator* sim;
       const char* dof;
-    } cases[2] = {{"cassini", &cassini, "scan_az"}, {"pendulum-chain", &chain, "link_3"}};
+    } cases[3] = {{"cassini", &cassini, "scan_az"}, {"cassini (wheel locks)", &wheel_locks, "wheel_2"},
+                  {"pendulum-chain", &chain, "link_3"}};
     for (Case& c : cases) {
       schedule_events(*c.sim, c.dof);
       long failed = 0;

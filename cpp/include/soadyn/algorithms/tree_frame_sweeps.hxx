@@ -73,6 +73,15 @@ SOADYN_ALWAYS_INLINE void add_presummed_leaves(const ModelTpl<S>& m, SweepData<S
   w.tree_articulated_inertia[i] += sums[static_cast<std::size_t>(slot)];
 }
 
+// Whether the inward sweep runs leaf i's step with its constant terms: into
+// a parent that forms a P.
+template <ModePolicy Modes, bool RootBodyFrames, class S>
+SOADYN_ALWAYS_INLINE bool constant_leaf_step(const ModelTpl<S>& m, std::size_t i) {
+  const int p = m.parent[i];
+  return p >= 0 && needs_articulated_inertia<Modes>(m, static_cast<std::size_t>(p)) &&
+         constant_leaf_hinge<Modes, RootBodyFrames>(m, i);
+}
+
 // Eq. 28 for such a leaf, with D, G and P+ read: z = b + P a,
 // eps = T - H z, nu = D^-1 eps, z+ = z + G eps; P+ added to its parent's P
 // unless the parent started with it (`presummed`).
@@ -82,7 +91,7 @@ SOADYN_ALWAYS_INLINE void constant_leaf_inward(const ModelTpl<S>& m, DataTpl<S>&
   const ConstantHingeTerms<S>& terms = m.leaf_hinge_terms[i];
   SweepData<S>& w = d.sweep;
   Vec6<S> z = w.tree_bias_and_children_z[i];
-  z.noalias() += w.tree_articulated_inertia[i] * w.tree_coriolis[i];
+  z += momentum(m.tree_inertia_parameters[i], w.tree_coriolis[i]);  // P a, P its constant inertia
   const S e = u[m.v_index[i]] - w.tree_subspace[i].col(0).dot(z);
   w.tree_gain[i].col(0) = terms.gain;
   w.innovation[i][0] = e * terms.inverse_d;
@@ -156,7 +165,7 @@ SOADYN_ALWAYS_INLINE int tree_hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, 
 // root's tree frame is its body frame where its joint allows
 // (tree_frame_steps.hpp); `poses_wanted` false: the orientations of
 // leaves with constant hinge terms are not needed afterwards
-// (tree_velocity_step).
+// (tree_velocity_step), nor their P as a matrix (the hinge force's).
 template <ModePolicy Modes, bool Flex, bool RootBodyFrames = false, class S>
 Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u,
                                 const S* f_ext, const Vec6<S>& world_acc, bool poses_wanted = true) {
@@ -177,7 +186,11 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     }
     InertiaParameters<S> inertia;
     tree_rigid_body_step<RootBodyFrames>(m, d, i, v, f_ext, inertia);
-    assign_spatial_inertia(inertia, w.tree_articulated_inertia[i]);  // the start of P
+    // A leaf with constant hinge terms needs its P as a matrix only for its
+    // hinge force (the outward sweep, when wanted); its inward step reads
+    // its constant inertia's parameters.
+    if (poses_wanted || !constant_leaf_step<Modes, RootBodyFrames>(m, i))
+      assign_spatial_inertia(inertia, w.tree_articulated_inertia[i]);  // the start of P
     add_presummed_leaves<Modes, RootBodyFrames>(m, w, i);
     if (!needs_articulated_inertia<Modes>(m, i)) {  // Newton-Euler: alpha = alpha+ + H* qdd + a, f = M alpha + b
       const int p = m.parent[i];
@@ -208,7 +221,7 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     }
     const Mat6<S>* P_out = nullptr;
     const bool into_parent = p >= 0 && needs_articulated_inertia<Modes>(m, pp);
-    if (into_parent && constant_leaf_hinge<Modes, RootBodyFrames>(m, i)) {
+    if (constant_leaf_step<Modes, RootBodyFrames>(m, i)) {
       constant_leaf_inward(m, d, i, u, leaf_plus_presummed<Modes, RootBodyFrames>(m, i), z_plus);
       w.tree_bias_and_children_z[pp] += z_plus;
       continue;
