@@ -22,6 +22,7 @@ Writes bench/results/round2.md. Usage: python bench/bench_round2.py [--quick] [-
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import subprocess
@@ -43,6 +44,26 @@ CASSINI_PARTS = {"all 15 bodies": (), "without the two flexible booms": BOOMS, "
                  "the bus and its six other bodies (none of the above)": BOOMS + WHEELS + SLOSH}
 
 
+def random_states(soadyn, m, count=64):
+    """q, v, u: `count` random states of model m (the same in every child)."""
+    rng = np.random.default_rng(1)
+    q = np.array([soadyn.random_configuration(m, int(rng.integers(1 << 31))) for _ in range(count)])
+    return q, rng.uniform(-1, 1, (count, m.nv)), rng.uniform(-1, 1, (count, m.nv))
+
+
+def cassini_step_us(steps: int) -> float:
+    """The cassini RK4 step at 1 ms as `soadyn hil` runs it: median of 7 runs of `steps` steps (us)."""
+    from soadyn.hil import scene_simulator
+    sim = scene_simulator("cassini", 1000.0)
+    sim._run(500)
+    per_step = []
+    for _ in range(7):
+        start = time.perf_counter()
+        sim._run(steps)
+        per_step.append((time.perf_counter() - start) / steps * 1e6)
+    return float(np.median(per_step))
+
+
 def cassini_without(soadyn, names):
     """The cassini model without the bodies `names`: its saved file with those bodies left out."""
     import tempfile
@@ -60,13 +81,9 @@ def child(calls: int, steps: int) -> None:
     """Child process: timings with whichever soadyn is first on the path."""
     import soadyn
     from soadyn._soadyn import _time_cpp
-    from soadyn.hil import scene_simulator
     from robots import robot
 
-    def states(m, count=64):
-        rng = np.random.default_rng(1)
-        q = np.array([soadyn.random_configuration(m, int(rng.integers(1 << 31))) for _ in range(count)])
-        return q, rng.uniform(-1, 1, (count, m.nv)), rng.uniform(-1, 1, (count, m.nv))
+    states = functools.partial(random_states, soadyn)
 
     out = {}
     for name in ROBOTS:
@@ -77,14 +94,7 @@ def child(calls: int, steps: int) -> None:
     cassini = soadyn.scenes.cassini()
     s = states(cassini)
     out["cassini"] = {alg: _time_cpp(cassini, alg, *s, calls) for alg in ("hybrid", "crba")}
-    sim = scene_simulator("cassini", 1000.0)
-    sim._run(500)
-    per_step = []
-    for _ in range(7):
-        start = time.perf_counter()
-        sim._run(steps)
-        per_step.append((time.perf_counter() - start) / steps * 1e6)
-    out["cassini"]["step"] = float(np.median(per_step))
+    out["cassini"]["step"] = cassini_step_us(steps)
     out["cassini_parts"] = {}
     parts = CASSINI_PARTS if hasattr(soadyn, "load_model") else {}  # the round's starting build has no model files
     for label, names in parts.items():
@@ -100,26 +110,15 @@ def paired_child(steps: int, calls: int, robot_name: str) -> None:
     from soadyn._soadyn import _time_cpp
     from robots import robot
 
-    def states(m, count=64):
-        rng = np.random.default_rng(1)
-        q = np.array([soadyn.random_configuration(m, int(rng.integers(1 << 31))) for _ in range(count)])
-        return q, rng.uniform(-1, 1, (count, m.nv)), rng.uniform(-1, 1, (count, m.nv))
+    states = functools.partial(random_states, soadyn)
 
     if robot_name != "-":
         path, floating = robot(robot_name)
         m = soadyn.load_urdf(path, floating_base=floating)
         print(json.dumps({"crba": _time_cpp(m, "crba", *states(m), calls)}))
         return
-    from soadyn.hil import scene_simulator
     cassini = soadyn.scenes.cassini()
-    sim = scene_simulator("cassini", 1000.0)
-    sim._run(500)
-    per_step = []
-    for _ in range(7):
-        start = time.perf_counter()
-        sim._run(steps)
-        per_step.append((time.perf_counter() - start) / steps * 1e6)
-    print(json.dumps({"step": float(np.median(per_step)), "hybrid": _time_cpp(cassini, "hybrid", *states(cassini), calls)}))
+    print(json.dumps({"step": cassini_step_us(steps), "hybrid": _time_cpp(cassini, "hybrid", *states(cassini), calls)}))
 
 
 if __name__ == "__main__" and len(sys.argv) > 1 and sys.argv[1] == "--child":
