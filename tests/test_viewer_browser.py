@@ -24,8 +24,9 @@ BROWSER_TIMEOUT = 120  # seconds for one headless Chromium run
 VIRTUAL_TIME_MS = 15000  # page time Chromium lets pass (timers, websocket) before it captures
 # Chromium's page time runs ahead of the wall clock: on a loaded machine the server's websocket
 # messages can arrive after the capture. A run is repeated, up to this many times, until the
-# server saw a new connection; a viewer that never serves the page fails every attempt.
-ATTEMPTS = 3
+# server saw a new connection (and, where a test asks, until the capture holds what it needs);
+# a viewer that never serves the page, or never sends the scene, fails every attempt.
+ATTEMPTS = 4
 
 
 def chromium() -> str:
@@ -34,13 +35,15 @@ def chromium() -> str:
     return path
 
 
-def headless(tmp_path, url: str, *action: str, connected=None) -> subprocess.CompletedProcess:
+def headless(tmp_path, url: str, *action: str, connected=None, complete=None) -> subprocess.CompletedProcess:
     """One headless Chromium run on `url` (repeated while `connected`, the server's list of
-    connections, did not grow)."""
+    connections, did not grow, or while `complete(result)` is false)."""
     for _ in range(ATTEMPTS):
         before = None if connected is None else len(connected)
         result = _chromium_once(tmp_path, url, *action)
-        if result.returncode != 0 or connected is None or len(connected) > before:
+        if result.returncode != 0:
+            return result
+        if (connected is None or len(connected) > before) and (complete is None or complete(result)):
             return result
     return result
 
@@ -72,11 +75,13 @@ def served_four_bar():
 
 def test_a_real_browser_connects_and_lists_the_scene(served_four_bar, tmp_path):
     viewer, connected = served_four_bar
-    result = headless(tmp_path, viewer.url, "--dump-dom", connected=connected)
+    nodes = ("bodies", "visuals", "loops")
+    result = headless(tmp_path, viewer.url, "--dump-dom", connected=connected,
+                      complete=lambda r: all(node in r.stdout for node in nodes))
     assert result.returncode == 0, result.stderr[-2000:]
     assert connected, "the browser never opened the websocket"
     dom = result.stdout
-    for node in ("bodies", "visuals", "loops"):
+    for node in nodes:
         assert node in dom, f"the page's scene tree does not list /{node}"
 
 

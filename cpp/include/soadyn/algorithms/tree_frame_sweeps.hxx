@@ -77,9 +77,9 @@ SOADYN_ALWAYS_INLINE void add_presummed_leaves(const ModelTpl<S>& m, SweepData<S
 // a parent that forms a P.
 template <ModePolicy Modes, bool RootBodyFrames, class S>
 SOADYN_ALWAYS_INLINE bool constant_leaf_step(const ModelTpl<S>& m, std::size_t i) {
-  const int p = m.parent[i];
-  return p >= 0 && needs_articulated_inertia<Modes>(m, static_cast<std::size_t>(p)) &&
-         constant_leaf_hinge<Modes, RootBodyFrames>(m, i);
+  // The flag first: false for every body of most models (a leaf has a parent)
+  return constant_leaf_hinge<Modes, RootBodyFrames>(m, i) &&
+         needs_articulated_inertia<Modes>(m, static_cast<std::size_t>(m.parent[i]));
 }
 
 // Eq. 28 for such a leaf, with D, G and P+ read: z = b + P a,
@@ -171,6 +171,10 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
                                 const S* f_ext, const Vec6<S>& world_acc, bool poses_wanted = true) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   SweepData<S>& w = d.sweep;
+  // Constant leaves and their parents' sums: every such leaf's parent has a
+  // slot (ModelTpl::leaf_presum_slot), so a model without slots (most
+  // robots) tests nothing per body.
+  const bool leaf_terms = RootBodyFrames && !m.leaf_presum_flags.empty();
   tabulate_joint_angles(m, w, q);
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, M, b (Eq. 1); all-prescribed regions' accelerations
     if (RootBodyFrames && is_body_frame_root(m, static_cast<int>(i)))
@@ -189,9 +193,9 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     // A leaf with constant hinge terms needs its P as a matrix only for its
     // hinge force (the outward sweep, when wanted); its inward step reads
     // its constant inertia's parameters.
-    if (poses_wanted || !constant_leaf_step<Modes, RootBodyFrames>(m, i))
+    if (poses_wanted || !(leaf_terms && constant_leaf_step<Modes, RootBodyFrames>(m, i)))
       assign_spatial_inertia(inertia, w.tree_articulated_inertia[i]);  // the start of P
-    add_presummed_leaves<Modes, RootBodyFrames>(m, w, i);
+    if (leaf_terms) add_presummed_leaves<Modes, RootBodyFrames>(m, w, i);
     if (!needs_articulated_inertia<Modes>(m, i)) {  // Newton-Euler: alpha = alpha+ + H* qdd + a, f = M alpha + b
       const int p = m.parent[i];
       w.tree_acceleration[i] = (p >= 0 ? w.tree_acceleration[static_cast<std::size_t>(p)]
@@ -221,7 +225,7 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     }
     const Mat6<S>* P_out = nullptr;
     const bool into_parent = p >= 0 && needs_articulated_inertia<Modes>(m, pp);
-    if (constant_leaf_step<Modes, RootBodyFrames>(m, i)) {
+    if (leaf_terms && constant_leaf_step<Modes, RootBodyFrames>(m, i)) {
       constant_leaf_inward(m, d, i, u, leaf_plus_presummed<Modes, RootBodyFrames>(m, i), z_plus);
       w.tree_bias_and_children_z[pp] += z_plus;
       continue;
@@ -232,7 +236,7 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     if (bad >= 0) return Status{StatusCode::singular_articulated_inertia, bad};
     if (p < 0) continue;
     if (into_parent) {
-      if (P_out && !leaf_plus_presummed<Modes, RootBodyFrames>(m, i))  // a hinge with no regular DOF passes P on
+      if (P_out && !(leaf_terms && leaf_plus_presummed<Modes, RootBodyFrames>(m, i)))  // no regular DOF: P passed on
         w.tree_articulated_inertia[pp] += *P_out;
       w.tree_bias_and_children_z[pp] += z_plus;
     } else {  // the parent's acceleration is already known: f = P+ alpha(parent) + z+
