@@ -353,3 +353,21 @@ def test_mode_switches_and_armature_move_wheels_in_and_out_of_the_bus_sum():
                   pin.rnea(c.model, c.data, q_pin, v_pin, c.map.v(qdd), c.map.f_ext(f, c.joint_ids)))
             check(f"{label}: forward_dynamics", c.map.v(soadyn.forward_dynamics(c.m, q, v, x)),
                   pin.aba(c.model, c.data, q_pin, v_pin, c.map.v(x)))
+
+
+@pytest.mark.parametrize("value", [np.nan, np.inf, -0.5])
+def test_a_refused_armature_leaves_the_wheel_sums_as_they_were(value):
+    """set_armature refuses a non-finite or negative armature, naming the DOF, before
+    it changes anything: the wheel stays in both sums and the dynamics still match Pinocchio."""
+    c = Case(spacecraft())
+    wheel = c.m.body_names.index("wheel_x")
+    dof = c.m.v_index[wheel]
+    before = c.m.leaf_terms_presummed[wheel]
+    with pytest.raises(ValueError, match=c.m.dof_names[dof]):
+        c.m.set_armature(dof, value)
+    assert c.m.leaf_terms_presummed[wheel] == before == (True, True)
+    q, v, x, _ = c.state(0)
+    qdd, tau = soadyn.hybrid_dynamics(c.m, q, v, x)
+    assert np.all(np.isfinite(qdd))
+    check("refused armature: forward_dynamics", c.map.v(soadyn.forward_dynamics(c.m, q, v, x)),
+          pin.aba(c.model, c.data, c.map.q(q), c.map.v(v), c.map.v(x)))
