@@ -48,10 +48,14 @@ inline Vec6<S> prescribed_hinge_acceleration(const ModelTpl<S>& m, const Mat6N<S
 template <Frames F, class S>
 SOADYN_ALWAYS_INLINE void prescribed_hinge_inward(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i, const S* u,
                                                   Vec6<S>& z_plus, const Mat6<S>*& P_out) {
+  P_out = &frame_articulated_inertia<F>(d)[i];
+  if (F == Frames::tree && frame_subspace<F>(d)[i].cols() == 0) {  // no DOF: a = 0 in tree frames, so z+ = z
+    z_plus = frame_bias_and_children_z<F>(d)[i];
+    return;
+  }
   const Vec6<S> hinge_acc = frame_coriolis<F>(d)[i] + subspace_times(frame_subspace<F>(d)[i], u + m.v_index[i]);
   z_plus = frame_bias_and_children_z<F>(d)[i];
   z_plus.noalias() += frame_articulated_inertia<F>(d)[i] * hinge_acc;
-  P_out = &frame_articulated_inertia<F>(d)[i];
 }
 
 // Base-to-tip step of a hinge with no regular DOF (Eq. 29) once alpha+

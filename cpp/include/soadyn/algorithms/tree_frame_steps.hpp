@@ -200,6 +200,14 @@ SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d
     return;
   }
   const int p = m.parent[i];
+  if (d.sweep.tree_subspace[i].cols() == 0) {  // no DOF (a welded appendage): V = V(parent), a = 0
+    if (p >= 0)
+      d.sweep.tree_velocity[i] = d.sweep.tree_velocity[static_cast<std::size_t>(p)];
+    else
+      d.sweep.tree_velocity[i].setZero();
+    d.sweep.tree_coriolis[i].setZero();
+    return;
+  }
   const Vec6<S> joint_velocity = subspace_times(d.sweep.tree_subspace[i], v + m.v_index[i]);
   d.sweep.tree_velocity[i] =
       p >= 0 ? Vec6<S>(d.sweep.tree_velocity[static_cast<std::size_t>(p)] + joint_velocity) : joint_velocity;
@@ -218,7 +226,9 @@ inline void root_body_frame_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_
   SweepData<S>& w = d.sweep;
   w.tree_pose[i] = Transform<S>();
   w.tree_subspace[i] = w.body_subspace[i];
-  if (v)
+  if (v && m.joint_kernel[i] == JointKernel::free)  // H* = 1: the twist is the joint's v
+    w.tree_velocity[i] = Eigen::Map<const Vec6<S>>(v + m.v_index[i]);
+  else if (v)
     w.tree_velocity[i] = subspace_times(w.body_subspace[i], v + m.v_index[i]);
   else
     w.tree_velocity[i].setZero();

@@ -217,19 +217,24 @@ void ModalIntegrals<S>::inertial_bias(const Eigen::Ref<const VecX<S>>& eta_dot, 
       S(-2) * omega.x() * omega.y(), S(-2) * omega.x() * omega.z(), S(-2) * omega.y() * omega.z();
   Vec6<S> G = Vec6<S>::Zero();       // sym of sum_k eta_dot_k D_k, packed
   Vec3<S> c_rate = Vec3<S>::Zero();  // S1 eta_dot
+  // The modal rows gather in local storage when N is fixed (registers: no
+  // store to `out` can alias the integrals read meanwhile), else in `out`.
+  Eigen::Matrix<S, N, 1> local_rows;
+  Eigen::Map<Eigen::Matrix<S, N, 1>> rows(N == Eigen::Dynamic ? out.data() + 6 : local_rows.data(), n);
   for (int k = 0; k < n; ++k) {
     const Eigen::Map<const Vec6<S>> Dk(rates.data() + 6 * k);  // rates is 6 x n_m, contiguous
     G += eta_dot[k] * Dk;
     c_rate += eta_dot[k] * modal_first_moment.col(k);
-    out[6 + k] = -(weights.dot(Dk) + modal_first_moment.col(k).dot(v_cross_omega));
+    rows[k] = -(weights.dot(Dk) + modal_first_moment.col(k).dot(v_cross_omega));
   }
   for (int k = 0; k < n; ++k) {
     for (int l = k + 1; l < n; ++l) {
       const S t = S(2) * angular_coupling_linear.template block<3, 1>(0, k * n + l).dot(omega);
-      out[6 + l] += eta_dot[k] * t;
-      out[6 + k] -= eta_dot[l] * t;
+      rows[l] += eta_dot[k] * t;
+      rows[k] -= eta_dot[l] * t;
     }
   }
+  if constexpr (N != Eigen::Dynamic) out.template segment<N>(6) = local_rows;
   const Mat3<S> E_rate = S(2) * unpacked_symmetric(G);  // G + G'
   // Eq. (8), rigid rows, plus the gyroscopic term V x* (M w)_V.
   out.template head<3>() = E_rate.trace() * omega - E_rate * omega + c_rate.cross(v);
