@@ -34,8 +34,9 @@ PEER_DIR = Path(os.environ.get("PEER_BENCH_DIR", Path(os.environ.get("XDG_CACHE_
                                / "peer_bench"))
 
 
-def peer_program() -> Path | None:
-    program = PEER_DIR / "pin_derivatives"
+def peer_program(name: str = "pin_derivatives") -> Path | None:
+    """A program of bench/peer/ (built by its build.sh, after peer_bench's own build if needed)."""
+    program = PEER_DIR / name
     if program.is_file():
         return program
     if not (PEER_DIR / "prefix").is_file():

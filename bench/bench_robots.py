@@ -283,11 +283,11 @@ def main() -> int:
     return 0
 
 
-def write_report(name: str, lines: list) -> None:
-    """bench/results/<name>: the report's lines and the note every timing report ends with."""
+def write_report(name: str, lines: list, timings: bool = True) -> None:
+    """bench/results/<name>: the report's lines and, for timings, the note every timing report ends with."""
     out = HERE / "results" / name
     out.parent.mkdir(exist_ok=True)
-    note = ["", "Times on a shared, possibly noisy machine: compare the ratios, measured in the same run."]
+    note = ["", "Times on a shared, possibly noisy machine: compare the ratios, measured in the same run."] if timings else []
     out.write_text("\n".join(list(lines) + note) + "\n")
     print(f"wrote {out}")
 

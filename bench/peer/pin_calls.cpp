@@ -1,0 +1,69 @@
+// Pinocchio's ABA, RNEA and CRBA, each called through a function of its own
+// that is never inlined (call_aba, call_rnea, call_crba), so that valgrind's
+// callgrind can count the instructions inside the calls alone
+// (bench/bench_instructions.py). The models and states are peer_bench's
+// (../shared/tools/peer_bench: 64 random states; free-flyer root unless the
+// path names ur5 or panda). Usage: pin_calls URDF aba|rnea|crba CALLS.
+// Built by bench/peer/build.sh against the Pinocchio peer_bench installs.
+#include <pinocchio/parsers/urdf.hpp>
+#include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/rnea.hpp>
+#include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/joint-configuration.hpp>
+
+#include <cstdlib>
+#include <iostream>
+#include <string>
+#include <vector>
+
+using namespace pinocchio;
+
+__attribute__((noinline)) double call_aba(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                          const Eigen::VectorXd& tau) {
+  return aba(m, d, q, v, tau)[0];
+}
+__attribute__((noinline)) double call_rnea(const Model& m, Data& d, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                           const Eigen::VectorXd& a) {
+  return rnea(m, d, q, v, a)[0];
+}
+__attribute__((noinline)) double call_crba(const Model& m, Data& d, const Eigen::VectorXd& q) {
+  return crba(m, d, q)(0, 0);
+}
+
+int main(int argc, char** argv) {
+  if (argc != 4) {
+    std::cerr << "usage: pin_calls URDF aba|rnea|crba CALLS\n";
+    return 2;
+  }
+  const std::string path = argv[1], algorithm = argv[2];
+  const long calls = std::atol(argv[3]);
+  const bool free_flyer = path.find("ur5") == std::string::npos && path.find("panda") == std::string::npos;
+  Model m;
+  if (free_flyer)
+    pinocchio::urdf::buildModel(path, JointModelFreeFlyer(), m);
+  else
+    pinocchio::urdf::buildModel(path, m);
+  Data d(m);
+  const int K = 64;
+  std::vector<Eigen::VectorXd> qs(K), vs(K), ts(K);
+  for (int k = 0; k < K; ++k) {
+    qs[k] = randomConfiguration(m, -Eigen::VectorXd::Ones(m.nq), Eigen::VectorXd::Ones(m.nq));
+    vs[k] = Eigen::VectorXd::Random(m.nv);
+    ts[k] = Eigen::VectorXd::Random(m.nv);
+  }
+  double sink = 0;
+  for (long i = 0; i < calls; ++i) {
+    const int k = static_cast<int>(i % K);
+    if (algorithm == "aba")
+      sink += call_aba(m, d, qs[k], vs[k], ts[k]);
+    else if (algorithm == "rnea")
+      sink += call_rnea(m, d, qs[k], vs[k], ts[k]);
+    else if (algorithm == "crba")
+      sink += call_crba(m, d, qs[k]);
+    else {
+      std::cerr << "unknown algorithm " << algorithm << "\n";
+      return 2;
+    }
+  }
+  std::cout << sink << "\n";
+}
