@@ -286,6 +286,35 @@ def test_a_restored_symmetry_makes_the_inertia_constant_again():
     compare_all(c, "arm made symmetric")
 
 
+def test_parameter_changes_refresh_the_stored_shortcuts_both_ways():
+    """Per body the model also stores whether its placement's rotation is exactly the identity
+    (no rotation product for its base) and whether its inertia about its centre of mass is
+    exactly diagonal (R I_c R' from R's columns). A stale fact would give wrong dynamics, so
+    each is turned on and off by set_parameter and every call compared with Pinocchio."""
+    c = Case(spacecraft())
+    rng = np.random.default_rng(21)
+    arm, platform = c.bodies[7], c.bodies[6]
+    assert (arm.name, platform.name) == ("arm", "platform") and arm.parent == 0 and platform.parent == 5
+    compare_all(c, "as built")
+    # The arm's diagonal inertia made full, the platform's full one made diagonal.
+    arm.inertia = random_inertia(rng)
+    assert np.count_nonzero(arm.inertia - np.diag(np.diag(arm.inertia))) == 6
+    c.m.set_parameter("arm.inertia", arm.inertia)
+    platform.inertia = np.diag([0.4, 0.5, 0.6])
+    c.m.set_parameter("platform.inertia", platform.inertia)
+    c.rebuild_oracle()
+    compare_all(c, "inertias exchanged")
+    # The platform sits on the turntable, so its base is composed on every call: its
+    # placement's rotation made the identity, then turned again.
+    for label, rotation in (("identity", np.eye(3)), ("turned", random_rotation(rng))):
+        platform.rotation = rotation
+        placement = np.eye(4)
+        placement[:3, :3], placement[:3, 3] = rotation, platform.translation
+        c.m.set_parameter("platform.placement", placement)
+        c.rebuild_oracle()
+        compare_all(c, f"platform placement {label}")
+
+
 def test_a_faint_gravity_is_carried_into_the_root_frame():
     """At rest with no torque the accelerations are linear in gravity: a gravity 1e-14 of
     the oblique one (a free-falling probe's tidal residue, below any `isZero` precision)

@@ -54,7 +54,13 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
   leaf_hinge_terms.resize(n);
   leaf_plus_presummed.assign(n, 0);
   leaf_presum_slot.assign(n, -1);
+  placement_rotation_identity.assign(n, 0);
+  diagonal_inertia_com.assign(n, 0);
   if constexpr (!std::is_floating_point_v<S>) return;
+  for (std::size_t i = 0; i < n; ++i) {
+    placement_rotation_identity[i] = placement[i].rotation == Mat3<S>::Identity();
+    diagonal_inertia_com[i] = detail::is_diagonal(inertia_com[i]);
+  }
   // Per body: bit 1, some body is its child; bit 2, on one of its nodes.
   has_children_.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i)

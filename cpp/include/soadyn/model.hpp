@@ -268,6 +268,14 @@ class ModelTpl {
   // derivatives by forming it per call).
   std::vector<std::uint8_t> constant_tree_inertia;
   aligned_vector<InertiaParameters<S>> tree_inertia_parameters;
+  // Per body, exact properties of its parameters that spare the sweeps and
+  // the CRBA work on every call (refresh_constant_tree_inertia, run by every
+  // change of a placement or an inertia; floating-point scalars only, else
+  // all 0, so that derivatives by those parameters stay right): its
+  // placement's rotation is exactly the identity (its base is its parent's
+  // orientation: no rotation product), and its inertia about its centre of
+  // mass is exactly diagonal (R I_c R' scales R's columns).
+  std::vector<std::uint8_t> placement_rotation_identity, diagonal_inertia_com;
   // Likewise a flexible appendage welded to such a root (through fixed
   // joints): its pose in the root's frame is constant, so its modal
   // integrals are held in that frame too (ModalIntegrals::in_frame), and the

@@ -67,6 +67,17 @@ SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S
   }
 }
 
+// Body i's subspace into its columns of the side-by-side H
+// (tree_subspace_columns): one fixed-size column for a 1-DOF joint.
+template <class S>
+SOADYN_ALWAYS_INLINE void store_subspace_columns(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i) {
+  const Mat6N<S>& s = d.sweep.tree_subspace[i];
+  if (m.nv_body[i] == 1)
+    d.sweep.tree_subspace_columns.col(m.v_index[i]) = s.col(0);
+  else
+    d.sweep.tree_subspace_columns.middleCols(m.v_index[i], m.nv_body[i]) = s;
+}
+
 // M's armature, and its check: a finite probe (the sum of all entries)
 // proves M finite without reading it again.
 template <class S>
@@ -102,7 +113,6 @@ Status finish_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, S probe) {
 template <class S>
 Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
-  Mat6X<S>& H = d.sweep.tree_subspace_columns;
   tabulate_joint_angles(m, d.sweep, q.data());
   for (std::size_t i = 0; i < n; ++i) {
     if (m.parent[i] < 0 && joint_has_constant_body_subspace(m.joint_kernel[i])) {
@@ -115,9 +125,9 @@ Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecR
     if (m.constant_tree_inertia[i])  // constant in its root's frame (constant_tree_inertia.hxx)
       d.sweep.tree_composite_inertia[i] = m.tree_inertia_parameters[i];
     else
-      inertia_parameters_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i],
+      inertia_parameters_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i], m.diagonal_inertia_com[i] != 0,
                                   d.sweep.tree_composite_inertia[i]);
-    H.middleCols(m.v_index[i], m.nv_body[i]) = d.sweep.tree_subspace[i];
+    store_subspace_columns(m, d, i);
   }
   S probe(0);
   for (std::size_t i = n; i-- > 0;) composite_body_columns<true>(m, d, i, probe);
@@ -137,7 +147,6 @@ template <class S>
 Status tree_frame_mass_matrix_and_bias(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* f_ext) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   const Vec6<S> world_acc = world_acceleration(m);
-  Mat6X<S>& H = d.sweep.tree_subspace_columns;
   tabulate_joint_angles(m, d.sweep, q);
   for (std::size_t i = 0; i < n; ++i) {
     tree_velocity_step(m, d, i, q, v);
@@ -148,7 +157,7 @@ Status tree_frame_mass_matrix_and_bias(const ModelTpl<S>& m, DataTpl<S>& d, cons
     Vec6<S>& a = d.sweep.tree_acceleration[i];
     a = (p >= 0 ? d.sweep.tree_acceleration[static_cast<std::size_t>(p)] : world_acc) + d.sweep.tree_coriolis[i];
     d.sweep.tree_bias_and_children_z[i] += momentum(inertia, a);  // f = I a + b
-    H.middleCols(m.v_index[i], m.nv_body[i]) = d.sweep.tree_subspace[i];
+    store_subspace_columns(m, d, i);
   }
   S probe(0);
   for (std::size_t i = n; i-- > 0;) {

@@ -81,17 +81,16 @@ inline Vec6<S> universal_tree_step(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
 // base = parent * placement, written column by column as the joint kernels
 // read it (whole-matrix copies and products leave stores that the kernels'
 // column loads cannot forward from). The rotation product is skipped when the
-// placement's rotation is exactly the identity, as it is for most URDF joints;
-// the test runs per call, so a placement changed by a parameter is honoured.
+// placement's rotation is exactly the identity (`identity`: the model's
+// placement_rotation_identity, refreshed with every placement change), as it
+// is for most URDF joints.
 template <class S>
 SOADYN_ALWAYS_INLINE void compose_with_placement(const Transform<S>& parent, const Transform<S>& placement,
-                                                 Transform<S>& base) {
+                                                 bool identity, Transform<S>& base) {
   const Mat3<S>& R = parent.rotation;
   const Mat3<S>& P = placement.rotation;
   const Vec3<S>& t = placement.translation;
   base.translation = parent.translation + R.col(0) * t.x() + R.col(1) * t.y() + R.col(2) * t.z();
-  bool identity = false;
-  if constexpr (std::is_floating_point_v<S>) identity = P == Mat3<S>::Identity();
   for (int c = 0; c < 3; ++c)
     base.rotation.col(c) = identity ? Vec3<S>(R.col(c)) : Vec3<S>(R.col(0) * P(0, c) + R.col(1) * P(1, c) + R.col(2) * P(2, c));
 }
@@ -139,7 +138,8 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
   else if (RootBodyFrames && is_body_frame_root(m, p))
     base = m.placement[i];
   else
-    detail::compose_with_placement(d.sweep.tree_pose[static_cast<std::size_t>(p)], m.placement[i], base);
+    detail::compose_with_placement(d.sweep.tree_pose[static_cast<std::size_t>(p)], m.placement[i],
+                                   m.placement_rotation_identity[i] != 0, base);
   Transform<S>& pose = d.sweep.tree_pose[i];
   Mat6N<S>& s = d.sweep.tree_subspace[i];
   // The 1-DOF kernels' coordinate along +e_k; a revolute kernel's cosine and
@@ -276,7 +276,7 @@ SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>&
   if (RootBodyFrames && m.constant_tree_inertia[i])
     parameters = m.tree_inertia_parameters[i];
   else
-    inertia_parameters_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i], parameters);
+    inertia_parameters_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i], m.diagonal_inertia_com[i] != 0, parameters);
   // b is stored entry by entry in both places: a copy read back from memory
   // right after scalar stores would stall store forwarding.
   Vec6<S>& b = d.sweep.tree_bias_force[i];

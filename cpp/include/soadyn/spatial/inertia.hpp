@@ -60,18 +60,26 @@ struct InertiaParameters {
 // coordinates and about F's origin, written into p: the centre of mass and
 // the rotational inertia carried to F (c' = R c + t, R Ic R'). Written in
 // place: a copy of p would read its scalar stores back as 2-vectors.
+namespace detail {
+// Whether a 3x3 matrix's off-diagonal entries are all exactly zero.
+template <class S>
+bool is_diagonal(const Mat3<S>& A) {
+  return A(0, 1) == S(0) && A(0, 2) == S(0) && A(1, 2) == S(0) && A(1, 0) == S(0) && A(2, 0) == S(0) &&
+         A(2, 1) == S(0);
+}
+}  // namespace detail
+
+// `diagonal`: inertia_com is exactly diagonal (the model's
+// diagonal_inertia_com, formed once; the overload below tests it per call).
 template <class S>
 SOADYN_ALWAYS_INLINE void inertia_parameters_in_frame(const Transform<S>& pose, const S& mass, const Vec3<S>& com,
-                                                      const Mat3<S>& inertia_com, InertiaParameters<S>& p) {
+                                                      const Mat3<S>& inertia_com, bool diagonal,
+                                                      InertiaParameters<S>& p) {
   const Mat3<S>& R = pose.rotation;
   // R Ic R' is symmetric: its six entries are rows of R Ic dotted with rows
   // of R. A diagonal Ic (exactly, as many URDFs give it) scales R's columns:
   // 9 multiplications instead of 27, and the same numbers (the products
-  // skipped are exact zeros). Tested per call, so a changed inertia counts.
-  bool diagonal = false;
-  if constexpr (std::is_floating_point_v<S>)
-    diagonal = inertia_com(0, 1) == S(0) && inertia_com(0, 2) == S(0) && inertia_com(1, 2) == S(0) &&
-               inertia_com(1, 0) == S(0) && inertia_com(2, 0) == S(0) && inertia_com(2, 1) == S(0);
+  // skipped are exact zeros).
   Mat3<S> half;
   if (diagonal)
     half = R * inertia_com.diagonal().asDiagonal();
@@ -83,6 +91,16 @@ SOADYN_ALWAYS_INLINE void inertia_parameters_in_frame(const Transform<S>& pose, 
   p.values << half.row(0).dot(R.row(0)) + shift - mc.x() * c.x(), half.row(1).dot(R.row(1)) + shift - mc.y() * c.y(),
       half.row(2).dot(R.row(2)) + shift - mc.z() * c.z(), half.row(1).dot(R.row(0)) - mc.x() * c.y(),
       half.row(2).dot(R.row(0)) - mc.x() * c.z(), half.row(2).dot(R.row(1)) - mc.y() * c.z(), mc, mass;
+}
+
+// The same with the diagonal test made here (floating-point scalars only: an
+// automatic-differentiation scalar keeps the derivatives by every entry).
+template <class S>
+SOADYN_ALWAYS_INLINE void inertia_parameters_in_frame(const Transform<S>& pose, const S& mass, const Vec3<S>& com,
+                                                      const Mat3<S>& inertia_com, InertiaParameters<S>& p) {
+  bool diagonal = false;
+  if constexpr (std::is_floating_point_v<S>) diagonal = detail::is_diagonal(inertia_com);
+  inertia_parameters_in_frame(pose, mass, com, inertia_com, diagonal, p);
 }
 
 // The spatial inertia of those parameters, [I_o, [mc]x; -[mc]x, m 1], written
