@@ -111,7 +111,7 @@ Status finish_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, S probe) {
 // Returns beyond_tree_frame_reach, having formed no M, when a body lies
 // beyond its tree-frame reach (tree_frame_reach.hxx).
 template <class S>
-Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
+SOADYN_FLATTEN Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   tabulate_joint_angles(m, d.sweep, q.data());
   for (std::size_t i = 0; i < n; ++i) {

@@ -15,6 +15,15 @@
 #define SOADYN_ALWAYS_INLINE inline
 #endif
 
+// Inlines every call in a function's body that can be (the CRBA's sweep:
+// its joint steps then return no unused bias through memory, and keep the
+// pose they just formed in registers for the inertia that reads it).
+#if defined(__GNUC__)
+#define SOADYN_FLATTEN __attribute__((flatten))
+#else
+#define SOADYN_FLATTEN
+#endif
+
 namespace soadyn {
 
 template <class S> using Vec3 = Eigen::Matrix<S, 3, 1>;
