@@ -97,7 +97,7 @@ def main() -> int:
         print("valgrind not found (Debian: apt-get install valgrind)", file=sys.stderr)
         return 2
     from bench_derivatives import peer_program
-    from bench_robots import ROBOTS, write_report
+    from bench_robots import ROBOTS, source_revision, write_report
     from build_comparison import has_build
     from robots import robot
 
@@ -130,8 +130,7 @@ def main() -> int:
     if len(steps) == 2:
         after, before = steps.values()
         step_rows.append(f"| **this build / commit {args.before_rev}** (goal <= 0.6 in time) | **{after / before:.3f}** |")
-    source = subprocess.run(["git", "-C", str(HERE.parent), "describe", "--always", "--dirty"], capture_output=True,
-                            text=True).stdout.strip()
+    source = source_revision()
     lines = [
         "# Instructions per call (valgrind callgrind): soadyn against Pinocchio, and the cassini step", "",
         f"- Date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; source: {source}; command: "

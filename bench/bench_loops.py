@@ -33,7 +33,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import subprocess
 import sys
 import time
 from dataclasses import dataclass
@@ -82,7 +81,7 @@ import pinocchio as pin  # noqa: E402
 from build_comparison import alternate_builds, has_build  # noqa: E402
 
 import soadyn  # noqa: E402
-from bench_robots import interleaved_per_call_us, median_ratio, write_report  # noqa: E402
+from bench_robots import interleaved_per_call_us, median_ratio, source_revision, write_report  # noqa: E402
 from pinocchio_mapping import JointMatch, PinocchioMapping, free_joint_names  # noqa: E402
 from robots import robot  # noqa: E402
 from test_pinocchio_oracle import BodySpec, Mapping, build_pinocchio, build_soadyn  # noqa: E402
@@ -455,8 +454,7 @@ def main() -> int:
         hyb_rows.append(f"| {name} | {med['before']['cpp']:.2f} | {med['after']['cpp']:.2f} | **{cpp:.2f}** | "
                         f"{med['before']['python']:.2f} | {med['after']['python']:.2f} | **{py:.2f}** |")
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown")
-    source = subprocess.run(["git", "-C", str(HERE.parent), "describe", "--always", "--dirty"], capture_output=True,
-                            text=True).stdout.strip()
+    source = source_revision()
     before_rev, after_rev = (hybrid["before"][0]["soadyn"], hybrid["after"][0]["soadyn"]) if hybrid else ("", "")
     tp = talos_parts
     lines = [

@@ -245,8 +245,7 @@ def main() -> int:
             f"**{t['dart / hybrid']:.1f}** |")
         print(rows_cpp[-1], rows_py[-1], sep="\n", flush=True)
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown")
-    source = subprocess.run(["git", "-C", str(HERE.parent), "describe", "--always", "--dirty"], capture_output=True,
-                            text=True).stdout.strip()
+    source = source_revision()
     lines = [
         "# Robots: soadyn against Pinocchio and DART", "",
         f"- Date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; machine: {cpu}, {os.cpu_count()} logical cores",
@@ -281,6 +280,12 @@ def main() -> int:
     ]
     write_report("robots.md", lines)
     return 0
+
+
+def source_revision() -> str:
+    """The checkout's commit, as `git describe --always --dirty` gives it."""
+    return subprocess.run(["git", "-C", str(HERE.parent), "describe", "--always", "--dirty"], capture_output=True,
+                          text=True).stdout.strip()
 
 
 def write_report(name: str, lines: list, timings: bool = True) -> None:

@@ -129,7 +129,7 @@ if __name__ == "__main__" and len(sys.argv) > 1 and sys.argv[1] == "--paired-chi
     paired_child(int(sys.argv[2]), int(sys.argv[3]), sys.argv[4])
     sys.exit(0)
 
-from bench_robots import fastest_ratio, median_ratio, peer_timings  # noqa: E402
+from bench_robots import fastest_ratio, median_ratio, peer_timings, source_revision  # noqa: E402
 from build_comparison import alternate_builds, has_build  # noqa: E402
 from robots import robot  # noqa: E402
 
@@ -205,8 +205,7 @@ def main() -> int:
         return float(np.median(values)) if values else float("nan")
 
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown")
-    source = subprocess.run(["git", "-C", str(HERE.parent), "describe", "--always", "--dirty"], capture_output=True,
-                            text=True).stdout.strip()
+    source = source_revision()
     lines = [
         "# Performance round 2: this build against the round's starting build, same run", "",
         f"- Date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; machine: {cpu}, {os.cpu_count()} logical cores "

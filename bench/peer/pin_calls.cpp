@@ -5,11 +5,10 @@
 // (../shared/tools/peer_bench: 64 random states; free-flyer root unless the
 // path names ur5 or panda). Usage: pin_calls URDF aba|rnea|crba CALLS.
 // Built by bench/peer/build.sh against the Pinocchio peer_bench installs.
-#include <pinocchio/parsers/urdf.hpp>
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/algorithm/crba.hpp>
-#include <pinocchio/algorithm/joint-configuration.hpp>
+#include "peer_problem.hpp"
 
 #include <cstdlib>
 #include <iostream>
@@ -37,29 +36,19 @@ int main(int argc, char** argv) {
   }
   const std::string path = argv[1], algorithm = argv[2];
   const long calls = std::atol(argv[3]);
-  const bool free_flyer = path.find("ur5") == std::string::npos && path.find("panda") == std::string::npos;
-  Model m;
-  if (free_flyer)
-    pinocchio::urdf::buildModel(path, JointModelFreeFlyer(), m);
-  else
-    pinocchio::urdf::buildModel(path, m);
+  const PeerProblem problem = load_peer_problem(path);
+  const Model& m = problem.model;
   Data d(m);
-  const int K = 64;
-  std::vector<Eigen::VectorXd> qs(K), vs(K), ts(K);
-  for (int k = 0; k < K; ++k) {
-    qs[k] = randomConfiguration(m, -Eigen::VectorXd::Ones(m.nq), Eigen::VectorXd::Ones(m.nq));
-    vs[k] = Eigen::VectorXd::Random(m.nv);
-    ts[k] = Eigen::VectorXd::Random(m.nv);
-  }
+  const int K = static_cast<int>(problem.q.size());
   double sink = 0;
   for (long i = 0; i < calls; ++i) {
     const int k = static_cast<int>(i % K);
     if (algorithm == "aba")
-      sink += call_aba(m, d, qs[k], vs[k], ts[k]);
+      sink += call_aba(m, d, problem.q[k], problem.v[k], problem.tau[k]);
     else if (algorithm == "rnea")
-      sink += call_rnea(m, d, qs[k], vs[k], ts[k]);
+      sink += call_rnea(m, d, problem.q[k], problem.v[k], problem.tau[k]);
     else if (algorithm == "crba")
-      sink += call_crba(m, d, qs[k]);
+      sink += call_crba(m, d, problem.q[k]);
     else {
       std::cerr << "unknown algorithm " << algorithm << "\n";
       return 2;

@@ -3,10 +3,9 @@
 // through 64 random states; free-flyer root unless the path names ur5 or
 // panda), for bench/bench_derivatives.py. Built by bench/peer/build.sh against
 // the Pinocchio peer_bench installs.
-#include <pinocchio/parsers/urdf.hpp>
 #include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/rnea-derivatives.hpp>
-#include <pinocchio/algorithm/joint-configuration.hpp>
+#include "peer_problem.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -32,20 +31,13 @@ int main(int argc, char** argv) {
   const int calls = std::getenv("PEER_CALLS") ? std::atoi(std::getenv("PEER_CALLS")) : 5000;
   for (int a = 1; a < argc; ++a) {
     const std::string path = argv[a];
-    const bool free_flyer = path.find("ur5") == std::string::npos && path.find("panda") == std::string::npos;
-    Model m;
-    if (free_flyer)
-      pinocchio::urdf::buildModel(path, JointModelFreeFlyer(), m);
-    else
-      pinocchio::urdf::buildModel(path, m);
+    const PeerProblem problem = load_peer_problem(path);
+    const Model& m = problem.model;
     Data d(m);
-    const int K = 64;
-    std::vector<Eigen::VectorXd> qs(K), vs(K), ts(K);
-    for (int k = 0; k < K; ++k) {
-      qs[k] = randomConfiguration(m, -Eigen::VectorXd::Ones(m.nq), Eigen::VectorXd::Ones(m.nq));
-      vs[k] = Eigen::VectorXd::Random(m.nv);
-      ts[k] = Eigen::VectorXd::Random(m.nv);
-    }
+    const std::vector<Eigen::VectorXd>& qs = problem.q;
+    const std::vector<Eigen::VectorXd>& vs = problem.v;
+    const std::vector<Eigen::VectorXd>& ts = problem.tau;
+    const int K = static_cast<int>(qs.size());
     const double aba_d = median_microseconds([&](int i) { computeABADerivatives(m, d, qs[i % K], vs[i % K], ts[i % K]); }, calls);
     const double rnea_d = median_microseconds([&](int i) { computeRNEADerivatives(m, d, qs[i % K], vs[i % K], ts[i % K]); }, calls);
     std::cout << path.substr(path.rfind('/') + 1) << " nv=" << m.nv << " aba_derivatives=" << aba_d
