@@ -55,6 +55,14 @@ COMPARISONS = [  # (label, soadyn's call, its prescribed DOFs, Pinocchio's call)
 STEP_FUNCTION = "soadyn::SimulatorTpl<double>::step()"
 
 
+def positive_int(text: str) -> int:
+    """argparse type: an integer of at least 1 (counts are divided by it)."""
+    value = int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
 def collected(command: list[str], function: str, env: dict | None = None) -> int:
     """Instructions valgrind's callgrind counts inside `function` (a callgrind pattern) while `command` runs."""
     out = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null",
@@ -87,8 +95,8 @@ def cassini_child(steps: int) -> None:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--calls", type=int, default=500, help="calls counted per algorithm and robot")
-    parser.add_argument("--steps", type=int, default=200, help="cassini steps counted per build")
+    parser.add_argument("--calls", type=positive_int, default=500, help="calls counted per algorithm and robot")
+    parser.add_argument("--steps", type=positive_int, default=200, help="cassini steps counted per build")
     parser.add_argument("--before", type=Path, default=Path("/work/before_22"),
                         help="a directory holding the earlier build's soadyn package (pip install --target)")
     parser.add_argument("--before-rev", default="26f4505", help="the commit that build was made from")

@@ -36,7 +36,17 @@ int main(int argc, char** argv) {
   }
   const std::string path = argv[1], algorithm = argv[2];
   const long calls = std::atol(argv[3]);
-  const PeerProblem problem = load_peer_problem(path);
+  if (calls < 1) {
+    std::cerr << "CALLS must be a positive integer, got " << argv[3] << "\n";
+    return 2;
+  }
+  PeerProblem problem;
+  try {
+    problem = load_peer_problem(path);
+  } catch (const std::exception& e) {
+    std::cerr << path << ": " << e.what() << "\n";
+    return 2;
+  }
   const Model& m = problem.model;
   Data d(m);
   const int K = static_cast<int>(problem.q.size());
