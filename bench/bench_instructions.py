@@ -44,6 +44,7 @@ SOADYN_FUNCTIONS = {
     "hybrid": "soadyn::Status soadyn::hybrid_dynamics<double>*",
     "rnea": "soadyn::Status soadyn::inverse_dynamics<double>*",
     "crba": "soadyn::Status soadyn::mass_matrix<double>*",
+    "crba_baseline": "soadyn::(anonymous namespace)::baseline*",  # crba.cpp's baseline kernel, called directly
 }
 COMPARISONS = [  # (label, soadyn's call, its prescribed DOFs, Pinocchio's call)
     ("forward dynamics / pin ABA", "aba", "none", "aba"),
@@ -51,6 +52,7 @@ COMPARISONS = [  # (label, soadyn's call, its prescribed DOFs, Pinocchio's call)
     ("hybrid all-prescribed / pin RNEA", "hybrid", "all", "rnea"),
     ("RNEA / pin RNEA", "rnea", "none", "rnea"),
     ("CRBA / pin CRBA", "crba", "none", "crba"),
+    ("CRBA's baseline kernel / pin CRBA", "crba_baseline", "none", "crba"),
 ]
 STEP_FUNCTION = "soadyn::SimulatorTpl<double>::step()"
 
@@ -105,6 +107,7 @@ def main() -> int:
         print("valgrind not found (Debian: apt-get install valgrind)", file=sys.stderr)
         return 2
     from bench_derivatives import peer_program
+    from soadyn._soadyn import _joint_angle_kernel, _mass_matrix_kernel
     from bench_robots import ROBOTS, source_revision, write_report
     from build_comparison import has_build
     from robots import robot
@@ -147,7 +150,9 @@ def main() -> int:
         "never-inlined calls of bench/peer/pin_calls.cpp, on the same URDFs, roots and kind of random states. "
         "A count is not a time, but it does not depend on the host: compare a change's counts with the same "
         "library's counts before it. Ratios of counts between the libraries are not ratios of times (see the "
-        "script's docstring: hybrid / pin ABA counts about 0.6 where timings give about 0.3).", "",
+        "script's docstring: hybrid / pin ABA counts about 0.6 where timings give about 0.3).",
+        f"- soadyn's kernels on this processor (chosen at run time): joint angles `{_joint_angle_kernel()}`, mass "
+        f"matrix `{_mass_matrix_kernel()}`; the CRBA's `baseline` kernel (x86-64 SSE2) is counted too.", "",
         "## soadyn / Pinocchio, instructions per call", "",
         "| robot | " + " | ".join(label for label, *_ in COMPARISONS) + " |",
         "|---|" + "---:|" * len(COMPARISONS),

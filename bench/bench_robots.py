@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 import soadyn
-from soadyn._soadyn import _time_cpp
+from soadyn._soadyn import _joint_angle_kernel, _mass_matrix_kernel, _time_cpp
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tests"))
@@ -112,7 +112,7 @@ def joint_masks(model, rng, fraction):
 
 def cpp_timings(model, states, calls):
     q, v, u = states
-    t = {name: _time_cpp(model, name, q, v, u, calls) for name in ("aba", "rnea", "crba")}
+    t = {name: _time_cpp(model, name, q, v, u, calls) for name in ("aba", "rnea", "crba", "crba_baseline")}
     model.set_prescribed(np.zeros(model.nv, dtype=bool))
     t["hybrid regular"] = _time_cpp(model, "hybrid", q, v, u, calls)
     model.set_prescribed(np.ones(model.nv, dtype=bool))
@@ -229,7 +229,8 @@ def main() -> int:
             return f"{fastest_ratio([o[name][ours] for o in ours_rounds], [pr[name][theirs] for pr in peer_rounds]):.2f}"
 
         rows_fastest.append(f"| {name} | **{fastest('hybrid regular', 'aba')}** | "
-                            f"**{fastest('hybrid prescribed', 'rnea')}** | **{fastest('crba', 'crba')}** |")
+                            f"**{fastest('hybrid prescribed', 'rnea')}** | **{fastest('crba', 'crba')}** | "
+                            f"{fastest('crba_baseline', 'crba')} |")
         worst_ratio, worst_time = max(mixed[name])
         rows_cpp.append(
             f"| {name} | {model.nv} | {c['aba']:.2f} | {c['hybrid regular']:.2f} | {p.get('aba', float('nan')):.2f} | "
@@ -254,6 +255,9 @@ def main() -> int:
         f"round the median of 7 repetitions of {cpp_calls} calls over {STATES} random states; both libraries built "
         "with g++ -O3, no -march=native. Times: medians over rounds. Ratios: medians over rounds of the ratio "
         "within a round.",
+        f"- soadyn's kernels on this processor (chosen at run time): joint angles `{_joint_angle_kernel()}`, mass "
+        f"matrix `{_mass_matrix_kernel()}`; the CRBA's `baseline` kernel (x86-64 SSE2, what a processor without "
+        "AVX2 and FMA runs) is timed too.",
         "", "## C++ per call (us)", "",
         "| robot | nv | soadyn ABA | soadyn hybrid all-regular | Pinocchio ABA | **hybrid / pin ABA** (target <= 0.7) "
         "| soadyn hybrid all-prescribed | soadyn RNEA | Pinocchio RNEA | **all-prescribed / pin RNEA** (target <= 1) "
@@ -262,8 +266,9 @@ def main() -> int:
         *rows_cpp, "",
         "The same three ratios against Pinocchio from the fastest of the rounds' times on each side (a shared "
         "host's noise only ever slows a measurement down, so the fastest of several is the least disturbed):", "",
-        "| robot | hybrid all-regular / pin ABA | all-prescribed / pin RNEA | CRBA / pin CRBA |",
-        "|---|---:|---:|---:|",
+        "| robot | hybrid all-regular / pin ABA | all-prescribed / pin RNEA | CRBA / pin CRBA "
+        "| CRBA's baseline kernel / pin CRBA |",
+        "|---|---:|---:|---:|---:|",
         *rows_fastest, "",
         "Mixed masks: random whole-joint masks with 25, 50 and 75 % of the joints prescribed, each timed "
         f"{4 * rounds} times between two all-regular timings ({cpp_calls // 10} calls x 3 repetitions each); a "

@@ -48,6 +48,9 @@ void bind_algorithms(py::module_& mod) {
   mod.def("_joint_angle_kernel", &soadyn::joint_angle_kernel,
           "The kernel of the joint angles' sines and cosines on this processor (algorithms/joint_angles.hpp): "
           "results agree bit for bit only between processes that use the same one.");
+  mod.def("_mass_matrix_kernel", &soadyn::mass_matrix_kernel,
+          "The kernel of rigid models' mass matrix on this processor (algorithms/crba.hpp): 'AVX2 FMA' or "
+          "'baseline'; results agree bit for bit only between processes that use the same one.");
 
   mod.def("forward_dynamics",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle tau, py::handle f_ext) {

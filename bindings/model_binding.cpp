@@ -257,6 +257,19 @@ void bind_model(py::module_& mod) {
           "Per body: whether the dynamics read its inertia formed once (constant in its free root's frame: "
           "welded to the root, or turning about an axis of mass symmetry on it).")
       .def_property_readonly(
+          "placement_axes",
+          [](const ModelHandle& h) {
+            std::vector<const char*> shapes;
+            for (const soadyn::PlacementAxes<double>& axes : h.model.placement_axes)
+              shapes.push_back(axes.kind == soadyn::PlacementAxes<double>::Kind::identity             ? "identity"
+                               : axes.kind == soadyn::PlacementAxes<double>::Kind::signed_permutation ? "axis_permutation"
+                                                                                                : "general");
+            return shapes;
+          },
+          "Per body: the shape of its placement's rotation as the sweeps apply it: 'identity', "
+          "'axis_permutation' (quarter turns: each axis onto a coordinate axis, up to sign) or 'general'. "
+          "Entries within machine epsilon of the first two count as them.")
+      .def_property_readonly(
           "appendage_in_root_frame", [](const ModelHandle& h) { return as_bools(h.model.appendage_in_root_frame); },
           "Per body: whether it is a flexible appendage welded to its root, whose modal integrals the dynamics "
           "read formed once in the root's frame.")

@@ -67,7 +67,11 @@ void bind_timing(py::module_& mod) {
           call = [&](int i) { soadyn::inverse_dynamics<double>(m, d, qs[i % n], vs[i % n], us[i % n]); };
         else if (algorithm == "crba")
           call = [&](int i) { soadyn::mass_matrix<double>(m, d, qs[i % n]); };
-        else if (algorithm == "constrained")
+        else if (algorithm == "crba_baseline") {  // the baseline kernel whatever this processor runs (crba.hpp)
+          if (m.has_flexible_bodies()) throw std::invalid_argument("crba_baseline takes rigid models only");
+          const auto baseline = soadyn::detail::available_mass_matrix_kernels().back().run;
+          call = [&, baseline](int i) { baseline(m, d, qs[i % n]); };
+        } else if (algorithm == "constrained")
           call = [&](int i) { soadyn::constrained_dynamics<double>(m, d, qs[i % n], vs[i % n], us[i % n]); };
         else if (algorithm == "dynamics_derivatives")
           call = [&](int i) { soadyn::dynamics_derivatives<double>(m, d, *derivatives, qs[i % n], vs[i % n], us[i % n]); };
@@ -77,13 +81,14 @@ void bind_timing(py::module_& mod) {
           };
         else
           throw std::invalid_argument("unknown algorithm '" + algorithm +
-                                      "' (hybrid, aba, rnea, crba, constrained, dynamics_derivatives, "
+                                      "' (hybrid, aba, rnea, crba, crba_baseline, constrained, dynamics_derivatives, "
                                       "inverse_dynamics_derivatives)");
         return median_microseconds_per_call(call, calls, repetitions);
       },
       py::arg("model"), py::arg("algorithm"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("calls") = 20000,
       py::arg("repetitions") = 7,
-      "Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea', 'crba', 'constrained'\n"
+      "Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea', 'crba', 'crba_baseline'\n"
+      "(the mass matrix's baseline kernel, rigid models), 'constrained'\n"
       "(constrained_dynamics), 'dynamics_derivatives' (model's flags) or 'inverse_dynamics_derivatives' over the given\n"
       "states (rows), `calls` calls per repetition. For benchmarks; the GIL is released.");
 }

@@ -393,17 +393,20 @@ class _WorkersReporting:
         return dict(self.reports)
 
 
-def test_a_worker_with_another_joint_angle_kernel_stops_the_campaign():
+@pytest.mark.parametrize("kernel, names", [("joint_angle_kernel", ("polynomial AVX2", "libmvec SSE2", "std")),
+                                           ("mass_matrix_kernel", ("AVX2 FMA", "baseline"))])
+def test_a_worker_with_another_kernel_stops_the_campaign(kernel, names):
     """Processors whose sines and cosines of the joint angles round differently (libmvec's AVX2 or
-    SSE2 kernel, or std::sin) would not give bit-identical runs: such a worker is refused by name,
-    and one that agrees on everything is accepted."""
+    SSE2 kernel, or std::sin), or whose mass matrix is formed with or without fused
+    multiply-adds, would not give bit-identical runs: such a worker is refused by name, and one
+    that agrees on everything is accepted."""
     from soadyn.campaign import execute
 
     mine = execute._versions()
-    assert mine["joint_angle_kernel"] in ("polynomial AVX2", "libmvec SSE2", "std")
-    other_kernel = "std" if mine["joint_angle_kernel"] != "std" else "libmvec SSE2"
-    differing = {"tcp://10.0.0.2:4000": dict(mine, joint_angle_kernel=other_kernel)}
-    with pytest.raises(campaign.CampaignError, match=r"worker tcp://10\.0\.0\.2:4000 has .*joint_angle_kernel "
+    assert mine[kernel] in names
+    other_kernel = next(name for name in names if name != mine[kernel])
+    differing = {"tcp://10.0.0.2:4000": dict(mine, **{kernel: other_kernel})}
+    with pytest.raises(campaign.CampaignError, match=rf"worker tcp://10\.0\.0\.2:4000 has .*{kernel} "
                                                       + re.escape(other_kernel)):
         execute._check_workers(_WorkersReporting(differing), say=lambda line: None)
     agreeing = {"tcp://10.0.0.3:4000": dict(mine)}

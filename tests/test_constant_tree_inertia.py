@@ -287,10 +287,13 @@ def test_a_restored_symmetry_makes_the_inertia_constant_again():
 
 
 def test_parameter_changes_refresh_the_stored_shortcuts_both_ways():
-    """Per body the model also stores whether its placement's rotation is exactly the identity
-    (no rotation product for its base) and whether its inertia about its centre of mass is
-    exactly diagonal (R I_c R' from R's columns). A stale fact would give wrong dynamics, so
-    each is turned on and off by set_parameter and every call compared with Pinocchio."""
+    """Per body the model also stores the shape of its placement's rotation (the identity or a
+    quarter-turn axis permutation spare the rotation product of its base) and whether its
+    inertia about its centre of mass is exactly diagonal (R I_c R' from R's columns). A stale
+    fact would give wrong dynamics, so each is turned on and off by set_parameter and every call
+    compared with Pinocchio. A rotation within machine epsilon of a permutation (URDF's rpy of
+    pi/2, whose cosines are 6e-17) is applied as one; one 1e-9 away is not, and the comparison's
+    1e-10 would see it if it were."""
     c = Case(spacecraft())
     rng = np.random.default_rng(21)
     arm, platform = c.bodies[7], c.bodies[6]
@@ -306,13 +309,29 @@ def test_parameter_changes_refresh_the_stored_shortcuts_both_ways():
     compare_all(c, "inertias exchanged")
     # The platform sits on the turntable, so its base is composed on every call: its
     # placement's rotation made the identity, then turned again.
-    for label, rotation in (("identity", np.eye(3)), ("turned", random_rotation(rng))):
+    quarter_turn = rotation_z(np.pi / 2) @ rotation_x(-np.pi / 2)
+    assert 0 < np.min(np.abs(quarter_turn[quarter_turn != np.round(quarter_turn)])) < 1e-16
+    for label, rotation, shape in (("identity", np.eye(3), "identity"),
+                                   ("turned", random_rotation(rng), "general"),
+                                   ("a quarter turn, exact", np.round(quarter_turn), "axis_permutation"),
+                                   ("a quarter turn, rounded", quarter_turn, "axis_permutation"),
+                                   ("nearly a quarter turn", rotation_z(np.pi / 2 + 1e-9) @ rotation_x(-np.pi / 2),
+                                    "general")):
         platform.rotation = rotation
         placement = np.eye(4)
         placement[:3, :3], placement[:3, 3] = rotation, platform.translation
         c.m.set_parameter("platform.placement", placement)
+        assert c.m.placement_axes[6] == shape, label
         c.rebuild_oracle()
         compare_all(c, f"platform placement {label}")
+
+
+def rotation_x(angle: float) -> np.ndarray:
+    return np.array([[1, 0, 0], [0, np.cos(angle), -np.sin(angle)], [0, np.sin(angle), np.cos(angle)]])
+
+
+def rotation_z(angle: float) -> np.ndarray:
+    return np.array([[np.cos(angle), -np.sin(angle), 0], [np.sin(angle), np.cos(angle), 0], [0, 0, 1]])
 
 
 def test_a_faint_gravity_is_carried_into_the_root_frame():

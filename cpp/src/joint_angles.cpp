@@ -1,4 +1,5 @@
 #include "soadyn/algorithms/joint_angles.hpp"
+#include "soadyn/processor_features.hpp"
 #include <atomic>
 #include <cmath>
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -142,13 +143,6 @@ __attribute__((target("avx2,fma"))) void sine_cosine_polynomial_avx2(const Sourc
 
 #endif
 
-#if defined(SOADYN_HAVE_AVX2_KERNEL) || defined(SOADYN_HAVE_LIBMVEC)
-bool processor_has_avx2() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-}
-#endif
-
 constexpr SineCosineKernel std_kernel{"std", sine_cosine_std};
 #ifdef SOADYN_HAVE_LIBMVEC
 constexpr SineCosineKernel libmvec_sse2_kernel{"libmvec SSE2", sine_cosine_sse2};
@@ -164,10 +158,10 @@ constexpr SineCosineKernel polynomial_avx2_kernel{"polynomial AVX2", sine_cosine
 std::vector<SineCosineKernel> runnable_kernels() {
   std::vector<SineCosineKernel> kernels;
 #ifdef SOADYN_HAVE_AVX2_KERNEL
-  if (processor_has_avx2()) kernels.push_back(polynomial_avx2_kernel);
+  if (processor_has_avx2_fma()) kernels.push_back(polynomial_avx2_kernel);
 #endif
 #ifdef SOADYN_HAVE_LIBMVEC
-  if (processor_has_avx2()) kernels.push_back(libmvec_avx2_kernel);
+  if (processor_has_avx2_fma()) kernels.push_back(libmvec_avx2_kernel);
   kernels.push_back(libmvec_sse2_kernel);
 #endif
   kernels.push_back(std_kernel);
@@ -176,7 +170,7 @@ std::vector<SineCosineKernel> runnable_kernels() {
 
 SineCosineKernel choose_kernel() {
 #ifdef SOADYN_HAVE_AVX2_KERNEL
-  if (processor_has_avx2()) return polynomial_avx2_kernel;
+  if (processor_has_avx2_fma()) return polynomial_avx2_kernel;
 #endif
 #ifdef SOADYN_HAVE_LIBMVEC
   return libmvec_sse2_kernel;

@@ -213,6 +213,11 @@ class _Model:
     def v_index(self) -> list[int]:
         ...
     @property
+    def placement_axes(self) -> list[str]:
+        """
+        Per body: the shape of its placement's rotation as the sweeps apply it: 'identity', 'axis_permutation' (quarter turns: each axis onto a coordinate axis, up to sign) or 'general'. Entries within machine epsilon of the first two count as them.
+        """
+    @property
     def constant_tree_inertia(self) -> list[bool]:
         """
         Per body: whether the dynamics read its inertia formed once (constant in its free root's frame: welded to the root, or turning about an axis of mass symmetry on it).
@@ -692,9 +697,12 @@ def _slider_crank_state(crank_angle: typing.SupportsFloat | typing.SupportsIndex
     ...
 def _joint_angle_kernel() -> str:
     """The kernel of the joint angles' sines and cosines on this processor (algorithms/joint_angles.hpp): results agree bit for bit only between processes that use the same one."""
+def _mass_matrix_kernel() -> str:
+    """The kernel of rigid models' mass matrix on this processor (algorithms/crba.hpp): 'AVX2 FMA' or 'baseline'; results agree bit for bit only between processes that use the same one."""
 def _time_cpp(model: _Model, algorithm: str, q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], u: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], calls: typing.SupportsInt | typing.SupportsIndex = 20000, repetitions: typing.SupportsInt | typing.SupportsIndex = 7) -> float:
     """
-    Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea', 'crba', 'constrained'
+    Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea', 'crba', 'crba_baseline'
+    (the mass matrix's baseline kernel, rigid models), 'constrained'
     (constrained_dynamics), 'dynamics_derivatives' (model's flags) or 'inverse_dynamics_derivatives' over the given
     states (rows), `calls` calls per repetition. For benchmarks; the GIL is released.
     """

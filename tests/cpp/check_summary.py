@@ -131,6 +131,22 @@ def check_joint_angles(output: str) -> None:
     require(bool(lines(r"^test_joint_angles: PASS$", output)), "the PASS line")
 
 
+def check_mass_matrix_kernels(output: str) -> None:
+    """Every mass-matrix kernel against the baseline and the body-frame algorithm; the placement shapes."""
+    require(bool(lines(r"^quarter-turn arm: 6 of 8 placements applied as axis permutations$", output)),
+            "the quarter-turn arm's six permutations")
+    kernels = re.search(r"^kernels: (.*) \(chosen: (.*)\)$", output, re.MULTILINE)
+    require(kernels is not None and kernels.group(1).split(", ")[0] == kernels.group(2)
+            and kernels.group(1).endswith("baseline"), "every kernel compared, the chosen first, the baseline last")
+    match = re.search(r"^max relative difference: (\S+) between kernels, (\S+) from the body-frame algorithm "
+                      r"\(tolerance 1e-14\), kernels differ bit for bit: (yes|no)$", output, re.MULTILINE)
+    require(match is not None, "the difference line")
+    require(max(float(match.group(1)), float(match.group(2))) <= 1e-14, "within 1e-14 of M's largest entry")
+    require((match.group(3) == "yes") == (kernels.group(2) != "baseline"),
+            "a kernel other than the baseline rounds differently somewhere (it is other code)")
+    require(bool(lines(r"^test_mass_matrix_kernels: PASS: 3 models, 20 states each$", output)), "the PASS line")
+
+
 def check_loop_force_stiffness_no_allocation(output: str) -> None:
     """2000 calls on a 20-body tree with one loop of every kind, against central differences."""
     require(bool(lines(r"^self-check: std::vector -> [1-9]\d* new", output)), "the allocation counter's self-check")
@@ -261,6 +277,7 @@ CHECKS = {
     "test_parameters_no_allocation": check_parameters_no_allocation,
     "test_model_file": check_model_file,
     "test_joint_angles": check_joint_angles,
+    "test_mass_matrix_kernels": check_mass_matrix_kernels,
     "test_small_solves": check_small_solves,
     "test_batch": check_batch,
 }

@@ -54,11 +54,11 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
   leaf_hinge_terms.resize(n);
   leaf_plus_presummed.assign(n, 0);
   leaf_presum_slot.assign(n, -1);
-  placement_rotation_identity.assign(n, 0);
+  placement_axes.assign(n, PlacementAxes<S>());
   diagonal_inertia_com.assign(n, 0);
   if constexpr (!std::is_floating_point_v<S>) return;
   for (std::size_t i = 0; i < n; ++i) {
-    placement_rotation_identity[i] = placement[i].rotation == Mat3<S>::Identity();
+    placement_axes[i] = placement_axes_of(placement[i].rotation);
     diagonal_inertia_com[i] = detail::is_diagonal(inertia_com[i]);
   }
   // Per body: bit 1, some body is its child; bit 2, on one of its nodes.

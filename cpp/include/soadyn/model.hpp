@@ -29,6 +29,7 @@
 #include "soadyn/joints/joint_kernel.hpp"
 #include "soadyn/loops/loop.hpp"
 #include "soadyn/spatial/inertia.hpp"
+#include "soadyn/spatial/placement_axes.hpp"
 
 namespace soadyn {
 
@@ -271,11 +272,13 @@ class ModelTpl {
   // Per body, exact properties of its parameters that spare the sweeps and
   // the CRBA work on every call (refresh_constant_tree_inertia, run by every
   // change of a placement or an inertia; floating-point scalars only, else
-  // all 0, so that derivatives by those parameters stay right): its
-  // placement's rotation is exactly the identity (its base is its parent's
-  // orientation: no rotation product), and its inertia about its centre of
-  // mass is exactly diagonal (R I_c R' scales R's columns).
-  std::vector<std::uint8_t> placement_rotation_identity, diagonal_inertia_com;
+  // none recorded, so that derivatives by those parameters stay right): the
+  // shape of its placement's rotation (spatial/placement_axes.hpp: the
+  // identity or a quarter-turn permutation of the axes spares the rotation
+  // product of parent * placement), and whether its inertia about its centre
+  // of mass is exactly diagonal (R I_c R' scales R's columns).
+  std::vector<PlacementAxes<S>> placement_axes;
+  std::vector<std::uint8_t> diagonal_inertia_com;
   // Likewise a flexible appendage welded to such a root (through fixed
   // joints): its pose in the root's frame is constant, so its modal
   // integrals are held in that frame too (ModalIntegrals::in_frame), and the

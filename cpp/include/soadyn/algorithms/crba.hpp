@@ -1,5 +1,7 @@
 // Joint-space mass matrix by the composite-rigid-body algorithm.
 #pragma once
+#include <vector>
+
 #include "soadyn/algorithms/steps.hpp"
 
 namespace soadyn {
@@ -8,5 +10,24 @@ namespace soadyn {
 // naming the first DOF (column) with a non-finite entry.
 template <class S>
 Status mass_matrix(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q);
+
+// The double-precision kernel of rigid models' mass matrix on this processor:
+// "AVX2 FMA" (the same algorithm compiled for AVX2 with fused multiply-adds,
+// where the processor has them) or "baseline" (x86-64's SSE2, or any other
+// target). Like the joint angles' kernel, it is chosen on the first call:
+// results agree bit for bit only between processes that use the same one.
+const char* mass_matrix_kernel();
+
+namespace detail {
+// A kernel: the composite-rigid-body algorithm of rigid models in tree frames
+// (crba.hxx), for double.
+struct MassMatrixKernel {
+  const char* name;
+  Status (*run)(const ModelTpl<double>& model, DataTpl<double>& data, const ConstVecRef<double>& q);
+};
+// Every kernel of this build that this processor can run, the chosen one
+// first (the tests compare them all).
+std::vector<MassMatrixKernel> available_mass_matrix_kernels();
+}  // namespace detail
 
 }  // namespace soadyn

@@ -230,13 +230,22 @@ void composite_body_frames(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRe
   if (m.has_armature) d.mass_matrix.diagonal() += Eigen::Map<const VecX<S>>(m.armature.data(), m.nv);
 }
 
+// The composite-rigid-body algorithm above as this processor runs it best:
+// for double, the kernel crba.cpp chose (mass_matrix_kernel()).
+template <class S>
+inline Status rigid_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
+  return composite_rigid_body(m, d, q);
+}
+template <>
+Status rigid_mass_matrix<double>(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q);
+
 }  // namespace detail
 
 template <class S>
 Status mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   // Models with flexible bodies, or with a body beyond its tree-frame reach: in body frames.
   if (!m.has_flexible_bodies()) {
-    const Status status = detail::composite_rigid_body(m, d, q);
+    const Status status = detail::rigid_mass_matrix(m, d, q);
     if (status.code != StatusCode::beyond_tree_frame_reach) return status;
   }
   detail::composite_body_frames(m, d, q);

@@ -81,18 +81,24 @@ inline Vec6<S> universal_tree_step(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
 // base = parent * placement, written column by column as the joint kernels
 // read it (whole-matrix copies and products leave stores that the kernels'
 // column loads cannot forward from). The rotation product is skipped when the
-// placement's rotation is exactly the identity (`identity`: the model's
-// placement_rotation_identity, refreshed with every placement change), as it
-// is for most URDF joints.
+// placement's rotation is the identity or a quarter-turn permutation of the
+// axes (`axes`: the model's placement_axes, refreshed with every placement
+// change; spatial/placement_axes.hpp), as it is for most URDF joints.
 template <class S>
 SOADYN_ALWAYS_INLINE void compose_with_placement(const Transform<S>& parent, const Transform<S>& placement,
-                                                 bool identity, Transform<S>& base) {
+                                                 const PlacementAxes<S>& axes, Transform<S>& base) {
+  using Kind = typename PlacementAxes<S>::Kind;
   const Mat3<S>& R = parent.rotation;
   const Mat3<S>& P = placement.rotation;
   const Vec3<S>& t = placement.translation;
   base.translation = parent.translation + R.col(0) * t.x() + R.col(1) * t.y() + R.col(2) * t.z();
-  for (int c = 0; c < 3; ++c)
-    base.rotation.col(c) = identity ? Vec3<S>(R.col(c)) : Vec3<S>(R.col(0) * P(0, c) + R.col(1) * P(1, c) + R.col(2) * P(2, c));
+  if (axes.kind == Kind::identity) {
+    for (int c = 0; c < 3; ++c) base.rotation.col(c) = R.col(c);
+  } else if (axes.kind == Kind::signed_permutation) {
+    for (std::size_t c = 0; c < 3; ++c) base.rotation.col(static_cast<int>(c)) = R.col(axes.source[c]) * axes.sign[c];
+  } else {
+    for (int c = 0; c < 3; ++c) base.rotation.col(c) = R.col(0) * P(0, c) + R.col(1) * P(1, c) + R.col(2) * P(2, c);
+  }
 }
 
 }  // namespace detail
@@ -138,8 +144,8 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
   else if (RootBodyFrames && is_body_frame_root(m, p))
     base = m.placement[i];
   else
-    detail::compose_with_placement(d.sweep.tree_pose[static_cast<std::size_t>(p)], m.placement[i],
-                                   m.placement_rotation_identity[i] != 0, base);
+    detail::compose_with_placement(d.sweep.tree_pose[static_cast<std::size_t>(p)], m.placement[i], m.placement_axes[i],
+                                   base);
   Transform<S>& pose = d.sweep.tree_pose[i];
   Mat6N<S>& s = d.sweep.tree_subspace[i];
   // The 1-DOF kernels' coordinate along +e_k; a revolute kernel's cosine and
