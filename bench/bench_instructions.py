@@ -44,7 +44,7 @@ SOADYN_FUNCTIONS = {
     "hybrid": "soadyn::Status soadyn::hybrid_dynamics<double>*",
     "rnea": "soadyn::Status soadyn::inverse_dynamics<double>*",
     "crba": "soadyn::Status soadyn::mass_matrix<double>*",
-    "crba_baseline": "soadyn::(anonymous namespace)::baseline*",  # crba.cpp's baseline kernel, called directly
+    "crba_baseline": "soadyn::detail::baseline_mass_matrix*",  # crba.cpp's baseline kernel, called directly
 }
 COMPARISONS = [  # (label, soadyn's call, its prescribed DOFs, Pinocchio's call)
     ("forward dynamics / pin ABA", "aba", "none", "aba"),

@@ -6,12 +6,12 @@
 
 namespace soadyn {
 
-namespace {
+// The kernels themselves have external linkage, so that profilers and
+// bench/bench_instructions.py find them by name in the stripped module.
+namespace detail {
 
-using detail::MassMatrixKernel;
-
-Status baseline(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q) {
-  return detail::composite_rigid_body(m, d, q);
+Status baseline_mass_matrix(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q) {
+  return composite_rigid_body(m, d, q);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -21,13 +21,22 @@ Status baseline(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef
 // instructions, about 20 % fewer instructions and 5-10 % less time on the
 // robots of bench_robots. Each fused product is rounded once instead of
 // twice, so M differs from the baseline's in its last bits.
-__attribute__((target("avx2,fma"), flatten)) Status avx2_fma(const ModelTpl<double>& m, DataTpl<double>& d,
-                                                             const ConstVecRef<double>& q) {
-  return detail::composite_rigid_body(m, d, q);
+__attribute__((target("avx2,fma"), flatten)) Status avx2_fma_mass_matrix(const ModelTpl<double>& m, DataTpl<double>& d,
+                                                                         const ConstVecRef<double>& q) {
+  return composite_rigid_body(m, d, q);
 }
-constexpr MassMatrixKernel avx2_fma_kernel{"AVX2 FMA", avx2_fma};
 #endif
-constexpr MassMatrixKernel baseline_kernel{"baseline", baseline};
+
+}  // namespace detail
+
+namespace {
+
+using detail::MassMatrixKernel;
+
+#ifdef SOADYN_HAVE_AVX2_FMA_CRBA
+constexpr MassMatrixKernel avx2_fma_kernel{"AVX2 FMA", detail::avx2_fma_mass_matrix};
+#endif
+constexpr MassMatrixKernel baseline_kernel{"baseline", detail::baseline_mass_matrix};
 
 MassMatrixKernel choose_kernel() {
 #ifdef SOADYN_HAVE_AVX2_FMA_CRBA
