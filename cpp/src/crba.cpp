@@ -40,7 +40,7 @@ constexpr MassMatrixKernel baseline_kernel{"baseline", detail::baseline_mass_mat
 
 MassMatrixKernel choose_kernel() {
 #ifdef SOADYN_HAVE_AVX2_FMA_CRBA
-  if (processor_has_avx2_fma()) return avx2_fma_kernel;
+  if (avx2_fma_kernels_enabled()) return avx2_fma_kernel;
 #endif
   return baseline_kernel;
 }

@@ -1,5 +1,8 @@
 #include "soadyn/processor_features.hpp"
 
+#include <cstdlib>
+#include <cstring>
+
 namespace soadyn {
 
 bool processor_has_avx2_fma() {
@@ -10,5 +13,12 @@ bool processor_has_avx2_fma() {
   return false;
 #endif
 }
+
+bool baseline_kernels_requested() {
+  const char* value = std::getenv("SOADYN_BASELINE_KERNELS");
+  return value != nullptr && value[0] != '\0' && std::strcmp(value, "0") != 0;
+}
+
+bool avx2_fma_kernels_enabled() { return processor_has_avx2_fma() && !baseline_kernels_requested(); }
 
 }  // namespace soadyn

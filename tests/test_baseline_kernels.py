@@ -1,0 +1,72 @@
+"""SOADYN_BASELINE_KERNELS: a process that sets it chooses every kernel as a processor without
+AVX2 and FMA would (processor_features.hpp), so runs on different x86-64 processors agree bit
+for bit. A child process with the variable set forms the mass matrix and the hybrid dynamics
+of panda (six quarter-turn placements) and solo12 (free root) at random states; its kernels
+must be the baseline ones, and its results must match Pinocchio's and, to rounding, this
+process's."""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import soadyn
+from robots import robot, robot_with_oracle
+from soadyn._soadyn import _joint_angle_kernel, _mass_matrix_kernel
+
+STATES = 12
+CHILD = r"""
+import json, sys
+import numpy as np
+import soadyn
+from soadyn._soadyn import _joint_angle_kernel, _mass_matrix_kernel
+
+path, floating, states = sys.argv[1], sys.argv[2] == "1", json.loads(sys.stdin.read())
+m = soadyn.load_urdf(path, floating_base=floating)
+out = {"kernels": [_joint_angle_kernel(), _mass_matrix_kernel()], "M": [], "qdd": []}
+for q, v, u in states:
+    out["M"].append(soadyn.mass_matrix(m, np.array(q)).tolist())
+    out["qdd"].append(soadyn.forward_dynamics(m, np.array(q), np.array(v), np.array(u)).tolist())
+print(json.dumps(out))
+"""
+
+
+def child_results(path, floating, states, value):
+    env = {**os.environ, "SOADYN_BASELINE_KERNELS": value}
+    done = subprocess.run([sys.executable, "-c", CHILD, str(path), "1" if floating else "0"], env=env,
+                          input=json.dumps([[x.tolist() for x in s] for s in states]), capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout)
+
+
+@pytest.mark.parametrize("name, floating", [("panda", False), ("solo12", True)])
+def test_baseline_kernels_on_request(name, floating):
+    path, _ = robot(name)
+    m, oracle = robot_with_oracle(name, floating)
+    rng = np.random.default_rng(17)
+    states = [(soadyn.random_configuration(m, seed=int(rng.integers(1 << 30))), rng.uniform(-1, 1, m.nv),
+               rng.uniform(-1, 1, m.nv)) for _ in range(STATES)]
+    baseline = child_results(path, floating, states, "1")
+    assert baseline["kernels"][1] == "baseline"
+    assert baseline["kernels"][0] in ("libmvec SSE2", "std")
+    unset = child_results(path, floating, states, "0")  # "0" requests nothing: the processor's own choice
+    assert unset["kernels"] == [_joint_angle_kernel(), _mass_matrix_kernel()]
+    differs_somewhere = False
+    for k, (q, v, u) in enumerate(states):
+        M_child, M_here = np.array(baseline["M"][k]), soadyn.mass_matrix(m, q)
+        scale = np.max(np.abs(M_here))
+        np.testing.assert_array_equal(np.array(unset["M"][k]), M_here)
+        assert np.max(np.abs(M_child - M_here)) <= 1e-14 * scale, (name, k)
+        assert np.max(np.abs(M_child - oracle.mass_matrix(q))) <= 1e-10 * scale, (name, k)
+        qdd_child, qdd_here = np.array(baseline["qdd"][k]), soadyn.forward_dynamics(m, q, v, u)
+        np.testing.assert_allclose(qdd_child, qdd_here, rtol=1e-12, atol=1e-12 * np.max(np.abs(qdd_here)))
+        differs_somewhere |= not np.array_equal(M_child, M_here) or not np.array_equal(qdd_child, qdd_here)
+    # Where this process runs AVX2 kernels, the child's baseline ones round differently somewhere:
+    # proof that the variable took effect.
+    assert differs_somewhere == (_mass_matrix_kernel() != "baseline" or _joint_angle_kernel() not in
+                                 ("libmvec SSE2", "std"))
