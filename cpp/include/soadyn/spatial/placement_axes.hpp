@@ -2,7 +2,7 @@
 // change so that the sweeps' product parent * placement skips what it can.
 //
 // Most URDF placements are the identity or a quarter turn about coordinate
-// axes (rpy of 0 and +-pi/2: the Panda's and the UR5's links). A quarter-turn
+// axes (rpy of 0 and +-pi/2: six of the Panda's nine placements). A quarter-turn
 // rotation maps every axis onto a coordinate axis, up to sign: column c of the
 // rotation is sign[c] e_{source[c]}, so column c of R * placement is
 // sign[c] times column source[c] of R, with no multiply-add.
