@@ -5,15 +5,18 @@
 // Every kernel this processor can run forms M on three models, 20 random
 // configurations each: a random tree with every joint kind, a 7-DOF arm, and
 // a quarter-turn arm whose placements are URDF's rpy of +-pi/2 (cosines of
-// 6e-17, taken for axis permutations). Each M must be exactly symmetric, the
+// 6e-17, taken for axis permutations), after eight threads made the
+// process's first calls at once. Each M must be exactly symmetric, the
 // chosen kernel's must be mass_matrix's bit for bit, and every kernel's must
 // agree with the baseline's and with composite_body_frames (full rotation
 // products, no tree frames) to 1e-14 of M's largest entry: the fused
 // multiply-adds and the permutations round differently, by a few units of
 // the last place.
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "failure_count.hpp"
@@ -113,9 +116,39 @@ void check_placement_shapes() {
   }
 }
 
+// Eight threads make the process's first mass_matrix calls at once (the
+// kernel is chosen by whichever gets there first), each on its own Data, 200
+// times; every M must equal the one a single thread forms afterwards, bit for
+// bit. Returns the number of threads whose M differs.
+int first_calls_from_threads(const soadyn::Model& m) {
+  constexpr int kThreads = 8, kCalls = 200;
+  const Eigen::VectorXd q = soadyn_test::random_state(m, 7).q;
+  std::vector<soadyn::Data> data(kThreads, soadyn::Data(m));
+  std::atomic<int> ready{0}, failed{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      ++ready;
+      while (ready.load() < kThreads) {
+      }
+      for (int call = 0; call < kCalls; ++call)
+        if (!soadyn::mass_matrix<double>(m, data[static_cast<std::size_t>(t)], q).ok()) ++failed;
+    });
+  for (std::thread& thread : threads) thread.join();
+  soadyn::Data reference(m);
+  check(soadyn::mass_matrix<double>(m, reference, q).ok(), "the single-thread mass_matrix failed");
+  int differing = failed.load();
+  for (const soadyn::Data& d : data) differing += d.mass_matrix != reference.mass_matrix;
+  check(differing == 0, "a thread's M differs from the single-thread M, or a call failed");
+  return differing;
+}
+
 }  // namespace
 
 int main() {
+  const soadyn::Model arm = soadyn_test::build_model<double>(quarter_turn_arm_spec());
+  std::printf("threads: 8 threads from the process's first call, 200 mass matrices each, %d differ\n",
+              first_calls_from_threads(arm));  // first: no mass_matrix call may precede it
   check_placement_shapes();
   const std::vector<std::pair<std::string, soadyn::Model>> models{
       {"random tree", soadyn_test::build_model<double>(soadyn_test::random_tree_spec(5, 24))},
