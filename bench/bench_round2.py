@@ -134,6 +134,14 @@ from build_comparison import alternate_builds, has_build  # noqa: E402
 from robots import robot  # noqa: E402
 
 
+def kernel_names() -> str:
+    """The kernels this build chose on this processor (the round's starting build had none)."""
+    from soadyn._soadyn import _appendage_kernel, _joint_angle_kernel, _mass_matrix_kernel
+
+    return (f"joint angles `{_joint_angle_kernel()}`, mass matrix `{_mass_matrix_kernel()}`, "
+            f"flexible appendages `{_appendage_kernel()}`")
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer rounds and calls (a smoke run, noisier)")
@@ -214,7 +222,8 @@ def main() -> int:
         f"command: `python bench/bench_round2.py{' --quick' if args.quick else ''}`",
         f"- {rounds} rounds; each round runs both builds in child processes (alternating which goes first) and "
         f"Pinocchio's peer_bench once. C++ per call: `_time_cpp`, median of 7 repetitions of {calls} calls over 64 "
-        f"random states. Times: medians over rounds; ratios: medians over rounds of the ratio within a round.", "",
+        f"random states. Times: medians over rounds; ratios: medians over rounds of the ratio within a round.",
+        f"- This build's kernels on this processor (chosen at run time): {kernel_names()}", "",
         "## C++ per call on the bench_robots robots (us)", "",
         "| robot | CRBA before | CRBA after | **after / before** | Pinocchio CRBA | **after / Pinocchio** (goal <= 0.7) "
         "| hybrid after / before | RNEA after / before |",

@@ -8,6 +8,7 @@
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
+#include "soadyn/algorithms/appendage_step.hpp"
 #include "soadyn/algorithms/joint_angles.hpp"
 #include "soadyn/soadyn.hpp"
 
@@ -51,6 +52,9 @@ void bind_algorithms(py::module_& mod) {
   mod.def("_mass_matrix_kernel", &soadyn::mass_matrix_kernel,
           "The kernel of rigid models' mass matrix on this processor (algorithms/crba.hpp): 'AVX2 FMA' or "
           "'baseline'; results agree bit for bit only between processes that use the same one.");
+  mod.def("_appendage_kernel", &soadyn::appendage_kernel,
+          "The kernel of flexible appendages' step on this processor (algorithms/appendage_step.hpp): 'AVX2 FMA' "
+          "or 'baseline'; results agree bit for bit only between processes that use the same one.");
 
   mod.def("forward_dynamics",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle tau, py::handle f_ext) {

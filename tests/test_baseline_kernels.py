@@ -1,9 +1,11 @@
 """SOADYN_BASELINE_KERNELS: a process that sets it chooses every kernel as a processor without
 AVX2 and FMA would (processor_features.hpp), so runs on different x86-64 processors agree bit
 for bit. A child process with the variable set forms the mass matrix and the hybrid dynamics
-of panda (six quarter-turn placements) and solo12 (free root) at random states; its kernels
-must be the baseline ones, and its results must match Pinocchio's and, to rounding, this
-process's."""
+of panda (six quarter-turn placements) and solo12 (free root) at random states, and of the
+cassini scene (two flexible booms of four modes: the appendage kernels); its kernels must be
+the baseline ones, and its results must match Pinocchio's (robots) or the inverse dynamics'
+(cassini, whose booms' terms the inverse dynamics forms without the appendage step) and, to
+rounding, this process's."""
 from __future__ import annotations
 
 import json
@@ -16,18 +18,20 @@ import pytest
 
 import soadyn
 from robots import robot, robot_with_oracle
-from soadyn._soadyn import _joint_angle_kernel, _mass_matrix_kernel
+from soadyn import scenes
+from soadyn._soadyn import _appendage_kernel, _joint_angle_kernel, _mass_matrix_kernel
 
 STATES = 12
 CHILD = r"""
 import json, sys
 import numpy as np
 import soadyn
-from soadyn._soadyn import _joint_angle_kernel, _mass_matrix_kernel
+from soadyn import scenes
+from soadyn._soadyn import _appendage_kernel, _joint_angle_kernel, _mass_matrix_kernel
 
 path, floating, states = sys.argv[1], sys.argv[2] == "1", json.loads(sys.stdin.read())
-m = soadyn.load_urdf(path, floating_base=floating)
-out = {"kernels": [_joint_angle_kernel(), _mass_matrix_kernel()], "M": [], "qdd": []}
+m = scenes.cassini() if path == "cassini" else soadyn.load_urdf(path, floating_base=floating)
+out = {"kernels": [_joint_angle_kernel(), _mass_matrix_kernel(), _appendage_kernel()], "M": [], "qdd": []}
 for q, v, u in states:
     out["M"].append(soadyn.mass_matrix(m, np.array(q)).tolist())
     out["qdd"].append(soadyn.forward_dynamics(m, np.array(q), np.array(v), np.array(u)).tolist())
@@ -52,10 +56,10 @@ def test_baseline_kernels_on_request(name, floating):
     states = [(soadyn.random_configuration(m, seed=int(rng.integers(1 << 30))), rng.uniform(-1, 1, m.nv),
                rng.uniform(-1, 1, m.nv)) for _ in range(STATES)]
     baseline = child_results(path, floating, states, "1")
-    assert baseline["kernels"][1] == "baseline"
+    assert baseline["kernels"][1:] == ["baseline", "baseline"]
     assert baseline["kernels"][0] in ("libmvec SSE2", "std")
     unset = child_results(path, floating, states, "0")  # "0" requests nothing: the processor's own choice
-    assert unset["kernels"] == [_joint_angle_kernel(), _mass_matrix_kernel()]
+    assert unset["kernels"] == [_joint_angle_kernel(), _mass_matrix_kernel(), _appendage_kernel()]
     differs_somewhere = False
     for k, (q, v, u) in enumerate(states):
         M_child, M_here = np.array(baseline["M"][k]), soadyn.mass_matrix(m, q)
@@ -69,6 +73,30 @@ def test_baseline_kernels_on_request(name, floating):
     # Where this process runs AVX2 kernels, the child's baseline ones round differently somewhere:
     # proof that the variable took effect.
     assert differs_somewhere == (_mass_matrix_kernel() != "baseline" or _joint_angle_kernel() not in
+                                 ("libmvec SSE2", "std"))
+
+
+def test_baseline_appendage_kernel_on_request():
+    """The cassini scene's booms through the baseline appendage kernel in a child process: the
+    child's forward and hybrid dynamics agree with this process's to rounding, and both satisfy
+    the inverse dynamics (M qdd + h = tau, formed without the appendage step)."""
+    m = scenes.cassini()
+    rng = np.random.default_rng(23)
+    states = [(soadyn.random_configuration(m, seed=int(rng.integers(1 << 30))), rng.uniform(-1, 1, m.nv),
+               rng.uniform(-1, 1, m.nv)) for _ in range(STATES)]
+    baseline = child_results("cassini", False, states, "1")
+    assert baseline["kernels"][1:] == ["baseline", "baseline"]
+    unset = child_results("cassini", False, states, "0")
+    assert unset["kernels"] == [_joint_angle_kernel(), _mass_matrix_kernel(), _appendage_kernel()]
+    differs_somewhere = False
+    for k, (q, v, u) in enumerate(states):
+        qdd_child, qdd_here = np.array(baseline["qdd"][k]), soadyn.forward_dynamics(m, q, v, u)
+        np.testing.assert_array_equal(np.array(unset["qdd"][k]), qdd_here)
+        np.testing.assert_allclose(qdd_child, qdd_here, rtol=1e-12, atol=1e-12 * np.max(np.abs(qdd_here)))
+        for qdd in (qdd_child, qdd_here):
+            np.testing.assert_allclose(soadyn.inverse_dynamics(m, q, v, qdd), u, rtol=0, atol=1e-10)
+        differs_somewhere |= not np.array_equal(qdd_child, qdd_here)
+    assert differs_somewhere == (_appendage_kernel() != "baseline" or _joint_angle_kernel() not in
                                  ("libmvec SSE2", "std"))
 
 

@@ -394,11 +394,12 @@ class _WorkersReporting:
 
 
 @pytest.mark.parametrize("kernel, names", [("joint_angle_kernel", ("polynomial AVX2", "libmvec SSE2", "std")),
-                                           ("mass_matrix_kernel", ("AVX2 FMA", "baseline"))])
+                                           ("mass_matrix_kernel", ("AVX2 FMA", "baseline")),
+                                           ("appendage_kernel", ("AVX2 FMA", "baseline"))])
 def test_a_worker_with_another_kernel_stops_the_campaign(kernel, names):
     """Processors whose sines and cosines of the joint angles round differently (libmvec's AVX2 or
-    SSE2 kernel, or std::sin), or whose mass matrix is formed with or without fused
-    multiply-adds, would not give bit-identical runs: such a worker is refused by name, and one
+    SSE2 kernel, or std::sin), or whose mass matrix or flexible appendages' step is formed with or
+    without fused multiply-adds, would not give bit-identical runs: such a worker is refused by name, and one
     that agrees on everything is accepted."""
     from soadyn.campaign import execute
 

@@ -1,7 +1,5 @@
 #include "soadyn/algorithms/crba.hxx"
 
-#include <atomic>
-
 #include "soadyn/processor_features.hpp"
 
 namespace soadyn {
@@ -45,25 +43,15 @@ MassMatrixKernel choose_kernel() {
   return baseline_kernel;
 }
 
-Status choose_and_run(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q);
+using MassMatrixFunction = Status(const ModelTpl<double>&, DataTpl<double>&, const ConstVecRef<double>&);
 
-// Constant-initialised to choose_and_run, which stores the choice on the first
-// call: valid from any static initialiser, and lock free (a relaxed atomic
-// load per call).
-std::atomic<Status (*)(const ModelTpl<double>&, DataTpl<double>&, const ConstVecRef<double>&)> chosen_kernel{
-    choose_and_run};
-
-Status choose_and_run(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q) {
-  const MassMatrixKernel kernel = choose_kernel();
-  chosen_kernel.store(kernel.run, std::memory_order_relaxed);
-  return kernel.run(m, d, q);
-}
+MassMatrixFunction* chosen_function() { return choose_kernel().run; }
 
 }  // namespace
 
 template <>
 Status detail::rigid_mass_matrix<double>(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q) {
-  return chosen_kernel.load(std::memory_order_relaxed)(m, d, q);
+  return FirstCallChoice<MassMatrixFunction, chosen_function>::run(m, d, q);
 }
 
 std::vector<MassMatrixKernel> detail::available_mass_matrix_kernels() {

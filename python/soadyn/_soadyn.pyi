@@ -699,6 +699,8 @@ def _joint_angle_kernel() -> str:
     """The kernel of the joint angles' sines and cosines on this processor (algorithms/joint_angles.hpp): results agree bit for bit only between processes that use the same one."""
 def _mass_matrix_kernel() -> str:
     """The kernel of rigid models' mass matrix on this processor (algorithms/crba.hpp): 'AVX2 FMA' or 'baseline'; results agree bit for bit only between processes that use the same one."""
+def _appendage_kernel() -> str:
+    """The kernel of flexible appendages' step on this processor (algorithms/appendage_step.hpp): 'AVX2 FMA' or 'baseline'; results agree bit for bit only between processes that use the same one."""
 def _time_cpp(model: _Model, algorithm: str, q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], u: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], calls: typing.SupportsInt | typing.SupportsIndex = 20000, repetitions: typing.SupportsInt | typing.SupportsIndex = 7) -> float:
     """
     Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea', 'crba', 'crba_baseline'

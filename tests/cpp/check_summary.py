@@ -131,22 +131,43 @@ def check_joint_angles(output: str) -> None:
     require(bool(lines(r"^test_joint_angles: PASS$", output)), "the PASS line")
 
 
+def chosen_kernel(output: str) -> str:
+    """The kernels line of a kernel comparison: every kernel compared, the chosen one first and the
+    baseline last. Returns the chosen one's name."""
+    kernels = re.search(r"^kernels: (.*) \(chosen: (.*)\)$", output, re.MULTILINE)
+    require(kernels is not None and kernels.group(1).split(", ")[0] == kernels.group(2)
+            and kernels.group(1).endswith("baseline"), "every kernel compared, the chosen first, the baseline last")
+    return kernels.group(2)
+
+
 def check_mass_matrix_kernels(output: str) -> None:
     """Every mass-matrix kernel against the baseline and the body-frame algorithm; the placement shapes."""
     require(bool(lines(r"^quarter-turn arm: 6 of 8 placements applied as axis permutations$", output)),
             "the quarter-turn arm's six permutations")
-    kernels = re.search(r"^kernels: (.*) \(chosen: (.*)\)$", output, re.MULTILINE)
-    require(kernels is not None and kernels.group(1).split(", ")[0] == kernels.group(2)
-            and kernels.group(1).endswith("baseline"), "every kernel compared, the chosen first, the baseline last")
+    chosen = chosen_kernel(output)
     match = re.search(r"^max relative difference: (\S+) between kernels, (\S+) from the body-frame algorithm "
                       r"\(tolerance 1e-14\), kernels differ bit for bit: (yes|no)$", output, re.MULTILINE)
     require(match is not None, "the difference line")
     require(max(float(match.group(1)), float(match.group(2))) <= 1e-14, "within 1e-14 of M's largest entry")
-    require((match.group(3) == "yes") == (kernels.group(2) != "baseline"),
+    require((match.group(3) == "yes") == (chosen != "baseline"),
             "a kernel other than the baseline rounds differently somewhere (it is other code)")
     require(bool(lines(r"^threads: 8 threads from the process's first call, 200 mass matrices each, 0 differ$",
                        output)), "eight threads' first calls: the same M")
     require(bool(lines(r"^test_mass_matrix_kernels: PASS: 3 models, 20 states each$", output)), "the PASS line")
+
+
+def check_appendage_kernels(output: str) -> None:
+    """Every appendage kernel against the baseline and the full elimination, mode counts 1 to 7."""
+    chosen = chosen_kernel(output)
+    match = re.search(r"^max relative difference: (\S+) between kernels \(tolerance 1e-14\), (\S+) from the full "
+                      r"elimination \(tolerance 1e-13\), kernels differ bit for bit: (yes|no)$", output, re.MULTILINE)
+    require(match is not None, "the difference line")
+    require(float(match.group(1)) <= 1e-14 and float(match.group(2)) <= 1e-13, "within the tolerances")
+    require((match.group(3) == "yes") == (chosen != "baseline"),
+            "a kernel other than the baseline rounds differently somewhere (it is other code)")
+    require(bool(lines(r"^threads: 8 threads from the process's first call, 200 cassini dynamics each, 0 differ$",
+                       output)), "eight threads' first calls: the same qdd")
+    require(bool(lines(r"^test_appendage_kernels: PASS: mode counts 1 to 7, 20 states each$", output)), "the PASS line")
 
 
 def check_loop_force_stiffness_no_allocation(output: str) -> None:
@@ -280,6 +301,7 @@ CHECKS = {
     "test_model_file": check_model_file,
     "test_joint_angles": check_joint_angles,
     "test_mass_matrix_kernels": check_mass_matrix_kernels,
+    "test_appendage_kernels": check_appendage_kernels,
     "test_small_solves": check_small_solves,
     "test_batch": check_batch,
 }

@@ -14,16 +14,15 @@
 // - an infinite or NaN angle gives NaN, never a crash or a finite value;
 // - eight threads making the process's first calls at once get the same
 //   tables as one thread.
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "failure_count.hpp"
 #include "random_tree.hpp"
+#include "threads_at_once.hpp"
 #include "soadyn/algorithms/joint_angles.hpp"
 #include "soadyn/model_cast.hxx"  // ModelTpl::cast
 #include "soadyn/soadyn.hpp"
@@ -179,25 +178,18 @@ int first_calls_from_threads(const soadyn::Model& m, const std::vector<double>& 
   soadyn::neutral_configuration<double>(m, q);
   for (std::size_t k = 0; k < m.angle_coordinates.size(); ++k) q[m.angle_coordinates[k]] = angles[k % angles.size()];
   std::vector<soadyn::Data> data(kThreads, soadyn::Data(m));
-  std::atomic<int> ready{0}, differing{0};
-  std::vector<std::thread> threads;
-  std::vector<Eigen::VectorXd> sines(kThreads), cosines(kThreads);
-  for (int t = 0; t < kThreads; ++t)
-    threads.emplace_back([&, t] {
-      ++ready;
-      while (ready.load() < kThreads) {
-      }
-      for (int call = 0; call < kCalls; ++call) soadyn::tabulate_joint_angles(m, data[t].sweep, q.data());
-      sines[t] = data[t].sweep.tree_joint_sine;
-      cosines[t] = data[t].sweep.tree_joint_cosine;
-    });
-  for (std::thread& thread : threads) thread.join();
+  soadyn_test::calls_from_threads_at_once(kThreads, kCalls, [&](int t) {
+    soadyn::tabulate_joint_angles(m, data[static_cast<std::size_t>(t)].sweep, q.data());
+    return true;
+  });
   soadyn::Data reference(m);
   soadyn::tabulate_joint_angles(m, reference.sweep, q.data());
-  for (int t = 0; t < kThreads; ++t)
-    if (sines[t] != reference.sweep.tree_joint_sine || cosines[t] != reference.sweep.tree_joint_cosine) ++differing;
-  check(differing.load() == 0, "a thread's table differs from the single-thread table");
-  return differing.load();
+  int differing = 0;
+  for (const soadyn::Data& d : data)
+    differing += d.sweep.tree_joint_sine != reference.sweep.tree_joint_sine ||
+                 d.sweep.tree_joint_cosine != reference.sweep.tree_joint_cosine;
+  check(differing == 0, "a thread's table differs from the single-thread table");
+  return differing;
 }
 
 }  // namespace

@@ -12,15 +12,14 @@
 // products, no tree frames) to 1e-14 of M's largest entry: the fused
 // multiply-adds and the permutations round differently, by a few units of
 // the last place.
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "failure_count.hpp"
 #include "random_tree.hpp"
+#include "threads_at_once.hpp"
 #include "soadyn/algorithms/crba.hxx"
 
 using soadyn_test::check;
@@ -124,20 +123,11 @@ int first_calls_from_threads(const soadyn::Model& m) {
   constexpr int kThreads = 8, kCalls = 200;
   const Eigen::VectorXd q = soadyn_test::random_state(m, 7).q;
   std::vector<soadyn::Data> data(kThreads, soadyn::Data(m));
-  std::atomic<int> ready{0}, failed{0};
-  std::vector<std::thread> threads;
-  for (int t = 0; t < kThreads; ++t)
-    threads.emplace_back([&, t] {
-      ++ready;
-      while (ready.load() < kThreads) {
-      }
-      for (int call = 0; call < kCalls; ++call)
-        if (!soadyn::mass_matrix<double>(m, data[static_cast<std::size_t>(t)], q).ok()) ++failed;
-    });
-  for (std::thread& thread : threads) thread.join();
+  const int failed = soadyn_test::calls_from_threads_at_once(
+      kThreads, kCalls, [&](int t) { return soadyn::mass_matrix<double>(m, data[static_cast<std::size_t>(t)], q).ok(); });
   soadyn::Data reference(m);
   check(soadyn::mass_matrix<double>(m, reference, q).ok(), "the single-thread mass_matrix failed");
-  int differing = failed.load();
+  int differing = failed;
   for (const soadyn::Data& d : data) differing += d.mass_matrix != reference.mass_matrix;
   check(differing == 0, "a thread's M differs from the single-thread M, or a call failed");
   return differing;

@@ -1,8 +1,10 @@
 // What the processor running this process offers beyond the baseline x86-64
 // the library is compiled for. Kernels compiled for more (the joint angles'
-// sines and cosines, the composite-rigid-body algorithm) are chosen by it on
-// their first call, and run the same on every later one.
+// sines and cosines, the composite-rigid-body algorithm, the flexible
+// appendages' step) are chosen by it on their first call, and run the same
+// on every later one (FirstCallChoice).
 #pragma once
+#include <atomic>
 
 namespace soadyn {
 
@@ -14,13 +16,36 @@ bool processor_has_avx2_fma();
 // without AVX2 and FMA ("libmvec SSE2" or "std" for the joint angles,
 // "baseline" for the mass matrix), so that processes on different x86-64
 // processors give bit-identical results, and the tests' lists of kernels
-// (detail::available_sine_cosine_kernels, available_mass_matrix_kernels)
-// hold those only. Read when a kernel is chosen, on its first call: set it
+// (detail::available_sine_cosine_kernels, available_mass_matrix_kernels,
+// available_appendage_kernels) hold those only. Read when a kernel is chosen, on its first call: set it
 // before the process's first dynamics call.
 bool baseline_kernels_requested();
 
 // Whether kernels compiled for AVX2 and FMA are chosen: the processor has
 // them and the baseline ones were not requested.
 bool avx2_fma_kernels_enabled();
+
+// A kernel of signature `Signature` chosen on its first call: run() calls the
+// function `Choose` returns, asked once per process. The pointer is
+// constant-initialised to the choosing call, so run() is valid from any
+// static initialiser, and lock free: one relaxed atomic load per call. Two
+// threads making the first calls at once both ask `Choose`, and both get
+// the same answer.
+template <class Signature, Signature* (*Choose)()>
+class FirstCallChoice;
+
+template <class R, class... Args, R (*(*Choose)())(Args...)>
+class FirstCallChoice<R(Args...), Choose> {
+ public:
+  static R run(Args... args) { return chosen_.load(std::memory_order_relaxed)(args...); }
+
+ private:
+  static R choose_and_run(Args... args) {
+    R (*const kernel)(Args...) = Choose();
+    chosen_.store(kernel, std::memory_order_relaxed);
+    return kernel(args...);
+  }
+  static inline std::atomic<R (*)(Args...)> chosen_{&choose_and_run};
+};
 
 }  // namespace soadyn

@@ -164,7 +164,8 @@ def _dashboard(client) -> Optional[str]:
 def _versions() -> dict:
     """What must agree between this process and the workers for bit-identical runs."""
     versions = software()
-    return {k: versions.get(k) for k in ("soadyn", "numpy", "joint_angle_kernel", "mass_matrix_kernel")}
+    return {k: versions.get(k) for k in ("soadyn", "numpy", "joint_angle_kernel", "mass_matrix_kernel",
+                                          "appendage_kernel")}
 
 
 def _check_workers(client, say) -> int:

@@ -64,10 +64,11 @@ def trajectory_table(spec, trajectory: dict):
 def software() -> dict:
     from .. import __version__
 
-    from .._soadyn import _joint_angle_kernel, _mass_matrix_kernel
+    from .._soadyn import _appendage_kernel, _joint_angle_kernel, _mass_matrix_kernel
 
     versions = {"soadyn": __version__, "numpy": np.__version__, "python": platform.python_version(),
-                "joint_angle_kernel": _joint_angle_kernel(), "mass_matrix_kernel": _mass_matrix_kernel()}
+                "joint_angle_kernel": _joint_angle_kernel(), "mass_matrix_kernel": _mass_matrix_kernel(),
+                "appendage_kernel": _appendage_kernel()}
     try:
         import pyarrow
 

@@ -23,9 +23,12 @@
 // max_fixed_appendage_modes (appendage_step.cpp), where those loops unroll
 // and the flattened invariants' products keep their sums in registers
 // (7-8 % off cassini's step and hybrid dynamics: two booms of four modes);
-// other counts and non-floating-point scalars take the generic code.
+// other counts and non-floating-point scalars take the generic code. For
+// double it is compiled twice, for x86-64's baseline and for AVX2 with FMA,
+// and the processor chooses on the first call (appendage_kernel below).
 #pragma once
 #include <type_traits>
+#include <vector>
 #include "soadyn/algorithms/flexible_steps.hpp"
 
 namespace soadyn {
@@ -37,7 +40,7 @@ namespace detail {
 
 // appendage_step (below) with n_m = N, or Eigen::Dynamic for any n_m.
 template <int N, class S>
-void appendage_terms(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi, const S* q,
+inline void appendage_terms(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi, const S* q,
                      const S* v, const S* u, const Vec6<S>* external, const Vec6<S>& V, Mat6<S>& P, Vec6<S>& z) {
   const int body = static_cast<int>(i);
   FlexibleBodyData<S>& fd = flexible_data(m, d, i);
@@ -145,6 +148,36 @@ SOADYN_ALWAYS_INLINE void with_mode_count(int n, F&& f) {
 
 }  // namespace detail
 
+// The step's signature (appendage_step below).
+template <class S>
+using AppendageStepFunction = void(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi,
+                                   const S* q, const S* v, const S* u, const Vec6<S>* external, const Vec6<S>& V,
+                                   Mat6<S>& P, Vec6<S>& z);
+
+// The double-precision kernel of the appendages' step on this processor:
+// "AVX2 FMA" (the same code compiled for AVX2 with fused multiply-adds,
+// where the processor has them: its 4-wide registers hold four modes) or
+// "baseline" (x86-64's SSE2, or any other target). Chosen on the first call,
+// as the mass matrix's (crba.hpp): results agree bit for bit only between
+// processes that use the same one.
+const char* appendage_kernel();
+
+namespace detail {
+// The step for double and float, compiled in appendage_step.cpp (double:
+// the chosen kernel).
+AppendageStepFunction<double> compiled_appendage_step;
+AppendageStepFunction<float> compiled_appendage_step;
+
+// A kernel of the step for double.
+struct AppendageKernel {
+  const char* name;
+  AppendageStepFunction<double>* run;
+};
+// Every kernel of this build that this processor can run, the chosen one
+// first (the tests compare them all).
+std::vector<AppendageKernel> available_appendage_kernels();
+}  // namespace detail
+
 // P^ and z^ of flexible appendage i in the frame of its modal integrals
 // `mi` (the body's own, or the same body described in its root's frame:
 // ModelTpl::root_frame_integrals), given its velocity V and the external
@@ -157,30 +190,10 @@ template <class S>
 inline void appendage_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi,
                            const S* q, const S* v, const S* u, const Vec6<S>* external, const Vec6<S>& V, Mat6<S>& P,
                            Vec6<S>& z) {
-  if constexpr (std::is_floating_point_v<S>) {
-    detail::with_mode_count<1, max_fixed_appendage_modes>(mi.n_modes, [&](auto count) {
-      detail::appendage_terms<decltype(count)::value>(m, d, i, mi, q, v, u, external, V, P, z);
-    });
-  } else {
+  if constexpr (std::is_same_v<S, double> || std::is_same_v<S, float>)
+    detail::compiled_appendage_step(m, d, i, mi, q, v, u, external, V, P, z);
+  else
     detail::appendage_terms<Eigen::Dynamic>(m, d, i, mi, q, v, u, external, V, P, z);
-  }
 }
-
-// Instantiated in appendage_step.cpp, for N = 1 .. max_fixed_appendage_modes
-// and Eigen::Dynamic.
-#define SOADYN_APPENDAGE_TERMS(PREFIX, N, S)                                                                         \
-  PREFIX template void detail::appendage_terms<N, S>(const ModelTpl<S>&, DataTpl<S>&, std::size_t,                  \
-                                                     const ModalIntegrals<S>&, const S*, const S*, const S*,        \
-                                                     const Vec6<S>*, const Vec6<S>&, Mat6<S>&, Vec6<S>&);
-#define SOADYN_APPENDAGE_TERMS_ALL(PREFIX, S)                                                                        \
-  SOADYN_APPENDAGE_TERMS(PREFIX, 1, S)                                                                              \
-  SOADYN_APPENDAGE_TERMS(PREFIX, 2, S)                                                                              \
-  SOADYN_APPENDAGE_TERMS(PREFIX, 3, S)                                                                              \
-  SOADYN_APPENDAGE_TERMS(PREFIX, 4, S)                                                                              \
-  SOADYN_APPENDAGE_TERMS(PREFIX, 5, S)                                                                              \
-  SOADYN_APPENDAGE_TERMS(PREFIX, 6, S)                                                                              \
-  SOADYN_APPENDAGE_TERMS(PREFIX, Eigen::Dynamic, S)
-SOADYN_APPENDAGE_TERMS_ALL(extern, double)
-SOADYN_APPENDAGE_TERMS_ALL(extern, float)
 
 }  // namespace soadyn
