@@ -14,11 +14,12 @@ bool processor_has_avx2_fma();
 // Whether the environment variable SOADYN_BASELINE_KERNELS is set (to
 // anything but "" or "0"): every kernel is then chosen as on a processor
 // without AVX2 and FMA ("libmvec SSE2" or "std" for the joint angles,
-// "baseline" for the mass matrix), so that processes on different x86-64
+// "baseline" for the mass matrix and the appendages' step), so that processes on different x86-64
 // processors give bit-identical results, and the tests' lists of kernels
 // (detail::available_sine_cosine_kernels, available_mass_matrix_kernels,
-// available_appendage_kernels) hold those only. Read when a kernel is chosen, on its first call: set it
-// before the process's first dynamics call.
+// available_appendage_kernels) hold those only. Read when a kernel is
+// chosen, on its first call: set it before the process's first dynamics
+// call.
 bool baseline_kernels_requested();
 
 // Whether kernels compiled for AVX2 and FMA are chosen: the processor has
