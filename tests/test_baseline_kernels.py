@@ -100,6 +100,47 @@ def test_baseline_appendage_kernel_on_request():
                                  ("libmvec SSE2", "std"))
 
 
+HOSTILE = r"""
+import json, sys
+import numpy as np
+import soadyn
+from soadyn import scenes
+
+m = scenes.cassini()
+q, u = soadyn.random_configuration(m, seed=1), np.zeros(m.nv)
+mode = m.dof_names.index("magnetometer_boom:mode1")
+cases = {"q NaN": ("q", mode + 1, float("nan")), "v infinite": ("v", mode, float("inf")),
+         "bus rate 1e160": ("v", 0, 1e160), "modal rate 1e200": ("v", mode, 1e200)}
+out = {}
+for label, (which, index, value) in cases.items():
+    x = {"q": q.copy(), "v": np.zeros(m.nv)}
+    x[which][index] = value
+    try:
+        qdd, _ = soadyn.hybrid_dynamics(m, x["q"], x["v"], u)
+        out[label] = "finite" if np.all(np.isfinite(qdd)) else "NOT FINITE"
+    except (ValueError, ArithmeticError) as e:
+        out[label] = f"{type(e).__name__}: {e}"
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.parametrize("value", ["0", "1"])
+def test_hostile_inputs_through_either_appendage_kernel(value):
+    """NaN and infinite modal inputs are refused by name before any kernel runs; a bus rate whose
+    square overflows gives a DynamicsError naming the DOF, never a silent non-finite result; a
+    huge modal rate (linear in the appendage's terms without a body rate) stays finite. The same
+    with the processor's kernels ("0") and the baseline ones ("1")."""
+    env = {**os.environ, "SOADYN_BASELINE_KERNELS": value}
+    done = subprocess.run([sys.executable, "-c", HOSTILE], env=env, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    out = json.loads(done.stdout)
+    assert out["q NaN"] == "ValueError: q[7] ('magnetometer_boom:mode1') is NaN"
+    assert out["v infinite"] == "ValueError: v[6] ('magnetometer_boom:mode1') is infinite"
+    assert out["bus rate 1e160"].startswith("DynamicsError: hybrid_dynamics: the result for DOF 'bus:wx' is not "
+                                            "finite"), out["bus rate 1e160"]
+    assert out["modal rate 1e200"] == "finite"
+
+
 def test_timing_the_baseline_kernel_refuses_a_flexible_model_by_name():
     """`_time_cpp(..., "crba_baseline")` times the rigid-model kernel alone: a model with flexible
     bodies (whose mass matrix is formed in body frames) is refused with the algorithm named."""
