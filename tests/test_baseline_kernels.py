@@ -141,6 +141,39 @@ def test_hostile_inputs_through_either_appendage_kernel(value):
     assert out["modal rate 1e200"] == "finite"
 
 
+LATE_REQUEST = r"""
+import json, os
+import numpy as np
+import soadyn
+from soadyn import scenes
+from soadyn._soadyn import _appendage_kernel, _joint_angle_kernel, _mass_matrix_kernel
+
+def names():
+    return [_joint_angle_kernel(), _mass_matrix_kernel(), _appendage_kernel()]
+
+m = scenes.cassini()
+q = soadyn.random_configuration(m, seed=5)
+first = names()  # chooses every kernel, before any dynamics call
+os.environ["SOADYN_BASELINE_KERNELS"] = "1"  # too late: the choices are made
+qdd = soadyn.forward_dynamics(m, q, np.ones(m.nv), np.ones(m.nv))
+print(json.dumps({"first": first, "after": names(), "qdd": qdd.tolist()}))
+"""
+
+
+def test_kernel_names_are_the_kernels_that_run():
+    """A kernel's name is that of the kernel the process runs, fixed by the first call or the first
+    question: a request for the baseline kernels made after it changes neither the names nor the
+    numbers (the dynamics equal this process's bit for bit)."""
+    done = subprocess.run([sys.executable, "-c", LATE_REQUEST], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    out = json.loads(done.stdout)
+    here = [_joint_angle_kernel(), _mass_matrix_kernel(), _appendage_kernel()]
+    assert out["first"] == out["after"] == here
+    m = scenes.cassini()
+    q = soadyn.random_configuration(m, seed=5)
+    np.testing.assert_array_equal(np.array(out["qdd"]), soadyn.forward_dynamics(m, q, np.ones(m.nv), np.ones(m.nv)))
+
+
 def test_timing_the_baseline_kernel_refuses_a_flexible_model_by_name():
     """`_time_cpp(..., "crba_baseline")` times the rigid-model kernel alone: a model with flexible
     bodies (whose mass matrix is formed in body frames) is refused with the algorithm named."""

@@ -76,13 +76,25 @@ AppendageKernel choose_kernel() {
 
 AppendageStepFunction<double>* chosen_function() { return choose_kernel().run; }
 
+using ChosenAppendageStep = FirstCallChoice<AppendageStepFunction<double>, chosen_function>;
+
+// The kernel this process runs.
+AppendageKernel running_kernel() {
+  constexpr AppendageKernel compiled[] = {
+#ifdef SOADYN_HAVE_AVX2_FMA_APPENDAGE
+      avx2_fma_kernel,
+#endif
+      baseline_kernel};
+  return kernel_running(compiled, ChosenAppendageStep::chosen());
+}
+
 }  // namespace
 
 void detail::compiled_appendage_step(const ModelTpl<double>& m, DataTpl<double>& d, std::size_t i,
                                      const ModalIntegrals<double>& mi, const double* q, const double* v,
                                      const double* u, const Vec6<double>* external, const Vec6<double>& V,
                                      Mat6<double>& P, Vec6<double>& z) {
-  FirstCallChoice<AppendageStepFunction<double>, chosen_function>::run(m, d, i, mi, q, v, u, external, V, P, z);
+  ChosenAppendageStep::run(m, d, i, mi, q, v, u, external, V, P, z);
 }
 
 void detail::compiled_appendage_step(const ModelTpl<float>& m, DataTpl<float>& d, std::size_t i,
@@ -93,11 +105,11 @@ void detail::compiled_appendage_step(const ModelTpl<float>& m, DataTpl<float>& d
 }
 
 std::vector<AppendageKernel> detail::available_appendage_kernels() {
-  std::vector<AppendageKernel> kernels{choose_kernel()};
+  std::vector<AppendageKernel> kernels{running_kernel()};
   if (kernels.front().run != baseline_kernel.run) kernels.push_back(baseline_kernel);
   return kernels;
 }
 
-const char* appendage_kernel() { return choose_kernel().name; }
+const char* appendage_kernel() { return running_kernel().name; }
 
 }  // namespace soadyn

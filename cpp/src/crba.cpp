@@ -47,20 +47,32 @@ using MassMatrixFunction = Status(const ModelTpl<double>&, DataTpl<double>&, con
 
 MassMatrixFunction* chosen_function() { return choose_kernel().run; }
 
+using ChosenMassMatrix = FirstCallChoice<MassMatrixFunction, chosen_function>;
+
+// The kernel this process runs.
+MassMatrixKernel running_kernel() {
+  constexpr MassMatrixKernel compiled[] = {
+#ifdef SOADYN_HAVE_AVX2_FMA_CRBA
+      avx2_fma_kernel,
+#endif
+      baseline_kernel};
+  return kernel_running(compiled, ChosenMassMatrix::chosen());
+}
+
 }  // namespace
 
 template <>
 Status detail::rigid_mass_matrix<double>(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q) {
-  return FirstCallChoice<MassMatrixFunction, chosen_function>::run(m, d, q);
+  return ChosenMassMatrix::run(m, d, q);
 }
 
 std::vector<MassMatrixKernel> detail::available_mass_matrix_kernels() {
-  std::vector<MassMatrixKernel> kernels{choose_kernel()};
+  std::vector<MassMatrixKernel> kernels{running_kernel()};
   if (kernels.front().run != baseline_kernel.run) kernels.push_back(baseline_kernel);
   return kernels;
 }
 
-const char* mass_matrix_kernel() { return choose_kernel().name; }
+const char* mass_matrix_kernel() { return running_kernel().name; }
 
 template Status mass_matrix<double>(const ModelTpl<double>&, DataTpl<double>&, const ConstVecRef<double>&);
 template Status mass_matrix<float>(const ModelTpl<float>&, DataTpl<float>&, const ConstVecRef<float>&);

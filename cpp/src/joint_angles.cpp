@@ -1,6 +1,5 @@
 #include "soadyn/algorithms/joint_angles.hpp"
 #include "soadyn/processor_features.hpp"
-#include <atomic>
 #include <cmath>
 #if defined(__x86_64__) && defined(__GNUC__)
 #define SOADYN_HAVE_AVX2_KERNEL 1  // the polynomial kernel below
@@ -180,29 +179,39 @@ SineCosineKernel choose_kernel() {
 #endif
 }
 
-void choose_and_run(const Sources& sources, double* angle, double* sine, double* cosine);
+using SineCosineFunction = void(const Sources&, double*, double*, double*);
 
-// Constant-initialised to choose_and_run, which stores the choice on the first
-// call: valid from any static initialiser, and lock free (a relaxed atomic
-// load per call).
-std::atomic<void (*)(const Sources&, double*, double*, double*)> chosen_kernel{choose_and_run};
+SineCosineFunction* chosen_function() { return choose_kernel().run; }
 
-void choose_and_run(const Sources& sources, double* angle, double* sine, double* cosine) {
-  const SineCosineKernel kernel = choose_kernel();
-  chosen_kernel.store(kernel.run, std::memory_order_relaxed);
-  kernel.run(sources, angle, sine, cosine);
+using ChosenSineCosine = FirstCallChoice<SineCosineFunction, chosen_function>;
+
+// The kernel this process runs.
+SineCosineKernel running_kernel() {
+  constexpr SineCosineKernel compiled[] = {
+#ifdef SOADYN_HAVE_AVX2_KERNEL
+      polynomial_avx2_kernel,
+#endif
+#ifdef SOADYN_HAVE_LIBMVEC
+      libmvec_avx2_kernel, libmvec_sse2_kernel,
+#endif
+      std_kernel};
+  return kernel_running(compiled, ChosenSineCosine::chosen());
 }
 
 }  // namespace
 
-std::vector<SineCosineKernel> detail::available_sine_cosine_kernels() { return runnable_kernels(); }
-
-void tabulate_joint_angles(const ModelTpl<double>& m, SweepData<double>& sweep, const double* q) {
-  const auto kernel = chosen_kernel.load(std::memory_order_relaxed);
-  kernel(joint_angle_sources(m, q), sweep.tree_joint_angle.data(), sweep.tree_joint_sine.data(),
-         sweep.tree_joint_cosine.data());
+std::vector<SineCosineKernel> detail::available_sine_cosine_kernels() {
+  std::vector<SineCosineKernel> kernels{running_kernel()};
+  for (const SineCosineKernel& kernel : runnable_kernels())
+    if (kernel.run != kernels.front().run) kernels.push_back(kernel);
+  return kernels;
 }
 
-const char* joint_angle_kernel() { return choose_kernel().name; }
+void tabulate_joint_angles(const ModelTpl<double>& m, SweepData<double>& sweep, const double* q) {
+  ChosenSineCosine::run(joint_angle_sources(m, q), sweep.tree_joint_angle.data(), sweep.tree_joint_sine.data(),
+                        sweep.tree_joint_cosine.data());
+}
+
+const char* joint_angle_kernel() { return running_kernel().name; }
 
 }  // namespace soadyn

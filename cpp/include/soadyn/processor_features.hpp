@@ -5,6 +5,7 @@
 // on every later one (FirstCallChoice).
 #pragma once
 #include <atomic>
+#include <cstddef>
 
 namespace soadyn {
 
@@ -31,7 +32,9 @@ bool avx2_fma_kernels_enabled();
 // constant-initialised to the choosing call, so run() is valid from any
 // static initialiser, and lock free: one relaxed atomic load per call. Two
 // threads making the first calls at once both ask `Choose`, and both get
-// the same answer.
+// the same answer. chosen() names the kernel run() calls (choosing it now
+// if no call has), so a kernel's reported name is the one that runs even if
+// the environment changes after the first call.
 template <class Signature, Signature* (*Choose)()>
 class FirstCallChoice;
 
@@ -40,13 +43,26 @@ class FirstCallChoice<R(Args...), Choose> {
  public:
   static R run(Args... args) { return chosen_.load(std::memory_order_relaxed)(args...); }
 
- private:
-  static R choose_and_run(Args... args) {
-    R (*const kernel)(Args...) = Choose();
+  static R (*chosen())(Args...) {
+    R (*kernel)(Args...) = chosen_.load(std::memory_order_relaxed);
+    if (kernel != &choose_and_run) return kernel;
+    kernel = Choose();
     chosen_.store(kernel, std::memory_order_relaxed);
-    return kernel(args...);
+    return kernel;
   }
+
+ private:
+  static R choose_and_run(Args... args) { return chosen()(args...); }
   static inline std::atomic<R (*)(Args...)> chosen_{&choose_and_run};
 };
+
+// The entry of `kernels` (each with a `run` function pointer, compiled in
+// this build) whose function is `run`; the last entry, the baseline, if none.
+template <class Kernel, std::size_t N, class Function>
+const Kernel& kernel_running(const Kernel (&kernels)[N], Function* run) {
+  for (const Kernel& kernel : kernels)
+    if (kernel.run == run) return kernel;
+  return kernels[N - 1];
+}
 
 }  // namespace soadyn

@@ -158,8 +158,9 @@ using AppendageStepFunction = void(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
 // "AVX2 FMA" (the same code compiled for AVX2 with fused multiply-adds,
 // where the processor has them: its 4-wide registers hold four modes) or
 // "baseline" (x86-64's SSE2, or any other target). Chosen on the first call,
-// as the mass matrix's (crba.hpp): results agree bit for bit only between
-// processes that use the same one.
+// or by this question if no call came first, as the mass matrix's
+// (crba.hpp): results agree bit for bit only between processes that use the
+// same one.
 const char* appendage_kernel();
 
 namespace detail {

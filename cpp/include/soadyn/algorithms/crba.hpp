@@ -14,8 +14,9 @@ Status mass_matrix(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef
 // The double-precision kernel of rigid models' mass matrix on this processor:
 // "AVX2 FMA" (the same algorithm compiled for AVX2 with fused multiply-adds,
 // where the processor has them) or "baseline" (x86-64's SSE2, or any other
-// target). Like the joint angles' kernel, it is chosen on the first call:
-// results agree bit for bit only between processes that use the same one.
+// target). Like the joint angles' kernel, it is chosen on the first call, or
+// by this question if no call came first: results agree bit for bit only
+// between processes that use the same one.
 const char* mass_matrix_kernel();
 
 namespace detail {

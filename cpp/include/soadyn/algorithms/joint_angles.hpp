@@ -50,8 +50,10 @@ void tabulate_joint_angles(const ModelTpl<S>& m, SweepData<S>& sweep, const S* q
   }
 }
 
-// The double-precision kernel this processor gets:
-// "polynomial AVX2", "libmvec SSE2" or "std" (benchmarks report it).
+// The double-precision kernel this process runs: "polynomial AVX2",
+// "libmvec AVX2", "libmvec SSE2" or "std" (benchmarks report it). Chosen on
+// the first call, or by this question if no call came first
+// (FirstCallChoice, processor_features.hpp).
 const char* joint_angle_kernel();
 
 namespace detail {
