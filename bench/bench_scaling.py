@@ -5,7 +5,10 @@ Timed in C++ (soadyn._soadyn._time_cpp over 64 random states). The machine's spe
 so the sizes are timed in rounds, each round timing the three sizes of a row back to back.
 The table gives each size's median over rounds, and the flatness as the median over rounds
 of the ratio within a round (max / min time per body): the sizes of one round see the same
-machine, as the peer ratios of bench_robots.py do.
+machine, as the peer ratios of bench_robots.py do. It also gives the flatness of the fastest
+round of each size (max / min of the per-size minima): a shared host's noise only ever slows
+a measurement down, so on a host whose speed swings within seconds the fastest rounds are the
+least disturbed (the estimator of bench_robots.py's and bench_round2.py's last columns).
 The target: time per body flat within 15 % across the sizes. Writes
 bench/results/scaling.md and bench/results/scaling.png. Usage: python bench/bench_scaling.py
 """
@@ -66,15 +69,18 @@ def main() -> int:
         results.setdefault((kind, mode), []).append(float(np.median(ts)))
     flatness = {row: float(np.median([max(per_size) / min(per_size) for per_size in
                                       zip(*(samples[row + (n,)] for n in SIZES))])) for row in results}
+    fastest = {row: [min(samples[row + (n,)]) for n in SIZES] for row in results}
     lines = ["# Linear scaling: C++ time per body (us) of hybrid_dynamics", "",
-             "| model | DOF modes | " + " | ".join(f"{n} bodies" for n in SIZES) + " | max / min (target <= 1.15) |",
-             "|---|---|" + "---:|" * (len(SIZES) + 1)]
+             "| model | DOF modes | " + " | ".join(f"{n} bodies" for n in SIZES)
+             + " | max / min (target <= 1.15) | fastest rounds' max / min |",
+             "|---|---|" + "---:|" * (len(SIZES) + 2)]
     for (kind, mode), ts in results.items():
         lines.append(f"| {kind} | {mode} | " + " | ".join(f"{t:.3f}" for t in ts)
-                     + f" | **{flatness[(kind, mode)]:.2f}** |")
+                     + f" | **{flatness[(kind, mode)]:.2f}** | **{max(fastest[(kind, mode)]) / min(fastest[(kind, mode)]):.2f}** |")
     lines += ["", f"Times: medians over {ROUNDS} rounds (each round times the sizes of a row back to back; per entry the "
               "median of 3 repetitions over 64 random states, one C++ loop), on a shared machine. max / min: the "
-              "median over rounds of the ratio within a round, whose sizes saw the same machine.",
+              "median over rounds of the ratio within a round, whose sizes saw the same machine; the fastest "
+              "rounds' max / min: the same ratio of each size's fastest round (the least disturbed by the host).",
               "With a random half of the DOFs prescribed, the share of bodies whose whole root path is prescribed "
               "(handled like RNEA) shrinks as trees grow deeper, so that row's cost per body rises towards the "
               "all-regular cost: a property of the mask, not of the scaling.",
