@@ -26,7 +26,9 @@ sys.path.insert(0, str(HERE.parent / "tests"))
 
 # Child exit codes.
 OK, EXPECTED_ERROR, NON_FINITE, UNEXPECTED = 0, 1, 3, 4
-SURFACES = {"api": "fuzz.api_cases", "urdf": "fuzz.urdf_cases", "packet": "fuzz.packet_cases"}
+SURFACES = {"api": "fuzz.api_cases", "urdf": "fuzz.urdf_cases", "packet": "fuzz.packet_cases",
+            "loops": "fuzz.loop_cases", "analysis": "fuzz.analysis_cases", "batch": "fuzz.batch_cases",
+            "model_file": "fuzz.model_file_cases", "mjcf": "fuzz.mjcf_cases", "spec": "fuzz.spec_cases"}
 
 
 def child(run_case, seed: int) -> None:

@@ -4,6 +4,8 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <limits>
+
 #include "arrays.hpp"
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
@@ -253,7 +255,10 @@ void bind_algorithms(py::module_& mod) {
       [](ModelHandle& h, py::handle q) {
         return at_configuration(h, q, [](const soadyn::Model& m, soadyn::Data& d, const Map& qm) {
           const double e = soadyn::potential_energy<double>(m, d, qm);
-          if (!std::isfinite(e)) raise_non_finite_total("potential_energy", m, d, false);
+          if (!std::isfinite(e)) {
+            raise_non_finite_force_element("potential_energy", m, d, qm, nullptr);
+            raise_non_finite_total("potential_energy", m, d, false);
+          }
           return e;
         });
       },
@@ -313,8 +318,9 @@ void bind_algorithms(py::module_& mod) {
       "body-frame spatial velocities [angular; linear].");
 
   mod.def("integrate",
-      [](ModelHandle& h, py::handle q, py::handle v, double dt) {
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle dt_arg) {
         const std::uint64_t version = h.model.version;
+        const double dt = checked_real(dt_arg, "dt");
         const Array qa = q_arg(h, q), va = v_arg(h, v, "v");
         if (!std::isfinite(dt)) throw py::value_error("dt is not finite");
         refuse_changed_model(h, version);  // converting v may have run Python code; from here on the GIL is held
@@ -336,9 +342,10 @@ void bind_algorithms(py::module_& mod) {
       py::arg("model"), "Zero coordinates with identity quaternions.");
 
   mod.def("random_configuration",
-      [](const ModelHandle& h, std::uint64_t seed) {
+      [](const ModelHandle& h, py::handle seed) {
         Eigen::VectorXd q(h.model.nq);
-        soadyn::random_configuration<double>(h.model, seed, q);
+        soadyn::random_configuration<double>(
+            h.model, static_cast<std::uint64_t>(checked_integer(seed, "seed", 0, std::numeric_limits<long long>::max())), q);
         return q;
       },
       py::arg("model"), py::arg("seed") = 0,

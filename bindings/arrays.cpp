@@ -46,15 +46,22 @@ void check_finite(const double* x, py::ssize_t n, py::ssize_t cols, const char* 
 
 }  // namespace
 
+std::string shape_text(const py::array& a) {
+  std::string shape = "(";
+  for (py::ssize_t k = 0; k < a.ndim(); ++k) shape += (k ? ", " : "") + std::to_string(a.shape(k));
+  return shape + (a.ndim() == 1 ? ",)" : ")");
+}
+
+void require_vector_shape(const py::array& a, const std::string& arg, py::ssize_t n, const char* size_name) {
+  if (a.ndim() == 1 && a.shape(0) == n) return;
+  throw py::value_error(arg + " has shape " + shape_text(a) + ", expected (" + std::to_string(n) + ",)" +
+                        (size_name ? std::string(" (") + size_name + ")" : std::string()));
+}
+
 Array checked_vector(py::handle obj, const char* arg, const std::vector<std::string>& names) {
   Array a = as_float_array(obj, arg);
   const py::ssize_t n = static_cast<py::ssize_t>(names.size());
-  if (a.ndim() != 1 || a.shape(0) != n) {
-    std::string shape = "(";
-    for (py::ssize_t k = 0; k < a.ndim(); ++k) shape += (k ? ", " : "") + std::to_string(a.shape(k));
-    throw py::value_error(std::string(arg) + " has shape " + shape + (a.ndim() == 1 ? ",)" : ")") +
-                          ", expected (" + std::to_string(n) + ",)");
-  }
+  require_vector_shape(a, arg, n);
   check_finite(a.data(), n, 0, arg, names);
   return a;
 }
@@ -71,9 +78,55 @@ Array checked_matrix(py::handle obj, const char* arg, py::ssize_t cols, const st
   const py::ssize_t rows = static_cast<py::ssize_t>(row_names.size());
   if (a.ndim() != 2 || a.shape(0) != rows || a.shape(1) != cols)
     throw py::value_error(std::string(arg) + " must have shape (" + std::to_string(rows) + ", " +
-                          std::to_string(cols) + ")");
+                          std::to_string(cols) + "), got " + shape_text(a));
   check_finite(a.data(), rows * cols, cols, arg, row_names);
   return a;
+}
+
+namespace {
+
+[[noreturn]] void wrong_type(const char* arg, const char* expected, py::handle obj) {
+  throw py::type_error(std::string(arg) + " must be " + expected + ", got " +
+                       py::str(py::type::handle_of(obj).attr("__name__")).cast<std::string>());
+}
+
+bool is_bool(py::handle obj) { return py::isinstance<py::bool_>(obj) || py::str(py::type::handle_of(obj).attr("__name__")).cast<std::string>() == "bool_"; }
+
+}  // namespace
+
+double checked_real(py::handle obj, const char* arg) {
+  if (is_bool(obj) || !(PyFloat_Check(obj.ptr()) || PyIndex_Check(obj.ptr()) || py::hasattr(obj, "__float__")) ||
+      PyComplex_Check(obj.ptr()))
+    wrong_type(arg, "a real number", obj);
+  const double x = PyFloat_AsDouble(obj.ptr());
+  if (x == -1.0 && PyErr_Occurred()) {
+    PyErr_Clear();
+    throw py::value_error(std::string(arg) + " cannot be represented as a float64 (" +
+                          py::repr(obj).cast<std::string>() + ")");
+  }
+  return x;
+}
+
+long long checked_integer(py::handle obj, const char* arg, long long low, long long high) {
+  if (is_bool(obj) || !PyIndex_Check(obj.ptr())) wrong_type(arg, "an integer", obj);
+  int overflow = 0;
+  const py::object index = py::reinterpret_steal<py::object>(PyNumber_Index(obj.ptr()));
+  if (!index) throw py::error_already_set();
+  const long long x = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+  if (overflow != 0 || x < low || x > high)
+    throw py::value_error(std::string(arg) + " must be in [" + std::to_string(low) + ", " + std::to_string(high) +
+                          "], got " + py::repr(obj).cast<std::string>());
+  return x;
+}
+
+std::string checked_text(py::handle obj, const char* arg) {
+  if (!py::isinstance<py::str>(obj)) wrong_type(arg, "a str", obj);
+  return obj.cast<std::string>();
+}
+
+bool checked_flag(py::handle obj, const char* arg) {
+  if (!is_bool(obj)) wrong_type(arg, "a bool", obj);
+  return obj.cast<bool>();
 }
 
 }  // namespace soadyn_py

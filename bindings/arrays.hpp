@@ -16,6 +16,13 @@ using Array = py::array_t<double, py::array::c_style>;
 // with a TypeError naming `arg`.
 Array as_float_array(py::handle obj, const char* arg);
 
+// "(2, 3)" or "(4,)": the shape of `a` as Python prints it.
+std::string shape_text(const py::array& a);
+
+// Raises ValueError "<arg> has shape (..), expected (n,) (<size_name>)"
+// unless `a` is 1-D of length n.
+void require_vector_shape(const py::array& a, const std::string& arg, py::ssize_t n, const char* size_name = nullptr);
+
 // 1-D real array of length n, every entry finite; `names` name the entries.
 Array checked_vector(py::handle obj, const char* arg, const std::vector<std::string>& names);
 
@@ -26,5 +33,16 @@ py::array_t<double> fresh_array(py::ssize_t rows, py::ssize_t cols = -1);
 
 // 2-D real array of shape (rows, cols), finite; `row_names` name the rows.
 Array checked_matrix(py::handle obj, const char* arg, py::ssize_t cols, const std::vector<std::string>& row_names);
+
+// Scalar arguments taken as Python objects, so that a wrong type names the
+// argument (pybind11's own conversion would answer with its signature list):
+// a real number (int or float, not bool), TypeError otherwise;
+double checked_real(py::handle obj, const char* arg);
+// an integer (not bool) in [low, high], TypeError or ValueError otherwise;
+long long checked_integer(py::handle obj, const char* arg, long long low, long long high);
+// a str;
+std::string checked_text(py::handle obj, const char* arg);
+// a bool (or numpy bool).
+bool checked_flag(py::handle obj, const char* arg);
 
 }  // namespace soadyn_py

@@ -14,6 +14,7 @@
 #include "arrays.hpp"
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
+#include "interrupts.hpp"
 #include "model_handle.hpp"
 #include "simulator_handle.hpp"
 #include "soadyn/algorithms/configuration.hpp"
@@ -92,12 +93,18 @@ template <class Fn>
 void run_batch(ModelHandle& h, std::uint64_t version, int threads, const char* what, Fn&& fn) {
   if (threads < 0) throw py::value_error(std::string(what) + ": threads must be >= 0 (0: one per hardware thread)");
   soadyn::BatchOutcome outcome;
+  PythonInterrupt interrupt;
   {
     py::gil_scoped_release release;
     std::lock_guard<std::mutex> lock(h.mutex);
     refuse_changed_model(h, version);
-    outcome = fn(batch_for(h, threads));
+    soadyn::BatchDynamics& batch = batch_for(h, threads);
+    batch.set_interrupt(interrupt.get());
+    const std::unique_ptr<soadyn::BatchDynamics, void (*)(soadyn::BatchDynamics*)> forget_interrupt(
+        &batch, [](soadyn::BatchDynamics* b) { b->set_interrupt(nullptr); });
+    outcome = fn(batch);
   }
+  interrupt.raise_if_interrupted();
   if (outcome.failed_rows > 0)
     raise_on(outcome.first_status, h.model,
              (std::string(what) + " (row " + std::to_string(outcome.first_failed_row) + ", the first of " +
@@ -232,13 +239,16 @@ void bind_batch(py::module_& mod) {
     std::vector<std::int64_t> failed(static_cast<std::size_t>(runs));
     std::vector<std::string> messages(static_cast<std::size_t>(runs));
     const soadyn::RolloutOutputs out{q.mutable_data(), v.mutable_data(), status.data(), failed.data(), messages.data()};
+    PythonInterrupt interrupt;
     {
       py::gil_scoped_release release;
       std::lock_guard<std::mutex> lock(h.mutex);
       refuse_changed_model(h, version);
       soadyn::ThreadPool pool(threads);
+      pool.set_interrupt(interrupt.get());
       soadyn::rollout(pool, h.model, r, out);
     }
+    interrupt.raise_if_interrupted();
     return py::make_tuple(q, v, failed, messages);
   }, py::arg("model"), py::arg("x0s"), py::arg("runs"), py::arg("controls"), py::arg("controls_per_run"), py::arg("dt"), py::arg("steps"), py::arg("integrator"), py::arg("record_every"), py::arg("parameters"), py::arg("parameter_values"), py::arg("sources"), py::arg("events"), py::arg("event_times"), py::arg("threads"),
      "Parallel rollouts (soadyn.batch.rollout): (q, v, failed_step, messages).");

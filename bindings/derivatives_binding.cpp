@@ -31,8 +31,12 @@ py::tuple derivative_call(ModelHandle& h, py::handle q, py::handle v, py::handle
   soadyn::Status status;
   run_locked(h, a.model_version, [&](const soadyn::Model& m, soadyn::Data& d) {
     status = fn(m, d, workspace, Map(a.q.data(), m.nq), Map(a.v.data(), m.nv), Map(a.x.data(), m.nv), a.f_ext);
+    if (!status.ok()) return;
     const std::array<const Eigen::MatrixXd*, N> results = pick(d, workspace);
-    for (std::size_t k = 0; k < N; ++k) RowMajorMap(out[k].mutable_data(), m.nv, m.nv) = *results[k];
+    for (std::size_t k = 0; k < N; ++k) {
+      refuse_non_finite_rows(what, "derivative row", *results[k], m.dof_names);
+      RowMajorMap(out[k].mutable_data(), m.nv, m.nv) = *results[k];
+    }
   });
   raise_on(status, h.model, what);
   py::tuple t(N);
@@ -50,6 +54,17 @@ py::array_t<double> copy_vector(const Eigen::VectorXd& x) {
   auto out = fresh_array(x.size());
   Eigen::Map<Eigen::VectorXd>(out.mutable_data(), x.size()) = x;
   return out;
+}
+
+// The modes `compute()` returns; a linearised system without finite roots
+// (std::domain_error of modes.cpp) raises DynamicsError.
+template <class Compute>
+soadyn::Modes modes_or_dynamics_error(Compute&& compute) {
+  try {
+    return compute();
+  } catch (const std::domain_error& e) {
+    throw DynamicsError(e.what());
+  }
 }
 
 // (dofs, w, zeta, roots, shapes) of soadyn::Modes for the Python Modes class.
@@ -110,19 +125,22 @@ void bind_derivatives(py::module_& mod) {
         });
         raise_on(status, h.model, "dynamics_derivatives");
         py::tuple t(6);
-        for (std::size_t k = 0; k < 6; ++k) t[k] = copy_out(d[k]);
+        for (std::size_t k = 0; k < 6; ++k) {
+          refuse_non_finite_rows("dynamics_derivatives", "derivative row", d[k], h.model.dof_names);
+          t[k] = copy_out(d[k]);
+        }
         return t;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("f_ext") = py::none(),
       py::arg("spanning_tree") = false);
 
   mod.def("_linearize",
-      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::object dt, const std::string& integrator,
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::object dt, py::handle integrator,
          py::handle f_ext) {
         const StateArgs a(h, q, v, u, "u", f_ext);
         const bool discrete = !dt.is_none();
-        const double step = discrete ? dt.cast<double>() : 0.0;
-        const soadyn::Integrator chosen = integrator_from(integrator);
+        const double step = discrete ? checked_real(dt, "dt") : 0.0;
+        const soadyn::Integrator chosen = integrator_from(checked_text(integrator, "integrator"));
         soadyn::Linearization workspace(h.model);
         py::array_t<double> A, B;
         soadyn::Status status;
@@ -132,6 +150,9 @@ void bind_derivatives(py::module_& mod) {
                             : soadyn::linearize<double>(m, d, workspace, qm, vm, um, a.f_ext);
         });
         raise_on(status, h.model, "linearize");
+        const std::vector<std::string> rows = state_names(h.model);
+        refuse_non_finite_rows("linearize", "row of A", workspace.A, rows);
+        refuse_non_finite_rows("linearize", "row of B", workspace.B, rows);
         return py::make_tuple(copy_out(workspace.A), copy_out(workspace.B));
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("u"), py::arg("dt"), py::arg("integrator"),
@@ -145,7 +166,7 @@ void bind_derivatives(py::module_& mod) {
         soadyn::Modes result;
         soadyn::Status status;
         run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
-          result = soadyn::modes(m, d, workspace, Map(qa.data(), m.nq), status);
+          result = modes_or_dynamics_error([&] { return soadyn::modes(m, d, workspace, Map(qa.data(), m.nq), status); });
         });
         raise_on(status, h.model, "modes");
         return modes_tuple(result);
@@ -164,7 +185,7 @@ void bind_derivatives(py::module_& mod) {
         std::vector<int> regular;
         for (int k = 0; k < m.nv; ++k)
           if (!m.is_prescribed(k)) regular.push_back(k);
-        return modes_tuple(soadyn::modes_of(mass, stiffness, damping, regular));
+        return modes_tuple(modes_or_dynamics_error([&] { return soadyn::modes_of(mass, stiffness, damping, regular); }));
       },
       py::arg("model"), py::arg("mass_matrix"), py::arg("stiffness"), py::arg("damping"));
 }

@@ -2,6 +2,10 @@
 
 #include <cmath>
 
+#include "soadyn/algorithms/force_elements.hpp"
+#include "soadyn/algorithms/loop_assembly.hpp"
+#include "soadyn/loops/loop.hpp"
+
 namespace soadyn_py {
 
 namespace {
@@ -55,6 +59,14 @@ void raise_on(const soadyn::Status& s, const soadyn::Model& m, const char* what)
                         "' does not close: its residual stays above the tolerance (the mechanism cannot reach a closed "
                         "configuration from here with the DOFs allowed to move)");
   }
+  if (s.code == soadyn::StatusCode::loop_assembly_stalled) {
+    const std::string loop = s.index >= 0 && s.index < m.nloops() ? m.loops[static_cast<std::size_t>(s.index)].name : "?";
+    throw soadyn::LoopError(std::string(what) + ": loop '" + loop + "' cannot be closed from here: " +
+                            std::to_string(soadyn::assembly_stall_steps) +
+                            " Gauss-Newton steps in a row, each halved down to 2^-20 of its length, did not lower "
+                            "its residual (the DOFs allowed to move cannot close it: every DOF of the loop is held, "
+                            "or the mechanism is at a singular configuration)");
+  }
   const std::string& dof = name_of(m.dof_names, s.index);
   if (s.code == soadyn::StatusCode::inconsistent_loop_equations) {
     const std::string loop = s.index >= 0 && static_cast<std::size_t>(s.index) < m.loops.size()
@@ -79,6 +91,22 @@ void refuse_non_finite(const char* what, const char* quantity, const double* x, 
                           "' is not finite (an input is too large for floating point)");
 }
 
+void refuse_non_finite_rows(const std::string& what, const std::string& quantity,
+                            const Eigen::Ref<const Eigen::MatrixXd>& x, const std::vector<std::string>& row_names) {
+  if (x.allFinite()) return;
+  for (Eigen::Index r = 0; r < x.rows(); ++r)
+    if (!x.row(r).allFinite())
+      throw DynamicsError(what + ": the " + quantity + " of '" + name_of(row_names, static_cast<int>(r)) +
+                          "' is not finite (an input is too large for floating point)");
+}
+
+std::vector<std::string> state_names(const soadyn::Model& m) {
+  std::vector<std::string> names;
+  for (const auto& dof : m.dof_names) names.push_back(dof + " (position)");
+  for (const auto& dof : m.dof_names) names.push_back(dof + " (velocity)");
+  return names;
+}
+
 void raise_non_finite_total(const char* what, const soadyn::Model& m, const soadyn::Data& d, bool with_velocity) {
   const int body = body_at_fault(m, d, with_velocity);
   const std::string where =
@@ -87,6 +115,22 @@ void raise_non_finite_total(const char* what, const soadyn::Model& m, const soad
                 : "body '" + name_of(m.body_names, largest_share(m, d, with_velocity)) +
                       "' has the largest share of a sum that overflows";
   throw DynamicsError(std::string(what) + " is not finite: " + where + " (an input is too large for floating point)");
+}
+
+void raise_non_finite_force_element(const char* what, const soadyn::Model& m, soadyn::Data& d,
+                                    const Eigen::Ref<const Eigen::VectorXd>& q, const double* v) {
+  const double total = v ? soadyn::force_element_dissipation<double>(m, d, q, Eigen::Map<const Eigen::VectorXd>(v, m.nv))
+                         : soadyn::force_element_potential<double>(m, d, q);
+  if (std::isfinite(total)) return;  // the force elements' own sum is finite: not theirs to blame
+  const int k = soadyn::force_element_at_fault<double>(m, d, q, v);
+  if (k < 0) return;
+  const auto& joint_springs = m.force_elements.joint_springs;
+  const std::size_t n_joint = joint_springs.size(), index = static_cast<std::size_t>(k);
+  const std::string& name =
+      index < n_joint ? joint_springs[index].name : m.force_elements.point_springs[index - n_joint].name;
+  throw DynamicsError(std::string(what) + " is not finite: force element '" + name + "' has " +
+                      (v ? "the largest dissipated power" : "the largest potential") +
+                      " (its constants or the state are too large for floating point)");
 }
 
 }  // namespace soadyn_py

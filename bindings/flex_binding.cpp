@@ -4,11 +4,14 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <cstdio>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "arrays.hpp"
+#include "errors.hpp"
 #include "soadyn/flex/cantilever_beam.hpp"
 
 namespace soadyn_py {
@@ -78,6 +81,30 @@ Eigen::VectorXd eta_arg(const FlexibleBody& body, py::handle eta) {
   return Eigen::Map<const Eigen::VectorXd>(a.data(), a.size());
 }
 
+// Node `node` of `body`: an int in [0, n_nodes), IndexError naming it otherwise.
+int node_index(const FlexibleBody& body, py::handle node) {
+  const long long j = checked_integer(node, "j", std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
+  if (j < 0 || j >= body.n_nodes())
+    throw py::index_error("node " + std::to_string(j) + " is out of range: the body has " +
+                          std::to_string(body.n_nodes()) + " nodes");
+  return static_cast<int>(j);
+}
+
+// `result` of the call `what` at modal coordinates `eta`, or DynamicsError
+// naming the largest modal coordinate when an entry is not finite.
+template <class Result>
+Result finite_at(Result result, const char* what, const Eigen::VectorXd& eta) {
+  if (result.allFinite()) return result;
+  Eigen::Index mode = 0;
+  if (eta.size() > 0) eta.cwiseAbs().maxCoeff(&mode);
+  char value[32] = "";
+  if (eta.size() > 0) std::snprintf(value, sizeof value, "%.6g", eta[mode]);
+  throw DynamicsError(std::string("FlexibleBody.") + what + ": the result is not finite at these modal coordinates" +
+                      (eta.size() > 0 ? " (mode " + std::to_string(mode) + " = " + value +
+                                            " is too large for floating point)"
+                                      : std::string()));
+}
+
 // (N, ...) arrays of per-node data.
 py::array_t<double> node_positions(const FlexibleBody& b) {
   py::array_t<double> out({py::ssize_t(b.n_nodes()), py::ssize_t(3)});
@@ -131,7 +158,17 @@ void bind_flexible_body(py::module_& mod) {
            "positions (N, 3) undeformed node positions in the body frame; masses (N,); rotary_inertias\n"
            "(N, 3, 3) about each node; mode_shapes (N, 6, n_modes); stiffness and damping (n_modes,\n"
            "n_modes), symmetric positive semidefinite (damping None: zero); attachments {name: node}.")
-      .def_static("cantilever_beam", &soadyn::cantilever_beam<double>, py::arg("length"), py::arg("EI"),
+      .def_static("cantilever_beam",
+                  [](py::handle length, py::handle EI, py::handle mass_per_length, py::handle n_modes,
+                     py::handle n_nodes) {
+                    const int largest = std::numeric_limits<int>::max();
+                    return soadyn::cantilever_beam<double>(
+                        checked_real(length, "length"), checked_real(EI, "EI"),
+                        checked_real(mass_per_length, "mass_per_length"),
+                        static_cast<int>(checked_integer(n_modes, "n_modes", 0, largest)),
+                        static_cast<int>(checked_integer(n_nodes, "n_nodes", 0, largest)));
+                  },
+                  py::arg("length"), py::arg("EI"),
                   py::arg("mass_per_length"), py::arg("n_modes"), py::arg("n_nodes") = 60,
                   "Uniform Euler-Bernoulli cantilever along x, clamped at the body origin: n_nodes lumped\n"
                   "segments plus a massless 'tip' node; n_modes clamped-free bending modes per plane in the\n"
@@ -147,29 +184,34 @@ void bind_flexible_body(py::module_& mod) {
       .def_property_readonly("modal_mass", &FlexibleBody::modal_mass)
       .def_property_readonly("attachments", &FlexibleBody::attachments)
       .def("augmented_mass_matrix",
-           [](const FlexibleBody& b, py::handle eta) { return b.augmented_mass_matrix(eta_arg(b, eta)); },
+           [](const FlexibleBody& b, py::handle eta) {
+             const Eigen::VectorXd e = eta_arg(b, eta);
+             return finite_at(b.augmented_mass_matrix(e), "augmented_mass_matrix", e);
+           },
            py::arg("eta"),
            "M(eta), (6 + n_modes) square: T = 1/2 [V; eta_dot]' M [V; eta_dot], V = [omega; v_origin] body frame.")
-      .def("strain_energy", [](const FlexibleBody& b, py::handle eta) { return b.strain_energy(eta_arg(b, eta)); },
+      .def("strain_energy",
+           [](const FlexibleBody& b, py::handle eta) {
+             const Eigen::VectorXd e = eta_arg(b, eta);
+             return finite_at(Eigen::Matrix<double, 1, 1>::Constant(b.strain_energy(e)), "strain_energy", e)[0];
+           },
            py::arg("eta"), "1/2 eta' K eta.")
       .def("node_pose",
-           [](const FlexibleBody& b, int j, py::handle eta) {
-             if (j < 0 || j >= b.n_nodes())
-               throw py::index_error("node " + std::to_string(j) + " is out of range: the body has " +
-                                     std::to_string(b.n_nodes()) + " nodes");
-             return homogeneous(b.node_pose(j, eta_arg(b, eta)));
+           [](const FlexibleBody& b, py::handle node, py::handle eta) {
+             const int j = node_index(b, node);
+             const Eigen::VectorXd e = eta_arg(b, eta);
+             return finite_at(homogeneous(b.node_pose(j, e)), "node_pose", e);
            },
            py::arg("j"), py::arg("eta"), "4x4 pose of node j in the body frame at eta.")
       .def("node_load",
-           [](const FlexibleBody& b, int j, py::handle eta, const Eigen::Matrix<double, 6, 1>& wrench) {
-             if (j < 0 || j >= b.n_nodes())
-               throw py::index_error("node " + std::to_string(j) + " is out of range: the body has " +
-                                     std::to_string(b.n_nodes()) + " nodes");
+           [](const FlexibleBody& b, py::handle node, py::handle eta, const Eigen::Matrix<double, 6, 1>& wrench) {
+             const int j = node_index(b, node);
              if (!wrench.allFinite()) throw py::value_error("wrench is not finite");
              Eigen::Matrix<double, 6, 1> body;
              Eigen::VectorXd modal(b.n_modes());
-             b.node_load(j, eta_arg(b, eta), wrench, body, modal);
-             return py::make_tuple(body, modal);
+             const Eigen::VectorXd e = eta_arg(b, eta);
+             b.node_load(j, e, wrench, body, modal);
+             return py::make_tuple(finite_at(body, "node_load", e), finite_at(modal, "node_load", e));
            },
            py::arg("j"), py::arg("eta"), py::arg("wrench"),
            "Generalized force of `wrench` = [torque; force] applied at node j (node frame) at eta: returns\n"

@@ -70,7 +70,9 @@ void bind_force_elements(py::module_& mod) {
   mod.def("force_element_potential",
       [](ModelHandle& h, py::handle q) {
         return at_configuration(h, q, [](const soadyn::Model& m, soadyn::Data& d, const Map& qm) {
-          return soadyn::force_element_potential<double>(m, d, qm);
+          const double e = soadyn::force_element_potential<double>(m, d, qm);
+          if (!std::isfinite(e)) raise_non_finite_force_element("force_element_potential", m, d, qm, nullptr);
+          return e;
         });
       },
       py::arg("model"), py::arg("q"),
@@ -82,6 +84,7 @@ void bind_force_elements(py::module_& mod) {
         double p = 0;
         run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
           p = soadyn::force_element_dissipation<double>(m, d, Map(qa.data(), m.nq), Map(va.data(), m.nv));
+          if (!std::isfinite(p)) raise_non_finite_force_element("dissipated_power", m, d, Map(qa.data(), m.nq), va.data());
         });
         return p;
       },

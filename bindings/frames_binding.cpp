@@ -30,7 +30,8 @@ FrameLocation<double> frame_arg(const ModelHandle& h, py::handle frame) {
   throw py::type_error("frame must be a body or frame name (str) or a body index (int)");
 }
 
-Reference reference_arg(const std::string& reference) {
+Reference reference_arg(py::handle reference_object) {
+  const std::string reference = checked_text(reference_object, "reference");
   if (reference == "world") return Reference::world;
   if (reference == "local") return Reference::local;
   if (reference == "local_world_aligned") return Reference::local_world_aligned;
@@ -41,7 +42,7 @@ Reference reference_arg(const std::string& reference) {
 // checked against: q, v and qdd (None when the call takes none), the frame
 // and the reference (frame_pose takes none: any).
 struct FrameCall {
-  FrameCall(const ModelHandle& h, py::handle q_in, py::handle frame_in, const std::string& reference_in,
+  FrameCall(const ModelHandle& h, py::handle q_in, py::handle frame_in, py::handle reference_in,
             py::handle v_in = py::none(), py::handle qdd_in = py::none())
       : version(h.model.version),
         q(q_arg(h, q_in)),
@@ -82,7 +83,7 @@ Eigen::VectorXd checked_vector6(const char* what, const soadyn::Vec6<double>& x)
 void bind_frames(py::module_& mod) {
   mod.def("frame_pose",
       [](ModelHandle& h, py::handle q, py::handle frame) {
-        const FrameCall c(h, q, frame, "world");
+        const FrameCall c(h, q, frame, py::str("world"));
         Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
         run_locked(h, c.version, [&](const soadyn::Model& m, soadyn::Data& d) {
           const soadyn::Transform<double> X = soadyn::frame_pose<double>(m, d, Map(c.q.data(), m.nq), c.frame);
@@ -97,7 +98,7 @@ void bind_frames(py::module_& mod) {
       "included) or a body index.");
 
   mod.def("frame_velocity",
-      [](ModelHandle& h, py::handle q, py::handle v, py::handle frame, const std::string& reference) {
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle frame, py::handle reference) {
         const FrameCall c(h, q, frame, reference, v);
         soadyn::Vec6<double> V;
         run_locked(h, c.version, [&](const soadyn::Model& m, soadyn::Data& d) {
@@ -109,8 +110,9 @@ void bind_frames(py::module_& mod) {
       "Spatial velocity [angular; linear] of the frame.\n" SOADYN_FRAME_REFERENCES);
 
   mod.def("frame_acceleration",
-      [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle frame, const std::string& reference,
-         bool classical) {
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle frame, py::handle reference,
+         py::handle classical_arg) {
+        const bool classical = checked_flag(classical_arg, "classical");
         const FrameCall c(h, q, frame, reference, v, qdd);
         soadyn::Vec6<double> A;
         run_locked(h, c.version, [&](const soadyn::Model& m, soadyn::Data& d) {
@@ -125,7 +127,7 @@ void bind_frames(py::module_& mod) {
       "not. classical=True: linear rows w x v + (spatial linear), the classical acceleration.\n" SOADYN_FRAME_REFERENCES);
 
   mod.def("frame_jacobian",
-      [](ModelHandle& h, py::handle q, py::handle frame, const std::string& reference) {
+      [](ModelHandle& h, py::handle q, py::handle frame, py::handle reference) {
         const FrameCall c(h, q, frame, reference);
         Eigen::MatrixXd J(6, h.model.nv);
         run_locked(h, c.version, [&](const soadyn::Model& m, soadyn::Data& d) {
@@ -137,7 +139,7 @@ void bind_frames(py::module_& mod) {
       "Frame Jacobian (6 x nv, rows [angular; linear]): J v is frame_velocity.\n" SOADYN_FRAME_REFERENCES);
 
   mod.def("frame_jacobian_time_variation",
-      [](ModelHandle& h, py::handle q, py::handle v, py::handle frame, const std::string& reference) {
+      [](ModelHandle& h, py::handle q, py::handle v, py::handle frame, py::handle reference) {
         const FrameCall c(h, q, frame, reference, v);
         Eigen::MatrixXd dJ(6, h.model.nv);
         run_locked(h, c.version, [&](const soadyn::Model& m, soadyn::Data& d) {

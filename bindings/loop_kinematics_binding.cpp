@@ -4,9 +4,12 @@
 // the mask of DOFs allowed to move).
 #include <pybind11/stl.h>
 
+#include <limits>
+
 #include "arrays.hpp"
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
+#include "interrupts.hpp"
 #include "model_handle.hpp"
 #include "soadyn/soadyn.hpp"
 
@@ -29,8 +32,12 @@ Eigen::VectorXd free_mask(const ModelHandle& h, const std::vector<bool>& free) {
 
 void bind_loop_kinematics(py::module_& mod) {
   mod.def("_assemble",
-      [](ModelHandle& h, py::handle q, const std::vector<bool>& free, double tolerance, int max_iterations) {
+      [](ModelHandle& h, py::handle q, const std::vector<bool>& free, py::handle tolerance_arg,
+         py::handle max_iterations_arg) {
         const std::uint64_t version = h.model.version;
+        const double tolerance = checked_real(tolerance_arg, "tolerance");
+        const int max_iterations = static_cast<int>(
+            checked_integer(max_iterations_arg, "max_iterations", 1, std::numeric_limits<int>::max()));
         const Array qa = q_arg(h, q);
         const Eigen::VectorXd mask = free_mask(h, free);
         if (!(tolerance > 0) || !std::isfinite(tolerance)) throw py::value_error("tolerance must be positive and finite");
@@ -38,10 +45,12 @@ void bind_loop_kinematics(py::module_& mod) {
         auto out = fresh_array(h.model.nq);
         Eigen::Map<Eigen::VectorXd> q_out(out.mutable_data(), h.model.nq);
         soadyn::Status status;
+        PythonInterrupt interrupt;
         run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
           q_out = Map(qa.data(), m.nq);
-          status = soadyn::assemble_loops<double>(m, d, q_out, mask, tolerance, max_iterations);
+          status = soadyn::assemble_loops<double>(m, d, q_out, mask, tolerance, max_iterations, nullptr, interrupt.get());
         });
+        interrupt.raise_if_interrupted();
         raise_on(status, h.model, "assemble");
         return out;
       },

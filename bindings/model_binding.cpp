@@ -86,6 +86,16 @@ void load_scene(ModelHandle& h, Build build) {
   h.replace_model(std::move(scene));
 }
 
+// `set(dof, value)` (Model::set_armature, set_effort_limit) for each of
+// `dofs`, all or nothing: tried on a copy first.
+void set_for_dofs(ModelHandle& h, const std::vector<int>& dofs, double value,
+                  void (soadyn::Model::*set)(int, double)) {
+  const auto lock = h.lock_for_change();
+  soadyn::Model trial = h.model;
+  for (int d : dofs) (trial.*set)(d, value);
+  for (int d : dofs) (h.model.*set)(d, value);
+}
+
 }  // namespace
 
 void bind_model(py::module_& mod) {
@@ -169,11 +179,18 @@ void bind_model(py::module_& mod) {
            })
       .def("_set_armature",
            [](ModelHandle& h, const std::vector<int>& dofs, double value) {
-             const auto lock = h.lock_for_change();
-             soadyn::Model trial = h.model;  // all or nothing
-             for (int d : dofs) trial.set_armature(d, value);
-             for (int d : dofs) h.model.set_armature(d, value);
+             set_for_dofs(h, dofs, value, &soadyn::Model::set_armature);
            })
+      .def("_set_effort_limit",
+           [](ModelHandle& h, const std::vector<int>& dofs, double value) {
+             set_for_dofs(h, dofs, value, &soadyn::Model::set_effort_limit);
+           })
+      .def_property_readonly("effort_limits",
+                             [](const ModelHandle& h) {
+                               return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(h.model.effort_limit.data(), h.model.nv));
+                             },
+                             "Float array (nv): each DOF's effort limit (largest actuator force or torque; inf: none,\n"
+                             "the default). HIL runs take it as the DOF's command limit.")
       .def_property_readonly("armature",
                              [](const ModelHandle& h) {
                                return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(h.model.armature.data(), h.model.nv));

@@ -158,9 +158,15 @@ void bind_parameters(py::module_& mod) {
                                          Map(a.x.data(), m.nv), dqdd[p], dtau[p], dwrench[p], spanning_tree);
         });
         raise_on(status, h.model, "parameter_sensitivity");
+        std::vector<std::string> wrench_rows;  // six per loop
+        for (const auto& loop : h.model.loops) wrench_rows.insert(wrench_rows.end(), 6, loop.name);
         py::dict out;
         for (std::size_t p = 0; p < entries.size(); ++p) {
           const auto& e = table.entry(entries[p]);
+          const std::string quantity = "derivative with respect to '" + e.name + "'";
+          refuse_non_finite_rows("parameter_sensitivity", "acceleration " + quantity, dqdd[p], h.model.dof_names);
+          refuse_non_finite_rows("parameter_sensitivity", "generalized force " + quantity, dtau[p], h.model.dof_names);
+          refuse_non_finite_rows("parameter_sensitivity", "loop wrench " + quantity, dwrench[p], wrench_rows);
           py::array_t<double> q_part = derivative_array(dqdd[p], {nv}, e), t_part = derivative_array(dtau[p], {nv}, e);
           if (h.model.nloops() > 0 && !spanning_tree)
             out[py::str(e.name)] =
@@ -188,6 +194,8 @@ void bind_parameters(py::module_& mod) {
             Eigen::MatrixXd dq(m.nv, n), dnu(m.nloop_equations, n), dheld(nheld, n);
             status = sensitivity.direct(m, a.table, k, dq, dnu, dheld);
             if (!status.ok()) return;
+            refuse_non_finite_rows("equilibrium_sensitivities", "derivative with respect to '" + e.name + "'", dq,
+                                   m.dof_names);
             out[py::str(e.name)] = py::make_tuple(derivative_array(dq, {m.nv}, e),
                                                   derivative_array(dnu, {m.nloop_equations}, e),
                                                   derivative_array(dheld, {nheld}, e));
@@ -214,6 +222,7 @@ void bind_parameters(py::module_& mod) {
             Eigen::VectorXd gradient(soadyn::parameter_directions(e));
             status = sensitivity.objective_gradient(m, a.table, k, gradient);
             if (!status.ok()) return;
+            refuse_non_finite_rows("objective_gradient", "gradient", gradient.transpose(), {e.name});
             out[py::str(e.name)] = derivative_array(gradient.transpose(), {}, e);
           }
         });

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include "arrays.hpp"
+#include "interrupts.hpp"
 #include "model_handle.hpp"
 #include "simulator_handle.hpp"
 #include "soadyn/scenes.hpp"
@@ -161,9 +162,10 @@ py::tuple run(Sim& s, long steps) {
   Eigen::Map<Eigen::VectorXd>(vp, nv) = s.v();
   soadyn::Status st;
   long done = 0;
+  PythonInterrupt interrupt;
   {
     py::gil_scoped_release release;
-    for (; done < steps; ++done) {
+    for (; done < steps && !interrupt.get()->requested(); ++done) {
       st = s.step();
       if (!st.ok()) break;
       const long row = done + 1;
@@ -173,6 +175,7 @@ py::tuple run(Sim& s, long steps) {
       Eigen::Map<Eigen::VectorXd>(fp + done * nv, nv) = s.forces();
     }
   }
+  interrupt.raise_if_interrupted();
   const py::object error = st.ok() ? py::none() : dynamics_error("simulation stopped: " + s.describe(st));
   return py::make_tuple(t, q, v, tau, done, error);
 }
@@ -230,9 +233,13 @@ void bind_simulator(py::module_& mod) {
   // The C++ simulator, for the bindings that take one (HilRunner).
   py::class_<soadyn::Simulator>(mod, "_SimulatorCore");
   py::class_<Sim, soadyn::Simulator>(mod, "_Simulator")
-      .def(py::init([](ModelHandle& h, double dt, const std::string& integrator, int capacity) {
+      .def(py::init([](ModelHandle& h, py::handle dt, py::handle integrator, py::handle capacity) {
+             const double step = checked_real(dt, "dt");
+             const soadyn::Integrator chosen = integrator_from(checked_text(integrator, "integrator"));
+             const int events = static_cast<int>(
+                 checked_integer(capacity, "event_capacity", 0, std::numeric_limits<int>::max()));
              const auto lock = h.lock_for_computation();  // waits for a computation without the GIL
-             return std::make_unique<Sim>(h.model, dt, integrator_from(integrator), capacity);
+             return std::make_unique<Sim>(h.model, step, chosen, events);
            }),
            py::arg("model"), py::arg("dt"), py::arg("integrator") = "rk4", py::arg("event_capacity") = 64)
       .def("_set_state", [](Sim& s, py::handle q, py::handle v, double t) {
@@ -284,6 +291,24 @@ void bind_simulator(py::module_& mod) {
                              "Kinetic energy removed by lock impulses so far.")
       .def_property_readonly("steps_taken", [](Sim& s) { return locked_read(s, [&] { return s.steps_taken(); }); },
                              "Steps completed since construction (a failed step does not count).")
+      .def_property(
+          "divergence_guard", [](Sim& s) { return locked_read(s, [&] { return s.divergence_guard(); }); },
+          [](Sim& s, py::handle on) {
+            const bool flag = checked_flag(on, "divergence_guard");
+            locked_setup(s, [&] { s.set_divergence_guard(flag); });
+          },
+          "Whether a step that makes the state's energy grow beyond what the applied forces can supply (or a\n"
+          "velocity pass its limit) stops with DynamicsError 'diverging' before the state is non-finite. Off by\n"
+          "default; on in HIL runs. Turning it on takes the current state as the energy's reference.")
+      .def_property(
+          "velocity_limits", [](Sim& s) { return locked_read(s, [&] { return Eigen::VectorXd(s.velocity_limits()); }); },
+          [](Sim& s, py::handle limits) {
+            const Array a = as_float_array(limits, "velocity_limits");
+            require_vector_shape(a, "velocity_limits", s.model().nv, "nv");
+            const Eigen::VectorXd values = Eigen::Map<const Eigen::VectorXd>(a.data(), a.size());
+            locked_setup(s, [&] { s.set_velocity_limits(values); });
+          },
+          "Per-DOF |v| limits the divergence guard enforces (nv values; inf: none, the default).")
       .def_property_readonly("pending_events", [](Sim& s) { return locked_read(s, [&] { return s.pending_events(); }); })
       .def_property_readonly("event_capacity", &Sim::event_capacity, "Most events that can be pending at once.")
       .def_property_readonly("last_substeps", [](Sim& s) { return locked_read(s, [&] { return s.last_substeps(); }); },

@@ -8,6 +8,9 @@
 #include "errors.hpp"
 #include "model_handle.hpp"
 #include "soadyn/algorithms/loop_force_stiffness.hpp"
+#include "interrupts.hpp"
+
+#include <limits>
 #include "soadyn/algorithms/static_equilibrium.hpp"
 
 namespace soadyn_py {
@@ -28,22 +31,25 @@ void bind_statics(py::module_& mod) {
   mod.def("_loop_equation_names", [](const ModelHandle& h) { return loop_equation_names(h.model); }, py::arg("model"),
           "'loop[i]' for each loop-closure equation, in the rows' order.");
   mod.def("_static_equilibrium",
-      [](ModelHandle& h, py::handle q0, const std::vector<bool>& free, double tol, int max_iterations) {
+      [](ModelHandle& h, py::handle q0, const std::vector<bool>& free, py::handle tol_arg, py::handle max_iterations_arg) {
         const std::uint64_t version = h.model.version;
+        const double tol = checked_real(tol_arg, "tol");
+        const int max_iterations = static_cast<int>(
+            checked_integer(max_iterations_arg, "max_iterations", 1, std::numeric_limits<int>::max()));
         const Array qa = as_float_array(q0, "q0");
-        if (qa.ndim() != 1 || qa.shape(0) != h.model.nq)
-          throw py::value_error("static_equilibrium: q0 has " + std::to_string(qa.size()) + " entries, expected nq = " +
-                                std::to_string(h.model.nq));
+        require_vector_shape(qa, "static_equilibrium: q0", h.model.nq, "nq");
         soadyn::StaticEquilibrium eq(h.model);
         std::string failure;
+        PythonInterrupt interrupt;
         run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
           try {
             soadyn::static_equilibrium<double>(m, d, eq, Eigen::Map<const Eigen::VectorXd>(qa.data(), m.nq), free, tol,
-                                               max_iterations);
+                                               max_iterations, interrupt.get());
           } catch (const soadyn::StaticEquilibriumError& e) {
             failure = e.what();
           }
         });
+        interrupt.raise_if_interrupted();
         if (!failure.empty()) throw DynamicsError(failure);
         auto vec = [](const Eigen::VectorXd& x) {
           auto out = fresh_array(x.size());

@@ -277,9 +277,109 @@ def test_bad_rollout_events_and_empty_parameter_batches_are_named():
     m, x0, controls, masses = chain_runs(runs=2)
     with pytest.raises(ValueError, match="expected \\(kind, DOF, times\\)"):
         batch.rollout(m, x0, None, steps=10, events=[("lock", "link_3")])
-    with pytest.raises(ValueError, match="not a DOF name or an index below nv = 4"):
-        batch.rollout(m, x0, None, steps=10, events=[("lock", 9, 0.1)])
+    for dof in (9, -1, True, "link_9"):
+        with pytest.raises(ValueError, match=f"event lock {dof!r}: not a DOF name or an index below nv = 4"):
+            batch.rollout(m, x0, None, steps=10, events=[("lock", dof, 0.1)])
     with pytest.raises(ValueError, match="one time for all runs or 2 times"):
         batch.rollout(m, x0, None, steps=10, events=[("lock", "link_3", [0.1, 0.2, 0.3])])
     empty = batch.rollout(m, x0[:0], None, steps=10, parameters={"link_2.com": np.zeros((0, 3))})
     assert empty.q.shape == (0, 11, m.nq) and empty.messages == []
+
+
+NOT_REAL = {"complex128": lambda a: a + 1j, "<U32": lambda a: a.astype(str), "bool": lambda a: a != 0,
+            "object": lambda a: a.astype(object), "|S32": lambda a: a.astype(bytes)}
+
+
+def batch_calls(m, Q, V, X):
+    """Every batched call, as (name, [argument names], call taking the arguments in that order)."""
+    return [("forward_dynamics", ["Q", "V", "TAU"], lambda q, v, x: batch.forward_dynamics(m, q, v, x)),
+            ("inverse_dynamics", ["Q", "V", "QDD"], lambda q, v, x: batch.inverse_dynamics(m, q, v, x)),
+            ("hybrid_dynamics", ["Q", "V", "U"], lambda q, v, x: batch.hybrid_dynamics(m, q, v, x)),
+            ("dynamics_derivatives", ["Q", "V", "U"], lambda q, v, x: batch.dynamics_derivatives(m, q, v, x)),
+            ("mass_matrix", ["Q"], lambda q, v, x: batch.mass_matrix(m, q))]
+
+
+@pytest.mark.parametrize("dtype", sorted(NOT_REAL))
+def test_batched_calls_refuse_arrays_that_are_not_real_as_the_single_calls_do(dtype):
+    """A complex, string, bytes, boolean or object array is refused with a TypeError naming the argument and the
+    dtype (as soadyn.forward_dynamics refuses q), never cast (the imaginary part dropped, '0.5' read as 0.5)."""
+    m = soadyn.scenes.pendulum_chain(3)
+    Q, V, X = states(m, 4)
+    with pytest.raises(TypeError, match=f"q must be an array of real numbers, got dtype {dtype}"):
+        soadyn.forward_dynamics(m, NOT_REAL[dtype](Q[0]), V[0], X[0])
+    for name, arguments, call in batch_calls(m, Q, V, X):
+        for k, argument in enumerate(arguments):
+            spoiled = [Q, V, X]
+            spoiled[k] = NOT_REAL[dtype](spoiled[k])
+            with pytest.raises(TypeError, match=f"^{argument} must be an array of real numbers, got dtype {dtype}$"):
+                call(*spoiled)
+    F = np.zeros((4, m.nbodies, 6))
+    with pytest.raises(TypeError, match=f"^f_ext must be an array of real numbers, got dtype {dtype}$"):
+        batch.forward_dynamics(m, Q, V, X, NOT_REAL[dtype](F))
+
+
+def test_batched_calls_take_integer_float32_and_nested_list_rows():
+    m = soadyn.scenes.pendulum_chain(3)
+    Q, V, X = states(m, 4)
+    expected = batch.forward_dynamics(m, Q.astype(np.float32).astype(float), np.zeros_like(V), np.round(X))
+    assert np.array_equal(batch.forward_dynamics(m, Q.astype(np.float32), [[0] * 3] * 4, np.round(X).astype(int)),
+                          expected)
+    with pytest.raises(TypeError, match="^V must be an array of real numbers: .*inhomogeneous"):
+        batch.forward_dynamics(m, Q, [[0.0] * 3, [0.0]] * 2, X)
+
+
+def test_batch_shape_errors_name_the_argument_the_expected_shape_and_the_shape_given():
+    m = soadyn.scenes.pendulum_chain(3)
+    Q, V, X = states(m, 4)
+    with pytest.raises(ValueError, match=r"^QDD must have shape \(4, 3\) \(a leading batch dimension\), got \(4, 2\)$"):
+        batch.inverse_dynamics(m, Q, V, X[:, :2])
+    with pytest.raises(ValueError, match=r"^Q must have shape \(n, 3\) \(a leading batch dimension\), got \(3,\)$"):
+        batch.mass_matrix(m, Q[0])
+    with pytest.raises(ValueError, match=r"^f_ext must have shape \(4, 3, 6\), got \(4, 18\)$"):
+        batch.hybrid_dynamics(m, Q, V, X, np.zeros((4, 18)))
+
+
+def test_rollout_refuses_arguments_that_are_not_real_naming_them():
+    m, x0, controls, masses = chain_runs(runs=2, steps=10)
+    refusals = [
+        (dict(x0s=x0 + 0j), r"^x0s must be an array of real numbers, got dtype complex128$"),
+        (dict(x0s=x0.astype(str)), r"^x0s must be an array of real numbers, got dtype <U32$"),
+        (dict(controls_or_sources=controls.astype(complex)), r"^controls must be an array of real numbers, got dtype "
+                                                            r"complex128$"),
+        (dict(controls_or_sources=controls[0].astype(str)), r"^controls must be an array of real numbers"),
+        (dict(parameters={"link_2.mass": masses.astype(str)}),
+         r"^values of parameter 'link_2.mass' must be an array of real numbers, got dtype <U32$"),
+        (dict(events=[("lock", "link_3", np.array([0.01, 0.02]) + 1j)]),
+         r"^times of event lock 'link_3' must be an array of real numbers, got dtype complex128$"),
+        (dict(dt="0.001"), r"^dt must be an array of real numbers, got dtype <U5$"),
+        (dict(dt=1e-3 + 0j), r"^dt must be an array of real numbers, got dtype complex128$"),
+        (dict(integrator=4), r"^integrator must be a str"),
+    ]
+    for changes, message in refusals:
+        arguments = dict(x0s=x0, controls_or_sources=None, steps=10) | changes
+        with pytest.raises(TypeError, match=message):
+            batch.rollout(m, **arguments)
+
+
+def test_rollout_shape_and_count_errors_name_the_argument():
+    m, x0, controls, masses = chain_runs(runs=2, steps=10)
+    refusals = [
+        (dict(controls_or_sources=controls[:, :4]),
+         r"^controls must have shape \(10, 4\) or \(2, 10, 4\) \(shared by every run or one per run\), "
+         r"got \(2, 4, 4\)$"),
+        (dict(parameters={"link_2.mass": masses[:1]}),
+         r"^values of parameter 'link_2.mass' must have shape \(2,\), got \(1,\)$"),
+        (dict(x0s=x0[0]), r"^x0s must have shape \(n, 8\) \(a leading batch dimension\), got \(8,\)$"),
+        (dict(dt=[1e-3, 1e-3]), r"^dt must have shape \(\), got \(2,\)$"),
+        (dict(events=[("lock", "link_3", [0.1, 0.2, 0.3])]),
+         r"^times of event lock 'link_3' must have shape \(\) or \(2,\) \(one time for all runs or 2 times\), "
+         r"got \(3,\)$"),
+        (dict(steps=np.nan), r"^steps must be a whole number >= 0, got nan$"),
+        (dict(steps=None), r"^steps must be a whole number >= 0, got None$"),
+        (dict(record_every=0), r"^record_every must be a whole number >= 1, got 0$"),
+        (dict(threads=10 ** 12), r"^threads must be an integer from 1 to 1024"),
+    ]
+    for changes, message in refusals:
+        arguments = dict(x0s=x0, controls_or_sources=None, steps=10) | changes
+        with pytest.raises(ValueError, match=message):
+            batch.rollout(m, **arguments)

@@ -214,6 +214,24 @@ def test_another_spec_is_refused_in_a_results_directory(tiny, capsys):
     assert parts(out) == before
 
 
+def test_fewer_runs_never_shrink_a_campaigns_results(tiny, capsys):
+    out = tiny["root"] / "one"
+    kept = {name: (out / name).read_bytes() for name in ("results.parquet", "spec.json")}
+    before = parts(out)
+    with pytest.raises(campaign.ResultsDirectoryError) as error:
+        campaign.run(tiny["spec"], out=out, runs=10, workers=1, progress=False, verbose=False, dashboard=False)
+    assert "holds a campaign of 16 runs of this spec: 10 runs would shrink it; give runs >= 16" in str(error.value)
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main(["campaign", str(tiny["spec"]), "--out", str(out), "--runs", "10", "--no-progress"])
+    assert exit_info.value.code == 2
+    printed = capsys.readouterr()
+    assert printed.out == "" and printed.err.count("error:") == 1
+    assert printed.err.strip().splitlines()[-1].startswith(f"soadyn campaign: error: argument --out: {out} holds a "
+                                                           f"campaign of 16 runs of this spec: 10 runs would shrink it")
+    assert {name: (out / name).read_bytes() for name in kept} == kept and parts(out) == before
+    assert campaign.report(out, plots=False).finished == 16
+
+
 def test_an_interrupted_campaign_resumes_without_redoing_finished_runs(tiny):
     out = tiny["root"] / "interrupted"
     batches = []

@@ -1,4 +1,5 @@
-"""Campaign specs are checked completely before any run (errors name the item), a run is a pure
+"""Campaign specs are checked completely before any run (one error lists every problem, each naming
+its item, unknown names with their closest valid ones), a run is a pure
 function of (spec, run id) drawn from SeedSequence(seed).spawn(runs)[i], and the metrics measure
 what they say. No Dask here: tests/test_campaign_runs.py runs campaigns."""
 import math
@@ -34,7 +35,7 @@ def dispersion(**entry):
 
 @pytest.mark.parametrize("spec, fragment", [
     (dispersion(parameter="bus.mas", distribution="normal", std=1.0),
-     "dispersions[0] (parameter 'bus.mas'): unknown parameter 'bus.mas' (did you mean 'bus.mass'?)"),
+     "dispersions[0] (parameter 'bus.mas'): unknown parameter 'bus.mas' (did you mean 'bus.mass'"),
     (dispersion(parameter="bus.mass", distribution="normal", std=-1.0),
      "dispersions[0] (parameter 'bus.mass'): std must be >= 0, got -1"),
     (dispersion(parameter="bus.mass", distribution="normal", scale=-0.1),
@@ -48,7 +49,7 @@ def dispersion(**entry):
     (spec_dict(colour="red"), "the spec: unknown key 'colour'"),
     (spec_dict(simulation={"duration": 0.05, "dt": 0.001, "integrator": "rk5"}),
      "[simulation]: integrator must be one of euler, rk4, dopri5, got 'rk5'"),
-    (spec_dict(simulation={"duration": 0.0505, "dt": 0.001}), "[simulation]: duration: duration 0.0505 s is"),
+    (spec_dict(simulation={"duration": 0.0505, "dt": 0.001}), "[simulation] duration and dt: duration 0.0505 s is"),
     (spec_dict(simulation={"duration": 0.05, "dt": 0.001, "rate": 1000}), "give dt (s) or rate (steps per s)"),
     (spec_dict(simulation={"duration": 0.05, "dt": 0.001, "events": ["lock nothing at 0.1"]}),
      "[simulation] events[0]: unknown DOF or joint 'nothing'"),
@@ -67,7 +68,7 @@ def dispersion(**entry):
     (dispersion(initial="q:nowhere", distribution="normal", std=0.1), "unknown coordinate 'nowhere'"),
     (dispersion(initial="w:scan_az", distribution="normal", std=0.1), "expected 'q:<coordinate>' or 'v:<DOF>'"),
     (dispersion(event="lock scan_zz", distribution="uniform", low=0.1, high=0.2),
-     "unknown DOF or joint 'scan_zz' (did you mean 'scan_az'?)"),
+     "unknown DOF or joint 'scan_zz' (did you mean 'scan_az'"),
     (dispersion(event="stop scan_az", distribution="uniform", low=0.1, high=0.2), "expected 'lock <DOF or joint>'"),
     (dispersion(event="lock scan_az", distribution="normal", std=0.1),
      "give mean (what is dispersed has no nominal value in the model)"),
@@ -91,6 +92,13 @@ def dispersion(**entry):
     (spec_dict(model={"file": "missing.json"}), "[model]: cannot read the model file"),
     (spec_dict(model={"scene": "cassini", "file": "m.json"}), "give scene (a built-in scene) or file"),
     (spec_dict(initial={"q": {"scan_azz": 0.1}}), "[initial] q: unknown coordinate 'scan_azz'"),
+    (spec_dict(initial={"v": {"scan_az": 2**2000}}), "[initial] v.scan_az: must be a finite number, got an integer "
+                                                     "of 2001 bits"),
+    (dispersion(parameter="bus.mass", distribution="normal", std=2**2000), "std must be finite, got an integer"),
+    (dispersion(parameter="bus.mass", distribution="normal", scale=1e308), "scale 1e+308 times the nominal value"),
+    (dispersion(parameter="bus.mass", distribution="uniform", low=-1e308, high=1e308), "high - low overflows"),
+    (dispersion(parameter="bus.com[99999999999]", distribution="normal", std=1.0), "expected a parameter name"),
+    (spec_dict(model={"file": "/dev/zero"}), "[model]: cannot read the model file '/dev/zero': not a regular file"),
 ])
 def test_bad_specs_are_refused_naming_the_item(spec, fragment, tmp_path):
     with pytest.raises(SpecError) as error:
@@ -100,11 +108,66 @@ def test_bad_specs_are_refused_naming_the_item(spec, fragment, tmp_path):
     assert message.startswith("<dict>: ") and "\n" not in message
 
 
-def test_unknown_parameter_lists_the_known_ones():
+def test_unknown_names_suggest_the_closest_few_never_the_whole_list():
+    cases = [(dispersion(parameter="bus.weight", distribution="normal", std=1.0),
+              "unknown parameter 'bus.weight' (none of the 55 parameters is close)"),
+             (dispersion(parameter="bus.mas", distribution="normal", std=1.0), "(did you mean 'bus.mass'"),
+             (spec_dict(initial={"v": {"scan": 0.1}}), "unknown DOF 'scan' (did you mean 'scan_el' or 'scan_az'?)"),
+             (spec_dict(outputs={"metrics": ["peak_boom_tip"]}), "(did you mean 'peak_boom_tip_deflection'?)")]
+    for spec, fragment in cases:
+        with pytest.raises(SpecError) as error:
+            load_spec(spec)
+        message = str(error.value)
+        assert fragment in message
+        assert "fuel_slosh" not in message and "gravity" not in message and "wheel_1" not in message
+        assert message.count("'") <= 2 * 5  # the name, the item, at most three suggestions
+
+
+def test_every_problem_of_a_spec_is_reported_at_once():
+    spec = {"seed": -1, "runs": 0, "colour": "red", "model": {"scene": "cassini"},
+            "simulation": {"duration": 0.05, "dt": 5e-324, "integrator": "rk5", "events": ["lock nothing at 0.1"]},
+            "initial": {"q": {"scan_azz": 0.1}},
+            "dispersions": [{"parameter": "bus.mas", "distribution": "normal", "std": -1.0, "sdt": 1.0},
+                            {"event": "lock scan_az", "distribution": "gamma"}],
+            "outputs": {"metrics": ["peak_boom_tip"], "trajectory_every": -1}}
     with pytest.raises(SpecError) as error:
-        load_spec(dispersion(parameter="bus.weight", distribution="normal", std=1.0))
-    assert "the model's parameters: bus.mass, bus.com, bus.inertia" in str(error.value)
-    assert "fuel_slosh.placement, gravity" in str(error.value)
+        load_spec(spec)
+    expected = ["the spec: unknown key 'colour'", "seed must be an integer >= 0, got -1",
+                "runs must be an integer in 1..100000000, got 0", "[simulation]: integrator must be one of",
+                "[simulation] duration and dt: duration 0.05 s is inf steps of dt = 5e-324 s",
+                "[simulation] events[0]: unknown DOF or joint 'nothing'",
+                "[initial] q: unknown coordinate 'scan_azz'", "[outputs]: trajectory_every must be an integer",
+                "dispersions[0] (parameter 'bus.mas'): unknown key 'sdt' (did you mean 'std'?)",
+                "dispersions[0] (parameter 'bus.mas'): unknown parameter 'bus.mas'",
+                "dispersions[0] (parameter 'bus.mas'): std must be >= 0, got -1",
+                "dispersions[1] (event 'lock scan_az'): distribution must be one of normal, uniform, lognormal",
+                "[outputs] metrics[0]: unknown metric 'peak_boom_tip'"]
+    problems = error.value.problems
+    assert len(problems) == len(expected)
+    for fragment in expected:
+        assert sum(p.startswith(fragment) for p in problems) == 1, fragment
+    message = str(error.value)
+    assert message.startswith(f"<dict>: {len(expected)} problems: (1) ") and "\n" not in message
+    assert all(f"({k}) {p}" in message for k, p in enumerate(problems, 1))
+
+
+def test_a_tiny_or_huge_step_is_a_spec_error_naming_duration_and_dt(tmp_path, capsys):
+    for simulation, fragment in [({"duration": 1.0, "dt": 5e-324}, "duration 1.0 s is inf steps of dt = 5e-324 s"),
+                                 ({"duration": 1.0, "rate": 5e-324}, "[simulation]: rate 5e-324 gives a step of inf"),
+                                 ({"duration": 1.0, "rate": 1e308}, "duration 1.0 s is 1e+308 steps"),
+                                 ({"duration": 1.0, "dt": 1e308}, "duration 1.0 s is shorter than one step")]:
+        with pytest.raises(SpecError) as error:
+            load_spec(spec_dict(simulation=simulation))
+        assert fragment in str(error.value)
+    path = tmp_path / "tiny_step.toml"
+    path.write_text(EXAMPLES["cassini-example"].read_text().replace("dt = 0.001", "dt = 5e-324"))
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main(["campaign", str(path), "--out", str(tmp_path / "out")])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and err.count("error:") == 1  # the usage, then one error line
+    assert err.strip().splitlines()[-1].startswith(f"soadyn campaign: error: argument SPEC: {path}: [simulation] "
+                                                   f"duration and dt: duration 1.0 s is inf steps of dt = 5e-324 s")
 
 
 def test_malformed_toml_and_missing_file_name_the_file(tmp_path):
@@ -149,6 +212,25 @@ def test_bad_campaign_command_lines_get_one_line_and_run_nothing(argv, fragment,
     assert line.startswith("soadyn campaign: error: ")
     assert fragment.replace("<SPEC>", str(spec)).replace("<OUT>", str(out)) in line
     assert not out.exists()  # nothing ran, nothing was written
+
+
+@pytest.mark.parametrize("content, fragment", [
+    (b"seed = 1\xff\xfe\n", "cannot read the spec: 'utf-8' codec can't decode byte 0xff"),
+    (b"seed = " + b"[" * 3000 + b"]" * 3000, "not valid TOML: arrays or tables nested more than the 256 levels"),
+    (b"".join(b"a%d." % k for k in range(300)) + b"b = 1", "not valid TOML: arrays or tables nested more than the 256"),
+    (b"seed = " + b"9" * 5000, "not valid TOML: Exceeds the limit (4300 digits)"),
+    (None, "cannot read the spec: not a regular file"),  # /dev/zero: a read that never ends
+])
+def test_hostile_spec_files_are_spec_errors(content, fragment, tmp_path):
+    path = tmp_path / "hostile.toml"
+    if content is None:
+        path = Path("/dev/zero")
+    else:
+        path.write_bytes(content)
+    with pytest.raises(SpecError) as error:
+        load_spec(path)
+    assert str(error.value).startswith(f"{path}: {fragment}")
+    assert error.value.problems == (str(error.value)[len(f"{path}: "):],)
 
 
 def test_the_example_is_package_data_and_reads_by_name():
@@ -289,4 +371,16 @@ def test_a_directory_of_other_files_is_refused_before_any_run(tmp_path):
     (tmp_path / "notes.txt").write_text("mine")
     with pytest.raises(ResultsDirectoryError, match="is not empty and holds no campaign"):
         run(spec_dict(), out=tmp_path, progress=False, verbose=False)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
+
+
+@pytest.mark.parametrize("out, fragment", [("/proc/x", "/proc/x: cannot be created ("),
+                                           ("<TMP>/notes.txt", "notes.txt: is a file, not a directory")])
+def test_a_results_directory_that_cannot_be_written_is_refused_before_any_run(out, fragment, tmp_path):
+    from soadyn.campaign import ResultsDirectoryError, run
+
+    (tmp_path / "notes.txt").write_text("mine")
+    with pytest.raises(ResultsDirectoryError) as error:
+        run(spec_dict(), out=out.replace("<TMP>", str(tmp_path)), progress=False, verbose=False)
+    assert fragment in str(error.value)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]

@@ -1,5 +1,6 @@
-"""The command line refuses every bad argument with one error line naming it
-(exit code 2, no traceback), and `--udp 0` announces the port it bound."""
+"""The command line refuses every bad argument, and every output path it could
+not write, with one error line naming it (exit code 2, no traceback) before any
+work, and `--udp 0` announces the port it bound."""
 import json
 import socket
 import subprocess
@@ -61,6 +62,36 @@ def test_plot_without_matplotlib_is_refused_before_the_run(monkeypatch, capsys, 
     assert line.endswith("argument --plot: plotting needs matplotlib: pip install 'soadyn[plot]'")
     line = refused(["demo", "--duration", "0.01", "--plot", str(tmp_path / "out.png")], capsys)
     assert "argument --plot: plotting needs matplotlib" in line
+
+
+@pytest.mark.parametrize("argv, line", [
+    (HIL + ["--report", "<TMP>/missing/out.json"],
+     "argument --report: <TMP>/missing/out.json: the directory <TMP>/missing does not exist"),
+    (HIL + ["--report", "<TMP>/file.txt/out.json"],
+     "argument --report: <TMP>/file.txt/out.json: <TMP>/file.txt is not a directory"),
+    (HIL + ["--plot", "<TMP>"], "argument --plot: <TMP>: is a directory"),
+    (HIL + ["--report", "/proc/out.json"], "argument --report: /proc/out.json: cannot be written ("),
+    (["demo", "--duration", "0.01", "--plot", "<TMP>/missing/x.png"],
+     "argument --plot: <TMP>/missing/x.png: the directory <TMP>/missing does not exist"),
+    (["campaign", "cassini-example", "--out", "/proc/x"], "argument --out: /proc/x: cannot be created ("),
+    (["campaign", "cassini-example", "--out", "<TMP>/file.txt"], "argument --out: <TMP>/file.txt: is a file, not a "
+                                                                 "directory"),
+    (["campaign", "cassini-example", "--out", "<TMP>/file.txt/out"],
+     "argument --out: <TMP>/file.txt/out: <TMP>/file.txt is not a directory"),
+    (["campaign", "report", "<TMP>", "--plots", "/proc/plots"], "argument --plots: /proc/plots: cannot be created ("),
+])
+def test_every_output_path_is_checked_before_any_work(argv, line, tmp_path, capsys):
+    (tmp_path / "file.txt").write_text("mine")
+    before = sorted(tmp_path.rglob("*"))
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main([a.replace("<TMP>", str(tmp_path)) for a in argv])
+    assert exit_info.value.code == 2
+    printed = capsys.readouterr()
+    assert printed.out == ""  # nothing ran: no scene described, no campaign started
+    assert "Traceback" not in printed.err and printed.err.count("error:") == 1
+    last = printed.err.strip().splitlines()[-1]
+    assert last.startswith(f"soadyn {argv[0]}: error: {line.replace('<TMP>', str(tmp_path))}")
+    assert sorted(tmp_path.rglob("*")) == before and (tmp_path / "file.txt").read_text() == "mine"
 
 
 @pytest.mark.parametrize("content, culprit", [

@@ -7,10 +7,13 @@ acceleration and force elements, through the velocity map qvel = T v (free joint
 world-frame linear velocity in MuJoCo, body-frame in soadyn), to 1e-9 relative. Sites
 become frames at MuJoCo's site poses. Mechanisms written here with equality connect and
 weld constraints agree with the KKT system assembled from MuJoCo's matrices and point
-Jacobians (mj_jac, mj_jacDot). Hostile input gives MjcfError naming the file or item.
+Jacobians (mj_jac, mj_jacDot). <option><flag> disable flags: a finger like dm_control's
+(gravity disabled) and its variants with springs and dampers disabled agree with MuJoCo
+with the same flags. Hostile input gives MjcfError naming the file or item.
 """
 from __future__ import annotations
 
+import itertools
 import os
 import warnings
 
@@ -19,6 +22,7 @@ import numpy as np
 import pytest
 
 import soadyn
+from soadyn.bounded_input import MAX_NESTING_DEPTH
 from soadyn.check import rigid_part
 from soadyn.mjcf import MjcfError, MjcfIgnoredWarning, load_mjcf_with_map
 from test_loops_mujoco import full_mass_matrix
@@ -245,3 +249,189 @@ def test_a_massless_leaf_is_refused_by_mujoco_or_named():
     xml = """<mujoco><worldbody><body name="a"><joint name="j" axis="0 0 1"/></body></worldbody></mujoco>"""
     with pytest.raises(MjcfError, match="MJCF string"):
         soadyn.load_mjcf(xml)
+
+
+# --- <option><flag> disable flags ------------------------------------------------------------------
+
+# dm_control's finger, as its suite writes it in essence: gravity disabled, damped hinges; here with springs too
+# (a `ref` and a `springref`) so that every honoured flag changes the forces.
+FINGER = """<mujoco model="finger"><compiler angle="degree"/><option timestep="0.01"><flag {flags}/></option>
+  <default><joint type="hinge" axis="0 -1 0" damping="0.05" stiffness="0.3" springref="20"/>
+    <geom type="capsule" size="0.03"/></default>
+  <worldbody>
+    <body name="proximal" pos="-0.2 0 0.4"><joint name="proximal" range="-110 110" ref="-90"/>
+      <geom name="proximal" fromto="0 0 0 0 0 -0.17" mass="0.05"/>
+      <body name="distal" pos="0 0 -0.18"><joint name="distal" range="-110 110"/>
+        <geom name="distal" fromto="0 0 0 0 0 -0.16" size="0.028" mass="0.04"/>
+        <site name="touchtop" pos="0 0 -0.16"/></body></body>
+    <body name="spinner" pos="0.2 0 0.4"><joint name="hinge" damping="0.5" stiffness="0"/>
+      <geom name="cap" fromto="0.1 0 0 -0.1 0 0" size="0.02" mass="0.1"/>
+      <geom name="tip" type="sphere" pos="0.1 0 0" size="0.03" mass="0.02"/></body>
+  </worldbody>
+  <actuator><motor name="proximal" joint="proximal" gear="1"/><motor name="distal" joint="distal" gear="1"/></actuator>
+</mujoco>"""
+
+
+def mujoco_joint_forces(mj, qpos, qvel) -> np.ndarray:
+    """qfrc_bias - qfrc_passive: what inverse dynamics at zero acceleration gives with springs and dampers."""
+    data = mujoco.MjData(mj)
+    data.qpos[:], data.qvel[:] = qpos, qvel
+    mujoco.mj_forward(mj, data)
+    return data.qfrc_bias - data.qfrc_passive
+
+
+@pytest.mark.parametrize("disabled", [("gravity",), ("spring",), ("damper",), ("spring", "damper"),
+                                      ("gravity", "spring", "damper")])
+def test_disable_flags_are_honoured_like_mujoco(disabled):
+    """dm_control's finger disables gravity: the model must have none, and a disabled spring or damper no
+    stiffness or damping; bias and passive forces then agree with MuJoCo's with the same flags, and differ
+    from the model without them."""
+    flags = " ".join(f'{flag}="disable"' for flag in disabled)
+    loaded = load_quietly(FINGER.format(flags=flags))
+    m, mj = loaded.model, loaded.mujoco_model
+    enabled = load_quietly(FINGER.format(flags="")).mujoco_model
+    assert np.array_equal(m.gravity, np.zeros(3)) == ("gravity" in disabled)
+    for element in soadyn.force_elements(m):
+        if "spring" in disabled:
+            assert element["stiffness"] == 0
+        if "damper" in disabled:
+            assert element["damping"] == 0
+    rng = np.random.default_rng(11)
+    for _ in range(4):
+        qpos, qvel = random_qpos(mj, rng), rng.normal(size=mj.nv)
+        q, v = loaded.soadyn_state(qpos, qvel)
+        expected = mujoco_joint_forces(mj, qpos, qvel)
+        assert relative(soadyn.inverse_dynamics(m, q, v, np.zeros(m.nv)), expected) < RTOL
+        assert relative(mujoco_joint_forces(enabled, qpos, qvel), expected) > 1e-3  # the flags matter here
+
+
+@pytest.mark.parametrize("flag", ["equality", "constraint"])
+def test_disabled_equalities_make_no_loops(flag):
+    """MuJoCo enforces no equality when equality or constraint is disabled: nor does the model."""
+    assert load_quietly(FOUR_BAR).model.nloops == 1
+    disabled = FOUR_BAR.replace("<worldbody>", f'<option><flag {flag}="disable"/></option><worldbody>', 1)
+    assert load_quietly(disabled).model.nloops == 0
+
+
+def test_other_disable_flags_are_reported_with_the_ignored_features():
+    xml = FINGER.format(flags='gravity="disable" contact="disable" warmstart="disable" limit="disable"')
+    with pytest.warns(MjcfIgnoredWarning) as record:
+        soadyn.load_mjcf(xml)
+    (message,) = [str(w.message) for w in record]
+    assert "3 disable flags without a soadyn counterpart (contact, limit, warmstart)" in message
+    assert "gravity" not in message and "2 actuators (proximal, distal)" in message
+
+
+# --- bounds ----------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("nesting", ["<x>", "<body>"])
+def test_xml_nested_deeper_than_the_bound_is_refused_naming_the_limit(nesting, tmp_path):
+    """100,000 nested elements: refused by name and limit before MuJoCo reads the file (its own parser stops
+    near 500 levels with a message that names no limit); 250 nested bodies still load."""
+    close = nesting.replace("<", "</")
+    path = tmp_path / "deep.xml"
+    path.write_text(f"<mujoco><worldbody>{nesting * 100_000}{close * 100_000}</worldbody></mujoco>")
+    with pytest.raises(MjcfError, match=f"nested more than {MAX_NESTING_DEPTH} elements deep") as error:
+        soadyn.load_mjcf(path)
+    assert str(path) in str(error.value)
+    with pytest.raises(MjcfError, match=f"MJCF string: <x> is nested more than {MAX_NESTING_DEPTH}"):
+        soadyn.load_mjcf("<mujoco>" + "<x>" * MAX_NESTING_DEPTH + "</x>" * MAX_NESTING_DEPTH + "</mujoco>")
+    chain = "<body><geom size='0.1'/><joint/>" * 250 + "</body>" * 250
+    assert load_quietly(f"<mujoco><worldbody>{chain}</worldbody></mujoco>").model.nv == 250
+
+
+# --- effort limits from actuators --------------------------------------------------------------------
+
+# One joint per case: a motor (gear 50, ctrlrange -1 1), a position servo with forcerange -3 2, one without
+# limits, two motors on a slide (one reversed, ctrl- and force-limited), a motor on a ball joint, a motor under
+# the joint's actuatorfrcrange, an actuatorfrcrange without actuator, and a joint pulled only through a tendon.
+ACTUATED = """<mujoco><option><flag {flags}/></option><worldbody>
+ <body name="a"><joint name="motor" axis="0 1 0"/><geom size="0.1" mass="1"/>
+  <body name="b" pos="0 0 -0.3"><joint name="servo" axis="0 1 0"/><geom size="0.1" mass="1"/>
+   <body name="c" pos="0 0 -0.3"><joint name="unlimited" axis="0 1 0"/><geom size="0.1" mass="1"/>
+    <body name="d" pos="0 0 -0.3"><joint name="slide" type="slide" axis="1 0 0"/><geom size="0.1" mass="1"/>
+     <body name="e" pos="0 0 -0.3"><joint name="ball" type="ball"/><geom size="0.1" mass="1"/>
+      <body name="f" pos="0 0 -0.3"><joint name="clamped" axis="1 0 0" actuatorfrcrange="-20 20"/>
+       <joint name="frc_only" axis="0 1 0" actuatorfrcrange="-0.5 0.7"/><joint name="tendon_only" axis="0 0 1"/>
+       <geom size="0.1" mass="1"/>
+ </body></body></body></body></body></body></worldbody>
+ <tendon><fixed name="pull"><joint joint="tendon_only" coef="1"/></fixed></tendon>
+ <actuator>
+  <motor name="motor" joint="motor" gear="50" ctrlrange="-1 1"/>
+  <position name="servo" joint="servo" kp="10" forcerange="-3 2"/>
+  <position name="unlimited" joint="unlimited" kp="10"/>
+  <motor name="slide_a" joint="slide" gear="2" ctrlrange="-1 1"/>
+  <motor name="slide_b" joint="slide" gear="-1.5" ctrlrange="-0.5 2" forcerange="-1 1"/>
+  <motor name="ball" joint="ball" gear="1 -2 3" ctrlrange="-1 1"/>
+  <motor name="clamped" joint="clamped" gear="50" ctrlrange="-1 1"/>
+  <motor name="pull" tendon="pull" ctrlrange="-1 1"/>
+ </actuator></mujoco>"""
+
+INF = np.inf
+EFFORT_LIMITS = {  # slide: motors in [-2, 2] and -1.5 * [-0.5, 1] (ctrl clamped, then force): [-3.5, 2.75]
+    "": {"motor": 50.0, "servo": 3.0, "unlimited": INF, "slide": 3.5, "ball:wx": 1.0, "ball:wy": 2.0,
+         "ball:wz": 3.0, "clamped": 20.0, "frc_only": 0.7, "tendon_only": INF},
+    # MuJoCo no longer clamps ctrl: only forcerange and actuatorfrcrange bound the forces
+    'clampctrl="disable"': {"motor": INF, "servo": 3.0, "unlimited": INF, "slide": INF, "ball:wx": INF,
+                            "ball:wy": INF, "ball:wz": INF, "clamped": 20.0, "frc_only": 0.7,
+                            "tendon_only": INF},
+}
+
+
+def mujoco_largest_joint_forces(mj, actuators) -> np.ndarray:
+    """Per MuJoCo DOF, the largest |qfrc_actuator| over every corner of ctrl = +-1e6 on `actuators` (the
+    others at 0), at qpos0 and rest: MuJoCo clamps ctrl, actuator forces and joint totals where the file says,
+    and each force is monotonic in its ctrl, so a bounded DOF reaches its bound at a corner."""
+    data = mujoco.MjData(mj)
+    largest = np.zeros(mj.nv)
+    for signs in itertools.product((-1e6, 1e6), repeat=len(actuators)):
+        data.ctrl[:] = 0.0
+        data.ctrl[actuators] = signs
+        mujoco.mj_forward(mj, data)
+        largest = np.maximum(largest, np.abs(data.qfrc_actuator))
+    return largest
+
+
+@pytest.mark.parametrize("flags", sorted(EFFORT_LIMITS))
+def test_actuators_give_effort_limits_that_mujoco_reaches(flags, tmp_path):
+    """Each DOF's effort limit is the largest actuator force MuJoCo applies to it: reached at a corner of the
+    controls where finite, beyond 1e6 where there is none. Checked against the compiled arrays too (the motor's
+    gear times ctrlrange, the servo's forcerange, the bare joint's actuatorfrcrange); model files keep them."""
+    with pytest.warns(MjcfIgnoredWarning) as record:
+        loaded = load_mjcf_with_map(ACTUATED.format(flags=flags))
+    (message,) = [str(w.message) for w in record]
+    assert "1 actuators not on a hinge, slide or ball joint, giving no effort limit (pull)" in message
+    m, mj = loaded.model, loaded.mujoco_model
+    limits = dict(zip(m.dof_names, m.effort_limits))
+    assert limits == EFFORT_LIMITS[flags]
+    assert np.array_equal(loaded.velocity_map(soadyn.neutral_configuration(m)), np.eye(m.nv))  # MuJoCo's DOF order
+    on_joints = [k for k in range(mj.nu) if mj.actuator_trntype[k] == mujoco.mjtTrn.mjTRN_JOINT]
+    largest = mujoco_largest_joint_forces(mj, on_joints)
+    actuated = np.array([not name.startswith(("frc_only", "tendon_only")) for name in m.dof_names])
+    finite = np.isfinite(m.effort_limits)
+    np.testing.assert_allclose(largest[finite & actuated], m.effort_limits[finite & actuated], rtol=1e-12)
+    assert np.all(largest[~finite & actuated] >= 1e6)
+    motor, servo = (mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_ACTUATOR, name) for name in ("motor", "servo"))
+    assert limits["frc_only"] == np.abs(mj.jnt_actfrcrange[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_JOINT,
+                                                                             "frc_only")]).max()
+    assert limits["servo"] == np.abs(mj.actuator_forcerange[servo]).max()
+    if not flags:
+        assert limits["motor"] == mj.actuator_gear[motor, 0] * np.abs(mj.actuator_ctrlrange[motor]).max()
+    soadyn.save_model(m, tmp_path / "actuated.json")
+    assert np.array_equal(soadyn.load_model(tmp_path / "actuated.json").effort_limits, m.effort_limits)
+
+
+def test_actuators_giving_no_effort_limit_are_named():
+    """A motor on a free joint (its force is in MuJoCo's world frame, soadyn's DOFs in the body's) and one whose
+    gear is zero give no limit: both named, with the joint whose actuators apply no force."""
+    xml = """<mujoco><worldbody><body name="base"><freejoint name="float"/><geom size="0.1" mass="1"/>
+      <body name="arm" pos="0 0 -0.3"><joint name="idle" axis="0 1 0"/><geom size="0.1" mass="1"/></body></body>
+      </worldbody><actuator><motor name="thrust" joint="float" gear="0 0 1 0 0 0" ctrlrange="-1 1"/>
+      <motor name="geared_off" joint="idle" gear="0" ctrlrange="-1 1"/></actuator></mujoco>"""
+    with pytest.warns(MjcfIgnoredWarning) as record:
+        m = soadyn.load_mjcf(xml)
+    message = str(record[0].message)
+    assert "1 actuators not on a hinge, slide or ball joint, giving no effort limit (thrust)" in message
+    assert "1 joints whose actuators can apply no force, given no effort limit (idle)" in message
+    assert "2 actuators (thrust, geared_off)" in message
+    assert np.all(m.effort_limits == np.inf)

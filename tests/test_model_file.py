@@ -4,7 +4,9 @@ A saved and reloaded model must be the same model: the same text when saved
 again, dynamics equal bit for bit, the same names, flags, force elements,
 loops and visuals. A robot loaded from URDF and passed through a model file
 still matches Pinocchio reading the URDF itself. Hostile files give a
-ModelFileError naming the file and the item at fault.
+ModelFileError naming the file and the item at fault; so does a file nested
+deeper than the bound (soadyn.bounded_input), at any depth, in the Python
+reader and in the C++ one alike.
 """
 from __future__ import annotations
 
@@ -18,8 +20,10 @@ import numpy as np
 import pytest
 
 import soadyn
+from soadyn.bounded_input import MAX_NESTING_DEPTH, json_depth
 from soadyn.model_file import model_from_json, model_to_json
 from robots import robot_with_oracle
+from support.forked import run_forked
 from trees import JOINT_KINDS, random_state, random_tree
 
 
@@ -215,3 +219,72 @@ def test_loaded_model_simulates_like_the_original():
         sim.set_state(q, v)
         runs.append(sim.run(0.2).q)
     assert np.array_equal(runs[0], runs[1])
+
+
+# --- bounds: nesting depth and size (soadyn.bounded_input) ---------------------------------------------------
+
+def nested_model_file(depth: int) -> str:
+    """The four-bar's model-file text with metadata that nests the file `depth` levels deep (the file's object
+    is level 1, its description 2, the metadata 3, the arrays in it 4 and on)."""
+    text = model_to_json(soadyn.scenes.four_bar(), metadata={"deep": "@@"})
+    return text.replace('"@@"', "[" * (depth - 3) + "]" * (depth - 3))
+
+
+def test_model_file_nested_to_the_limit_loads_and_one_level_more_is_refused(tmp_path):
+    path = tmp_path / "deepest.json"
+    path.write_text(nested_model_file(MAX_NESTING_DEPTH))
+    assert json_depth(path.read_text()) == MAX_NESTING_DEPTH
+    metadata = soadyn.model_file.metadata(soadyn.load_model(path))
+    assert json_depth(json.dumps(metadata)) == MAX_NESTING_DEPTH - 2
+    path.write_text(nested_model_file(MAX_NESTING_DEPTH + 1))
+    with pytest.raises(soadyn.ModelFileError, match=f"JSON nested {MAX_NESTING_DEPTH + 1} levels deep, more than "
+                                                    f"the {MAX_NESTING_DEPTH} levels") as error:
+        soadyn.load_model(path)
+    assert str(path) in str(error.value)
+
+
+def refused_as_too_deep(load, source: str):
+    """A forked case: load() must raise ModelFileError naming `source` and the depth limit."""
+    def run_case(seed: int) -> str:
+        try:
+            load()
+        except soadyn.ModelFileError as error:
+            assert source in str(error) and str(MAX_NESTING_DEPTH) in str(error), str(error)
+            return "ModelFileError"
+        raise AssertionError("a model file nested too deeply was loaded")
+    return run_case
+
+
+@pytest.mark.parametrize("depth", [10_000, 200_000])
+def test_deeply_nested_model_file_is_refused_without_crashing(depth, tmp_path):
+    """Once a RecursionError (10,000 levels) and a SIGSEGV (200,000 levels): run in a child process, so a
+    crash fails this test instead of ending the run."""
+    path = tmp_path / "deep.json"
+    path.write_text(nested_model_file(depth))
+    assert run_forked(refused_as_too_deep(lambda: soadyn.load_model(path), str(path)), 0, timeout=60) == "expected"
+
+
+@pytest.mark.parametrize("depth", [MAX_NESTING_DEPTH + 1, 10_000, 200_000])
+def test_cpp_model_reader_bounds_nesting_itself(depth):
+    """The C++ reader (what C++ programs and campaign workers call) refuses the same depths as the Python
+    check in front of it, by name and limit, without crashing (it once died of SIGSEGV at 200,000 levels)."""
+    text = nested_model_file(depth)
+    load = refused_as_too_deep(lambda: soadyn.Model()._load_json(text, "deep.json"), "deep.json")
+    assert run_forked(load, 0, timeout=60) == "expected"
+
+
+def deep_metadata(levels: int) -> dict:
+    metadata: dict = {}
+    for _ in range(levels - 1):
+        metadata = {"a": metadata}
+    return metadata
+
+
+@pytest.mark.parametrize("levels", [MAX_NESTING_DEPTH - 1, 100_000])
+def test_metadata_too_deep_for_a_reader_is_refused_when_saved(levels, tmp_path):
+    """Metadata is the one part of a model file a caller nests: a file a reader would refuse is never written."""
+    soadyn.save_model(soadyn.scenes.four_bar(), tmp_path / "ok.json", metadata=deep_metadata(MAX_NESTING_DEPTH - 2))
+    assert soadyn.load_model(tmp_path / "ok.json").nbodies == 3
+    with pytest.raises(soadyn.ModelFileError, match=f"metadata .*more than the {MAX_NESTING_DEPTH} levels") as error:
+        soadyn.save_model(soadyn.scenes.four_bar(), tmp_path / "deep.json", metadata=deep_metadata(levels))
+    assert "deep.json" in str(error.value) and not (tmp_path / "deep.json").exists()

@@ -334,7 +334,7 @@ def test_not_converging_names_the_dof():
     (dict(q0=[0.1, 0.2], tol=-1e-9), ValueError, "tol must be positive"),
     (dict(q0=[0.1, 0.2], tol=math.inf), ValueError, "tol must be positive"),
     (dict(q0=[0.1, 0.2], max_iterations=0), ValueError, "max_iterations"),
-    (dict(q0=[0.1]), ValueError, "q0 has 1 entries, expected nq = 2"),
+    (dict(q0=[0.1]), ValueError, r"q0 has shape \(1,\), expected \(2,\) \(nq\)"),
 ])
 def test_bad_arguments_are_refused(kwargs, error, message):
     m, _ = double_pendulum()

@@ -1,21 +1,29 @@
 """URDF loading: the mapping on small files, and bad files refused by name."""
+import warnings
+
 import numpy as np
 import pytest
 
 import soadyn
+from soadyn.bounded_input import MAX_NESTING_DEPTH
+from soadyn.urdf import UrdfIgnoredWarning
 
 LINK = """<link name="{name}"><inertial><origin xyz="{com}" rpy="{rpy}"/><mass value="{mass}"/>
 <inertia ixx="{ixx}" ixy="0" ixz="0" iyy="{iyy}" iyz="0" izz="{izz}"/></inertial></link>"""
 JOINT = """<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>
-<origin xyz="{xyz}" rpy="{rpy}"/><axis xyz="{axis}"/></joint>"""
+<origin xyz="{xyz}" rpy="{rpy}"/><axis xyz="{axis}"/>{extra}</joint>"""
 
 
 def link(name, mass=1.0, com="0 0 0.1", rpy="0 0 0", ixx=0.01, iyy=0.01, izz=0.01):
     return LINK.format(name=name, mass=mass, com=com, rpy=rpy, ixx=ixx, iyy=iyy, izz=izz)
 
 
-def joint(name, parent, child, kind="revolute", xyz="0 0 0.5", rpy="0 0 0", axis="0 1 0"):
-    return JOINT.format(name=name, kind=kind, parent=parent, child=child, xyz=xyz, rpy=rpy, axis=axis)
+def joint(name, parent, child, kind="revolute", xyz="0 0 0.5", rpy="0 0 0", axis="0 1 0", extra=""):
+    return JOINT.format(name=name, kind=kind, parent=parent, child=child, xyz=xyz, rpy=rpy, axis=axis, extra=extra)
+
+
+def limit(effort):
+    return f'<limit lower="-1" upper="1" effort="{effort}" velocity="2"/>'
 
 
 def write(tmp_path, *elements, name="robot.urdf"):
@@ -106,6 +114,18 @@ def test_links_welded_under_a_planar_joint_keep_their_place_in_the_link_frame(tm
         ((link("base"), link("arm"), "<joint name='j'><parent link='base'/><child link='arm'/></joint>"), r"joint 'j': <joint> has no 'type' attribute"),
         ((link("base"), link("arm"), "<joint type='fixed'><parent link='base'/><child link='arm'/></joint>"), r"joint number 1: <joint> has no name"),
         ((), r"the robot has no <link>"),
+        ((link("base"), link("arm"), joint("j", "base", "arm", extra=limit(-5))),
+         r"joint 'j': <limit> effort=-5.0 must be non-negative"),
+        ((link("base"), link("arm"), joint("j", "base", "arm", extra=limit("nan"))),
+         r"joint 'j' <limit>: <limit effort='nan'> is not finite"),
+        ((link("base"), link("arm"), joint("j", "base", "arm", extra=limit("inf"))),
+         r"joint 'j' <limit>: <limit effort='inf'> is not finite"),
+        ((link("base"), link("arm"), joint("j", "base", "arm", extra=limit("strong"))),
+         r"joint 'j' <limit>: <limit effort='strong'> is not a number"),
+        ((link("base"), link("arm"), joint("j", "base", "arm", extra=limit(1) + limit(2))),
+         r"joint 'j': 2 <limit> elements, expected one"),
+        ((link("base"), link("arm"), joint("weld", "base", "arm", kind="fixed", extra=limit(-1))),
+         r"joint 'weld': <limit> effort=-1.0 must be non-negative"),
     ],
 )
 def test_bad_urdf_names_the_element(tmp_path, elements, message):
@@ -164,3 +184,59 @@ def test_load_urdf_arguments_are_checked(tmp_path):
 def test_missing_file(tmp_path):
     with pytest.raises(FileNotFoundError, match="nowhere.urdf"):
         soadyn.load_urdf(tmp_path / "nowhere.urdf")
+
+
+@pytest.mark.parametrize("where", ["link", "visual geometry"])
+def test_xml_nested_deeper_than_the_bound_is_refused_naming_the_limit(tmp_path, where):
+    """100,000 nested elements inside a link or a visual's geometry: a UrdfError naming the file and the
+    limit, not a tree of 100,000 levels for the readers to walk."""
+    deep = "<x>" * 100_000 + "</x>" * 100_000
+    inside = deep if where == "link" else f"<visual><geometry>{deep}</geometry></visual>"
+    path = write(tmp_path, link("base"), f'<link name="deep">{inside}</link>')
+    with pytest.raises(soadyn.UrdfError, match=f"nested more than {MAX_NESTING_DEPTH} elements deep") as error:
+        soadyn.load_urdf(path)
+    assert str(path) in str(error.value)
+    shallow = "<x>" * (MAX_NESTING_DEPTH - 2) + "</x>" * (MAX_NESTING_DEPTH - 2)  # under <robot><link>: at the limit
+    assert soadyn.load_urdf(write(tmp_path, link("base"), f"<link name='s'>{shallow}</link>",
+                                  joint("j", "base", "s", kind="fixed"))).frame_names == ["base", "s"]
+
+
+def effort_limits(m) -> dict:
+    return dict(zip(m.dof_names, m.effort_limits))
+
+
+def test_limit_effort_gives_the_dofs_effort_limits(tmp_path):
+    """<limit effort> of revolute, continuous and prismatic joints (a mimic one too) becomes the DOF's effort
+    limit; effort 0 and a missing <limit> or effort set none, nor does a fixed joint's effort. Model files and
+    URDF export keep them."""
+    links = [link(name) for name in ("base", "a", "b", "c", "d", "e", "f", "g", "tool")]
+    joints = [joint("revolute", "base", "a", extra=limit(87)),
+              joint("continuous", "a", "b", kind="continuous", extra='<limit effort="12.5" velocity="1"/>'),
+              joint("slide", "b", "c", kind="prismatic", axis="0 0 1", extra=limit("2e3")),
+              joint("passive", "c", "d", extra=limit(0)),
+              joint("unlimited", "d", "e", kind="prismatic", axis="1 0 0"),
+              joint("no_effort", "e", "f", extra='<limit lower="-1" upper="1" velocity="1"/>'),
+              joint("mimic", "f", "g", extra=limit(3) + '<mimic joint="revolute" multiplier="2"/>'),
+              joint("weld", "g", "tool", kind="fixed", extra=limit(40))]
+    path = write(tmp_path, *links, *joints)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m = soadyn.load_urdf(path)
+    expected = {"revolute": 87.0, "continuous": 12.5, "slide": 2000.0, "mimic": 3.0}
+    assert m.dof_names == ["revolute", "continuous", "slide", "passive", "unlimited", "no_effort", "mimic"]
+    assert effort_limits(m) == {dof: expected.get(dof, np.inf) for dof in m.dof_names}
+    soadyn.save_model(m, tmp_path / "model.json")
+    assert effort_limits(soadyn.load_model(tmp_path / "model.json")) == effort_limits(m)
+    soadyn.save_urdf(m, tmp_path / "exported.urdf")
+    assert effort_limits(soadyn.load_urdf(tmp_path / "exported.urdf")) == effort_limits(m)
+
+
+def test_planar_joint_effort_is_reported_not_set(tmp_path):
+    """One number cannot bound a planar joint's two forces and one torque: no limit, one warning naming it."""
+    path = write(tmp_path, link("base"), link("puck"),
+                 joint("plane", "base", "puck", kind="planar", axis="0 0 1", extra=limit(9)))
+    with pytest.warns(UrdfIgnoredWarning,
+                      match=r"effort limits not modelled, ignored: 'plane' \(effort 9 on a planar joint\)") as record:
+        m = soadyn.load_urdf(path)
+    assert len(record) == 1 and str(path) in str(record[0].message)
+    assert m.nv == 3 and np.all(m.effort_limits == np.inf)

@@ -105,3 +105,52 @@ def test_what_urdf_cannot_hold_is_refused_or_named(tmp_path):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UrdfExportWarning)
             save_urdf(four_bar, tmp_path / "no_dir" / "f.urdf")
+
+
+def named_chain(body: str, joint: str, frame: str) -> soadyn.Model:
+    m = soadyn.Model()
+    m.add_body(body, None, soadyn.Joint.revolute([0, 0, 1], name=joint), mass=1.0, com=[0.1, 0, 0],
+               inertia=[0.1, 0.2, 0.3])
+    m.add_body("arm", body, soadyn.Joint.prismatic([1, 0, 0], name="slide"), placement=np.array([0.0, 0.0, 0.5]),
+               mass=0.5, com=[0, 0.1, 0], inertia=[0.1, 0.1, 0.1])
+    m.add_body(frame, "arm", soadyn.Joint.fixed(), placement=np.array([0.2, 0.0, 0.0]))
+    return m
+
+
+# Characters XML escapes (quotes, <, >, &, newline, tab, carriage return), leading spaces, and unicode beyond
+# the basic plane: written escaped, read back unchanged.
+ESCAPED_NAMES = ["q\"uo'te", "<tag>&amp;", "line\nbreak\ttab\rreturn", "  spaced  ", "\u00fcn\u00efc\u00f6de \u2603",
+                 "\U0001f916 robot", "del\x7f and \x85"]
+
+
+@pytest.mark.parametrize("name", ESCAPED_NAMES)
+def test_names_xml_escapes_round_trip(name, tmp_path):
+    m = named_chain(f"body {name}", f"joint {name}", f"frame {name}")
+    m.visuals = [soadyn.Visual(f"visual {name}", f"body {name}", "mesh", mesh_file=f"meshes/{name}.stl")]
+    save_urdf(m, tmp_path / "names.urdf", robot_name=name)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the mesh file does not exist: drawn as axes
+        loaded = soadyn.load_urdf(tmp_path / "names.urdf")
+    assert loaded.body_names == m.body_names and loaded.dof_names == m.dof_names
+    assert loaded.frame_names == m.frame_names
+    (visual,) = loaded.visuals
+    assert visual.name == f"visual {name}" and visual.mesh_file == f"meshes/{name}.stl"
+    assert ET.parse(tmp_path / "names.urdf").getroot().get("name") == name
+
+
+@pytest.mark.parametrize("bad", ["\x00", "\x01", "\x1f", "\ufffe", "\uffff"])
+@pytest.mark.parametrize("item", ["body", "joint", "frame", "visual", "mesh file", "robot name"])
+def test_names_xml_cannot_hold_are_refused_naming_the_item(bad, item, tmp_path):
+    """NUL and the other characters XML 1.0 forbids have no escape: refused by name, never a file no reader
+    reads."""
+    names = {key: key.replace(" ", "_") for key in ("body", "joint", "frame", "visual", "mesh file", "robot name")}
+    names[item] = f"{names[item]}{bad}name"
+    m = named_chain(names["body"], names["joint"], names["frame"])
+    m.visuals = [soadyn.Visual(names["visual"], names["body"], "mesh", mesh_file=names["mesh file"])]
+    path = tmp_path / "bad.urdf"
+    with pytest.raises(soadyn.UrdfError) as error:
+        save_urdf(m, path, robot_name=names["robot name"])
+    message = str(error.value)
+    assert str(path) in message and f"{item} {names[item]!r}" in message
+    assert f"U+{ord(bad):04X}, a character XML 1.0 cannot hold" in message
+    assert not path.exists()

@@ -4,20 +4,23 @@ Each file that loads under the default inertia="strict" is compared with
 Pinocchio's own model of it (pin.buildModelFromUrdf, with
 pin.JointModelFreeFlyer() for a floating base; DOFs matched by name): mass
 matrix, inverse dynamics (RNEA) and forward dynamics (ABA) within 1e-9
-relative. A DOF whose whole subtree is massless has no inertia to
-accelerate: it is prescribed, and the other DOFs' accelerations are compared
-with the partitioned solve of Pinocchio's M and RNEA (Jain & Rodriguez's
-hybrid problem). The refused files are listed with their reason; they load
-with inertia="accept" (compared with Pinocchio, which keeps a file's values
-too) and with inertia="repair" (warnings naming the links).
+relative, and every DOF's effort limit is its joint's <limit effort> as
+xml.etree reads the file (none where 0 or absent). A DOF whose whole
+subtree is massless has no inertia to accelerate: it is prescribed, and the
+other DOFs' accelerations are compared with the partitioned solve of
+Pinocchio's M and RNEA (Jain & Rodriguez's hybrid problem). The refused
+files are listed with their reason; they load with inertia="accept"
+(compared with Pinocchio, which keeps a file's values too) and with
+inertia="repair" (warnings naming the links).
 """
 import warnings
+from xml.etree import ElementTree
 
 import numpy as np
 import pytest
 
 import soadyn
-from robots import robots_dir
+from robots import robot, robots_dir
 from soadyn.check import relative_difference
 from soadyn.oracles import PinocchioOracle
 from soadyn.urdf import UrdfRepairWarning
@@ -33,6 +36,23 @@ REFUSED = {
     "romeo_description/urdf/romeo_laas_small.urdf": ("triangle inequality|not positive semidefinite", True),
     "ur_description/urdf/ur3.urdf": ("the robot has no <link>", False),  # an empty <robot/>
 }
+
+
+def file_effort_limits(path) -> dict:
+    """{joint name: <limit effort>} of the file's revolute, continuous and prismatic joints, read here with
+    xml.etree; inf where <limit>, its effort or its value is missing or 0 (URDF: no limit known)."""
+    efforts = {}
+    for joint in ElementTree.parse(path).getroot().findall("joint"):
+        if joint.get("type") in ("revolute", "continuous", "prismatic"):
+            effort = float(joint.find("limit").get("effort", 0)) if joint.find("limit") is not None else 0.0
+            efforts[joint.get("name")] = effort if effort > 0 else np.inf
+    return efforts
+
+
+def assert_effort_limits_from_file(model, path) -> None:
+    efforts = file_effort_limits(path)
+    assert set(efforts) <= set(model.dof_names)
+    assert dict(zip(model.dof_names, model.effort_limits)) == {dof: efforts.get(dof, np.inf) for dof in model.dof_names}
 
 
 def massless_subtree_dofs(model) -> np.ndarray:
@@ -158,7 +178,21 @@ def test_example_robot_data_against_pinocchio(relative, floating):
         with warnings.catch_warnings():
             warnings.simplefilter("error")
             model = soadyn.load_urdf(path, floating_base=floating)
+    assert_effort_limits_from_file(model, path)
     assert compare_with_pinocchio(model, path, floating) <= TOLERANCE
+
+
+@pytest.mark.parametrize("name, some", [("ur5", {"shoulder_pan_joint": 150.0, "wrist_3_joint": 28.0}),
+                                        ("panda", {"panda_joint1": 87.0, "panda_joint7": 12.0,
+                                                   "panda_finger_joint2": 100.0})])
+def test_arm_effort_limits_are_the_files(name, some):
+    """Every moving joint of these arms has a <limit effort>: every DOF has a finite effort limit, the file's
+    (the makers' ratings, in N m and N)."""
+    path, floating = robot(name)
+    model = soadyn.load_urdf(path, floating_base=floating)
+    assert_effort_limits_from_file(model, path)
+    limits = dict(zip(model.dof_names, model.effort_limits))
+    assert np.all(np.isfinite(model.effort_limits)) and {dof: limits[dof] for dof in some} == some
 
 
 def test_backward_error_sees_a_wrong_model():

@@ -9,6 +9,7 @@ namespace soadyn {
   template S force_element_potential<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&);                   \
   template S force_element_dissipation<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&,                  \
                                           const ConstVecRef<S>&);                                                  \
+  template int force_element_at_fault<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, const S*);      \
   template void evaluate_force_elements<S>(const ModelTpl<S>&, DataTpl<S>&, const S*, const S*, const S*);
 SOADYN_INSTANTIATE(double)
 SOADYN_INSTANTIATE(float)

@@ -45,8 +45,10 @@ EquilibriumSensitivity::EquilibriumSensitivity(const Model& m, const ConstVecRef
     J.col(r).tail(ne) = f.jacobian.col(free_[r]);
     J.row(r).tail(ne) = -f.jacobian.col(free_[r]).transpose();
   }
-  f.newton.compute(J);
-  f.newton_transposed.compute(J.transpose());
+  if (J.size() > 0) {  // every DOF held and no loop: nothing to solve (Eigen's factorisations need a matrix)
+    f.newton.compute(J);
+    f.newton_transposed.compute(J.transpose());
+  }
   adjoint_.setZero(nf + ne);
 }
 
@@ -75,7 +77,7 @@ Status EquilibriumSensitivity::direct(const Model& m, const ParameterTable<doubl
   const Eigen::Index nf = static_cast<Eigen::Index>(free_.size()), ne = m.nloop_equations, n = static_force_.cols();
   MatX<double> rhs = MatX<double>::Zero(nf + ne, n);  // -[dG_f/dp; 0]
   for (Eigen::Index r = 0; r < nf; ++r) rhs.row(r) = -static_force_.row(free_[r]);
-  const MatX<double> x = f.newton.solve(rhs);  // the minimum-norm solution
+  const MatX<double> x = rhs.rows() > 0 ? MatX<double>(f.newton.solve(rhs)) : rhs;  // the minimum-norm solution
   dq.setZero();
   for (Eigen::Index r = 0; r < nf; ++r) dq.row(free_[r]) = x.row(r);
   dnu = x.bottomRows(ne);
@@ -94,7 +96,7 @@ void EquilibriumSensitivity::set_objective(const ConstVecRef<double>& dphi_dq, c
   VecX<double> g = VecX<double>::Zero(nf + ne);
   for (Eigen::Index r = 0; r < nf; ++r) g[r] = dphi_dq[free_[r]];
   if (dphi_dnu.size() == ne) g.tail(ne) = dphi_dnu;
-  adjoint_ = factors_->newton_transposed.solve(g);
+  adjoint_ = g.size() > 0 ? VecX<double>(factors_->newton_transposed.solve(g)) : g;
 }
 
 Status EquilibriumSensitivity::objective_gradient(const Model& m, const ParameterTable<double>& table, int k,

@@ -92,6 +92,7 @@ HilRunner::HilRunner(Simulator& sim, double rate_hz, std::int64_t steps, UdpLink
   lateness_ns_.assign(static_cast<std::size_t>(steps), 0);
   median_sample_.assign(median_sample_size, 0);
   limits_.set_limits(default_command_limits(sim.model(), sim.q()));
+  sim.set_divergence_guard(true);  // on in every HIL run (sim/divergence_guard.hpp); the caller may turn it off
 }
 
 // Finishes run()'s bookkeeping on every way out, an exception from the

@@ -13,7 +13,7 @@ namespace soadyn {
                                          const ConstVecRef<S>&, const ConstVecRef<S>&, const S*, const S*);   \
   template Status detail::constrained_solve<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&);      \
   template Status assemble_loops<S>(const ModelTpl<S>&, DataTpl<S>&, VecRef<S>, const ConstVecRef<S>&, S, int,  \
-                                    int*);                                                                      \
+                                    int*, const Interrupt*);                                                                   \
   template Status project_loop_velocity<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, VecRef<S>,   \
                                            const ConstVecRef<S>&);                                              \
   template std::vector<int> independent_coordinates<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&); \

@@ -97,7 +97,8 @@ std::string parent_name(const Model& m, int i) {
 
 bool physical(const Model& m, std::size_t i) {
   try {
-    detail::check_physical_inertia(m.mass[i], m.com[i], m.inertia_com[i], m.body_names[i]);
+    detail::check_physical_inertia(m.mass[i], m.inertia_com[i], detail::inertia_scale(m.mass[i], m.inertia_com[i]),
+                                   m.body_names[i]);
     return true;
   } catch (const NonphysicalInertiaError&) {
     return false;
@@ -394,10 +395,27 @@ void add_force_elements_from(Model& m, const Item& joint_springs, const Item& po
   }
 }
 
+// {DOF name: value} of `item` through `set` (Model::set_armature, ...); an
+// unknown DOF or a value `set` refuses fails naming the entry.
+void read_dof_values(Model& m, const Item& item, void (Model::*set)(int, double)) {
+  if (!item.value.is_object()) item.fail("expected an object");
+  for (const auto& [name, _] : item.value.items()) {
+    const Item value = item.at(name);
+    const int dof = m.dof_index(name);
+    if (dof < 0) value.fail("unknown DOF '" + name + "'");
+    try {
+      (m.*set)(dof, value.number());
+    } catch (const std::invalid_argument& e) {
+      if (dynamic_cast<const ModelFileError*>(&e)) throw;
+      value.fail(e.what());
+    }
+  }
+}
+
 Model model_from(const json& root, const std::string& source) {
   const Item top{root, "", source};
   top.only({"format", "version", "gravity", "bodies", "frames", "loops", "joint_springs", "point_springs",
-            "prescribed", "armature", "description"});
+            "prescribed", "armature", "effort_limits", "description"});
   if (top.at("format").text() != "soadyn-model") top.at("format").fail("expected \"soadyn-model\"");
   const int version = top.at("version").integer();
   if (version < 1 || version > model_file_version)
@@ -420,19 +438,8 @@ Model model_from(const json& root, const std::string& source) {
     if (m.is_modal(dof)) prescribed.at(k).fail("a modal DOF cannot be prescribed");
     m.set_prescribed(dof, true);
   }
-  const Item armature = top.at("armature");
-  if (!armature.value.is_object()) armature.fail("expected an object");
-  for (const auto& [name, _] : armature.value.items()) {
-    const Item value = armature.at(name);
-    const int dof = m.dof_index(name);
-    if (dof < 0) value.fail("unknown DOF '" + name + "'");
-    try {
-      m.set_armature(dof, value.number());
-    } catch (const std::invalid_argument& e) {
-      if (dynamic_cast<const ModelFileError*>(&e)) throw;
-      value.fail(e.what());
-    }
-  }
+  read_dof_values(m, top.at("armature"), &Model::set_armature);
+  if (root.contains("effort_limits")) read_dof_values(m, top.at("effort_limits"), &Model::set_effort_limit);
   const Item description = top.at("description");
   if (!description.value.is_object()) description.fail("expected an object");
   m.description = description.value.dump();
@@ -494,28 +501,44 @@ std::string model_to_json(const Model& m) {
                          {"length", l.length}});
   }
   const json joint_springs = force_elements_json(m, point_springs);
-  json prescribed = json::array(), armature = json::object();
+  json prescribed = json::array(), armature = json::object(), effort_limits = json::object();
   for (int k = 0; k < m.nv; ++k) {
-    if (m.is_prescribed(k)) prescribed.push_back(m.dof_names[static_cast<std::size_t>(k)]);
-    if (m.armature[static_cast<std::size_t>(k)] != 0.0)
-      armature[m.dof_names[static_cast<std::size_t>(k)]] = m.armature[static_cast<std::size_t>(k)];
+    const std::size_t d = static_cast<std::size_t>(k);
+    if (m.is_prescribed(k)) prescribed.push_back(m.dof_names[d]);
+    if (m.armature[d] != 0.0) armature[m.dof_names[d]] = m.armature[d];
+    if (std::isfinite(m.effort_limit[d])) effort_limits[m.dof_names[d]] = m.effort_limit[d];
   }
   json description = json::parse(m.description.empty() ? std::string("{}") : m.description, nullptr, false);
   if (description.is_discarded() || !description.is_object())
     throw ModelFileError("the model's description is not a JSON object");
-  const json root{{"format", "soadyn-model"}, {"version", model_file_version}, {"gravity", vector_json(m.gravity)},
-                  {"bodies", bodies},         {"frames", frames},            {"loops", loops},
-                  {"joint_springs", joint_springs}, {"point_springs", point_springs},
-                  {"prescribed", prescribed}, {"armature", armature},        {"description", description}};
+  json root{{"format", "soadyn-model"}, {"version", model_file_version}, {"gravity", vector_json(m.gravity)},
+            {"bodies", bodies},         {"frames", frames},            {"loops", loops},
+            {"joint_springs", joint_springs}, {"point_springs", point_springs},
+            {"prescribed", prescribed}, {"armature", armature}};
+  if (!effort_limits.empty()) root["effort_limits"] = effort_limits;  // optional: files without limits read anywhere
+  root["description"] = description;
   std::string text;
   write_layout(root, 0, text);
   return text;
 }
 
 Model model_from_json(const std::string& text, const std::string& source) {
+  if (text.size() > model_file_max_bytes)
+    throw ModelFileError(source + ": " + std::to_string(text.size()) + " bytes, more than the limit of " +
+                         std::to_string(model_file_max_bytes) + " bytes of a model file");
+  // The parser calls back as each array or object opens with the number of
+  // those around it (0 for the outermost); the (max + 1)-th level stops it
+  // before the tree is built (model_file_max_depth).
+  const json::parser_callback_t bounded_depth = [&](int depth, json::parse_event_t event, json&) {
+    const bool opens = event == json::parse_event_t::object_start || event == json::parse_event_t::array_start;
+    if (opens && depth >= model_file_max_depth)
+      throw ModelFileError(source + ": JSON nested deeper than the limit of " + std::to_string(model_file_max_depth) +
+                           " levels");
+    return true;
+  };
   json root;
   try {
-    root = json::parse(text);
+    root = json::parse(text, bounded_depth);
   } catch (const json::exception& e) {  // a syntax error, or a number beyond double's range
     throw ModelFileError(source + ": not valid JSON: " + e.what());
   }
@@ -539,6 +562,12 @@ void save_model(const Model& model, const std::string& path) {
 Model load_model(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ModelFileError("model file '" + path + "' cannot be read");
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size > static_cast<std::streamoff>(model_file_max_bytes))
+    throw ModelFileError("model file '" + path + "': " + std::to_string(size) + " bytes, more than the limit of " +
+                         std::to_string(model_file_max_bytes) + " bytes of a model file");
+  in.seekg(0, std::ios::beg);
   std::ostringstream text;
   text << in.rdbuf();
   return model_from_json(text.str(), "model file '" + path + "'");

@@ -29,7 +29,7 @@ Eigen::MatrixXcd pair_roots(const Eigen::VectorXcd& roots) {
     if (row < n) pairs.row(row) << real[k], real[k + 1];
     ++row;
   }
-  if (row != n) throw std::runtime_error("modes: the roots of the linearised system do not pair into modes");
+  if (row != n) throw std::domain_error("modes: the roots of the linearised system do not pair into modes (stiffness or damping too large or too ill-conditioned for floating point)");
   return pairs;
 }
 
@@ -50,6 +50,11 @@ Modes modes_of(const Eigen::MatrixXd& mass_matrix, const Eigen::MatrixXd& stiffn
   Modes out;
   out.dofs = dofs;
   const Eigen::Index n = static_cast<Eigen::Index>(out.dofs.size());
+  out.angular_frequency.resize(n);
+  out.damping_ratio.resize(n);
+  out.roots.resize(n, 2);
+  out.shapes.resize(n, n);
+  if (n == 0) return out;  // every DOF prescribed: nothing oscillates
   Eigen::MatrixXd M(n, n), K(n, n), D(n, n);
   for (Eigen::Index r = 0; r < n; ++r)
     for (Eigen::Index c = 0; c < n; ++c) {
@@ -63,7 +68,9 @@ Modes modes_of(const Eigen::MatrixXd& mass_matrix, const Eigen::MatrixXd& stiffn
   A.bottomLeftCorner(n, n) = -mass.solve(K);
   A.bottomRightCorner(n, n) = -mass.solve(D);
   const Eigen::EigenSolver<Eigen::MatrixXd> eigen(A);
+  if (eigen.info() != Eigen::Success) throw std::domain_error("modes: the eigen-decomposition of the linearised system did not converge");
   const Eigen::VectorXcd roots = eigen.eigenvalues();
+  if (!roots.allFinite()) throw std::domain_error("modes: the roots of the linearised system are not finite (the stiffness or damping is too large for floating point)");
   const Eigen::MatrixXcd pairs = pair_roots(roots);
   Eigen::VectorXd w2 = (pairs.col(0).array() * pairs.col(1).array()).real();
   const double scale = std::max(w2.cwiseAbs().maxCoeff(), 1.0);
@@ -76,10 +83,6 @@ Modes modes_of(const Eigen::MatrixXd& mass_matrix, const Eigen::MatrixXd& stiffn
     zeta[k] = freq[k] != 0 ? -(pairs(k, 0) + pairs(k, 1)).real() / (2 * std::abs(freq[k])) : std::nan("");
   }
   std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return std::abs(freq[a]) < std::abs(freq[b]); });
-  out.angular_frequency.resize(n);
-  out.damping_ratio.resize(n);
-  out.roots.resize(n, 2);
-  out.shapes.resize(n, n);
   for (Eigen::Index k = 0; k < n; ++k) {
     const Eigen::Index j = order[static_cast<std::size_t>(k)];
     out.angular_frequency[k] = freq[j];

@@ -42,7 +42,9 @@ class Run {
       const RolloutOutputs& out)
       : base_(base), r_(r), table_(table), run_(run), out_(out), rows_(rollout_rows(r)) {}
 
-  void operator()(Model& scratch) {
+  // Runs on `worker` of `pool`; stops early (its rows left as they are) when
+  // the pool is stopping (ThreadPool::stop_requested).
+  void operator()(Model& scratch, ThreadPool& pool, int worker) {
     std::unique_ptr<Simulator> sim;
     try {
       sim = setup(scratch);
@@ -54,6 +56,7 @@ class Run {
     record(*sim, 0);
     const int nv = base_.nv;
     for (std::int64_t k = 0; k < r_.steps; ++k) {
+      if (pool.stop_requested(worker)) return;
       if (r_.controls) {
         const double* u = r_.controls + (r_.controls_per_run ? run_ * r_.steps * nv : 0) + k * nv;
         for (int dof = 0; dof < nv; ++dof)
@@ -133,7 +136,7 @@ void rollout(ThreadPool& pool, const Model& model, const RolloutRequest& request
   std::vector<Model> scratch(static_cast<std::size_t>(pool.size()), model);  // one model copy per thread
   pool.parallel_for(request.runs, 1, [&](std::int64_t begin, std::int64_t end, int worker) {
     for (std::int64_t run = begin; run < end; ++run)
-      Run(model, request, table, run, outputs)(scratch[static_cast<std::size_t>(worker)]);
+      Run(model, request, table, run, outputs)(scratch[static_cast<std::size_t>(worker)], pool, worker);
   });
 }
 

@@ -4,7 +4,8 @@ namespace soadyn {
 #define SOADYN_INSTANTIATE(S)                                                                                 \
   template struct StaticEquilibriumTpl<S>;                                                                  \
   template void static_equilibrium<S>(const ModelTpl<S>&, DataTpl<S>&, StaticEquilibriumTpl<S>&,            \
-                                      const ConstVecRef<S>&, const std::vector<bool>&, S, int);
+                                      const ConstVecRef<S>&, const std::vector<bool>&, S, int,           \
+                                      const Interrupt*);
 SOADYN_INSTANTIATE(double)
 SOADYN_INSTANTIATE(float)
 }  // namespace soadyn

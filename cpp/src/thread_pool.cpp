@@ -32,9 +32,17 @@ void ThreadPool::stop_workers() {
 
 ThreadPool::~ThreadPool() { stop_workers(); }
 
+bool ThreadPool::stop_requested(int worker) {
+  if (worker == 0 && interrupt_requested(interrupt_)) {
+    interrupted_.store(true, std::memory_order_relaxed);
+    failed_.store(true, std::memory_order_relaxed);
+  }
+  return failed_.load(std::memory_order_relaxed);
+}
+
 void ThreadPool::take_chunks(int worker) {
   for (;;) {
-    if (failed_.load(std::memory_order_relaxed)) return;
+    if (stop_requested(worker)) return;
     const std::int64_t begin = next_.fetch_add(grain_, std::memory_order_relaxed);
     if (begin >= n_) return;
     try {
@@ -73,6 +81,7 @@ void ThreadPool::parallel_for(std::int64_t n, std::int64_t grain, const ChunkFun
   grain_ = std::max<std::int64_t>(1, grain);
   next_.store(0, std::memory_order_relaxed);
   failed_.store(false, std::memory_order_relaxed);
+  interrupted_.store(false, std::memory_order_relaxed);
   error_ = nullptr;
   const bool parallel = !workers_.empty() && n > grain_;
   if (parallel) {

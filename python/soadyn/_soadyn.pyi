@@ -109,6 +109,8 @@ class _Model:
         """
     def _set_armature(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], arg1: typing.SupportsFloat) -> None:
         ...
+    def _set_effort_limit(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], arg1: typing.SupportsFloat) -> None:
+        ...
     def _set_prescribed_indices(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], arg1: bool) -> None:
         ...
     def _set_prescribed_mask(self, arg0: collections.abc.Sequence[bool]) -> None:
@@ -205,6 +207,12 @@ class _Model:
     def armature(self) -> numpy.typing.NDArray[numpy.float64]:
         """
         Float array (nv): each DOF's armature (rotor inertia on the DOF; zero by default).
+        """
+    @property
+    def effort_limits(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        Float array (nv): each DOF's effort limit (largest actuator force or torque; inf: none,
+        the default). HIL runs take it as the DOF's command limit.
         """
     @property
     def q_index(self) -> list[int]:
@@ -318,6 +326,16 @@ class _Simulator(_SimulatorCore):
     def atol(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
+    def divergence_guard(self) -> bool:
+        """
+        Whether a step that makes the state's energy grow beyond what the applied forces can supply (or a
+        velocity pass its limit) stops with DynamicsError 'diverging' before the state is non-finite. Off by
+        default; on in HIL runs. Turning it on takes the current state as the energy's reference.
+        """
+    @divergence_guard.setter
+    def divergence_guard(self, arg1: bool) -> None:
+        ...
+    @property
     def dt(self) -> float:
         ...
     @property
@@ -407,6 +425,15 @@ class _Simulator(_SimulatorCore):
     @property
     def v(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
+    @property
+    def velocity_limits(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        Per-DOF |v| limits the divergence guard enforces (nv values; inf: none, the default).
+        """
+    @velocity_limits.setter
+    def velocity_limits(self, arg1: typing.Any) -> None:
+        ...
+
 class _HilSummary:
     @property
     def as_fast_as_possible(self) -> bool:

@@ -3,10 +3,14 @@
 Every function takes arrays with a leading batch dimension and returns arrays
 with one: row k is what the single call (``soadyn.forward_dynamics`` ...)
 returns at row k, bit for bit — the same algorithm on the same numbers, run
-by one of `threads` threads (None: one per hardware thread) with its own
-preallocated Data. The GIL is released while they compute. Inputs are checked
-first, with errors naming the array, the row and the coordinate or DOF; a row
-whose dynamics fail raises DynamicsError naming the first failing row.
+by one of `threads` threads (1 to MAX_THREADS; None: one per hardware thread)
+with its own preallocated Data. The GIL is released while they compute. Inputs
+are checked first, with errors naming the array, the row and the coordinate or
+DOF; as the single calls do, every array argument must hold real numbers (a
+complex, string, bytes, boolean or object array raises TypeError naming the
+argument and its dtype, never cast) and have the documented shape (ValueError
+naming the argument, the expected shape and the shape given); a row whose
+dynamics fail raises DynamicsError naming the first failing row.
 
 `rollout` steps many independent simulations of one model in parallel (the
 equivalent of MuJoCo's rollout): different initial states, torques, shared
@@ -29,30 +33,50 @@ __all__ = ["forward_dynamics", "inverse_dynamics", "hybrid_dynamics", "mass_matr
            "rollout", "RolloutResult"]
 
 
+MAX_THREADS = 1024  # a pool larger than this is refused: no machine this runs on has that many cores
+
+
 def _threads(threads) -> int:
     if threads is None:
         return 0
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
-        raise ValueError(f"threads must be a positive integer or None (one per hardware thread), got {threads!r}")
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 1 <= threads <= MAX_THREADS:
+        raise ValueError(f"threads must be an integer from 1 to {MAX_THREADS} or None (one per hardware thread), "
+                         f"got {threads!r}")
     return int(threads)
+
+
+def _shape_text(shape: tuple) -> str:
+    items = ["n" if size is None else str(size) for size in shape]
+    return f"({items[0]},)" if len(items) == 1 else f"({', '.join(items)})"  # (), (n,), (n, 3)
+
+
+def _real_array(name: str, x, *shapes: tuple, note: str = "") -> np.ndarray:
+    """x as a C-contiguous float64 array, checked as the single calls check theirs: real numbers only
+    (integer or floating dtypes; complex, strings, bytes, objects and booleans raise TypeError naming
+    `name` and the dtype) and, when `shapes` are given, one of them (None: any size on that axis;
+    otherwise ValueError naming `name`, the expected shapes and the shape given; `note` follows them)."""
+    try:
+        a = np.asarray(x)
+    except (TypeError, ValueError) as exc:  # ragged nested sequences
+        raise TypeError(f"{name} must be an array of real numbers: {exc}") from None
+    if a.dtype.kind not in "fiu":
+        raise TypeError(f"{name} must be an array of real numbers, got dtype {a.dtype}")
+    fits = lambda shape: len(shape) == a.ndim and all(s is None or s == k for s, k in zip(shape, a.shape))
+    if shapes and not any(fits(shape) for shape in shapes):
+        expected = " or ".join(_shape_text(shape) for shape in shapes)
+        raise ValueError(f"{name} must have shape {expected}{note}, got {a.shape}")
+    return np.asarray(a, dtype=float, order="C")
 
 
 def _rows(name: str, x, width: int, n: int | None = None) -> np.ndarray:
     """x as a C-contiguous (n, width) float64 array; the message names `name`."""
-    a = np.ascontiguousarray(x, dtype=float)
-    if a.ndim != 2 or a.shape[1] != width or (n is not None and a.shape[0] != n):
-        expected = f"({'n' if n is None else n}, {width})"
-        raise ValueError(f"{name} must have shape {expected} (a leading batch dimension), got {a.shape}")
-    return a
+    return _real_array(name, x, (n, width), note=" (a leading batch dimension)")
 
 
 def _wrenches(m, f_ext, n: int):
     if f_ext is None:
         return None
-    a = np.ascontiguousarray(f_ext, dtype=float)
-    if a.shape != (n, m.nbodies, 6):
-        raise ValueError(f"f_ext must have shape ({n}, {m.nbodies}, 6), got {a.shape}")
-    return a.reshape(n, 6 * m.nbodies)
+    return _real_array("f_ext", f_ext, (n, m.nbodies, 6)).reshape(n, 6 * m.nbodies)
 
 
 def _state_batch(m, Q, V, X, x_name: str):
@@ -119,18 +143,22 @@ def _controls_and_sources(m, controls_or_sources, runs: int, steps: int):
                 raise TypeError(f"source for {dof!r} must be a soadyn.MotionSource, got {type(source).__name__}")
             sources.extend((index, source) for index in m._dof_indices(dof))
         return None, False, sources
-    u = np.ascontiguousarray(controls_or_sources, dtype=float)
-    if u.shape == (steps, m.nv):
-        per_run = False
-    elif u.shape == (runs, steps, m.nv):
-        per_run = True
-    else:
-        raise ValueError(f"controls must have shape ({steps}, {m.nv}) (shared) or ({runs}, {steps}, {m.nv}) "
-                         f"(per run), got {u.shape}")
+    u = _real_array("controls", controls_or_sources, (steps, m.nv), (runs, steps, m.nv),
+                    note=" (shared by every run or one per run)")
+    per_run = u.ndim == 3
     if not np.all(np.isfinite(u)):
         index = tuple(int(i) for i in np.argwhere(~np.isfinite(u))[0])
         raise ValueError(f"controls{list(index)} ('{m.dof_names[index[-1]]}') is not finite")
     return u, per_run, []
+
+
+def _whole(name: str, x, minimum: int) -> int:
+    """x as an int >= minimum (a whole float such as 10.0 is accepted); ValueError naming `name` otherwise."""
+    whole = isinstance(x, (int, np.integer, float, np.floating)) and not isinstance(x, bool) and \
+        float(x).is_integer() and x >= minimum
+    if not whole or not x < 2 ** 62:
+        raise ValueError(f"{name} must be a whole number >= {minimum}, got {x!r}")
+    return int(x)
 
 
 def _parameters(m, parameters, runs: int):
@@ -143,9 +171,7 @@ def _parameters(m, parameters, runs: int):
         if name not in names:
             raise ValueError(f"unknown parameter {name!r} (the model's: {', '.join(names)})")
         shape = np.shape(m.get_parameter(name))
-        x = np.asarray(values, dtype=float)
-        if x.shape != (runs, *shape):
-            raise ValueError(f"values of parameter {name!r} must have shape {(runs, *shape)}, got {x.shape}")
+        x = _real_array(f"values of parameter {name!r}", values, (runs, *shape))
         entries.append(names.index(name))
         width = int(np.prod(shape, dtype=int))  # each run's value, column-major (the C++ layout)
         blocks.append(np.asarray([np.asarray(x[r]).flatten(order="F") for r in range(runs)]).reshape(runs, width))
@@ -163,15 +189,15 @@ def _events(m, events, runs: int):
         if kind not in ("lock", "release"):
             raise ValueError(f"event {event!r}: the kind must be 'lock' or 'release'")
         if isinstance(dof, str):
-            index = m.dof_index(dof)
-        elif isinstance(dof, (int, np.integer)) and 0 <= dof < m.nv:
+            index = m.dof_index(dof)  # -1 for a name the model does not have
+        elif isinstance(dof, (int, np.integer)) and not isinstance(dof, bool) and 0 <= dof < m.nv:
             index = int(dof)
         else:
+            index = -1
+        if index < 0:
             raise ValueError(f"event {kind} {dof!r}: not a DOF name or an index below nv = {m.nv}")
-        t = np.asarray(when, dtype=float)
-        if t.shape not in ((), (runs,)):
-            raise ValueError(f"event {kind} {dof!r}: one time for all runs or {runs} times, got shape {t.shape}")
-        t = np.broadcast_to(t, (runs,))
+        t = np.broadcast_to(_real_array(f"times of event {kind} {dof!r}", when, (), (runs,),
+                                        note=f" (one time for all runs or {runs} times)"), (runs,))
         if not np.all(np.isfinite(t)):
             raise ValueError(f"event {kind} {dof!r}: its times must be finite")
         kinds.append((kind, index))
@@ -190,20 +216,23 @@ def rollout(m, x0s, controls_or_sources=None, dt: float = 1e-3, steps: int = 100
     events: [(kind, DOF, times)] with kind 'lock' or 'release' and one time per run (or one for all).
     Samples every `record_every` steps (which must divide `steps`), the start included.
     """
-    runs = int(np.shape(x0s)[0]) if np.ndim(x0s) == 2 else -1
     x0 = _rows("x0s", x0s, m.nq + m.nv)
-    if isinstance(steps, bool) or int(steps) != steps or steps < 0:
-        raise ValueError(f"steps must be a whole number >= 0, got {steps!r}")
-    if isinstance(record_every, bool) or int(record_every) != record_every or record_every < 1 or steps % record_every:
-        raise ValueError(f"record_every must be a positive whole number dividing steps ({steps}), got {record_every!r}")
+    runs = x0.shape[0]
+    steps = _whole("steps", steps, 0)
+    record_every = _whole("record_every", record_every, 1)
+    if steps % record_every:
+        raise ValueError(f"record_every must divide steps ({steps}), got {record_every}")
+    dt = float(_real_array("dt", dt, ()))
+    if not isinstance(integrator, str):
+        raise TypeError(f"integrator must be a str ('rk4', 'euler' or 'dopri5'), got {type(integrator).__name__}")
     if not (np.isfinite(dt) and dt > 0):
         raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
-    controls, per_run, sources = _controls_and_sources(m, controls_or_sources, runs, int(steps))
+    controls, per_run, sources = _controls_and_sources(m, controls_or_sources, runs, steps)
     entries, values = _parameters(m, parameters, runs)
     kinds, times = _events(m, events, runs)
     q, v, failed, messages = _soadyn._batch_rollout(
-        m, x0, runs, controls, per_run, float(dt), int(steps), integrator, int(record_every), entries, values,
+        m, x0, runs, controls, per_run, dt, steps, integrator, record_every, entries, values,
         sources, kinds, times, _threads(threads))
     failed = np.asarray(failed, dtype=np.int64)
-    t = np.arange(int(steps) // int(record_every) + 1) * (float(dt) * int(record_every))
+    t = np.arange(steps // record_every + 1) * (dt * record_every)
     return RolloutResult(t, q, v, np.array([not text for text in messages]), failed, list(messages))

@@ -2,7 +2,9 @@
 `soadyn campaign`.
 
 Every bad argument ends in one line on stderr naming it (argparse's usage
-line and `error:`, exit code 2), never a traceback; a run that cannot start
+line and `error:`, exit code 2), never a traceback; every output path (a
+report, a plot, a results directory) is checked before any work starts and
+refused the same way (check_outputs); a run that cannot start
 for a reason outside the arguments (a UDP port in use, missing memory) is
 one line too, exit code 1.
 """
@@ -11,6 +13,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from pathlib import Path
 
 from . import scenes
 from .demo import describe_scene, format_result, run_demo
@@ -89,6 +92,7 @@ def run_demo_command(args, parser) -> int:
     if args.plot is not None:
         require_plotting(parser)
         args.plot = args.plot or DEMO_PLOTS[args.scene]
+        check_outputs(parser, ("--plot", args.plot))
     if args.scene == "four-bar":
         return run_four_bar_demo(args)
     model = scenes.SCENES[args.scene]()
@@ -165,6 +169,9 @@ def add_hil_parser(sub) -> argparse.ArgumentParser:
     add_exaggeration_option(hil, "--view-exaggeration")
     hil.add_argument("--command-policy", default="clamp", choices=["clamp", "reject", "stop"],
                      help="a command beyond its limit is clamped (default), rejected, or stops the run")
+    hil.add_argument("--no-divergence-guard", action="store_true",
+                     help="do not stop a run whose integration diverges (status 'diverging', before the state is "
+                          "non-finite; on by default)")
     return hil
 
 
@@ -224,6 +231,7 @@ def run_campaign_command(args, parser) -> int:
             parser.error(f"argument {option}: must be >= 1, got {value}")
     if args.scheduler is not None and args.workers is not None:
         parser.error("argument --workers: sizes the local cluster; with --scheduler the cluster has its own workers")
+    check_outputs(parser, ("--out", args.out, True))
     from .campaign import CampaignError, ResultsDirectoryError, SpecError, load_spec, run
 
     try:
@@ -270,6 +278,10 @@ def run_campaign_report(words, args, parser) -> int:
         parser.error(f"report takes DIR, got {len(words)} arguments")
     if not args.no_plots:
         require_plotting(parser, "--plots")
+        if args.plots is not None:
+            check_outputs(parser, ("--plots", args.plots, True))
+        elif Path(words[0]).is_dir():  # else the report's own error names DIR
+            check_outputs(parser, ("--plots (default DIR/report)", str(Path(words[0]) / "report"), True))
     try:
         result = report(words[0], plots_dir=args.plots, plots=not args.no_plots)
     except CampaignError as error:
@@ -342,6 +354,7 @@ def check_hil_arguments(args, parser) -> None:
         parser.error(f"argument --floor-periods: must be in [0, {hil.MAX_STEPS:.0e}], got {args.floor_periods}")
     if not (math.isfinite(args.spin_us) and 0 <= args.spin_us < 1e6 / args.rate):
         parser.error(f"argument --spin-us: must be in [0, {1e6 / args.rate:g}) (the step period), got {args.spin_us}")
+    check_outputs(parser, ("--report", args.report), ("--plot", args.plot))
 
 
 def run_hil_command(args, parser) -> int:
@@ -382,7 +395,7 @@ def run_hil_command(args, parser) -> int:
                              command_policy=args.command_policy, udp_command_port=args.udp_command_port,
                              max_packets_per_step=args.max_packets_per_step, on_start=announce,
                              on_state=(lambda step, t, q, v: viewer.show(q)) if viewer else None,
-                             floor_periods=args.floor_periods)
+                             floor_periods=args.floor_periods, divergence_guard=not args.no_divergence_guard)
     except ValueError as error:  # priority, CPU or a command limit out of range: the message names it
         parser.error(str(error))
     except (RuntimeError, MemoryError) as error:  # the UDP port could not be bound; no memory for the run
@@ -392,6 +405,18 @@ def run_hil_command(args, parser) -> int:
             viewer.close()
     write_hil_outputs(args, events, sim, report)
     return 0 if report.ok else 1
+
+
+def check_outputs(parser, *outputs) -> None:
+    """Every output of a command, checked before any work: (option, path) for a file, (option, path,
+    True) for a directory (created with its parents); a one-line error naming the option, the path
+    and why it cannot be written. An option not given (None or "") is skipped."""
+    from .output_paths import output_problem
+
+    for option, path, *directory in outputs:
+        problem = output_problem(path, bool(directory and directory[0])) if path else None
+        if problem:
+            parser.error(f"argument {option}: {path}: {problem}")
 
 
 def require_plotting(parser, option: str = "--plot") -> None:

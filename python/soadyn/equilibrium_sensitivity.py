@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _soadyn
+from .parameters import parameter_name_list
 
 __all__ = ["equilibrium_sensitivities", "objective_gradient"]
 
@@ -35,15 +36,13 @@ def _free(model, equilibrium) -> list:
     return [bool(f) for f in free]
 
 
-def _names(params) -> list:
-    return [params] if isinstance(params, str) else list(params)
 
 
 def equilibrium_sensitivities(model, equilibrium, params) -> dict:
     """{name: {"q": dq*/dp (nv tangent, *dirs; zero on held DOFs), "multipliers": dnu/dp,
     "holding_forces": {held DOF name: dH/dp}}} by the direct method (module docstring)."""
     raw = _soadyn._equilibrium_sensitivities(model, equilibrium.q, equilibrium.multipliers,
-                                             _free(model, equilibrium), _names(params))
+                                             _free(model, equilibrium), parameter_name_list(params))
     held = [model.dof_names[k] for k in equilibrium.held]
     return {name: {"q": dq, "multipliers": dnu, "holding_forces": dict(zip(held, dheld))}
             for name, (dq, dnu, dheld) in raw.items()}
@@ -54,4 +53,4 @@ def objective_gradient(model, equilibrium, params, dphi_dq, dphi_dnu=None) -> di
     method (one solve for every parameter). dphi_dq: (nv,) gradient with respect to q in the tangent
     space (held DOFs' entries are ignored: they do not move); dphi_dnu: (nloop_equations,) or None."""
     return _soadyn._objective_gradient(model, equilibrium.q, equilibrium.multipliers, _free(model, equilibrium),
-                                       _names(params), dphi_dq, dphi_dnu)
+                                       parameter_name_list(params), dphi_dq, dphi_dnu)

@@ -77,6 +77,9 @@ class HilReport:
     # Deadline misses by cause: "compute" (the step's own compute exceeded the period) and "machine" (woken or
     # let run too late); they add up to deadline_misses.
     misses: dict = field(default_factory=dict)
+    # The state at the end of the run, {"t", "q", "v"}: after a failed step, the last good one (a failed step
+    # leaves the state as it was before it).
+    final_state: dict | None = None
     # The machine's floor measured after the run (paced runs; None otherwise): register arithmetic of the steps'
     # median length, paced like the steps: {"periods", "target", "p50", "p99", "p999", "max"} in us, and
     # "tail_ratio" = compute p99.9 / floor p99.9 (1: the step's tail is the machine's).
@@ -173,7 +176,7 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
             cpu: int = -1, lock_memory: bool = False, command_limits=None, command_policy: str = "clamp",
             udp_command_port: int | None = None, max_packets_per_step: int = MAX_PACKETS_PER_STEP,
             on_start=None, on_state=None, state_interval: float = STATE_INTERVAL,
-            floor_periods: int | None = None) -> HilReport:
+            floor_periods: int | None = None, divergence_guard: bool = True) -> HilReport:
     """Run `sim` for `duration` simulated seconds, one step per 1/rate wall seconds.
 
     The simulation is real time when sim.dt == 1/rate. `udp_port` (None: no
@@ -199,7 +202,11 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
     report's `scheduling` says what was granted. A failing step (singular
     articulated inertia, NaN) or an exception raised by a Python motion
     source stops the run; the report's `status`, `failed_step`, `failed_dof`
-    and `error` say why (the exception itself is `report.exception`). A
+    and `error` say why (the exception itself is `report.exception`), and
+    `final_state` holds the last good state. `divergence_guard` (on by
+    default; Simulator.divergence_guard) stops a run whose integration
+    diverges with status "diverging", naming the DOF, before any value of
+    the state is non-finite. A
     measurement that cannot be made at the end (energy of a broken state) is
     None, with the reason in `report_errors`. `on_start(runner)` is called
     once the runner exists (its `udp_port` is bound), before the loop.
@@ -249,6 +256,7 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
                        max_packets_per_step=int(max_packets_per_step), floor_periods=int(floor_periods))
     if command_limits is not None:
         runner.command_limits = resolve_command_limits(command_limits, runner.command_limits, sim._dof_names)
+    sim.divergence_guard = divergence_guard  # the runner turned it on
     if on_start is not None:
         on_start(runner)
     watcher = _StateWatcher(runner, on_state, report_errors) if on_state is not None else None
@@ -410,7 +418,8 @@ def _report(sim, runner, rate, realtime, interrupted, exception, energy0, moment
         error=_describe(exception) if exception is not None else None,
         report_errors=report_errors, exception=exception,
         misses={"compute": s.misses_compute_overrun, "machine": s.misses_late_wakeup},
-        floor_us=_floor(s), floor_ns=runner.floor_ns if s.floor_periods else None)
+        floor_us=_floor(s), floor_ns=runner.floor_ns if s.floor_periods else None,
+        final_state={"t": float(sim.time), "q": [float(x) for x in sim.q], "v": [float(x) for x in sim.v]})
 
 
 def _floor(s) -> dict | None:

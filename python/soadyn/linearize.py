@@ -18,4 +18,4 @@ def linearize(model, q, v, u, dt=None, integrator: str = "rk4", f_ext=None):
       steps, inputs held over the step), e' in the tangent space at the step's end. "dopri5"
       adapts its sub-steps and has no fixed step map: refused with a ValueError.
     """
-    return _soadyn._linearize(model, q, v, u, None if dt is None else float(dt), integrator, f_ext)
+    return _soadyn._linearize(model, q, v, u, dt, integrator, f_ext)

@@ -30,7 +30,7 @@ def assemble(model, q, hold=None, tolerance: float = 1e-12, max_iterations: int 
     mechanism cannot reach closure from q with the DOFs allowed to move).
     Returns a fresh array; a model without loops returns q unchanged.
     """
-    return _assemble(model, q, _free(model, hold), float(tolerance), int(max_iterations))
+    return _assemble(model, q, _free(model, hold), tolerance, max_iterations)
 
 
 def project_velocity(model, q, v, hold=None) -> np.ndarray:

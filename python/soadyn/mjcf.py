@@ -28,7 +28,25 @@ is read here. From the compiled model:
   after the joint; damping on ball and free joints becomes no element
   (soadyn's joint springs act on scalar coordinates) and is reported.
 - armature -> Model.set_armature on every DOF of the joint.
+- Effort limits (Model.set_effort_limit): the largest |total actuator
+  force| MuJoCo can apply to a hinge, slide or ball joint's DOF through the
+  actuators with a joint transmission on it. Actuator k's force (before its
+  gear) lies in its forcerange when force-limited, and in gain * ctrlrange
+  when its force is gain * ctrl (fixed gain, no bias, no activation
+  dynamics: a motor) and ctrl is clamped (ctrl-limited, clampctrl not
+  disabled); unbounded otherwise (a position or velocity servo without
+  forcerange). DOF i of the joint gets gear[i] times that interval, summed
+  over the joint's actuators, clamped to the joint's actuatorfrcrange when
+  it is actuator-force-limited (as MuJoCo clamps the total), and the effort
+  limit is the larger end in absolute value (forcerange -3 2: 3). A joint
+  with actuatorfrcrange and no actuator gets that bound. No limit is set
+  where the total is unbounded, nor where it is zero (reported).
 - gravity -> Model.gravity.
+- `<option><flag .../>` disable flags that switch off what soadyn models are
+  honoured: gravity (Model.gravity zero), spring (no joint stiffness),
+  damper (no joint damping), equality and constraint (no loops). The other
+  disable flags set are reported (they switch off what soadyn does not
+  model, or tune MuJoCo's solver).
 - equality connect -> a "point" loop, weld -> a "weld" loop (active ones;
   inactive ones are reported), named after the equality ('eq<k>' if
   unnamed). A weld's torquescale is not modelled (reported when not 1).
@@ -37,8 +55,15 @@ is read here. From the compiled model:
 
 What is not multibody dynamics is reported once per load, by name, in an
 MjcfIgnoredWarning: contacts (geoms with contype/conaffinity), joint limits,
-friction loss, actuators, tendons, sensors, fluid forces (density,
-viscosity), gravity compensation, other equality types.
+friction loss, actuators (their force laws: only the effort limits above
+are kept; those on tendons, sites, bodies and free joints give none and are
+named once more), tendons, sensors, fluid forces (density,
+viscosity), gravity compensation, other equality types, disable flags not
+honoured.
+
+Bounds: a file or string over 512 MiB or nested more than 256 elements deep
+is refused before MuJoCo reads it (bounded_input.py), with an MjcfError
+naming it and the limit.
 
 floating_base: None keeps the file's joints; True gives every body attached
 to the world without a joint a free joint named '<body>:root'; False welds
@@ -49,18 +74,23 @@ from __future__ import annotations
 import os
 import warnings
 from dataclasses import dataclass
+from xml.etree import ElementTree
 
 import numpy as np
 
 from ._soadyn import Joint
+from .bounded_input import parse_xml, read_bytes
 from .model import Model
 from .visuals import Visual
 
 __all__ = ["load_mjcf", "MjcfError", "MjcfIgnoredWarning", "MjcfModel", "load_mjcf_with_map"]
 
 FREE, BALL, SLIDE, HINGE = 0, 1, 2, 3
+TRN_JOINT, TRN_JOINT_IN_PARENT = 0, 1  # mjtTrn: the actuator drives a joint (gear in its frame, its parent's)
+_SCALAR_OR_BALL_DOFS = {HINGE: 1, SLIDE: 1, BALL: 3}  # the joints whose actuators give effort limits: their DOFs
 CONNECT, WELD = 0, 1
 GEOM_SHAPES = {0: "plane", 2: "sphere", 3: "capsule", 4: "ellipsoid", 5: "cylinder", 6: "box", 7: "mesh"}
+HONOURED_DISABLE_FLAGS = ("gravity", "spring", "damper", "equality", "constraint")
 
 
 class MjcfError(ValueError):
@@ -191,6 +221,17 @@ def velocity_map(loaded: MjcfModel, q) -> np.ndarray:
     return T
 
 
+def _check_bounds(xml, label: str) -> None:
+    """MjcfError naming `label` when the XML is beyond the bounds of bounded_input.py (size, element depth).
+    A document expat finds malformed is left to MuJoCo's compiler, which names the fault: its part before
+    the fault was within the bounds, and MuJoCo's parser stops at the fault too. Files pulled in by
+    <include> are MuJoCo's to read (its parser refuses elements nested about 500 deep)."""
+    try:
+        parse_xml(xml, label, MjcfError)
+    except ElementTree.ParseError:
+        pass
+
+
 def _compile(path_or_xml):
     """(MjModel, label) by MuJoCo's compiler; MjcfError naming the file on failure."""
     import mujoco
@@ -198,6 +239,7 @@ def _compile(path_or_xml):
     text = str(path_or_xml) if not isinstance(path_or_xml, os.PathLike) else None
     if text is not None and "<mujoco" in text:
         label = "MJCF string"
+        _check_bounds(text, label)
         try:
             return mujoco.MjModel.from_xml_string(text), label
         except Exception as exc:  # mujoco raises ValueError with the compiler's message
@@ -205,10 +247,19 @@ def _compile(path_or_xml):
     path = os.fspath(path_or_xml)
     if not os.path.isfile(path):
         raise MjcfError(f"MJCF file '{path}' does not exist")
+    label = f"MJCF file '{path}'"
+    _check_bounds(read_bytes(path, label, MjcfError, "file"), label)
     try:
-        return mujoco.MjModel.from_xml_path(path), f"MJCF file '{path}'"
+        return mujoco.MjModel.from_xml_path(path), label
     except Exception as exc:
-        raise MjcfError(f"MJCF file '{path}': MuJoCo cannot compile it: {exc}") from exc
+        raise MjcfError(f"{label}: MuJoCo cannot compile it: {exc}") from exc
+
+
+def _disabled_flags(mj) -> set:
+    """The <option><flag> disable flags set in the compiled model, named as MJCF names them ("gravity")."""
+    import mujoco
+
+    return {name.lower() for bit, name in enumerate(mujoco.mjDISABLESTRING) if int(mj.opt.disableflags) >> bit & 1}
 
 
 def _name(mj, kind, index: int, fallback: str) -> str:
@@ -225,7 +276,8 @@ class _Loader:
         self.mj, self.label, self.floating_base = mj, label, floating_base
         self.mjt = mujoco.mjtObj
         self.m = Model()
-        self.m.gravity = np.array(mj.opt.gravity, dtype=float)
+        self.disabled = _disabled_flags(mj)
+        self.m.gravity = np.zeros(3) if "gravity" in self.disabled else np.array(mj.opt.gravity, dtype=float)
         # Per MuJoCo body: the soadyn body or frame it became and the MuJoCo body frame in it.
         self.frame_of = {0: ("world", _Pose())}
         self.joints: list = [(None, -1, -1)] * mj.njnt
@@ -331,6 +383,10 @@ class _Loader:
                 if armature[k] != 0.0:
                     m.set_armature(vi + k, float(armature[k]))
             stiffness, damping = float(mj.jnt_stiffness[j]), mj.dof_damping[d:d + nd]
+            if "spring" in self.disabled:
+                stiffness = 0.0
+            if "damper" in self.disabled:
+                damping = np.zeros(nd)
             if kind in (HINGE, SLIDE):
                 if stiffness != 0.0 or damping[0] != 0.0:
                     a = mj.jnt_qposadr[j]
@@ -345,6 +401,54 @@ class _Loader:
                 self.ignore("joint limits", joint_name)
             if np.any(mj.dof_frictionloss[d:d + nd] != 0.0):
                 self.ignore("friction loss", joint_name)
+
+    def actuator_name(self, k: int) -> str:
+        """An unnamed actuator is named by the joint it drives, if it drives one."""
+        mj = self.mj
+        target = mj.actuator_trnid[k, 0] if int(mj.actuator_trntype[k]) == TRN_JOINT else -1
+        driven = f":{_name(mj, self.mjt.mjOBJ_JOINT, target, f'joint{target}')}" if target >= 0 else ""
+        return _name(mj, self.mjt.mjOBJ_ACTUATOR, k, f"actuator{k}{driven}")
+
+    def actuator_force_range(self, k: int) -> tuple:
+        """(lo, hi) of actuator k's force before its gear (see the module docstring); infinite where unbounded."""
+        import mujoco
+
+        mj, lo, hi = self.mj, -np.inf, np.inf
+        gain_times_ctrl = (int(mj.actuator_gaintype[k]) == mujoco.mjtGain.mjGAIN_FIXED
+                           and int(mj.actuator_biastype[k]) == mujoco.mjtBias.mjBIAS_NONE
+                           and int(mj.actuator_dyntype[k]) == mujoco.mjtDyn.mjDYN_NONE)
+        if gain_times_ctrl and mj.actuator_ctrllimited[k] and "clampctrl" not in self.disabled:
+            lo, hi = sorted(float(mj.actuator_gainprm[k, 0]) * mj.actuator_ctrlrange[k])
+        if mj.actuator_forcelimited[k]:
+            lo, hi = np.clip([lo, hi], *mj.actuator_forcerange[k])
+        return lo, hi
+
+    def add_effort_limits(self) -> None:
+        """Effort limits of the joints' DOFs from their actuators and actuatorfrcrange (the module docstring);
+        the actuators that give none are reported."""
+        mj, ranges = self.mj, {}  # MuJoCo joint id -> (lo, hi) per DOF of the sum of its actuators' forces
+        for k in range(mj.nu):
+            j, trn = int(mj.actuator_trnid[k, 0]), int(mj.actuator_trntype[k])
+            kind = self.joints[j][0] if trn in (TRN_JOINT, TRN_JOINT_IN_PARENT) else None
+            if kind not in _SCALAR_OR_BALL_DOFS or (kind == BALL and trn != TRN_JOINT):  # a ball's gear in its parent
+                self.ignore("actuators not on a hinge, slide or ball joint, giving no effort limit",
+                            self.actuator_name(k))
+                continue
+            gear = mj.actuator_gear[k, :_SCALAR_OR_BALL_DOFS[kind]]
+            ends, moving = np.zeros((len(gear), 2)), gear != 0.0  # a zero gear passes no force (0 * inf: nan)
+            ends[moving] = np.sort(np.outer(gear[moving], self.actuator_force_range(k)), axis=1)
+            ranges[j] = ranges.get(j, 0.0) + ends
+        for j, (kind, vi, _) in enumerate(self.joints):
+            if kind not in _SCALAR_OR_BALL_DOFS or (j not in ranges and not mj.jnt_actfrclimited[j]):
+                continue
+            lo, hi = ranges.get(j, np.tile([-np.inf, np.inf], (_SCALAR_OR_BALL_DOFS[kind], 1))).T
+            if mj.jnt_actfrclimited[j]:  # MuJoCo clamps the joint's total actuator force
+                lo, hi = np.clip([lo, hi], *mj.jnt_actfrcrange[j])
+            effort = np.maximum(np.abs(lo), np.abs(hi))
+            if np.any(effort == 0.0):
+                self.ignore("joints whose actuators can apply no force, given no effort limit", self.joint_names[j])
+            for i in np.flatnonzero(np.isfinite(effort) & (effort > 0.0)):
+                self.m.set_effort_limit(vi + int(i), float(effort[i]))
 
     def add_sites(self) -> None:
         mj = self.mj
@@ -361,6 +465,8 @@ class _Loader:
 
     def add_loops(self) -> None:
         mj = self.mj
+        if {"equality", "constraint"} & self.disabled:  # MuJoCo enforces none of them
+            return
         for e in range(mj.neq):
             name = _name(mj, self.mjt.mjOBJ_EQUALITY, e, f"eq{e}")
             kind = int(mj.eq_type[e])
@@ -422,10 +528,8 @@ class _Loader:
 
     def report_rest(self) -> None:
         mj = self.mj
-        for k in range(mj.nu):  # an unnamed actuator is named by the joint it drives, if it drives one
-            target = mj.actuator_trnid[k, 0] if int(mj.actuator_trntype[k]) == 0 else -1
-            driven = f":{_name(mj, self.mjt.mjOBJ_JOINT, target, f'joint{target}')}" if target >= 0 else ""
-            self.ignore("actuators", _name(mj, self.mjt.mjOBJ_ACTUATOR, k, f"actuator{k}{driven}"))
+        for k in range(mj.nu):
+            self.ignore("actuators", self.actuator_name(k))
         for what, count, kind in (("tendons", mj.ntendon, self.mjt.mjOBJ_TENDON),
                                   ("sensors", mj.nsensor, self.mjt.mjOBJ_SENSOR)):
             for k in range(count):
@@ -435,6 +539,8 @@ class _Loader:
         for b in range(1, mj.nbody):
             if mj.body_gravcomp[b]:
                 self.ignore("gravity compensation", self.body_names[b])
+        for flag in sorted(self.disabled - set(HONOURED_DISABLE_FLAGS)):
+            self.ignore("disable flags without a soadyn counterpart", flag)
         if self.ignored:
             parts = [f"{len(names)} {what} ({', '.join(names[:6])}{', ...' if len(names) > 6 else ''})"
                      for what, names in self.ignored.items()]
@@ -445,6 +551,7 @@ class _Loader:
         for b in range(1, self.mj.nbody):  # MuJoCo orders bodies parent before child
             self.add_body(b)
         self.add_joint_forces()
+        self.add_effort_limits()
         self.add_sites()
         self.add_loops()
         self.add_visuals()

@@ -264,7 +264,13 @@ class Model(_Model):
 
     def _dof_indices(self, selection) -> list[int]:
         """DOF indices of a name, index, or iterable of them. A joint name selects all its DOFs."""
-        items = [selection] if isinstance(selection, (str, int, np.integer)) else list(selection)
+        if isinstance(selection, (str, int, np.integer)):
+            items = [selection]
+        else:
+            try:
+                items = list(selection)
+            except TypeError:
+                raise TypeError(f"DOF selector {selection!r} is neither a name, an index nor a list of them") from None
         names = self.dof_names
         out: list[int] = []
         for item in items:
@@ -317,6 +323,16 @@ class Model(_Model):
         """
         value = _real_scalar(value, "armature", str(dof), "DOF")
         self._set_armature(self._dof_indices(dof), value)
+
+    def set_effort_limit(self, dof, value: float) -> None:
+        """Give DOFs an effort limit: the largest force or torque their actuator applies.
+
+        ``dof`` as in set_armature. Positive; ``inf`` removes the limit. Loaders set it from URDF
+        ``<limit effort>`` and MJCF ``forcerange`` (or ``ctrlrange`` times ``gear``); model files keep
+        it; HIL runs take it as the DOF's command limit (soadyn.hil). A refused value changes nothing.
+        """
+        value = _real_scalar(value, "effort limit", str(dof), "DOF")
+        self._set_effort_limit(self._dof_indices(dof), value)
 
     def set_regular(self, names) -> None:
         """Mark the named DOFs regular (torque given)."""

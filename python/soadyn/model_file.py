@@ -11,6 +11,12 @@ What the dynamics do not use travels in the file's "description" object,
 which the C++ reader keeps without reading it:
 - "visuals": the model's `soadyn.Visual` list (mesh vertices and faces included);
 - "metadata": a JSON object of the caller's (e.g. the scene's name and source).
+
+Bounds (bounded_input.py): a text larger than MAX_INPUT_BYTES or nested
+deeper than MAX_NESTING_DEPTH is refused before any parser sees it, here
+as well as by the C++ reader, so a hostile file is a ModelFileError at any
+depth, never a RecursionError or a stack overflow; a model whose metadata
+would make such a file is refused when saved.
 """
 from __future__ import annotations
 
@@ -19,6 +25,7 @@ import os
 from typing import Optional
 
 from ._soadyn import ModelFileError
+from .bounded_input import MAX_NESTING_DEPTH, check_json, check_size, json_depth, read_text
 from .model import Model
 from .text_files import write_text
 from .visuals import Visual
@@ -64,10 +71,18 @@ def _description_text(m: Model, metadata: Optional[dict]) -> str:
     if metadata:
         description["metadata"] = metadata
     try:
-        return json.dumps(description, allow_nan=False)
+        text = json.dumps(description, allow_nan=False)
     except (TypeError, ValueError) as exc:
         raise ModelFileError(f"metadata must be JSON data (finite numbers, strings, lists, objects): {exc}") \
             from exc
+    except RecursionError:
+        raise ModelFileError(f"metadata nested more than the {MAX_NESTING_DEPTH} levels a model file may hold "
+                             f"(soadyn.bounded_input.MAX_NESTING_DEPTH)") from None
+    depth = json_depth(text) + 1  # the description is an object inside the file's
+    if depth > MAX_NESTING_DEPTH:
+        raise ModelFileError(f"metadata would nest the model file {depth} levels deep, more than the "
+                             f"{MAX_NESTING_DEPTH} levels a reader accepts (soadyn.bounded_input.MAX_NESTING_DEPTH)")
+    return text
 
 
 def _stored_metadata(m: Model) -> dict:
@@ -83,7 +98,7 @@ def _restore_description(m: Model, source: str) -> None:
     """Visuals back onto the model from the description the C++ reader kept."""
     try:
         description = json.loads(m._description)
-    except ValueError as exc:  # the C++ reader checked it is JSON; defensive
+    except (ValueError, RecursionError) as exc:  # checked JSON within the bounds already; defensive
         raise ModelFileError(f"{source}: /description: {exc}") from exc
     if not isinstance(description, dict):
         raise ModelFileError(f"{source}: /description must be an object")
@@ -105,15 +120,18 @@ def model_to_json(m: Model, metadata: Optional[dict] = None) -> str:
     previous = m._description
     m._description = _description_text(m, metadata)
     try:
-        return m._to_json()
+        text = m._to_json()
     finally:
         m._description = previous
+    check_size(len(text.encode("utf-8")), "the model-file text", ModelFileError)
+    return text
 
 
 def model_from_json(text: str, source: str = "model JSON") -> Model:
     """The model a model-file text holds; ModelFileError names `source` and the item at fault."""
     if not isinstance(text, str):
         raise TypeError(f"model_from_json needs the JSON text as str, got {type(text).__name__}")
+    check_json(text, source, ModelFileError)
     m = Model()
     m._load_json(text, source)
     _restore_description(m, source)
@@ -122,19 +140,17 @@ def model_from_json(text: str, source: str = "model JSON") -> Model:
 
 def save_model(m: Model, path, metadata: Optional[dict] = None) -> None:
     """Write `m` to `path` in soadyn's model-file format (JSON; see the README's "Model files")."""
-    text = model_to_json(m, metadata)
+    try:
+        text = model_to_json(m, metadata)
+    except ModelFileError as exc:
+        raise ModelFileError(f"{os.fspath(path)}: cannot save the model: {exc}") from exc
     write_text(path, text, ModelFileError, "model file")
 
 
 def load_model(path) -> Model:
     """The model stored at `path` by save_model (or by soadyn::save_model in C++)."""
     path = os.fspath(path)
-    try:
-        with open(path, "r", encoding="utf-8") as f:
-            text = f.read()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ModelFileError(f"{path}: cannot read the model file: {exc}") from exc
-    return model_from_json(text, path)
+    return model_from_json(read_text(path, path, ModelFileError, "model file"), path)
 
 
 def metadata(m: Model) -> dict:

@@ -31,7 +31,7 @@ def _at_rest_derivatives(model, q):
 def stiffness_matrix(model, q) -> np.ndarray:
     """K = d h(q, 0) / dq (nv x nv) in the tangent space of soadyn.integrate, exact
     (inverse_dynamics_derivatives at rest)."""
-    return _at_rest_derivatives(model, np.asarray(q, dtype=float))[0]
+    return _at_rest_derivatives(model, q)[0]
 
 
 def natural_frequencies(model, q) -> np.ndarray:
@@ -45,7 +45,6 @@ def natural_frequencies(model, q) -> np.ndarray:
     result describes the linearised restoring forces about q all the same.
     Damping is left out (see `modes` for damped modes).
     """
-    q = np.asarray(q, dtype=float)
     regular = ~np.asarray(model.prescribed, dtype=bool)
     K, _, M = _at_rest_derivatives(model, q)
     M, K = M[np.ix_(regular, regular)], K[np.ix_(regular, regular)]
@@ -93,7 +92,6 @@ def modes(model, q) -> Modes:
     Prescribed DOFs are held. Models with flexible bodies or point springs: from the dual-number
     derivatives (soadyn.inverse_dynamics_derivatives) through the same eigen-analysis."""
     if _by_dual_numbers(model) and not model.nloops:
-        q = np.asarray(q, dtype=float)
         K, D, M = _at_rest_derivatives(model, q)
         dofs, w, zeta, roots, shapes = _soadyn._modes_of(model, M, K, D)
     else:

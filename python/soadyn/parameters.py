@@ -47,9 +47,18 @@ def parameter_sensitivity(model, q, v, u, params) -> dict:
     placement: (6,), (dtheta, dp) moving (R, p) to (R expm([dtheta]x), p + dp): dtheta in the joint frame,
     dp in the parent body's frame. Flexible bodies included (their placements are their parameters).
     """
+    return _soadyn._parameter_sensitivity(model, q, v, u, parameter_name_list(params))
+
+
+def parameter_name_list(params) -> list:
+    """A parameter name or an iterable of them, as a list of str; TypeError naming what is not a name."""
     if isinstance(params, str):
-        params = [params]
-    return _soadyn._parameter_sensitivity(model, q, v, u, [_name(p) for p in params])
+        return [params]
+    try:
+        items = list(params)
+    except TypeError:
+        raise TypeError(f"params must be a parameter name or a list of them, got {type(params).__name__}") from None
+    return [_name(p) for p in items]
 
 
 def _name(name) -> str:

@@ -45,7 +45,7 @@ class Simulator(_Simulator):
         # The simulator steps its own copy: names are resolved, and energies
         # measured, on that copy, whatever later happens to `model`.
         own = model.copy() if hasattr(model, "copy") else model
-        super().__init__(own, float(dt), integrator, int(event_capacity))
+        super().__init__(own, dt, integrator, event_capacity)
         self._model = own
 
     def _dofs(self, dof) -> list[int]:
@@ -100,15 +100,15 @@ class Simulator(_Simulator):
         d = float(duration)
         if not math.isfinite(d) or d < 0:
             raise ValueError(f"duration must be a finite number of seconds >= 0, got {duration!r}")
-        exact = d / self.dt
+        exact = d / self.dt  # inf when dt is tiny (5e-324): refused below, never rounded
+        if not exact <= MAX_RUN_STEPS + 0.5:
+            raise ValueError(f"duration {d!r} s is {exact:.3g} steps of dt = {self.dt!r} s: run() records every "
+                             f"step, at most {MAX_RUN_STEPS} per call; run in pieces or give a larger dt")
         steps = round(exact)
         if abs(exact - steps) > STEP_TOLERANCE:
             raise ValueError(f"duration {d!r} s is {exact:.9g} steps of dt = {self.dt!r} s, not a whole number: "
                              f"give a multiple of dt (within {STEP_TOLERANCE:g} of a step), e.g. "
                              f"{math.floor(exact) * self.dt!r} or {math.ceil(exact) * self.dt!r}")
-        if steps > MAX_RUN_STEPS:
-            raise ValueError(f"duration {d!r} s is {steps} steps: run() records every step, at most "
-                             f"{MAX_RUN_STEPS} per call; run in pieces")
         return steps
 
     def run(self, duration: float) -> Trajectory:

@@ -98,7 +98,7 @@ def static_equilibrium(model, q0, hold=None, tol: float = 1e-12, max_iterations:
     """
     free = _free_mask(model, hold)
     q, nu, force, eigenvalues, iterations, residual_norm, stable = _soadyn._static_equilibrium(
-        model, q0, [bool(f) for f in free], float(tol), int(max_iterations))
+        model, q0, [bool(f) for f in free], tol, max_iterations)
     # Wrenches: the constrained dynamics at rest with the held DOFs prescribed (qdd = 0), the free ones unforced.
     at_rest = model.copy()
     at_rest.set_prescribed(~free, True)

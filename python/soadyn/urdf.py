@@ -20,7 +20,13 @@ Decisions:
   planar and floating joints: one UrdfIgnoredWarning per load names the
   joints whose values were ignored. By default (joint_damping=False) the
   model is the rigid-body one, as Pinocchio's dynamics algorithms read the
-  same file, and <dynamics> is ignored. Limits and mimic are not modelled.
+  same file, and <dynamics> is ignored. Position and velocity limits and
+  mimic are not modelled.
+- A revolute, continuous or prismatic joint's <limit effort> becomes its
+  DOF's effort limit (Model.set_effort_limit); effort="0" or no <limit>
+  means no limit known and sets none. One number cannot bound the forces
+  and torques of a planar or floating joint: their effort is not set, and
+  is named in a UrdfIgnoredWarning.
 - <visual> shapes become model.visuals (urdf_visuals.py; package_dirs
   resolves package:// mesh names); meshes are referenced by path, not read.
 
@@ -62,10 +68,11 @@ class UrdfRepairWarning(UserWarning):
 
 
 class UrdfIgnoredWarning(UserWarning):
-    """load_urdf ignored joint dynamics it cannot model (Coulomb friction); the message names the joints."""
+    """load_urdf ignored joint dynamics it cannot model (Coulomb friction, the effort of a planar or floating
+    joint); the message names the joints."""
 
 
-_DAMPED_TYPES = ("revolute", "continuous", "prismatic")
+_ONE_DOF_TYPES = ("revolute", "continuous", "prismatic")  # damping and effort apply to one coordinate
 
 
 def _add_joint_dampers(model: Model, joints, path) -> None:
@@ -73,15 +80,32 @@ def _add_joint_dampers(model: Model, joints, path) -> None:
     damping on a joint type without a scalar coordinate) is ignored."""
     ignored = []
     for joint in joints:
-        if joint.damping > 0 and joint.type in _DAMPED_TYPES:
+        if joint.damping > 0 and joint.type in _ONE_DOF_TYPES:
             model.add_joint_spring(joint.name, joint.name, 0.0, damping=joint.damping)
         elif joint.damping > 0 and joint.type != "fixed":
             ignored.append(f"'{joint.name}' (damping on a {joint.type} joint)")
         if joint.friction > 0 and joint.type != "fixed":
             ignored.append(f"'{joint.name}' (friction {joint.friction:g})")
+    _warn_ignored(path, "joint dynamics", ignored)
+
+
+def _add_effort_limits(model: Model, joints, path) -> None:
+    """<limit effort> of one-DOF joints as their DOF's effort limit; one warning naming the planar and
+    floating joints whose effort is ignored."""
+    ignored = []
+    for joint in joints:
+        if joint.effort > 0 and joint.type in _ONE_DOF_TYPES:
+            model.set_effort_limit(joint.name, joint.effort)
+        elif joint.effort > 0 and joint.type != "fixed":
+            ignored.append(f"'{joint.name}' (effort {joint.effort:g} on a {joint.type} joint)")
+    _warn_ignored(path, "effort limits", ignored)
+
+
+def _warn_ignored(path, what: str, ignored: list) -> None:
+    """One UrdfIgnoredWarning naming the file and the `ignored` items, if any, attributed to load_urdf's caller."""
     if ignored:
-        warnings.warn(f"URDF '{path}': joint dynamics not modelled, ignored: {', '.join(ignored)}",
-                      UrdfIgnoredWarning, stacklevel=3)
+        warnings.warn(f"URDF '{path}': {what} not modelled, ignored: {', '.join(ignored)}", UrdfIgnoredWarning,
+                      stacklevel=4)
 
 
 def _frame_with_z(axis: np.ndarray) -> np.ndarray:
@@ -284,6 +308,7 @@ def load_urdf(path, floating_base: bool = False, package_dirs=None, inertia: str
     physical and warns (UrdfRepairWarning) naming the link; "accept" keeps
     the file's values (the dynamics may then be singular). Every failure to
     read or build the model is a UrdfError naming the file and the element.
+    A one-DOF joint's <limit effort> (not 0) becomes its DOF's effort limit (Model.effort_limits).
     joint_damping=True: each one-DOF joint's <dynamics damping> becomes a joint damper named after the joint
     (soadyn.force_elements); friction is not modelled and is reported once (UrdfIgnoredWarning).
     """
@@ -302,6 +327,7 @@ def load_urdf(path, floating_base: bool = False, package_dirs=None, inertia: str
         raise FileNotFoundError(f"URDF file '{path}' does not exist")
     robot = read_urdf(path)
     model = _Loader(robot, inertia).load(bool(floating_base))
+    _add_effort_limits(model, robot.joints, path)
     if joint_damping:
         _add_joint_dampers(model, robot.joints, path)
     _add_visuals(model, path, package_dirs)

@@ -4,10 +4,13 @@
 read from the model's own model-file view (model_file.py), so every number is
 the model's:
 - a body on a revolute joint becomes a link on a `continuous` joint (soadyn's
-  revolute joints have no limits), prismatic a `prismatic` joint (limits
-  written as +-1e9, which URDF requires and nothing enforces), fixed a
-  `fixed` joint; the joint's origin is the body's placement in its parent
-  (rpy from the rotation), its axis the joint's axis;
+  revolute joints have no position limits), prismatic a `prismatic` joint
+  (position and velocity limits written as +-1e9, which URDF requires and
+  nothing enforces), fixed a `fixed` joint; the joint's origin is the
+  body's placement in its parent
+  (rpy from the rotation), its axis the joint's axis; the DOF's effort limit
+  (Model.effort_limits) is the <limit effort>, "0" (URDF's "no limit known")
+  for a prismatic joint without one;
 - mass, centre of mass and inertia about the COM become <inertial>;
 - a free-floating root (a free joint on the world, identity placement)
   becomes the URDF's root link, to be loaded with a floating base (`load_urdf(path,
@@ -17,15 +20,22 @@ the model's:
   (`<frame>_joint`), so a reader keeps them as frames;
 - visuals of shape box, sphere, cylinder and mesh files become <visual>.
 
-Refused with a UrdfError naming the item: flexible bodies, and joints URDF
+Refused with a UrdfError naming the item: flexible bodies, joints URDF
 has no type for (helical, universal, cylindrical, spherical, translation,
-planar, a free joint below the root). Dropped with one UrdfExportWarning
-naming them: loops, joint and point springs, armature, prescribed flags and
-visuals URDF cannot draw (capsule, ellipsoid, plane, inline meshes).
+planar, a free joint below the root), and names XML 1.0 cannot hold (NUL and
+the other C0 control characters but tab, newline and carriage return;
+U+FFFE, U+FFFF): no escape exists for them, and a reader refuses the file. Every
+other character is written escaped (quotes, <, &, newlines) and reads back
+unchanged. Dropped with one UrdfExportWarning
+naming them: loops, joint and point springs, armature, prescribed flags, a
+floating root's effort limits and visuals URDF cannot draw (capsule,
+ellipsoid, plane, inline meshes).
 """
 from __future__ import annotations
 
 import json
+import os
+import re
 import warnings
 import xml.etree.ElementTree as ET
 
@@ -42,7 +52,26 @@ class UrdfExportWarning(UserWarning):
     """What a model holds and URDF cannot: named once per export."""
 
 
-_LIMIT = "1e9"  # prismatic limits URDF requires; nothing reads them as dynamics
+_LIMIT = "1e9"  # the position and velocity limits URDF requires in a <limit>; nothing reads them as dynamics
+_NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")  # outside XML 1.0's Char
+
+
+def _xml_name(name: str, item: str) -> None:
+    """UrdfError naming `item` (which shows `name`) when `name` holds a character XML 1.0 cannot hold."""
+    bad = _NOT_XML.search(name)
+    if bad:
+        raise UrdfError(f"{item}: the name holds U+{ord(bad.group()):04X}, a character XML 1.0 cannot hold (not "
+                        f"even escaped); rename it to export a URDF")
+
+
+def _check_names(data: dict, robot_name: str) -> None:
+    """Every body, joint and frame name the URDF will hold can be written into XML (see _xml_name)."""
+    _xml_name(robot_name, f"robot name {robot_name!r}")
+    for body in data["bodies"]:
+        _xml_name(body["name"], f"body {body['name']!r}")
+        _xml_name(body["joint"]["name"], f"joint {body['joint']['name']!r} of body {body['name']!r}")
+    for frame in data["frames"]:
+        _xml_name(frame["name"], f"frame {frame['name']!r}")
 
 
 def _number_list(values) -> str:
@@ -74,21 +103,28 @@ def _link(robot: ET.Element, name: str, body: dict | None = None) -> ET.Element:
     return link
 
 
-def _joint(robot: ET.Element, name: str, kind: str, parent: str, child: str, placement: dict, axis=None) -> None:
+def _joint(robot: ET.Element, name: str, kind: str, parent: str, child: str, placement: dict, axis=None,
+           effort=None) -> None:
     joint = ET.SubElement(robot, "joint", name=name, type=kind)
     _origin(joint, placement["rotation"], placement["translation"])
     ET.SubElement(joint, "parent", link=parent)
     ET.SubElement(joint, "child", link=child)
     if axis is not None:
         ET.SubElement(joint, "axis", xyz=_number_list(axis))
+    effort = "0" if effort is None else repr(float(effort))
     if kind == "prismatic":
-        ET.SubElement(joint, "limit", lower="-" + _LIMIT, upper=_LIMIT, effort=_LIMIT, velocity=_LIMIT)
+        ET.SubElement(joint, "limit", lower="-" + _LIMIT, upper=_LIMIT, effort=effort, velocity=_LIMIT)
+    elif effort != "0":
+        ET.SubElement(joint, "limit", effort=effort, velocity=_LIMIT)
 
 
 def _visual(link: ET.Element, v) -> bool:
     """A <visual> for `v` in `link`; False when URDF has no such geometry."""
     if v.shape == "mesh" and v.mesh_file is None or v.shape not in ("box", "sphere", "cylinder", "mesh"):
         return False
+    _xml_name(v.name, f"visual {v.name!r}")
+    if v.mesh_file is not None:
+        _xml_name(v.mesh_file, f"mesh file {v.mesh_file!r} of visual {v.name!r}")
     visual = ET.SubElement(link, "visual", name=v.name)
     _origin(visual, v.rotation, v.translation)
     geometry = ET.SubElement(visual, "geometry")
@@ -129,7 +165,9 @@ def urdf_text(m: Model, robot_name: str = "soadyn_model") -> str:
         raise TypeError(f"urdf_text needs a soadyn.Model, got {type(m).__name__}")
     data = json.loads(m._to_json())  # the model-file view: every body, joint and number the model holds
     bodies = data["bodies"]
+    _check_names(data, robot_name)
     floating = _floating_root(bodies)
+    efforts = dict(data.get("effort_limits", {}))  # DOF name -> effort limit; what remains is not exported
     robot = ET.Element("robot", name=robot_name)
     links: dict[str, ET.Element] = {}
     if floating is None or any(b["parent"] == "world" and b["name"] != floating for b in bodies):
@@ -150,11 +188,12 @@ def urdf_text(m: Model, robot_name: str = "soadyn_model") -> str:
             raise UrdfError(f"joint '{joint['name']}' of body '{name}': URDF has no {kind} joint "
                             f"(exportable: revolute, prismatic, fixed, and a free joint at the root)")
         urdf_kind = {"revolute": "continuous"}.get(kind, kind)
-        _joint(robot, joint["name"], urdf_kind, body["parent"], name, body["placement"], joint.get("axis"))
+        _joint(robot, joint["name"], urdf_kind, body["parent"], name, body["placement"], joint.get("axis"),
+               efforts.pop(joint["name"], None) if kind != "fixed" else None)  # a one-DOF joint's DOF: its name
     for frame in data["frames"]:
         links[frame["name"]] = _link(robot, frame["name"])
         _joint(robot, f"{frame['name']}_joint", "fixed", frame["body"], frame["name"], frame["placement"])
-    dropped = _dropped(data, m)
+    dropped = _dropped(data, m) + [f"effort limit of '{dof}'" for dof in efforts]
     for v in m.visuals:
         if v.frame not in links or not _visual(links[v.frame], v):
             dropped.append(f"visual '{v.name}' ({v.shape} on '{v.frame}')")
@@ -167,5 +206,8 @@ def urdf_text(m: Model, robot_name: str = "soadyn_model") -> str:
 
 def save_urdf(m: Model, path, robot_name: str = "soadyn_model") -> None:
     """Write the URDF of the rigid part of `m` to `path` (see the module's documentation)."""
-    text = urdf_text(m, robot_name)
+    try:
+        text = urdf_text(m, robot_name)
+    except UrdfError as exc:
+        raise UrdfError(f"{os.fspath(path)}: cannot export the URDF: {exc}") from exc
     write_text(path, text, UrdfError, "URDF")

@@ -1,7 +1,9 @@
 """The URDF file format read into plain values, every number checked.
 
-The XML is parsed by the standard library (xml.etree.ElementTree); this
-module reads the URDF elements the dynamics needs and refuses, by file and
+The XML is parsed by the standard library (xml.etree.ElementTree), its size
+and element depth bounded (bounded_input.py: a file over 512 MiB or nested
+more than 256 elements deep is a UrdfError naming the file and the limit);
+this module reads the URDF elements the dynamics needs and refuses, by file and
 element name, everything it cannot read exactly: a missing or non-numeric
 attribute, a vector with the wrong number of components, a non-finite
 number, a negative mass, an unknown joint type, a duplicate name. Nothing
@@ -14,8 +16,11 @@ Read, per the URDF specification (wiki.ros.org/urdf/XML):
   urdf_visuals.py, collision and everything else is ignored.
 - <joint name type>: <parent link>, <child link>, <origin xyz rpy> (default
   identity), <axis xyz> (default 1 0 0; read only for the types that have an
-  axis) and <dynamics> damping and friction. Limits, mimic, calibration and
-  safety are ignored.
+  axis), <dynamics> damping and friction, and <limit effort> (the largest
+  force or torque; 0 when <limit> or its effort is absent: URDF's "no limit
+  known", as files give fixed and passive joints). Like <dynamics>, a
+  negative, non-numeric or non-finite effort is refused. The position and
+  velocity limits, mimic, calibration and safety are ignored.
 - rpy are fixed-axis roll, pitch, yaw: R = Rz(yaw) Ry(pitch) Rx(roll).
 """
 from __future__ import annotations
@@ -26,6 +31,8 @@ from pathlib import Path
 from xml.etree import ElementTree
 
 import numpy as np
+
+from .bounded_input import parse_xml, read_bytes
 
 __all__ = ["UrdfError", "UrdfInertial", "UrdfLink", "UrdfJoint", "UrdfRobot", "read_urdf", "JOINT_TYPES"]
 
@@ -61,6 +68,7 @@ class UrdfJoint:
     axis: np.ndarray  # unit, in the child link frame
     damping: float = 0.0   # <dynamics damping>: viscous, N m s/rad or N s/m
     friction: float = 0.0  # <dynamics friction>: Coulomb (not modelled)
+    effort: float = 0.0    # <limit effort>: the largest |force| or |torque|, N or N m; 0: no limit known
 
 
 @dataclass(frozen=True)
@@ -161,28 +169,26 @@ class _Reader:
                 raise self.error(where, f"axis {axis.tolist()} is zero")
             axis = axis / norm
         damping, friction = self.dynamics(element, where)
-        return UrdfJoint(name, kind, parent, child, R, p, axis, damping, friction)
+        limit = self.single(element, "limit", where, False)
+        effort = self.non_negative(limit, "effort", where) if limit is not None else 0.0
+        return UrdfJoint(name, kind, parent, child, R, p, axis, damping, friction, effort)
+
+    def non_negative(self, element, name: str, where: str) -> float:
+        """The number attribute `name` of `element`, 0 when absent; finite and non-negative."""
+        value = self.numbers(element, name, 1, f"{where} <{element.tag}>", default=(0.0,))[0]
+        if not value >= 0:
+            raise self.error(where, f"<{element.tag}> {name}={value} must be non-negative")
+        return value
 
     def dynamics(self, element, where: str) -> tuple[float, float]:
         """(damping, friction) of a joint's <dynamics>, 0 when absent; both finite and non-negative."""
         dynamics = self.single(element, "dynamics", where, False)
         if dynamics is None:
             return 0.0, 0.0
-        values = []
-        for name in ("damping", "friction"):
-            value = self.numbers(dynamics, name, 1, where + " <dynamics>", default=(0.0,))[0]
-            if not value >= 0:
-                raise self.error(where, f"<dynamics> {name}={value} must be non-negative")
-            values.append(value)
-        return values[0], values[1]
+        return self.non_negative(dynamics, "damping", where), self.non_negative(dynamics, "friction", where)
 
     def robot(self) -> UrdfRobot:
-        try:
-            root = ElementTree.parse(self.path).getroot()
-        except ElementTree.ParseError as exc:
-            raise UrdfError(f"malformed URDF '{self.path}': {exc}") from exc
-        except OSError as exc:
-            raise UrdfError(f"URDF '{self.path}' cannot be read: {exc}") from exc
+        root = read_root(self.path)
         if root.tag != "robot":
             raise UrdfError(f"URDF '{self.path}': the root element is <{root.tag}>, not <robot>")
         links: dict[str, UrdfLink] = {}
@@ -201,6 +207,17 @@ class _Reader:
             joint_names.add(joint.name)
             joints.append(joint)
         return UrdfRobot(self.path, links, joints)
+
+
+def read_root(path: Path) -> ElementTree.Element:
+    """The root element of the URDF file at `path`; UrdfError naming the file when it cannot be read, is
+    not well-formed XML or is beyond the bounds of bounded_input.py."""
+    label = f"URDF '{path}'"
+    data = read_bytes(path, label, UrdfError, "file")
+    try:
+        return parse_xml(data, label, UrdfError)
+    except ElementTree.ParseError as exc:
+        raise UrdfError(f"malformed URDF '{path}': {exc}") from exc
 
 
 def read_urdf(path: Path) -> UrdfRobot:

@@ -17,11 +17,10 @@ from __future__ import annotations
 import math
 import os
 from pathlib import Path
-from xml.etree import ElementTree
 
 import numpy as np
 
-from .urdf_reader import rpy_matrix
+from .urdf_reader import read_root, rpy_matrix
 from .visuals import Visual
 
 __all__ = ["read_visuals", "resolve_mesh"]
@@ -108,7 +107,7 @@ def read_visuals(urdf_path, package_dirs=()) -> tuple[list[Visual], list[str]]:
     """(visuals, what was left out) of every link of the URDF at `urdf_path` (already parsed once by the
     loader, so the XML is known to be well formed)."""
     urdf_path = Path(urdf_path)
-    root = ElementTree.parse(urdf_path).getroot()
+    root = read_root(urdf_path)
     materials = {}
     for material in root.findall("material"):
         colour = material.find("color")

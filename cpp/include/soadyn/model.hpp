@@ -185,6 +185,13 @@ class ModelTpl {
   // DOFs have none. Throws std::invalid_argument naming the DOF. Allocation free.
   void set_armature(int dof, S value);
 
+  // Effort limit of velocity index `dof`: the largest force or torque its
+  // actuator can apply (URDF <limit effort>, MJCF forcerange or ctrlrange
+  // times gear), +inf (the default) when unknown. HIL runs take it as the
+  // DOF's command limit (sim/command_limits.hpp). Positive (+inf allowed);
+  // throws std::invalid_argument naming the DOF. Allocation free.
+  void set_effort_limit(int dof, S value);
+
   // After a change of mass, com, inertia_com / inertia or placement
   // (parameters.hpp): refreshes what is derived from them (the tree-frame
   // reach, the constant tree-frame inertias). Allocation free.
@@ -242,6 +249,7 @@ class ModelTpl {
   std::vector<std::uint8_t> modal_dof;  // 1 for modal coordinates
   std::vector<S> armature;              // per DOF, zero by default (set_armature)
   bool has_armature = false;            // some DOF's armature is nonzero
+  std::vector<S> effort_limit;          // per DOF, +inf by default (set_effort_limit)
   int n_prescribed = 0;  // how many DOFs are prescribed
   // The first n_prescribed entries: the prescribed DOFs in increasing order
   // (sized nv when DOFs are added, rewritten in place when a flag flips).

@@ -51,36 +51,64 @@ void check_mass_parameters(S mass, const Vec3<S>& com, const Mat3<S>& I, const s
   if ((I - I.transpose()).cwiseAbs().maxCoeff() > tol) fail("body '" + body + "': inertia is not symmetric");
 }
 
-// The scale of a body's rotational inertia: the largest entry of the inertia
-// about the centre of mass or of the parallel-axis term m |c|^2 that turns it
-// into the inertia about the frame origin. Rounding in either (a merge of
-// welded parts works about the origin) is relative to this scale, so the
-// physical tests below allow sqrt(eps) of it: a point mass printed with a
-// product of inertia of 1e-20 is a point mass.
+// The scale of a body's rotational inertia for the rounding allowance of the
+// physical tests below (sqrt(eps) of it): the larger of the inertia's largest
+// entry and m r^2 with r = point_mass_radius (1 mm), so that a point mass
+// printed with a product of inertia of 1e-20 is a point mass. An inertia
+// given about the centre of mass is judged on this scale wherever the centre
+// of mass lies: diag(-1, 1, 1) is refused at com 1e9 as at com 0.
+constexpr double point_mass_radius = 1e-3;
+
 template <class S>
-S inertia_scale(S mass, const Vec3<S>& com, const Mat3<S>& I) {
-  return std::max({I.cwiseAbs().maxCoeff(), mass * com.squaredNorm(), S(std::numeric_limits<S>::min())});
+S inertia_scale(S mass, const Mat3<S>& I) {
+  return std::max({I.cwiseAbs().maxCoeff(), mass * S(point_mass_radius * point_mass_radius),
+                   S(std::numeric_limits<S>::min())});
 }
 
-// A physical rigid body: inertia about the centre of mass positive
-// semidefinite and obeying the triangle inequality of principal moments, no
-// inertia without mass, each up to rounding (inertia_scale). Semidefinite
-// inertias (point masses, thin rods) are physical and accepted. Required of
-// every body of the tree under InertiaPolicy::require_physical; a part welded
-// to a body by a fixed joint only has to leave that body physical (CAD
-// exports split bodies into pieces that are not bodies on their own).
+// The scale of an inertia about the centre of mass that was computed from one
+// about the frame origin (a merge of welded parts): its rounding is relative
+// to the parallel-axis term m |c|^2 as well.
 template <class S>
-void check_physical_inertia(S mass, const Vec3<S>& com, const Mat3<S>& I, const std::string& who) {
-  const S tol = model_tolerance<S>() * inertia_scale(mass, com, I);
+S merged_inertia_scale(S mass, const Vec3<S>& com, const Mat3<S>& I) {
+  return std::max(inertia_scale(mass, I), mass * com.squaredNorm());
+}
+
+// What makes a rigid body impossible (none: it is physical): inertia about
+// the centre of mass not positive semidefinite, principal moments violating
+// the triangle inequality, or inertia without mass, each beyond `tolerance`.
+// Semidefinite inertias (point masses, thin rods) are physical.
+enum class InertiaDefect { none, indefinite, triangle_inequality, massless_with_inertia };
+
+template <class S>
+InertiaDefect inertia_defect(S mass, const Mat3<S>& I, S tolerance, Vec3<S>* principal_moments = nullptr) {
   const Vec3<S> m = Eigen::SelfAdjointEigenSolver<Mat3<S>>(I, Eigen::EigenvaluesOnly).eigenvalues();
-  if (m.minCoeff() < -tol)
-    throw NonphysicalInertiaError(who + ": inertia is not positive semidefinite (principal moment " +
-                                  str(m.minCoeff()) + ")");
+  if (principal_moments) *principal_moments = m;
+  if (m.minCoeff() < -tolerance) return InertiaDefect::indefinite;
   for (int k = 0; k < 3; ++k)
-    if (m[k] > m[(k + 1) % 3] + m[(k + 2) % 3] + tol)
+    if (m[k] > m[(k + 1) % 3] + m[(k + 2) % 3] + tolerance) return InertiaDefect::triangle_inequality;
+  if (mass == S(0) && m.maxCoeff() > tolerance) return InertiaDefect::massless_with_inertia;
+  return InertiaDefect::none;
+}
+
+// Throws NonphysicalInertiaError naming `who` unless the body is physical
+// (inertia_defect, with sqrt(eps) of `scale` as the rounding allowance).
+// Required of every body of the tree under InertiaPolicy::require_physical; a
+// part welded to a body by a fixed joint only has to leave that body physical
+// (CAD exports split bodies into pieces that are not bodies on their own).
+template <class S>
+void check_physical_inertia(S mass, const Mat3<S>& I, S scale, const std::string& who) {
+  Vec3<S> m;
+  switch (inertia_defect(mass, I, model_tolerance<S>() * scale, &m)) {
+    case InertiaDefect::none: return;
+    case InertiaDefect::indefinite:
+      throw NonphysicalInertiaError(who + ": inertia is not positive semidefinite (principal moment " +
+                                    str(m.minCoeff()) + ")");
+    case InertiaDefect::triangle_inequality:
       throw NonphysicalInertiaError(who + ": principal moments " + str(m[0]) + ", " + str(m[1]) + ", " +
                                     str(m[2]) + " violate the triangle inequality");
-  if (mass == S(0) && m.maxCoeff() > tol) throw NonphysicalInertiaError(who + ": massless body with nonzero inertia");
+    case InertiaDefect::massless_with_inertia:
+      throw NonphysicalInertiaError(who + ": massless body with nonzero inertia");
+  }
 }
 
 // The spatial inertia about the frame origin (M(k) of Jain & Rodriguez 1993) must be finite:
@@ -203,7 +231,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
   detail::check_placement(X, name);
   detail::check_mass_parameters(m, c, I, name);
   const bool physical = policy == InertiaPolicy::require_physical;
-  if (!welded && physical) detail::check_physical_inertia(m, c, I, "body '" + name + "'");
+  if (!welded && physical) detail::check_physical_inertia(m, I, detail::inertia_scale(m, I), "body '" + name + "'");
   const Mat6<S> body_inertia = spatial_inertia(m, c, I);
   detail::check_finite_spatial_inertia(body_inertia, "body '" + name + "'");
 
@@ -219,7 +247,9 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
       detail::check_finite_spatial_inertia(merged, who);
       if (!merged_com.allFinite() || !merged_inertia_com.allFinite())
         detail::fail(who + ": centre of mass or inertia is not finite (a nearly massless merge)");
-      if (physical) detail::check_physical_inertia(merged_mass, merged_com, merged_inertia_com, who);
+      if (physical)
+        detail::check_physical_inertia(merged_mass, merged_inertia_com,
+                                       detail::merged_inertia_scale(merged_mass, merged_com, merged_inertia_com), who);
       inertia[p] = merged;
       mass[p] = merged_mass;
       com[p] = merged_com;
@@ -290,6 +320,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
     dof_body.push_back(index);
     prescribed.push_back(0);
     armature.push_back(S(0));
+    effort_limit.push_back(std::numeric_limits<S>::infinity());
     prescribed_dofs.push_back(0);
     modal_dof.push_back(k >= jv ? 1 : 0);
   }
@@ -361,11 +392,27 @@ void ModelTpl<S>::set_prescribed(int dof, bool flag) {
   refresh_modes();
 }
 
+namespace detail {
+inline void check_dof_index(const char* what, int dof, int nv) {
+  if (dof < 0 || dof >= nv)
+    throw std::invalid_argument(std::string(what) + ": DOF index " + std::to_string(dof) + " is out of range (nv = " +
+                                std::to_string(nv) + ")");
+}
+}  // namespace detail
+
+template <class S>
+void ModelTpl<S>::set_effort_limit(int dof, S value) {
+  detail::check_dof_index("set_effort_limit", dof, nv);
+  const std::size_t d = static_cast<std::size_t>(dof);
+  if (!(value > S(0)))
+    throw std::invalid_argument("DOF '" + dof_names[d] + "': effort limit must be positive (+inf: none), got " +
+                                std::to_string(static_cast<double>(value)));
+  effort_limit[d] = value;
+}
+
 template <class S>
 void ModelTpl<S>::set_armature(int dof, S value) {
-  if (dof < 0 || dof >= nv)
-    throw std::invalid_argument("set_armature: DOF index " + std::to_string(dof) + " is out of range (nv = " +
-                                std::to_string(nv) + ")");
+  detail::check_dof_index("set_armature", dof, nv);
   const std::size_t d = static_cast<std::size_t>(dof);
   if (!(std::isfinite(value) && value >= S(0)))
     throw std::invalid_argument("DOF '" + dof_names[d] + "': armature must be finite and non-negative");

@@ -112,6 +112,7 @@ ModelTpl<T> ModelTpl<S>::cast() const {
   out.modal_dof = modal_dof;
   out.armature = c::scalars<T>(armature);
   out.has_armature = has_armature;
+  out.effort_limit = c::scalars<T>(effort_limit);
   out.n_prescribed = n_prescribed;
   out.prescribed_dofs = prescribed_dofs;
   out.has_newton_euler_region = has_newton_euler_region;

@@ -27,6 +27,14 @@ struct ModelFileError : std::invalid_argument {
 
 inline constexpr int model_file_version = 1;
 
+// Limits of what a model file may hold, checked before anything else is
+// read, so that an untrusted file cannot exhaust the stack or the memory:
+// arrays and objects nested at most model_file_max_depth levels (the deepest
+// a model writes is under 10; the caller's metadata has the rest), and at
+// most model_file_max_bytes bytes. The Python readers use the same numbers.
+inline constexpr int model_file_max_depth = 256;
+inline constexpr std::size_t model_file_max_bytes = std::size_t(1) << 29;  // 512 MiB
+
 // The model as JSON text (indented, numbers exact).
 std::string model_to_json(const Model& model);
 // The model written in `text`; `source` names it in errors (a file name).

@@ -22,13 +22,9 @@ void require_finite(const ParameterEntry<S>& e, const S* in) {
 
 // check_physical_inertia (model.hxx) as a test: no message is built unless it fails.
 template <class S>
-bool is_physical(S mass, const Vec3<S>& com, const Mat3<S>& I) {
-  const S tol = detail::model_tolerance<S>() * detail::inertia_scale(mass, com, I);
-  const Vec3<S> m = Eigen::SelfAdjointEigenSolver<Mat3<S>>(I, Eigen::EigenvaluesOnly).eigenvalues();
-  if (m.minCoeff() < -tol) return false;
-  for (int k = 0; k < 3; ++k)
-    if (m[k] > m[(k + 1) % 3] + m[(k + 2) % 3] + tol) return false;
-  return !(mass == S(0) && m.maxCoeff() > tol);
+bool is_physical(S mass, const Mat3<S>& I) {
+  return detail::inertia_defect(mass, I, detail::model_tolerance<S>() * detail::inertia_scale(mass, I)) ==
+         detail::InertiaDefect::none;
 }
 
 // Stores a body's mass, centre of mass and inertia about it once they are
@@ -37,7 +33,9 @@ template <class S>
 void store_mass_properties(ModelTpl<S>& model, const ParameterEntry<S>& e, S mass, const Vec3<S>& com,
                            const Mat3<S>& inertia_com) {
   const std::size_t i = static_cast<std::size_t>(e.index);
-  if (!is_physical(mass, com, inertia_com)) detail::check_physical_inertia(mass, com, inertia_com, "parameter '" + e.name + "'");
+  if (!is_physical(mass, inertia_com))
+    detail::check_physical_inertia(mass, inertia_com, detail::inertia_scale(mass, inertia_com),
+                                   "parameter '" + e.name + "'");
   const Mat6<S> M = spatial_inertia(mass, com, inertia_com);  // M(k), Jain & Rodriguez 1993
   if (!M.allFinite())
     refuse(e.name, "spatial inertia about the body frame origin is not finite (mass * com or mass * |com|^2 overflows)");

@@ -14,6 +14,10 @@ enum class StatusCode {
   loop_not_closed,               // loop-closure projection did not converge (index: the loop, not a DOF)
   inconsistent_loop_equations,   // closure accelerations cannot be met (index: the loop); data holds the
                                  // least-squares answer (constrained_dynamics.hpp)
+  loop_assembly_stalled,         // assembly makes no progress: the residual stopped decreasing (index: the loop)
+  interrupted,                   // stopped by an Interrupt (interrupt.hpp) between iterations
+  diverging,                     // the divergence guard stopped the step before the state lost its finiteness
+                                 // (sim/divergence_guard.hpp; index: the DOF)
   // Internal to the dynamics dispatch, never returned by a public algorithm:
   // a body lies beyond its tree-frame reach (tree_frame_reach.hxx), so the
   // call is redone in body frames (index: the body).
@@ -31,6 +35,9 @@ inline const char* status_message(StatusCode code) {
     case StatusCode::substep_limit: return "sub-step limit reached";
     case StatusCode::loop_not_closed: return "loop closure not reached";
     case StatusCode::inconsistent_loop_equations: return "loop-closure equations cannot be met";
+    case StatusCode::loop_assembly_stalled: return "loop assembly stalled";
+    case StatusCode::interrupted: return "interrupted";
+    case StatusCode::diverging: return "diverging";
     case StatusCode::beyond_tree_frame_reach: return "beyond tree-frame reach";
   }
   return "unknown";

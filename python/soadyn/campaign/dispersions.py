@@ -20,12 +20,13 @@ import numpy as np
 
 from ..simulator import MotionSource
 from .distributions import DISTRIBUTION_KEYS, Distribution, parse_distribution
+from .problems import closest, shown
 
 KINDS = ("parameter", "initial", "event", "source")
 ENTRY_KEYS = frozenset({"name", "distribution", *KINDS, *(k for keys in DISTRIBUTION_KEYS.values() for k in keys)})
 EVENT_KINDS = ("lock", "release")
 SOURCE_KINDS = ("velocity", "input")
-_ELEMENT = re.compile(r"^\s*([^\[\]\s]+)\s*(?:\[\s*(\d+)\s*(?:,\s*(\d+)\s*)?\])?\s*$")
+_ELEMENT = re.compile(r"^\s*([^\[\]\s]+)\s*(?:\[\s*(\d{1,9})\s*(?:,\s*(\d{1,9})\s*)?\])?\s*$")
 
 
 @dataclass(frozen=True)
@@ -49,28 +50,42 @@ class Dispersion:
         return entry
 
 
-def parse_dispersion(entry, where: str, model, start) -> Dispersion:
-    """One [[dispersions]] entry checked against `model` and the start state `start` = (q, v);
-    ValueError naming `where` and the item at fault."""
+def parse_dispersion(entry, where: str, model, start, problems):
+    """One [[dispersions]] entry checked against `model` and the start state `start` = (q, v): its
+    Dispersion, or None after adding every problem of the entry to `problems` (each naming `where`,
+    what the entry disperses, and the key at fault)."""
     if not isinstance(entry, dict):
-        raise ValueError(f"{where}: must be a table, got {type(entry).__name__}")
-    unknown = sorted(set(entry) - ENTRY_KEYS)
-    if unknown:
-        raise ValueError(f"{where}: unknown key {unknown[0]!r} (known: {', '.join(sorted(ENTRY_KEYS))})")
+        problems.add(f"{where}: must be a table, got {type(entry).__name__}")
+        return None
+    found = len(problems.messages)
+    kind = problems.check(_kind, entry, where)
+    if kind is not None:
+        where = f"{where} ({kind} {shown(entry[kind])})"
+    for key in sorted(set(entry) - ENTRY_KEYS, key=str):
+        problems.add(f"{where}: unknown key {shown(key)}{closest(key, sorted(ENTRY_KEYS))}")
+    target = problems.check(_TARGETS[kind], entry[kind], where, model, start) if kind is not None else None
+    if target is not None:
+        mode, dispersed, index, text, nominal = target
+    column = entry.get("name", text if target is not None else "")
+    if "name" in entry and (not isinstance(column, str) or not column.strip()):
+        problems.add(f"{where}: name must be a non-empty string, got {shown(column)}")
+    # With the target at fault there is no nominal value: 1 stands in, so that the distribution's
+    # own problems are found now (a relative scale's are found once the target is right).
+    distribution = parse_distribution(entry, nominal if target is not None else 1.0, where, problems)
+    if len(problems.messages) > found:
+        return None
+    return Dispersion(column, kind, mode, dispersed, index, distribution, text)
+
+
+def _kind(entry: dict, where: str) -> str:
+    """What the entry disperses: parameter, initial, event or source, given as a string."""
     kinds = [k for k in KINDS if k in entry]
     if len(kinds) != 1:
         raise ValueError(f"{where}: give exactly one of {', '.join(KINDS)} (what is dispersed)"
                          + (f", got {' and '.join(kinds)}" if kinds else ""))
-    kind = kinds[0]
-    text = entry[kind]
-    if not isinstance(text, str):
-        raise ValueError(f"{where}: {kind} must be a string, got {text!r}")
-    where = f"{where} ({kind} {text!r})"
-    mode, target, index, text, nominal = _TARGETS[kind](text, where, model, start)
-    column = entry.get("name", text)
-    if not isinstance(column, str) or not column.strip():
-        raise ValueError(f"{where}: name must be a non-empty string, got {column!r}")
-    return Dispersion(column, kind, mode, target, index, parse_distribution(entry, nominal, where), text)
+    if not isinstance(entry[kinds[0]], str):
+        raise ValueError(f"{where}: {kinds[0]} must be a string, got {shown(entry[kinds[0]])}")
+    return kinds[0]
 
 
 def _parameter(text, where, model, start):
@@ -80,8 +95,7 @@ def _parameter(text, where, model, start):
     name = match.group(1)
     names = list(model.parameter_names)
     if name not in names:
-        raise ValueError(f"{where}: unknown parameter {name!r}{_suggestion(name, names)} "
-                         f"(the model's parameters: {', '.join(names)})")
+        raise ValueError(f"{where}: unknown parameter {shown(name)}{closest(name, names, 'parameters')}")
     value = np.asarray(model.get_parameter(name), dtype=float)
     index = tuple(int(g) for g in match.groups()[1:] if g is not None)
     if value.ndim == 0:
@@ -105,8 +119,7 @@ def _initial(text, where, model, start):
     names = list(model.coordinate_names if mode == "q" else model.dof_names)
     if name not in names:
         what = "coordinate" if mode == "q" else "DOF"
-        raise ValueError(f"{where}: unknown {what} {name!r}{_suggestion(name, names)} "
-                         f"(the model's {what}s: {', '.join(names)})")
+        raise ValueError(f"{where}: unknown {what} {shown(name)}{closest(name, names, what + 's')}")
     k = names.index(name)
     return mode, name, (k,), text, float(start[0 if mode == "q" else 1][k])
 
@@ -130,7 +143,7 @@ def _source(text, where, model, start):
         raise ValueError(f"{where}: expected 'velocity:<DOF>' or 'input:<DOF>'")
     dofs = _dof_indices(model, dof, where)
     if len(dofs) != 1:
-        raise ValueError(f"{where}: {dof!r} names {len(dofs)} DOFs; a source drives one DOF")
+        raise ValueError(f"{where}: {shown(dof)} names {len(dofs)} DOFs; a source drives one DOF")
     k = dofs[0]
     if mode == "velocity":
         try:
@@ -139,11 +152,11 @@ def _source(text, where, model, start):
             raise ValueError(f"{where}: {error}") from None
         coordinates = list(model.coordinate_names)
         if dof not in coordinates:
-            raise ValueError(f"{where}: {dof!r} has no coordinate of its own (a DOF of a free, spherical or "
+            raise ValueError(f"{where}: {shown(dof)} has no coordinate of its own (a DOF of a free, spherical or "
                              f"planar joint); a velocity source drives a 1-DOF joint's coordinate")
         return mode, dof, (coordinates.index(dof),), text, None
     if model.prescribed[k]:
-        raise ValueError(f"{where}: {dof!r} is prescribed; an input acts on a regular DOF")
+        raise ValueError(f"{where}: {shown(dof)} is prescribed; an input acts on a regular DOF")
     return mode, dof, (k,), text, None
 
 
@@ -155,15 +168,8 @@ def _dof_indices(model, target: str, where: str) -> list[int]:
         return list(model._dof_indices(target))
     except ValueError:
         names = list(model.dof_names) + [j for j in model.joint_names if j not in model.dof_names]
-        raise ValueError(f"{where}: unknown DOF or joint {target!r}{_suggestion(target, names)} "
-                         f"(the model's DOFs: {', '.join(model.dof_names)})") from None
-
-
-def _suggestion(name: str, names) -> str:
-    import difflib
-
-    close = difflib.get_close_matches(name, names, n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
+        raise ValueError(f"{where}: unknown DOF or joint {shown(target)}{closest(target, names, 'DOFs and joints')}") \
+            from None
 
 
 # Applying drawn values (one run; the order of the spec).

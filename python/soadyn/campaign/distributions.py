@@ -9,6 +9,8 @@ import math
 import numbers
 from dataclasses import dataclass
 
+from .problems import finite_number, shown
+
 DISTRIBUTIONS = ("normal", "uniform", "lognormal")
 
 # The keys each distribution reads from a [[dispersions]] entry.
@@ -51,27 +53,38 @@ def real(entry: dict, key: str, where: str) -> float | None:
         return None
     value = entry[key]
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise ValueError(f"{where}: {key} must be a number, got {value!r}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise ValueError(f"{where}: {key} must be finite, got {value!r}")
-    return value
+        raise ValueError(f"{where}: {key} must be a number, got {shown(value)}")
+    if finite_number(value) is None:
+        raise ValueError(f"{where}: {key} must be finite, got {shown(value)}")
+    return float(value)
 
 
-def parse_distribution(entry: dict, nominal: float | None, where: str) -> Distribution:
-    """The distribution of one [[dispersions]] entry. `nominal` is the model's value of what is
-    dispersed (None for event times and sources): the default mean / median, and what a relative
-    `scale` multiplies. ValueError naming `where` and the key at fault."""
+def parse_distribution(entry: dict, nominal: float | None, where: str, problems) -> Distribution | None:
+    """The distribution of one [[dispersions]] entry, or None after adding its problems to `problems`
+    (each naming `where` and the key at fault). `nominal` is the model's value of what is dispersed
+    (None for event times and sources): the default mean / median, and what a relative `scale`
+    multiplies."""
     kind = entry.get("distribution")
-    if kind not in DISTRIBUTIONS:
-        raise ValueError(f"{where}: distribution must be one of {', '.join(DISTRIBUTIONS)}, got {kind!r}")
+    if "distribution" not in entry:
+        problems.add(f"{where}: distribution is required ({', '.join(DISTRIBUTIONS)})")
+        return None
+    if not isinstance(kind, str) or kind not in DISTRIBUTIONS:
+        problems.add(f"{where}: distribution must be one of {', '.join(DISTRIBUTIONS)}, got {shown(kind)}")
+        return None
     every_key = {k for keys in DISTRIBUTION_KEYS.values() for k in keys}
     foreign = sorted(every_key & set(entry) - set(DISTRIBUTION_KEYS[kind]))
-    if foreign:
-        raise ValueError(f"{where}: {foreign[0]} is not a parameter of a {kind} distribution "
-                         f"(it takes {', '.join(DISTRIBUTION_KEYS[kind])})")
-    values = {key: real(entry, key, where) for key in DISTRIBUTION_KEYS[kind]}
+    for key in foreign:
+        problems.add(f"{where}: {key} is not a parameter of a {kind} distribution "
+                     f"(it takes {', '.join(DISTRIBUTION_KEYS[kind])})")
+    bad = object()
+    values = {key: problems.check(real, entry, key, where, default=bad) for key in DISTRIBUTION_KEYS[kind]}
+    if foreign or any(v is bad for v in values.values()):
+        return None
+    return problems.check(_resolved, kind, values, nominal, where)
 
+
+def _resolved(kind: str, values: dict, nominal: float | None, where: str) -> Distribution:
+    """The distribution from its checked keys (None: absent); ValueError naming `where` and the key."""
     def centre(key: str) -> float:
         if values[key] is not None:
             return values[key]
@@ -86,7 +99,10 @@ def parse_distribution(entry: dict, nominal: float | None, where: str) -> Distri
         if nominal is None or nominal == 0:
             raise ValueError(f"{where}: scale is relative to the nominal value, which is "
                              f"{'absent' if nominal is None else 0}: give absolute numbers")
-        return scale * abs(nominal)
+        spread = scale * abs(nominal)
+        if not math.isfinite(spread):
+            raise ValueError(f"{where}: scale {scale:g} times the nominal value {nominal:g} overflows")
+        return spread
 
     if kind == "normal":
         if (values["std"] is None) == (values["scale"] is None):
@@ -96,16 +112,7 @@ def parse_distribution(entry: dict, nominal: float | None, where: str) -> Distri
             raise ValueError(f"{where}: std must be >= 0, got {std:g}")
         return Distribution("normal", centre("mean"), std)
     if kind == "uniform":
-        if values["scale"] is not None:
-            if values["low"] is not None or values["high"] is not None:
-                raise ValueError(f"{where}: a uniform distribution takes low and high, or scale, not both")
-            half = relative_scale()
-            return Distribution("uniform", nominal - half, nominal + half)
-        if values["low"] is None or values["high"] is None:
-            raise ValueError(f"{where}: a uniform distribution needs low and high (or a relative scale)")
-        if values["low"] > values["high"]:
-            raise ValueError(f"{where}: low {values['low']:g} is above high {values['high']:g}")
-        return Distribution("uniform", values["low"], values["high"])
+        return _uniform(values, nominal, relative_scale, where)
     if values["sigma"] is None:
         raise ValueError(f"{where}: a lognormal distribution needs sigma (the std of the log)")
     if values["sigma"] < 0:
@@ -114,3 +121,20 @@ def parse_distribution(entry: dict, nominal: float | None, where: str) -> Distri
     if not median > 0:
         raise ValueError(f"{where}: a lognormal's median must be > 0, got {median:g}")
     return Distribution("lognormal", median, values["sigma"])
+
+
+def _uniform(values: dict, nominal: float | None, relative_scale, where: str) -> Distribution:
+    if values["scale"] is not None:
+        if values["low"] is not None or values["high"] is not None:
+            raise ValueError(f"{where}: a uniform distribution takes low and high, or scale, not both")
+        half = relative_scale()
+        low, high = nominal - half, nominal + half
+    elif values["low"] is None or values["high"] is None:
+        raise ValueError(f"{where}: a uniform distribution needs low and high (or a relative scale)")
+    else:
+        low, high = values["low"], values["high"]
+    if low > high:
+        raise ValueError(f"{where}: low {low:g} is above high {high:g}")
+    if not math.isfinite(high - low):
+        raise ValueError(f"{where}: high - low overflows ({low:g} to {high:g}): draws would not be finite")
+    return Distribution("uniform", low, high)

@@ -3,7 +3,12 @@ from __future__ import annotations
 
 
 class SpecError(ValueError):
-    """A campaign spec refused before any run: the message names the file and the item at fault."""
+    """A campaign spec refused before any run: the message names the file and lists every problem
+    found, each naming its item; `problems` holds those problems one by one."""
+
+    def __init__(self, message: str, problems=None):
+        super().__init__(message)
+        self.problems = tuple(problems) if problems else (message,)
 
 
 class CampaignError(RuntimeError):

@@ -135,9 +135,24 @@ def _connected(client, workers, dashboard):
         try:
             yield made, made.dashboard_link if serve else None
         finally:
-            made.close()
+            with _quiet_distributed_logs():
+                made.close()
     finally:
-        cluster.close()
+        with _quiet_distributed_logs():
+            cluster.close()
+
+
+@contextlib.contextmanager
+def _quiet_distributed_logs():
+    """distributed's loggers at CRITICAL while our own cluster shuts down: after a Ctrl-C its scheduler may
+    log the comms it could not finish (with a traceback), which is its teardown, not a campaign error."""
+    logger = logging.getLogger("distributed")
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
 
 
 def _cores() -> int:

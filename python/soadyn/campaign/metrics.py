@@ -18,6 +18,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from .._soadyn import kinetic_energy, potential_energy
+from .problems import closest, shown
 
 
 @dataclass(frozen=True)
@@ -49,11 +50,11 @@ def known_names() -> list[str]:
 def resolve(name, model) -> tuple[Metric, Optional[str]]:
     """The metric and argument `name` selects, checked against `model`; ValueError naming it."""
     if not isinstance(name, str):
-        raise ValueError(f"a metric name is a string, got {name!r}")
+        raise ValueError(f"a metric name is a string, got {shown(name)}")
     family, colon, arg = name.partition(":")
     found = METRICS.get(name) or METRICS.get(family)
     if found is None or (found.argument is None and colon) or (found.argument and not arg):
-        raise ValueError(f"unknown metric {name!r} (known: {', '.join(known_names())})")
+        raise ValueError(f"unknown metric {shown(name)}{closest(name, known_names(), 'metrics')}")
     arg = arg if found.argument else None
     if found.check is not None:
         found.check(model, arg)
@@ -74,11 +75,11 @@ def evaluate(names, model, trajectory, sim) -> dict:
 def _flexible_tip(model, body: str) -> tuple[int, int]:
     """(body index, tip node) of a flexible body with a 'tip' attachment (else its last node)."""
     if body not in model.body_names:
-        raise ValueError(f"no body {body!r} in the model (bodies: {', '.join(model.body_names)})")
+        raise ValueError(f"no body {shown(body)} in the model{closest(body, model.body_names, 'bodies')}")
     b = list(model.body_names).index(body)
     if model.n_modes[b] == 0:
         flexible = [n for n, k in zip(model.body_names, model.n_modes) if k > 0]
-        raise ValueError(f"body {body!r} is not flexible (flexible bodies: {', '.join(flexible) or 'none'})")
+        raise ValueError(f"body {shown(body)} is not flexible (flexible bodies: {', '.join(flexible) or 'none'})")
     flex = model.flexible_body(body)
     return b, flex.attachments.get("tip", flex.n_nodes - 1)
 
@@ -86,13 +87,14 @@ def _flexible_tip(model, body: str) -> tuple[int, int]:
 def _quaternion_slice(model, body: str) -> slice:
     """Where body's (x, y, z, w) attitude quaternion sits in q (a free or spherical joint)."""
     if body not in model.body_names:
-        raise ValueError(f"no body {body!r} in the model (bodies: {', '.join(model.body_names)})")
+        raise ValueError(f"no body {shown(body)} in the model{closest(body, model.body_names, 'bodies')}")
     joint = model.joint_names[list(model.body_names).index(body)]
     coordinates = list(model.coordinate_names)
     try:
         k = coordinates.index(f"{joint}:qx")
     except ValueError:
-        raise ValueError(f"body {body!r} has no attitude quaternion (its joint is not free or spherical)") from None
+        raise ValueError(f"body {shown(body)} has no attitude quaternion (its joint is not free or spherical)") \
+            from None
     return slice(k, k + 4)
 
 
@@ -118,7 +120,7 @@ def _rotation_angle(q0: np.ndarray, q1: np.ndarray) -> float:
 def _coordinate(model, name: str, what: str = "coordinate") -> int:
     names = list(model.coordinate_names if what == "coordinate" else model.dof_names)
     if name not in names:
-        raise ValueError(f"no {what} {name!r} in the model ({what}s: {', '.join(names)})")
+        raise ValueError(f"no {what} {shown(name)} in the model{closest(name, names, what + 's')}")
     return names.index(name)
 
 

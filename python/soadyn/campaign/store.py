@@ -11,7 +11,9 @@
 Every file is written under a temporary name and renamed (os.replace), so a killed campaign
 leaves whole files only; a batch's trajectories are written before its runs part, so a run in
 a part always has its trajectory. A campaign started again on the same DIR reads the parts,
-skips the runs they hold and runs the others; a DIR holding another spec is refused.
+skips the runs they hold and runs the others: the same spec resumes, the same spec with more
+runs extends the campaign (run i does not depend on the number of runs). A DIR holding another
+spec, or this spec with more runs than now asked for, is refused: its results never shrink.
 """
 from __future__ import annotations
 
@@ -24,6 +26,8 @@ from typing import Optional
 
 import numpy as np
 
+from ..bounded_input import check_json, read_text
+from ..output_paths import output_problem
 from .errors import CampaignError, ResultsDirectoryError
 
 SPEC_JSON = "spec.json"
@@ -155,8 +159,9 @@ class DirectoryStore:
         """Create DIR, or check it holds this spec; the run ids already done."""
         _pa()
         out = self.out
-        if out.exists() and not out.is_dir():
-            raise ResultsDirectoryError(f"{out} is not a directory")
+        problem = output_problem(out, directory=True)
+        if problem:
+            raise ResultsDirectoryError(f"{out}: {problem}")
         stored = out / SPEC_JSON
         if stored.exists():
             self._check_same_spec(stored)
@@ -180,16 +185,22 @@ class DirectoryStore:
         return set(self._done)
 
     def _check_same_spec(self, stored: Path) -> None:
+        """The campaign in DIR is this spec's with at most as many runs: it resumes or grows, never
+        shrinks (its finished runs would drop out of results.parquet and the report)."""
         try:
-            previous = json.loads(stored.read_text(encoding="utf-8"))
-            identity = previous["identity"]
+            previous = stored_json(stored, ResultsDirectoryError)
+            identity, runs = previous["identity"], previous["spec"]["runs"]
         except (OSError, ValueError, KeyError, TypeError) as error:
             raise ResultsDirectoryError(f"{stored}: unreadable campaign description: {error}") from None
         current = json.loads(json.dumps(self.spec.identity()))
         if identity != current:
             differing = sorted(k for k in set(identity) | set(current) if identity.get(k) != current.get(k))
             raise ResultsDirectoryError(f"{self.out} holds the results of another spec (it differs in: "
-                                f"{', '.join(differing)}); give another directory, or delete this one")
+                                        f"{', '.join(differing)}); give another directory, or delete this one")
+        if isinstance(runs, int) and self.spec.runs < runs:
+            raise ResultsDirectoryError(f"{self.out} holds a campaign of {runs} runs of this spec: {self.spec.runs} "
+                                        f"runs would shrink it; give runs >= {runs} (the same number resumes it, "
+                                        f"more extend it), or another directory")
 
     def add(self, outcomes) -> None:
         """One finished batch: its trajectories, then its runs part."""
@@ -255,15 +266,23 @@ def read_trajectory(out, run_id: int):
     return pq.read_table(path) if path.exists() else None
 
 
+def stored_json(path: Path, error: type):
+    """The JSON a results directory keeps at `path`, read within soadyn.bounded_input's size and depth limits
+    (`error` naming the file beyond them)."""
+    text = read_text(path, str(path), error, "campaign description")
+    check_json(text, str(path), error)
+    return json.loads(text)
+
+
 def read_stored(out) -> tuple:
     """(spec.json content, model.json text) of a results directory; CampaignError naming what is missing."""
     out = Path(out)
+    for name in (SPEC_JSON, MODEL_JSON):
+        if not (out / name).exists():
+            raise CampaignError(f"{out} is not a campaign results directory ({name} is missing)")
     try:
-        description = json.loads((out / SPEC_JSON).read_text(encoding="utf-8"))
-        model_json = (out / MODEL_JSON).read_text(encoding="utf-8")
-    except FileNotFoundError as error:
-        raise CampaignError(f"{out} is not a campaign results directory ({Path(error.filename).name} is missing)") \
-            from None
+        description = stored_json(out / SPEC_JSON, CampaignError)
+        model_json = read_text(out / MODEL_JSON, str(out / MODEL_JSON), CampaignError, "campaign's model")
     except (OSError, ValueError) as error:
         raise CampaignError(f"{out}: unreadable campaign description: {error}") from None
     if not isinstance(description, dict) or description.get("format") != "soadyn-campaign-results":

@@ -25,6 +25,13 @@ template <class S>
 S force_element_dissipation(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q,
                             const ConstVecRef<S>& v);
 
+// The force element (joint springs first, then point springs: the order of
+// soadyn.force_elements) whose potential at q (v null) or dissipated power at
+// (q, v) is not finite or, if every one is, the largest: the one to name when
+// their sum overflows. -1 without force elements.
+template <class S>
+int force_element_at_fault(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const S* v);
+
 // Fills data.force_elements at (q, v) (v null: at rest): each joint spring's
 // generalized force, each point spring's length, rate and tension, and
 // body_wrench = f_ext (null: zero) plus the point springs' wrenches on their

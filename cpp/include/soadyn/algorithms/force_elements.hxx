@@ -2,6 +2,9 @@
 #include "soadyn/algorithms/force_elements.hpp"
 #include "soadyn/algorithms/kinematics.hxx"
 
+#include <cmath>
+#include <limits>
+
 namespace soadyn {
 
 namespace detail {
@@ -153,32 +156,61 @@ void evaluate_force_elements(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, co
   }
 }
 
-template <class S>
-S force_element_potential(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
-  S energy(0);
+namespace detail {
+
+// Calls share(k, value) with each force element's potential at q (v null) or
+// the power its damper dissipates at (q, v), k counting the joint springs
+// first, then the point springs.
+template <class S, class Share>
+void visit_force_element_shares(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const S* v,
+                                Share&& share) {
+  int k = 0;
   for (const JointSpringTpl<S>& s : m.force_elements.joint_springs) {
     const S stretch = q[s.coordinate] - s.rest;
-    energy += S(0.5) * s.stiffness * stretch * stretch;
+    share(k++, v ? s.damping * v[s.dof] * v[s.dof] : S(0.5) * s.stiffness * stretch * stretch);
   }
-  if (m.force_elements.point_springs.empty()) return energy;
-  detail::point_spring_geometry(m, d, q.data(), static_cast<const S*>(nullptr));
-  for (std::size_t k = 0; k < m.force_elements.point_springs.size(); ++k)
-    energy += detail::point_spring_potential(m.force_elements.point_springs[k],
-                                             d.force_elements.length[static_cast<Eigen::Index>(k)]);
-  return energy;
+  if (m.force_elements.point_springs.empty()) return;
+  point_spring_geometry(m, d, q.data(), v);
+  for (std::size_t p = 0; p < m.force_elements.point_springs.size(); ++p) {
+    const auto& spring = m.force_elements.point_springs[p];
+    const Eigen::Index e = static_cast<Eigen::Index>(p);
+    const S rate = v ? d.force_elements.length_rate[e] : S(0);
+    share(k++, v ? spring.damping * rate * rate : point_spring_potential(spring, d.force_elements.length[e]));
+  }
+}
+
+template <class S>
+S sum_of_force_element_shares(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const S* v) {
+  S total(0);
+  visit_force_element_shares(m, d, q, v, [&](int, S value) { total += value; });
+  return total;
+}
+
+}  // namespace detail
+
+template <class S>
+S force_element_potential(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
+  return detail::sum_of_force_element_shares<S>(m, d, q, nullptr);
 }
 
 template <class S>
 S force_element_dissipation(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
-  S power(0);
-  for (const JointSpringTpl<S>& s : m.force_elements.joint_springs) power += s.damping * v[s.dof] * v[s.dof];
-  if (m.force_elements.point_springs.empty()) return power;
-  detail::point_spring_geometry(m, d, q.data(), v.data());
-  for (std::size_t k = 0; k < m.force_elements.point_springs.size(); ++k) {
-    const S rate = d.force_elements.length_rate[static_cast<Eigen::Index>(k)];
-    power += m.force_elements.point_springs[k].damping * rate * rate;
-  }
-  return power;
+  return detail::sum_of_force_element_shares<S>(m, d, q, v.data());
+}
+
+template <class S>
+int force_element_at_fault(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const S* v) {
+  int fault = -1;
+  S largest(-1);
+  detail::visit_force_element_shares<S>(m, d, q, v, [&](int k, S value) {
+    if (fault >= 0 && !std::isfinite(static_cast<double>(largest))) return;  // the first non-finite one stays
+    const S size = std::isfinite(static_cast<double>(value)) ? std::abs(value) : std::numeric_limits<S>::infinity();
+    if (size > largest) {
+      largest = size;
+      fault = k;
+    }
+  });
+  return fault;
 }
 
 }  // namespace soadyn

@@ -6,6 +6,7 @@
 #include "soadyn/algorithms/loop_assembly.hpp"
 #include "soadyn/algorithms/loop_closure.hxx"
 #include "soadyn/algorithms/semidefinite_solve.hpp"
+#include "soadyn/interrupt.hpp"
 
 namespace soadyn {
 
@@ -49,9 +50,9 @@ bool minimum_norm_correction(const ModelTpl<S>& m, LoopData<S>& ld, const ConstV
 
 template <class S>
 Status assemble_loops(const ModelTpl<S>& m, DataTpl<S>& d, VecRef<S> q, const ConstVecRef<S>& free, S tolerance,
-                      int max_iterations, int* iterations) {
+                      int max_iterations, int* iterations, const Interrupt* interrupt) {
   LoopData<S>& ld = d.loops;
-  int steps = 0, row = 0;
+  int steps = 0, row = 0, steps_without_progress = 0;
   if (iterations) *iterations = 0;
   if (m.nloops() == 0) return Status{};
   loop_residual<S>(m, d, q, nullptr);
@@ -60,6 +61,9 @@ Status assemble_loops(const ModelTpl<S>& m, DataTpl<S>& d, VecRef<S> q, const Co
     if (steps == max_iterations || !std::isfinite(static_cast<double>(error)) ||
         !detail::minimum_norm_correction<S>(m, ld, free, ld.residual))
       return Status{StatusCode::loop_not_closed, detail::loop_of_row(m, row)};
+    if (steps_without_progress == assembly_stall_steps)
+      return Status{StatusCode::loop_assembly_stalled, detail::loop_of_row(m, row)};
+    if (interrupt_requested(interrupt)) return Status{StatusCode::interrupted, -1};
     ++steps;
     // Gauss-Newton step, halved while the largest residual grows (far from closure).
     ld.q_start = q;
@@ -70,6 +74,7 @@ Status assemble_loops(const ModelTpl<S>& m, DataTpl<S>& d, VecRef<S> q, const Co
       int trial_row = 0;
       const S trial = detail::largest_residual(ld.residual, &trial_row);
       if (trial < error || halving == 20) {
+        steps_without_progress = trial < error ? 0 : steps_without_progress + 1;
         error = trial;
         row = trial_row;
         break;

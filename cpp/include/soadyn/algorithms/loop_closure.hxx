@@ -139,6 +139,22 @@ void turning_directions(int fixed, int turning, const Mat3<S>& R, const Vec3<S>&
   W_rate->template block<3, 1>(turning, 4) = omega.cross(R.col(1));
 }
 
+// |d|, and the unit vector d / |d| in `direction`, computed on d scaled by
+// its largest entry so that neither overflows or underflows for any finite d
+// (a distance loop far from the origin: |d|^2 would overflow past 1e154).
+template <class S>
+S scaled_norm(const Vec3<S>& d, Vec3<S>* direction) {
+  const S largest = d.cwiseAbs().maxCoeff();
+  if (!(largest > S(0))) {
+    if (direction) *direction = d / largest;  // 0/0: NaN, as d.normalized() of a zero vector would be
+    return largest;
+  }
+  const Vec3<S> scaled = d / largest;
+  const S scaled_length = scaled.norm();
+  if (direction) *direction = scaled / scaled_length;
+  return largest * scaled_length;
+}
+
 // The constraint directions W (6 x k, first k columns) of a loop, in `W`,
 // and their rate Wdot, in `W_rate` (null: not wanted), from the loop frames'
 // origins a and b, the linear relative velocity v_A - v_B(P), the frames'
@@ -164,9 +180,8 @@ void loop_directions(const LoopTpl<S>& loop, const Vec3<S>& a, const Vec3<S>& b,
       W.setIdentity();
       break;
     case LoopKind::distance: {
-      const Vec3<S> d = a - b;
-      const S length = d.norm();
-      const Vec3<S> n = d / length;
+      Vec3<S> n;
+      const S length = scaled_norm<S>(a - b, &n);
       W.template block<3, 1>(3, 0) = n;
       if (W_rate) {
         W_rate->template block<3, 1>(3, 0) = (relative_velocity - n * n.dot(relative_velocity)) / length;
@@ -198,7 +213,7 @@ Vec6<S> closure_residual(const LoopTpl<S>& loop, const Transform<S>& A, const Tr
       residual << rotation_vector<S>(A.rotation * B.rotation.transpose()), d;
       break;
     case LoopKind::distance:
-      residual[0] = d.norm() - loop.length;
+      residual[0] = scaled_norm<S>(d, nullptr) - loop.length;
       break;
   }
   return residual;

@@ -121,9 +121,8 @@ void add_loop_stiffness(const ModelTpl<S>& m, DataTpl<S>& d, const LoopTpl<S>& l
       add_turning_direction(m, d, loop.body_b, Vec3<S>(B.rotation.col(0) * nu[3] + B.rotation.col(1) * nu[4]), false, out);
       break;
     case LoopKind::distance: {
-      const Vec3<S> gap = A.translation - B.translation;
-      const S length = gap.norm();
-      const Vec3<S> n = gap / length;
+      Vec3<S> n;
+      const S length = scaled_norm<S>(A.translation - B.translation, &n);
       add_distance_direction(m, d, loop.body_a, A.translation, n, length, nu[0], S(1), out);
       add_distance_direction(m, d, loop.body_b, B.translation, n, length, nu[0], S(-1), out);
       break;

@@ -35,6 +35,7 @@
 // stiffness from the dual-number sweeps (StaticStiffness; double only: the
 // float workspace refuses them by name).
 #pragma once
+#include "soadyn/interrupt.hpp"
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -79,7 +80,8 @@ using StaticEquilibriumF = StaticEquilibriumTpl<float>;
 // false held at their q0 values; results in `eq`. Throws (see above).
 template <class S>
 void static_equilibrium(const ModelTpl<S>& model, DataTpl<S>& data, StaticEquilibriumTpl<S>& eq,
-                        const ConstVecRef<S>& q0, const std::vector<bool>& free, S tol, int max_iterations);
+                        const ConstVecRef<S>& q0, const std::vector<bool>& free, S tol, int max_iterations,
+                        const Interrupt* interrupt = nullptr);
 
 extern template struct StaticEquilibriumTpl<double>;
 extern template struct StaticEquilibriumTpl<float>;

@@ -120,6 +120,27 @@ MatX<S> reduced_stiffness_modes(const ModelTpl<S>& m, DataTpl<S>& d, StaticEquil
   return N;
 }
 
+// Throws StaticEquilibriumError naming the first equation whose residual (or
+// whose forces, when the threshold they set is not finite) is not finite.
+template <class S>
+void require_finite_residual(const ModelTpl<S>& m, const StaticEquilibriumTpl<S>& eq) {
+  for (Eigen::Index row = 0; row < eq.residual.size(); ++row)
+    if (!std::isfinite(static_cast<double>(eq.residual[row])))
+      throw StaticEquilibriumError("static_equilibrium: the residual of " + equilibrium_equation_name(m, eq, row) +
+                                   " is not finite (an input is too large for floating point)");
+  for (Eigen::Index dof = 0; dof < eq.generalized_force.size(); ++dof)
+    if (!std::isfinite(static_cast<double>(eq.generalized_force[dof])))
+      throw StaticEquilibriumError("static_equilibrium: the static force on DOF '" +
+                                   m.dof_names[static_cast<std::size_t>(dof)] +
+                                   "' is not finite (an input is too large for floating point)");
+}
+
+// max |x_i|, 0 for an empty x (a model without DOFs, or with every DOF held).
+template <class S>
+S largest_magnitude(const VecX<S>& x) {
+  return x.size() > 0 ? x.cwiseAbs().maxCoeff() : S(0);
+}
+
 // Names of the free DOFs moving along zero modes of the reduced stiffness ("" if none).
 template <class S>
 std::string dofs_without_stiffness(const ModelTpl<S>& m, DataTpl<S>& d, StaticEquilibriumTpl<S>& eq) {
@@ -157,7 +178,7 @@ void check_equilibrium_arguments(const ModelTpl<S>& m, const ConstVecRef<S>& q0,
 
 template <class S>
 void static_equilibrium(const ModelTpl<S>& m, DataTpl<S>& d, StaticEquilibriumTpl<S>& eq, const ConstVecRef<S>& q0,
-                        const std::vector<bool>& free, S tol, int max_iterations) {
+                        const std::vector<bool>& free, S tol, int max_iterations, const Interrupt* interrupt) {
   detail::check_equilibrium_arguments(m, q0, free, tol, max_iterations);
   eq.free.clear();
   for (int k = 0; k < m.nv; ++k) {
@@ -167,7 +188,8 @@ void static_equilibrium(const ModelTpl<S>& m, DataTpl<S>& d, StaticEquilibriumTp
   const Eigen::Index nf = static_cast<Eigen::Index>(eq.free.size()), nl = m.nloop_equations, n = nf + nl;
   eq.q = q0;
   if (nl > 0) {
-    const Status closed = assemble_loops<S>(m, d, eq.q, eq.mask, tol, 50);
+    const Status closed = assemble_loops<S>(m, d, eq.q, eq.mask, tol, 50, nullptr, interrupt);
+    if (closed.code == StatusCode::interrupted) throw StaticEquilibriumError("static_equilibrium: interrupted");
     if (!closed.ok())
       throw StaticEquilibriumError("static_equilibrium: loop '" + m.loops[static_cast<std::size_t>(closed.index)].name +
                                    "' cannot close from q0 with the DOFs not held");
@@ -178,7 +200,8 @@ void static_equilibrium(const ModelTpl<S>& m, DataTpl<S>& d, StaticEquilibriumTp
   // nu from the least-squares C_f' nu = G_f.
   eq.multipliers.setZero();
   detail::equilibrium_residual(m, d, eq, eq.q, eq.multipliers, eq.residual);
-  const S threshold = tol * (S(1) + eq.generalized_force.cwiseAbs().maxCoeff());
+  const S threshold = tol * (S(1) + detail::largest_magnitude<S>(eq.generalized_force));
+  if (!std::isfinite(static_cast<double>(threshold))) detail::require_finite_residual(m, eq);
   if (nl > 0 && nf > 0) {
     const MatX<S> Cf = detail::free_columns<S>(d.loops.jacobian, eq.free);
     eq.multipliers = Eigen::CompleteOrthogonalDecomposition<MatX<S>>(Cf.transpose()).solve(eq.residual.head(nf));
@@ -186,7 +209,8 @@ void static_equilibrium(const ModelTpl<S>& m, DataTpl<S>& d, StaticEquilibriumTp
   }
   eq.iterations = 0;
   Eigen::CompleteOrthogonalDecomposition<MatX<S>> solver(n, n);
-  while (n > 0 && eq.residual.cwiseAbs().maxCoeff() > threshold) {
+  while (!(detail::largest_magnitude<S>(eq.residual) <= threshold)) {  // a NaN residual enters, and is refused
+    detail::require_finite_residual(m, eq);
     Eigen::Index worst;
     eq.residual.cwiseAbs().maxCoeff(&worst);
     if (eq.iterations == max_iterations) {
@@ -195,6 +219,7 @@ void static_equilibrium(const ModelTpl<S>& m, DataTpl<S>& d, StaticEquilibriumTp
           << detail::equilibrium_equation_name(m, eq, worst) << " has residual " << eq.residual[worst];
       throw StaticEquilibriumError(msg.str());
     }
+    if (interrupt_requested(interrupt)) throw StaticEquilibriumError("static_equilibrium: interrupted");
     detail::equilibrium_stiffness(m, d, eq, eq.q, eq.multipliers);
     // Newton's matrix (Eq. 1.34), restricted to the free DOFs.
     eq.newton.setZero();
@@ -234,7 +259,7 @@ void static_equilibrium(const ModelTpl<S>& m, DataTpl<S>& d, StaticEquilibriumTp
     ++eq.iterations;
   }
   detail::equilibrium_residual(m, d, eq, eq.q, eq.multipliers, eq.residual);
-  eq.residual_norm = n > 0 ? eq.residual.cwiseAbs().maxCoeff() : S(0);
+  eq.residual_norm = detail::largest_magnitude<S>(eq.residual);
   const VecX<S> force = eq.generalized_force;
   const std::string missing = detail::dofs_without_stiffness(m, d, eq);
   if (!missing.empty())

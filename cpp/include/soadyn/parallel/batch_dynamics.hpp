@@ -36,6 +36,8 @@ class BatchDynamics {
   ~BatchDynamics();
 
   int threads() const { return pool_.size(); }
+  // The Interrupt polled between rows (ThreadPool::set_interrupt).
+  void set_interrupt(const Interrupt* interrupt) { pool_.set_interrupt(interrupt); }
   const Model& model() const { return model_; }
 
   BatchOutcome forward_dynamics(std::int64_t n, const double* Q, const double* V, const double* TAU, const double* F,

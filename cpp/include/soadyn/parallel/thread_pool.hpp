@@ -21,6 +21,8 @@
 #include <thread>
 #include <vector>
 
+#include "soadyn/interrupt.hpp"
+
 namespace soadyn {
 
 class ThreadPool {
@@ -36,6 +38,17 @@ class ThreadPool {
 
   int size() const { return static_cast<int>(workers_.size()) + 1; }
   void parallel_for(std::int64_t n, std::int64_t grain, const ChunkFunction& fn);
+
+  // An Interrupt (soadyn/interrupt.hpp; null: none) that the calling thread
+  // polls between chunks and in stop_requested(); when it asks, no new chunk
+  // starts and parallel_for returns early with interrupted() true. The
+  // caller keeps it alive until parallel_for returns.
+  void set_interrupt(const Interrupt* interrupt) { interrupt_ = interrupt; }
+  bool interrupted() const { return interrupted_.load(std::memory_order_relaxed); }
+  // For long chunks (rollouts), asked between their steps: whether the loop
+  // is stopping (an exception elsewhere or the Interrupt). Polls the
+  // Interrupt when `worker` is the calling thread (0).
+  bool stop_requested(int worker);
 
   // One per hardware thread (at least 1).
   static int hardware_threads();
@@ -55,7 +68,8 @@ class ThreadPool {
   const ChunkFunction* job_ = nullptr;
   std::int64_t n_ = 0, grain_ = 1;
   std::atomic<std::int64_t> next_{0};
-  std::atomic<bool> failed_{false};
+  std::atomic<bool> failed_{false}, interrupted_{false};
+  const Interrupt* interrupt_ = nullptr;
   std::exception_ptr error_;
 };
 

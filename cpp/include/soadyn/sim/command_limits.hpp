@@ -12,7 +12,9 @@
 // prescribed when it arrives (their values are not applied, but a value out of
 // range is a controller fault wherever it is).
 //
-// Default limits come from the model: |tau_i| <= a * M_ii(q), with M_ii the
+// Default limits come from the model: a DOF's effort limit where the model
+// has one (Model::set_effort_limit: URDF <limit effort>, MJCF forcerange or
+// ctrlrange times gear); otherwise |tau_i| <= a * M_ii(q), with M_ii the
 // diagonal of the joint-space mass matrix at the simulator's configuration q
 // when the runner is built (the inertia moved by DOF i alone) and a =
 // default_command_acceleration (1000 rad/s^2 or m/s^2 per DOF): enough to hold
@@ -61,8 +63,11 @@ inline Eigen::VectorXd default_command_limits(const Model& model, const Eigen::V
   Data data(model);
   mass_matrix(model, data, q);  // a non-finite diagonal entry is handled below
   Eigen::VectorXd limits = acceleration * data.mass_matrix.diagonal();
-  for (Eigen::Index k = 0; k < limits.size(); ++k)
+  for (Eigen::Index k = 0; k < limits.size(); ++k) {
     if (!(limits[k] > 0.0) || !std::isfinite(limits[k])) limits[k] = std::numeric_limits<double>::infinity();
+    const double effort = model.effort_limit[static_cast<std::size_t>(k)];
+    if (std::isfinite(effort)) limits[k] = effort;
+  }
   return limits;
 }
 

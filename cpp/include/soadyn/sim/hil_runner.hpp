@@ -112,7 +112,10 @@ class HilRunner {
  public:
   // Runs `steps` steps of `sim` at `rate_hz` (the simulator's dt should be
   // 1 / rate_hz for real-time simulation; the runner does not enforce it).
-  // `link` (optional, not owned) must have the model's nq and nv.
+  // `link` (optional, not owned) must have the model's nq and nv. Turns the
+  // simulator's divergence guard on (Simulator::set_divergence_guard(false)
+  // after construction turns it off): a run stops with StatusCode::diverging
+  // before its state stops being finite.
   HilRunner(Simulator& sim, double rate_hz, std::int64_t steps, UdpLink* link = nullptr);
 
   // Setup, before run().

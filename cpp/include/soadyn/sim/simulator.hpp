@@ -31,6 +31,7 @@
 #include <string>
 #include "soadyn/algorithms/hybrid.hpp"
 #include "soadyn/algorithms/loop_assembly.hpp"
+#include "soadyn/sim/divergence_guard.hpp"
 #include "soadyn/sim/motion_source.hpp"
 
 namespace soadyn {
@@ -139,6 +140,19 @@ class SimulatorTpl {
   S max_loop_drift_position() const { return max_drift_position_; }
   S max_loop_drift_velocity() const { return max_drift_velocity_; }
 
+  // The divergence guard (sim/divergence_guard.hpp): off by default, on in
+  // HIL runs. When on, a step whose state's energy grew beyond what the
+  // applied forces can supply, or whose velocity exceeds a DOF's velocity
+  // limit, fails with StatusCode::diverging naming the DOF, and the state
+  // stays at the last good step. Turning it on (setup, allocates nothing)
+  // takes the current state as the energy's reference.
+  void set_divergence_guard(bool on);
+  bool divergence_guard() const { return guard_.enabled(); }
+  // Per-DOF |v| limits the guard enforces (+inf: none, the default); throws
+  // std::invalid_argument naming the DOF index at fault.
+  void set_velocity_limits(const VecX<S>& limits) { guard_.set_velocity_limits(limits); }
+  const VecX<S>& velocity_limits() const { return guard_.velocity_limits(); }
+
  private:
   enum class Drive : std::uint8_t { regular, held, sourced };
   Status advance();
@@ -150,6 +164,10 @@ class SimulatorTpl {
   Status apply_sources(S t);
   Status check_state_finite() const;
   Status close_loops();
+  // Mechanical energy T + V at the current state, and T + |V| (divergence guard).
+  void mechanical_energy(S& energy, S& magnitude);
+  void restart_divergence_guard();
+  Status judge_step();
   Status switch_mode(int dof, Drive drive, int source, bool impulse);
   Status fire_due_events();
   Status fire(const Event<S>& e);
@@ -205,6 +223,7 @@ class SimulatorTpl {
   // sources' samples set_state checks before it commits.
   VecX<S> step_q_, step_v_, step_forces_, sampled_position_, sampled_velocity_;
   std::vector<VecX<S>> k_xi_, k_v_;
+  DivergenceGuardTpl<S> guard_;
 };
 
 using Simulator = SimulatorTpl<double>;

@@ -36,7 +36,7 @@ constexpr double dp_c[7] = {0, 0.2, 0.3, 0.8, 8.0 / 9, 1, 1};
 
 template <class S>
 SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integrator, int event_capacity)
-    : model_(model), data_(model_), dt_(dt), adaptive_h_(dt), integrator_(integrator) {
+    : model_(model), data_(model_), dt_(dt), adaptive_h_(dt), integrator_(integrator), guard_(model.nv) {
   if (!(dt > S(0)) || !std::isfinite(static_cast<double>(dt))) throw std::invalid_argument("dt must be positive");
   if (event_capacity < 0) throw std::invalid_argument("event capacity must be >= 0");
   const int nv = model_.nv, nq = model_.nq;
@@ -168,6 +168,7 @@ void SimulatorTpl<S>::set_state(const ConstVecRef<S>& q, const ConstVecRef<S>& v
       v_[dof] = sampled_velocity_[dof];
     }
   }
+  restart_divergence_guard();
 }
 
 // No finiteness check here: the HIL loop calls this in real time (it must
@@ -301,6 +302,7 @@ Status SimulatorTpl<S>::switch_mode(int dof, Drive drive, int source, bool impul
   }
   if (drive == Drive::sourced && coordinate >= 0) source_offset_[dof] = anchor;
   if (drive == Drive::held && coordinate >= 0) held_position_[dof] = anchor;
+  restart_divergence_guard();  // a switch's impulse changes the energy at once
   return Status{};
 }
 
@@ -560,6 +562,38 @@ Status SimulatorTpl<S>::close_loops() {
 }
 
 template <class S>
+void SimulatorTpl<S>::mechanical_energy(S& energy, S& magnitude) {
+  const S kinetic = kinetic_energy<S>(model_, data_, q_, v_), potential = potential_energy<S>(model_, data_, q_);
+  energy = kinetic + potential;
+  magnitude = kinetic + std::abs(potential);
+}
+
+template <class S>
+void SimulatorTpl<S>::restart_divergence_guard() {
+  if (!guard_.enabled()) return;
+  S energy, magnitude;
+  mechanical_energy(energy, magnitude);
+  guard_.restart(energy, magnitude);
+}
+
+template <class S>
+void SimulatorTpl<S>::set_divergence_guard(bool on) {
+  guard_.set_enabled(on);
+  restart_divergence_guard();
+}
+
+// The divergence guard's verdict on the step just taken (from step_v_ to v_).
+template <class S>
+Status SimulatorTpl<S>::judge_step() {
+  if (!guard_.enabled()) return Status{};
+  S energy, magnitude;
+  mechanical_energy(energy, magnitude);
+  int dof = -1;
+  if (guard_.judge(step_v_, v_, forces_, dt_, energy, magnitude, dof)) return Status{};
+  return Status{StatusCode::diverging, dof};
+}
+
+template <class S>
 Status SimulatorTpl<S>::step() {
   Status s = fire_due_events();
   if (!s.ok()) return s;
@@ -568,6 +602,7 @@ Status SimulatorTpl<S>::step() {
   step_forces_ = forces_;
   const S step_time = time_, step_h = adaptive_h_;
   s = advance();
+  if (s.ok()) s = judge_step();
   if (!s.ok()) {
     q_ = step_q_;
     v_ = step_v_;
@@ -592,6 +627,9 @@ std::string SimulatorTpl<S>::describe(const Status& s) const {
     text += ")";
   }
   else if (s.index >= 0 && s.index < model_.nv) text += " (DOF '" + model_.dof_names[static_cast<std::size_t>(s.index)] + "')";
+  if (s.code == StatusCode::diverging)
+    text += ": the state's energy grew beyond what the applied forces can supply, or a velocity passed its "
+            "limit: the integration is unstable at this step size (take a smaller dt or lower the command limits)";
   if (s.code == StatusCode::substep_limit)
     text += " (dopri5: " + std::to_string(max_substeps) + " sub-step attempts in one step, max_substeps)";
   return text + " at t = " + std::to_string(static_cast<double>(time_));
