@@ -99,8 +99,9 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--calls", type=positive_int, default=500, help="calls counted per algorithm and robot")
     parser.add_argument("--steps", type=positive_int, default=200, help="cassini steps counted per build")
-    parser.add_argument("--before", type=Path, default=Path("/work/before_22"),
-                        help="a directory holding the earlier build's soadyn package (pip install --target)")
+    parser.add_argument("--before", type=Path, default=None,
+                        help="a directory holding the earlier build's soadyn package (pip install --target); "
+                             "without it the cassini step is counted for this build only")
     parser.add_argument("--before-rev", default="26f4505", help="the commit that build was made from")
     args = parser.parse_args()
     if shutil.which("valgrind") is None:

@@ -22,8 +22,9 @@ point loop and reported next to the ratios.
 
 "The loop layer costs nothing to models without loops": hybrid_dynamics on the
 bench_robots robots, C++ (_time_cpp, peer_bench protocol) and Python per call, this build
-against an earlier build installed at --before (PYTHONPATH; default /work/before, the
-pre-loops commit a355221; --before-rev names the commit), each timed in a child process,
+against an earlier build installed at --before DIR (PYTHONPATH; for example the pre-loops
+commit a355221 installed with pip install --target DIR; --before-rev names the commit;
+without --before that comparison is skipped), each timed in a child process,
 the two builds alternating round by round; ratios are medians over rounds.
 
 Writes bench/results/loops.md. Usage: python bench/bench_loops.py [--quick] [--before DIR --before-rev REV]
@@ -43,7 +44,6 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tests"))
 sys.path.insert(0, str(HERE))
-BEFORE = Path("/work/before")
 ROBOTS = ["ur5", "panda", "solo12", "talos"]
 STATES = 16
 
@@ -397,7 +397,7 @@ def hybrid_before_after(before: Path, rounds: int, calls: int, py_calls: int) ->
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer calls (a smoke run, noisier)")
-    parser.add_argument("--before", type=Path, default=BEFORE,
+    parser.add_argument("--before", type=Path, default=None,
                         help="a directory holding an earlier build's soadyn package (pip install --target)")
     parser.add_argument("--before-rev", default="a355221", help="the commit that build was made from")
     args = parser.parse_args()
@@ -509,8 +509,8 @@ def main() -> int:
             *hyb_rows,
         ]
     else:
-        lines.append(f"Not measured in this run: no build at {args.before} on this machine (build commit {args.before_rev} "
-                     "there to compare). The 0-loop row of the scaling table is the same-run check that a model "
+        lines.append(f"Not measured in this run: no earlier build given (--before DIR holding commit {args.before_rev}, "
+                     "installed with pip install --target DIR). The 0-loop row of the scaling table is the same-run check that a model "
                      "without loops pays nothing: constrained_dynamics is hybrid_dynamics there.")
     write_report("loops.md", lines)
     return 0

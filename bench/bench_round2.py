@@ -1,7 +1,7 @@
 """Performance round 2: this build against the build the round started from, and CRBA against Pinocchio.
 
-Each round times, in child processes, the build at --before (default /work/before_22, a
-`pip install --target` of commit 26f4505, the code when the round's goals were set) and
+Each round times, in child processes, the build at --before DIR (required: a
+`pip install --target DIR` of commit 26f4505, the code when the round's goals were set) and
 this build, alternating which goes first (build_comparison.alternate_builds), then runs
 Pinocchio's peer_bench once (../shared/tools/peer_bench). Per child:
 - C++ per call (`_time_cpp`, median of 7 repetitions of `calls` calls over 64 random
@@ -145,7 +145,7 @@ def kernel_names() -> str:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer rounds and calls (a smoke run, noisier)")
-    parser.add_argument("--before", type=Path, default=Path("/work/before_22"),
+    parser.add_argument("--before", type=Path, required=True,
                         help="a directory holding the earlier build's soadyn package (pip install --target)")
     parser.add_argument("--before-rev", default="26f4505", help="the commit that build was made from")
     args = parser.parse_args()

@@ -30,6 +30,6 @@ def alternate_builds(script: Path, child_args: list[str], before: Path, rounds: 
     return runs
 
 
-def has_build(directory: Path) -> bool:
-    """Whether `directory` holds an installed soadyn package."""
-    return (Path(directory) / "soadyn" / "__init__.py").is_file()
+def has_build(directory: Path | None) -> bool:
+    """Whether `directory` (None: no earlier build given) holds an installed soadyn package."""
+    return directory is not None and (Path(directory) / "soadyn" / "__init__.py").is_file()
