@@ -84,7 +84,7 @@ import soadyn  # noqa: E402
 from bench_robots import interleaved_per_call_us, median_ratio, source_revision, write_report  # noqa: E402
 from pinocchio_mapping import JointMatch, PinocchioMapping, free_joint_names  # noqa: E402
 from robots import robot  # noqa: E402
-from test_pinocchio_oracle import BodySpec, Mapping, build_pinocchio, build_soadyn  # noqa: E402
+from support.pinocchio_trees import BodySpec, Mapping, build_pinocchio, build_soadyn  # noqa: E402
 from trees import random_inertia, random_rotation, random_unit  # noqa: E402
 
 CONTACT = {"point": pin.ContactType.CONTACT_3D, "weld": pin.ContactType.CONTACT_6D}
@@ -211,7 +211,7 @@ def rod(length, mass, along=0):
 
 
 def four_bar_case() -> Case:
-    from test_loops import COUPLER, CRANK, GROUND, MASSES, ROCKER, assembled
+    from support.four_bar import COUPLER, CRANK, GROUND, MASSES, ROCKER, assembled
 
     specs = [_body("crank", -1, "revolute", **rod(CRANK, MASSES[0])),
              _body("coupler", 0, "revolute", translation=(CRANK, 0, 0), **rod(COUPLER, MASSES[1])),

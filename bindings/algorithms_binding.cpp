@@ -171,6 +171,9 @@ void bind_algorithms(py::module_& mod) {
         auto position = vector_out(m_rows), velocity = vector_out(m_rows);
         run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
           soadyn::loop_residual<double>(m, d, Map(qa.data(), m.nq), vp);
+          const std::vector<std::string> rows = loop_equation_names(m);
+          refuse_non_finite_rows("loop_residual", "residual", d.loops.residual, rows);
+          if (vp) refuse_non_finite_rows("loop_residual", "velocity residual", d.loops.velocity_residual, rows);
           Eigen::Map<Eigen::VectorXd>(position.mutable_data(), m_rows) = d.loops.residual;
           Eigen::Map<Eigen::VectorXd>(velocity.mutable_data(), m_rows) = d.loops.velocity_residual;
         });
@@ -188,6 +191,7 @@ void bind_algorithms(py::module_& mod) {
         double* o = out.mutable_data();
         run_locked(h, version, [&](const soadyn::Model& m, soadyn::Data& d) {
           soadyn::loop_residual<double>(m, d, Map(qa.data(), m.nq), nullptr);
+          refuse_non_finite_rows("loop_jacobian", "row", d.loops.jacobian, loop_equation_names(m));
           Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(o, m.nloop_equations, m.nv) =
               d.loops.jacobian;
         });

@@ -100,6 +100,13 @@ void refuse_non_finite_rows(const std::string& what, const std::string& quantity
                           "' is not finite (an input is too large for floating point)");
 }
 
+std::vector<std::string> loop_equation_names(const soadyn::Model& m) {
+  std::vector<std::string> names;
+  for (const auto& loop : m.loops)
+    for (int i = 0; i < loop.rows(); ++i) names.push_back(loop.name + "[" + std::to_string(i) + "]");
+  return names;
+}
+
 std::vector<std::string> state_names(const soadyn::Model& m) {
   std::vector<std::string> names;
   for (const auto& dof : m.dof_names) names.push_back(dof + " (position)");

@@ -30,6 +30,10 @@ void refuse_non_finite(const char* what, const char* quantity, const double* x, 
 void refuse_non_finite_rows(const std::string& what, const std::string& quantity,
                             const Eigen::Ref<const Eigen::MatrixXd>& x, const std::vector<std::string>& row_names);
 
+// "loop[i]" for each closure equation, in the rows' order (names a bad
+// multiplier or residual).
+std::vector<std::string> loop_equation_names(const soadyn::Model& m);
+
 // The names of the rows of a state-space matrix: each DOF's position, then
 // each DOF's velocity.
 std::vector<std::string> state_names(const soadyn::Model& m);

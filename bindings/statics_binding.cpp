@@ -15,17 +15,6 @@
 
 namespace soadyn_py {
 
-namespace {
-
-// "loop[i]" for each closure equation, naming a bad multiplier.
-std::vector<std::string> loop_equation_names(const soadyn::Model& m) {
-  std::vector<std::string> names;
-  for (const auto& loop : m.loops)
-    for (int i = 0; i < loop.rows(); ++i) names.push_back(loop.name + "[" + std::to_string(i) + "]");
-  return names;
-}
-
-}  // namespace
 
 void bind_statics(py::module_& mod) {
   mod.def("_loop_equation_names", [](const ModelHandle& h) { return loop_equation_names(h.model); }, py::arg("model"),

@@ -1,6 +1,6 @@
 """The README's worked analysis example (examples/python/analysis_worked_example.py) runs and its
 numbers hold: the four-bar's equilibrium equals the closed-form reference of
-test_equilibrium_sensitivity.py, the adjoint gradient equals the direct sensitivities, the LQR
+support/equilibria.py, the adjoint gradient equals the direct sensitivities, the LQR
 loop is stable, and the modes agree with natural_frequencies."""
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import soadyn
-from test_equilibrium_sensitivity import reference_equilibrium, reference_sensitivities
+from support.equilibria import reference_equilibrium, reference_sensitivities
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "python" / "analysis_worked_example.py"
 

@@ -16,7 +16,7 @@ import pytest
 import soadyn
 from soadyn.oracles import PinocchioOracle
 from robots import matrix_from_pin, robot
-from test_loops_mujoco import full_mass_matrix
+from support.mujoco_models import full_mass_matrix
 from trees import random_state
 
 ROBOTS = [("ur5", False), ("panda", False), ("solo12", True), ("talos", True)]

@@ -10,7 +10,7 @@ import pytest
 from soadyn.check import cross_check_report, is_mjcf
 from soadyn.cli import main
 from robots import robot
-from test_mjcf import FOUR_BAR, gymnasium_assets
+from support.mujoco_models import FOUR_BAR, gymnasium_assets
 
 TOLERANCE = 1e-9
 

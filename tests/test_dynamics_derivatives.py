@@ -2,7 +2,7 @@
 soadyn.dynamics_derivatives) against Pinocchio: computeRNEADerivatives and
 computeABADerivatives, and central differences of pin.rnea and pin.aba on Pinocchio's own
 manifolds (pin.integrate), on the example-robot-data robots and the random trees of
-test_pinocchio_oracle.py (every joint type, fixed and floating bases, external forces).
+support/pinocchio_trees.py (every joint type, fixed and floating bases, external forces).
 Hybrid masks, which Pinocchio has no counterpart for, are checked against central
 differences of soadyn.hybrid_dynamics and against the partitioned identities.
 
@@ -19,7 +19,7 @@ import pytest
 
 import soadyn
 from robots import ROBOTS, matrix_from_pin, robot_with_oracle
-from test_pinocchio_oracle import CASE_IDS, CASES, make_case
+from support.pinocchio_trees import CASE_IDS, CASES, make_case
 
 RTOL = 1e-11      # against Pinocchio's analytic derivatives, relative to the largest reference entry
 FD_RTOL = 1e-7    # against central differences (eps = 1e-5), relative to the largest reference entry

@@ -1,7 +1,7 @@
 """The equations of motion term by term: g(q), J' f_ext, C(q, v), dM/dt and the
 Christoffel symbols, against Pinocchio (computeGeneralizedGravity,
 computeCoriolisMatrix, rnea with and without f_ext) on the example-robot-data
-robots and the random trees of test_pinocchio_oracle.py, and against central
+robots and the random trees of support/pinocchio_trees.py, and against central
 differences of soadyn.mass_matrix and soadyn.potential_energy.
 
 Derivatives with respect to q are taken in the tangent space: d/dq_k f(q) is
@@ -22,8 +22,8 @@ import pytest
 import soadyn
 from flexible_trees import random_flexible_state, random_flexible_tree
 from robots import ROBOTS, matrix_from_pin, robot_with_oracle
-from test_loops import assembled, four_bar
-from test_pinocchio_oracle import CASE_IDS, CASES, make_case
+from support.four_bar import assembled, four_bar
+from support.pinocchio_trees import CASE_IDS, CASES, make_case
 
 RTOL = 1e-12       # against Pinocchio and exact identities, relative to the largest reference entry
 FD_RTOL = 1e-8     # against central differences (eps = 1e-5: truncation ~1e-10, rounding ~1e-11)

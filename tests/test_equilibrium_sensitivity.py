@@ -1,9 +1,9 @@
 """Design sensitivities of a static equilibrium (soadyn.static_equilibrium(..., sensitivities=...),
 soadyn.objective_gradient) against an independent closed-form reference: a planar four-bar in a
 vertical plane (gravity in the plane) with a torsion spring on the crank (5 N m/rad, rest angle 0),
-whose potential is written here from the loop's geometry (circle intersection) without soadyn, its
-equilibrium found by scipy's brentq and its sensitivities by the implicit function theorem on that
-potential. Also trees (a pendulum with a torsion spring: k theta = m g l sin theta) and the adjoint
+whose potential is written in support/equilibria.py from the loop's geometry (circle intersection)
+without soadyn, its equilibrium found by scipy's brentq and its sensitivities by the implicit function
+theorem on that potential. Also trees (a pendulum with a torsion spring: k theta = m g l sin theta) and the adjoint
 gradient against the direct method.
 """
 from __future__ import annotations
@@ -13,10 +13,7 @@ import pytest
 from scipy.optimize import brentq
 
 import soadyn
-
-A, B, C, D = 0.4, 1.0, 0.8, 0.9   # crank, coupler, rocker lengths; ground pivot distance
-MASSES = {"crank": 1.2, "coupler": 2.0, "rocker": 1.5}
-G, K = 9.81, 5.0
+from support.equilibria import A, B, C, D, G, K, MASSES, pin, reference_equilibrium, reference_sensitivities
 
 
 def rod(length, mass):
@@ -35,45 +32,6 @@ def four_bar_with_spring(closure="point"):
                placement_b=(np.eye(3), [C, 0, 0]))
     m.add_joint_spring("crank_spring", "crank", K, rest=0.0)
     return m
-
-
-# --- the reference, from the geometry alone ------------------------------------------------------
-
-def pin(theta):
-    """Coupler-rocker pin Q for crank angle theta (the upper intersection of the two circles)."""
-    P = A * np.array([np.cos(theta), np.sin(theta)])
-    O2 = np.array([D, 0.0])
-    d = np.linalg.norm(O2 - P)
-    along = (B ** 2 - C ** 2 + d ** 2) / (2 * d)
-    h = np.sqrt(B ** 2 - along ** 2)
-    u = (O2 - P) / d
-    return P, P + along * u + h * np.array([-u[1], u[0]])
-
-
-def potential(theta, k=K, masses=MASSES):
-    P, Q = pin(theta)
-    heights = {"crank": P[1] / 2, "coupler": (P[1] + Q[1]) / 2, "rocker": Q[1] / 2}
-    return 0.5 * k * theta ** 2 + G * sum(masses[b] * heights[b] for b in masses)
-
-
-def derivative(f, x, h=1e-5):
-    return (f(x + h) - f(x - h)) / (2 * h)
-
-
-def reference_equilibrium(k=K, masses=MASSES, bracket=(-1.5, -0.8)):
-    return brentq(lambda t: derivative(lambda s: potential(s, k, masses), t), *bracket, xtol=1e-14)
-
-
-def reference_sensitivities(theta):
-    """dtheta*/dp = -(d/dp V'(theta*)) / V''(theta*) for p = k and each link's mass."""
-    second = derivative(lambda t: derivative(potential, t, 1e-4), theta, 1e-4)
-    out = {"crank_spring.stiffness": -theta / second}
-    for body in MASSES:
-        def height_rate(t, body=body):
-            unit = {b: (1.0 if b == body else 0.0) for b in MASSES}
-            return derivative(lambda s: potential(s, 0.0, unit), t) / G
-        out[f"{body}.mass"] = -G * height_rate(theta) / second
-    return out
 
 
 def assembled(m, theta):

@@ -13,7 +13,7 @@ import pinocchio as pin
 import pytest
 
 import soadyn
-from test_pinocchio_oracle import BodySpec, Mapping, build_pinocchio, build_soadyn
+from support.pinocchio_trees import BodySpec, Mapping, build_pinocchio, build_soadyn
 from trees import random_rotation
 
 LEVER_ARMS = [1e-4, 1e-2, 1.0, 1e2, 1e3, 1e4]

@@ -7,7 +7,7 @@ import numpy as np
 
 import soadyn
 from soadyn import scenes
-from test_flexible_body import BETA_L, euler_bernoulli_frequencies
+from support.beams import BETA_L, euler_bernoulli_frequencies
 
 LENGTH, EI, MU, LINKS = 2.0, 50.0, 1.5, 40
 TIME_STEP = 1e-4

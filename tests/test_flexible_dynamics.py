@@ -8,8 +8,8 @@ import pytest
 import soadyn
 from soadyn import FlexibleBody, scenes
 from flexible_trees import assembled_mass_matrix, random_flexible_body, random_flexible_state, random_flexible_tree
-from test_energy_momentum import flow_derivative, total_energy
-from test_flexible_body import BETA_L, euler_bernoulli_frequencies
+from support.beams import BETA_L, euler_bernoulli_frequencies
+from support.energy import flow_derivative, total_energy
 
 TREES = [(seed, floating) for seed in range(8) for floating in (False, True)]
 # Appendage trees: nothing on any flexible body's nodes (the tree-frame sweeps).

@@ -3,7 +3,7 @@
 Pinocchio (getFrameJacobian, getFrameJacobianTimeVariation after
 computeJointJacobiansTimeVariation, getFrameVelocity, getFrameAcceleration,
 getFrameClassicalAcceleration, jacobianCenterOfMass) on the robots of
-robots.py and on the random trees of test_pinocchio_oracle.py (every joint
+robots.py and on the random trees of support/pinocchio_trees.py (every joint
 type), with a welded frame at a random placement on every body. DOFs are
 matched by name; a Jacobian's columns follow the DOF map and its rows swap
 Pinocchio's [linear; angular] for soadyn's [angular; linear].
@@ -22,7 +22,7 @@ import soadyn
 from error_log import ErrorLog, rel_error, report_fixture
 from robots import robot
 from soadyn.oracles import PinocchioOracle
-from test_pinocchio_oracle import CASES, CASE_IDS, Mapping, build_pinocchio, build_soadyn, random_specs
+from support.pinocchio_trees import CASES, CASE_IDS, Mapping, build_pinocchio, build_soadyn, random_specs
 from trees import JOINT_KINDS, random_rotation
 
 RTOL = 1e-12

@@ -5,7 +5,7 @@ frame, Pinocchio's JointModelTranslation, DART's TranslationalJoint) against
 DART's dynamics on chains, against closed-form kinematics and free fall, and
 through the simulator. Every joint type's configuration operations (neutral
 configuration, integration on its manifold) against Pinocchio's on the
-random trees of test_pinocchio_oracle.py.
+random trees of support/pinocchio_trees.py.
 
 Translation joints also take part, through tests/trees.py's JOINT_KINDS, in
 every random-tree comparison with Pinocchio (test_pinocchio_oracle.py:
@@ -20,8 +20,8 @@ import pinocchio as pin
 import pytest
 
 import soadyn
-import test_pinocchio_oracle as pinocchio_trees
 from soadyn import Joint, MotionSource, Simulator
+from support import pinocchio_trees
 from trees import random_inertia, random_rotation, random_unit
 
 GRAVITY = np.array([0.3, -0.2, -9.81])

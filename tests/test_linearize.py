@@ -15,7 +15,8 @@ import pinocchio as pin
 import pytest
 
 import soadyn
-from test_pinocchio_oracle import make_case
+from support.beams import euler_bernoulli_frequencies
+from support.pinocchio_trees import make_case
 
 EPS = 1e-6
 
@@ -226,7 +227,6 @@ def test_cantilever_modes_are_euler_bernoulli():
     """A clamped flexible beam (modal coordinates only): modes gives the clamped-free bending
     frequencies of Euler-Bernoulli theory (to the lumped model's discretisation error), in pairs
     labelled by the beam's modal DOFs, and matches the beam's own clamped frequencies to rounding."""
-    from test_flexible_body import euler_bernoulli_frequencies
     length, EI, mu = 2.0, 3.0e3, 1.5
     m = soadyn.scenes.cantilever_beam(length, EI, mu, n_modes=3, n_nodes=120)
     md = soadyn.modes(m, soadyn.neutral_configuration(m))

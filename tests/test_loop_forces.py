@@ -17,10 +17,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import soadyn
-from test_loops import (COUPLER, CRANK, GROUND, ROCKER, assembled, closure_jacobian, closure_velocity_product,
-                        four_bar, four_bar_state)
-from test_loops_pinocchio import closed_loop_case, pinocchio_solution
-from test_pinocchio_oracle import Mapping, build_pinocchio, build_soadyn, random_specs
+from support.closed_loops import closed_loop_case, pinocchio_solution
+from support.four_bar import (COUPLER, CRANK, GROUND, ROCKER, closure_jacobian, closure_velocity_product, four_bar,
+                              four_bar_state)
+from support.pinocchio_trees import Mapping, build_pinocchio, build_soadyn, random_specs
 
 RTOL = 1e-9
 
@@ -63,7 +63,7 @@ def _regular_rows_full_rank(C, rng, count):
     raise AssertionError("no choice of prescribed DOFs leaves C_r of full row rank")
 
 
-# Random trees and loops of test_loops_pinocchio whose loop equations are independent (unique multipliers).
+# Random trees and loops of support/closed_loops.py whose loop equations are independent (unique multipliers).
 CASES = [(0, True, 1), (0, True, 3), (1, True, 2), (1, False, 1), (1, False, 2), (2, False, 1), (5, False, 3),
          (6, True, 2), (7, False, 2)]
 
@@ -110,7 +110,7 @@ def test_joint_wrenches_with_loops_match_pinocchio_rnea_with_loop_forces(seed, f
 
 
 def _random_loops_of_every_kind(seed):
-    """A random tree (test_pinocchio_oracle's specs) with one loop of every kind, closed at the returned q.
+    """A random tree (support/pinocchio_trees.py's specs) with one loop of every kind, closed at the returned q.
     Returns the soadyn model, the Pinocchio model and mapping, q, rng and per loop (body_a, body_b, frame A
     and frame B placements in their bodies, kind)."""
     specs = random_specs(seed, seed % 2 == 0)

@@ -25,8 +25,8 @@ import pytest
 
 import soadyn
 from soadyn import scenes
-from test_loops_pinocchio import pinocchio_solution
-from test_pinocchio_oracle import BodySpec, Mapping, build_pinocchio
+from support.closed_loops import pinocchio_solution
+from support.pinocchio_trees import BodySpec, Mapping, build_pinocchio
 
 G = 9.81
 RTOL = 1e-9
@@ -291,7 +291,7 @@ def _rod_inertia(mass, length):
 
 
 def delta_specs():
-    """The Delta robot as BodySpecs (test_pinocchio_oracle), and its six ball joints (rod index, point on
+    """The Delta robot as BodySpecs (support/pinocchio_trees.py), and its six ball joints (rod index, point on
     the plate)."""
     specs, balls = [], []
     none = np.zeros(3)

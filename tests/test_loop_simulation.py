@@ -3,7 +3,7 @@ velocity projection, coordinate partitioning ("Joint Coordinate Method,
 Part 1", Eqs. 1.6-1.7, 1.16-1.20), and the Simulator stepping loop models
 with every integrator, projecting onto the closure after each step, driving
 and locking DOFs inside loops. References: the four-bar's closed-form
-position and velocity analysis (test_loops.py), Pinocchio's mass matrix for
+position and velocity analysis (support/four_bar.py), Pinocchio's mass matrix for
 the impulse of a lock, and energy conservation."""
 from __future__ import annotations
 
@@ -13,7 +13,8 @@ import pytest
 
 import soadyn
 from soadyn import MotionSource, Simulator
-from test_loops import _closed_random_loops as closed_random_loops, four_bar, four_bar_state, assembled
+from support.closed_loops import closed_random_loops
+from support.four_bar import assembled, four_bar, four_bar_state
 
 KINDS = ["point", "revolute", "prismatic", "weld", "distance"]
 

@@ -6,74 +6,11 @@ closure equations of every kind against finite differences, and bad input."""
 from __future__ import annotations
 
 import numpy as np
-import pinocchio as pin
 import pytest
 
 import soadyn
-from test_loops_pinocchio import closed_loop_case, pinocchio_solution
-
-# The crank-rocker of Saha, Shah & Nandihal 2013 (Fig. 16): link lengths (m) and masses (kg).
-CRANK, COUPLER, ROCKER, GROUND = 0.038, 0.1152, 0.1152, 0.0895
-MASSES = (1.5, 5.0, 3.0)
-
-
-def rod(length, mass):
-    """Uniform slender rod along its body x axis: centre of mass and principal moments about it."""
-    return dict(mass=mass, com=(length / 2, 0.0, 0.0), inertia=(0.0, mass * length**2 / 12, mass * length**2 / 12))
-
-
-def four_bar(kind="revolute"):
-    m = soadyn.Model()
-    m.gravity = (0.0, -9.81, 0.0)
-    z = soadyn.Joint.revolute((0.0, 0.0, 1.0))
-    m.add_body("crank", None, z, **rod(CRANK, MASSES[0]))
-    m.add_body("coupler", "crank", z, placement=(CRANK, 0.0, 0.0), **rod(COUPLER, MASSES[1]))
-    m.add_body("rocker", None, z, placement=(GROUND, 0.0, 0.0), **rod(ROCKER, MASSES[2]))
-    m.add_loop("pin", "coupler", "rocker", kind, placement_a=(None, (COUPLER, 0, 0)),
-               placement_b=(None, (ROCKER, 0, 0)))
-    return m
-
-
-def e(x):
-    return np.array([np.cos(x), np.sin(x)])
-
-
-def e_perp(x):
-    return np.array([-np.sin(x), np.cos(x)])
-
-
-def assembled(theta1):
-    """Joint angles (crank, coupler relative to crank, rocker) closing the four-bar, elbow up."""
-    P, G = CRANK * e(theta1), np.array([GROUND, 0.0])
-    d = np.linalg.norm(G - P)
-    # Q on the circles |Q - P| = COUPLER, |Q - G| = ROCKER.
-    along = (COUPLER**2 - ROCKER**2 + d * d) / (2 * d)
-    u = (G - P) / d
-    Q = P + along * u + np.sqrt(COUPLER**2 - along**2) * np.array([-u[1], u[0]])
-    phi2 = np.arctan2(*(Q - P)[::-1])
-    theta3 = np.arctan2(*(Q - G)[::-1])
-    return np.array([theta1, phi2 - theta1, theta3])
-
-
-def closure_jacobian(theta):
-    """d/dtheta of the in-plane closure f = crank tip + coupler - (ground + rocker) (Eq. 52b)."""
-    t1, t2, t3 = theta
-    phi2 = t1 + t2
-    return np.column_stack([CRANK * e_perp(t1) + COUPLER * e_perp(phi2), COUPLER * e_perp(phi2), -ROCKER * e_perp(t3)])
-
-
-def closure_velocity_product(theta, thetad):
-    """The part of f'' without accelerations: -a t1'^2 e(t1) - b phi2'^2 e(phi2) + c t3'^2 e(t3)."""
-    t1, t2, t3 = theta
-    return (-CRANK * thetad[0]**2 * e(t1) - COUPLER * (thetad[0] + thetad[1])**2 * e(t1 + t2)
-            + ROCKER * thetad[2]**2 * e(t3))
-
-
-def four_bar_state(theta1, rate):
-    theta = assembled(theta1)
-    J = closure_jacobian(theta)
-    thetad = np.r_[rate, -np.linalg.solve(J[:, 1:], J[:, 0] * rate)]
-    return theta, thetad
+from support.closed_loops import closed_loop_case, closed_random_loops, pinocchio_solution
+from support.four_bar import closure_jacobian, closure_velocity_product, four_bar, four_bar_state
 
 
 @pytest.mark.parametrize("theta1", np.linspace(0.1, 2 * np.pi, 7))
@@ -151,40 +88,12 @@ def test_prescribed_dofs_in_loops_match_pinocchio(seed, kinds):
     assert np.abs(tau_out - tau).max() <= 1e-9 * max(1.0, np.abs(tau).max())
 
 
-def _closed_random_loops(seed, kinds):
-    """A random tree with one loop of each kind in `kinds`, closed at the returned q."""
-    from trees import random_tree
-    m, _ = random_tree(seed, nbodies=10)
-    rng = np.random.default_rng(seed)
-    q = soadyn.random_configuration(m, seed)
-    poses = soadyn.forward_kinematics(m, q)[0]
-    for k, kind in enumerate(kinds):
-        a, b = rng.choice(np.arange(-1, m.nbodies), size=2, replace=False)
-        if a < 0:
-            a, b = b, a
-        R = np.linalg.qr(rng.normal(size=(3, 3)))[0]
-        R *= np.sign(np.linalg.det(R))
-        p = rng.uniform(-0.3, 0.3, size=3)
-        A = poses[a] @ np.block([[R, p[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]])
-        B = A if b < 0 else np.linalg.solve(poses[b], A)
-        Bp = B.copy()
-        length = None
-        if kind == "distance":  # frame B's origin 0.4 m away from A's
-            Bp[:3, 3] = B[:3, 3] + B[:3, :3] @ (0.4 * np.array([0.6, 0.0, 0.8]))
-            length = 0.4
-        if kind == "prismatic":  # A's origin on B's z axis, 0.25 m along it
-            Bp[:3, 3] = B[:3, 3] - B[:3, 2] * 0.25
-        m.add_loop(f"{kind}{k}", m.body_names[a], None if b < 0 else m.body_names[b], kind,
-                   placement_a=(R, p), placement_b=(Bp[:3, :3], Bp[:3, 3]), length=length)
-    return m, q, rng
-
-
 ALL_KINDS = ("point", "revolute", "prismatic", "weld", "distance")
 
 
 @pytest.mark.parametrize("seed", range(3))
 def test_closure_jacobian_and_kappa_match_finite_differences(seed):
-    m, q, rng = _closed_random_loops(seed, ALL_KINDS)
+    m, q, rng = closed_random_loops(seed, ALL_KINDS)
     assert m.nloop_equations == 3 + 5 + 5 + 6 + 1
     assert np.abs(soadyn.loop_residual(m, q)).max() < 1e-12
     C = soadyn.loop_jacobian(m, q)

@@ -9,7 +9,7 @@ multipliers when loop equations are redundant). Nothing of soadyn enters
 the reference: the constraint directions W of each kind are written below
 from the sites' frames, after the conventions of soadyn/loops/loop.hpp.
 
-Trees: the spatial random trees of test_pinocchio_oracle.random_specs
+Trees: the spatial random trees of support/pinocchio_trees.random_specs
 (helical joints, which MuJoCo lacks, become cylindrical ones about the same
 axis), and planar random linkages (planar root, hinges normal to the plane,
 slides in it), where revolute, point, weld and prismatic cuts are redundant.
@@ -41,7 +41,8 @@ import pytest
 
 import soadyn
 from error_log import ErrorLog, report_fixture
-from test_pinocchio_oracle import BodySpec, build_soadyn, random_specs
+from support.mujoco_models import full_mass_matrix
+from support.pinocchio_trees import BodySpec, build_soadyn, random_specs
 from trees import random_inertia, random_rotation, random_unit
 
 RTOL = 1e-9
@@ -60,7 +61,7 @@ report_errors = report_fixture(LOG)
 # ---------------------------------------------------------------------------
 
 def spatial_specs(seed: int, floating: bool) -> list[BodySpec]:
-    """test_pinocchio_oracle's random tree, helical joints made cylindrical."""
+    """support/pinocchio_trees.py's random tree, helical joints made cylindrical."""
     return [dataclasses.replace(s, kind="cylindrical") if s.kind == "helical" else s
             for s in random_specs(seed, floating)]
 
@@ -356,17 +357,6 @@ def _point_jacobians(model, data, body: str | None, point: np.ndarray):
     mujoco.mj_jac(model, data, jp, jr, point, bid)
     mujoco.mj_jacDot(model, data, djp, djr, point, bid)
     return np.vstack([jr, jp]), np.vstack([djr, djp])
-
-
-def full_mass_matrix(model, data) -> np.ndarray:
-    """MuJoCo's M column by column (mj_mulM; mj_fullM's signature changed within 3.x)."""
-    M, column = np.zeros((model.nv, model.nv)), np.zeros(model.nv)
-    for k in range(model.nv):
-        unit = np.zeros(model.nv)
-        unit[k] = 1.0
-        mujoco.mj_mulM(model, data, column, unit)
-        M[:, k] = column
-    return M
 
 
 def mujoco_equations(m, model, specs, loops, q, v) -> Equations:

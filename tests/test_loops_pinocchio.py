@@ -17,60 +17,11 @@ import pinocchio as pin
 import pytest
 
 import soadyn
-from test_pinocchio_oracle import Mapping, build_pinocchio, build_soadyn, random_specs
+from support.closed_loops import closed_loop_case, pinocchio_solution
 
 RTOL = 1e-9
 CASES = [(seed, floating, nloops) for seed in range(4) for floating in (True, False) for nloops in (1, 2, 3)]
 IDS = [f"seed{s}-{'floating' if f else 'fixed'}-{n}loops" for s, f, n in CASES]
-
-
-def _pose(T):
-    return T[:3, :3], T[:3, 3]
-
-
-def closed_loop_case(seed, floating, nloops, kinds):
-    specs = random_specs(seed, floating)
-    m = build_soadyn(specs)
-    model = build_pinocchio(specs, m.gravity)
-    mapping = Mapping(m, model, specs)
-    rng = np.random.default_rng(100 + seed)
-    q = soadyn.random_configuration(m, seed)
-    poses = soadyn.forward_kinematics(m, q)[0]
-    constraints = []
-    for k in range(nloops):
-        a, b = rng.choice(np.arange(-1, m.nbodies), size=2, replace=False)
-        if a < 0:
-            a, b = b, a
-        kind = kinds[k % len(kinds)]
-        Ra = np.linalg.qr(rng.normal(size=(3, 3)))[0]
-        Ra *= np.sign(np.linalg.det(Ra))
-        pa = rng.uniform(-0.3, 0.3, size=3)
-        A_world = poses[a] @ np.block([[Ra, pa[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]])
-        B_body = A_world if b < 0 else np.linalg.solve(poses[b], A_world)  # closed at q
-        m.add_loop(f"loop{k}", m.body_names[a], None if b < 0 else m.body_names[b], kind,
-                   placement_a=(Ra, pa), placement_b=_pose(B_body))
-        ctype = pin.ContactType.CONTACT_3D if kind == "point" else pin.ContactType.CONTACT_6D
-        constraints.append(pin.RigidConstraintModel(ctype, model, int(a) + 1, pin.SE3(Ra, pa), int(b) + 1,
-                                                    pin.SE3(*_pose(B_body)), pin.ReferenceFrame.LOCAL))
-    C = soadyn.loop_jacobian(m, q)
-    v = rng.normal(size=m.nv)
-    v -= np.linalg.pinv(C) @ (C @ v)  # on the tangent space of the loops
-    return m, model, mapping, constraints, q, v, rng, A_world
-
-
-def pinocchio_solution(model, mapping, constraints, q, v, tau):
-    data = model.createData()
-    models = pin.StdVec_RigidConstraintModel()
-    for c in constraints:
-        models.append(c)
-    datas = pin.StdVec_RigidConstraintData()
-    for c in constraints:
-        datas.append(c.createData())
-    pin.initConstraintDynamics(model, data, models, datas)
-    settings = pin.ProximalSettings(1e-14, 1e-12, 200)
-    ddq = pin.constraintDynamics(model, data, mapping.q(q), mapping.v(v), mapping.v(tau), models, datas,
-                                 settings)
-    return mapping.back(ddq), np.array(data.lambda_c)
 
 
 @pytest.mark.parametrize("seed,floating,nloops", CASES, ids=IDS)

@@ -25,17 +25,9 @@ import soadyn
 from soadyn.bounded_input import MAX_NESTING_DEPTH
 from soadyn.check import rigid_part
 from soadyn.mjcf import MjcfError, MjcfIgnoredWarning, load_mjcf_with_map
-from test_loops_mujoco import full_mass_matrix
+from support.mujoco_models import FOUR_BAR, full_mass_matrix, gymnasium_assets
 
 RTOL = 1e-9
-
-
-def gymnasium_assets() -> str:
-    import gymnasium
-
-    return os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets")
-
-
 GYMNASIUM = sorted(f for f in os.listdir(gymnasium_assets()) if f.endswith(".xml"))
 
 
@@ -126,15 +118,6 @@ def test_floating_base_options():
 
 
 # --- equality constraints: loops against MuJoCo's KKT system -------------------------------------
-
-FOUR_BAR = """<mujoco><option gravity="0 0 -9.81"/><worldbody>
- <body name="crank"><joint name="crank" axis="0 1 0" damping="0.1" armature="0.02"/>
-   <geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.02" mass="1"/>
-   <body name="coupler" pos="0.2 0 0"><joint name="coupler" axis="0 1 0"/>
-     <geom type="capsule" fromto="0 0 0 0.3 0 0.25" size="0.02" mass="1.5"/></body></body>
- <body name="rocker" pos="0.45 0 0"><joint name="rocker" axis="0 1 0" stiffness="3" springref="0.2"/>
-   <geom type="capsule" fromto="0 0 0 0.05 0 0.25" size="0.02" mass="0.8"/></body>
-</worldbody><equality><connect name="pin" body1="coupler" body2="rocker" anchor="0.3 0 0.25"/></equality></mujoco>"""
 
 SLIDER_CRANK = """<mujoco><option gravity="0 -9.81 0"/><worldbody>
  <body name="crank"><joint name="crank" axis="0 0 1"/>

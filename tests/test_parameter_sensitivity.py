@@ -16,7 +16,7 @@ import pytest
 import soadyn
 import soadyn.oracles
 from robots import robot
-from test_pinocchio_oracle import Mapping, build_pinocchio, build_soadyn, random_specs
+from support.pinocchio_trees import Mapping, build_pinocchio, build_soadyn, random_specs
 from trees import random_state, random_tree
 
 FD_RTOL = 1e-7

@@ -4,18 +4,12 @@ import pytest
 
 import soadyn
 from soadyn import MotionSource, Simulator, scenes
+from support.bodies import tumbling_body
 from trees import random_state, random_tree
 
 
 def energy(m, q, v):
     return soadyn.kinetic_energy(m, q, v) + soadyn.potential_energy(m, q)
-
-
-def tumbling_body():
-    m = soadyn.Model()
-    m.add_body("body", None, soadyn.Joint.free(), mass=2.0, com=[0.1, 0, 0], inertia=[1.0, 2.0, 2.5])
-    m.gravity = [0, 0, 0]
-    return m
 
 
 def test_rk4_energy_drift_of_a_conservative_chain():

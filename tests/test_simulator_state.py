@@ -7,7 +7,7 @@ import pytest
 
 import soadyn
 from soadyn import DynamicsError, MotionSource, Simulator, scenes
-from test_simulator import tumbling_body
+from support.bodies import tumbling_body
 
 
 def ghost_arm():

@@ -11,7 +11,7 @@ from soadyn.check import relative_difference
 from soadyn.oracles import PinocchioOracle
 from soadyn.urdf import UrdfRepairWarning
 from soadyn.urdf_inertia import physical_moments, repaired_inertia
-from test_urdf import joint as any_joint, link, write
+from support.urdf_text import joint as any_joint, link, write
 
 TOLERANCE = 1e-9
 

@@ -522,6 +522,47 @@ std::string model_to_json(const Model& m) {
   return text;
 }
 
+namespace {
+
+// The length of the well-formed UTF-8 sequence starting at text[i] (RFC 3629:
+// no overlong forms, no surrogates, nothing past U+10FFFF), or 0.
+std::size_t utf8_sequence_length(const std::string& text, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u; };
+  const unsigned lead = byte(i);
+  if (lead < 0x80) return 1;
+  const std::size_t length = lead >= 0xC2 && lead <= 0xDF ? 2 : lead >= 0xE0 && lead <= 0xEF ? 3
+                             : lead >= 0xF0 && lead <= 0xF4 ? 4 : 0;
+  if (length == 0) return 0;
+  const unsigned second = byte(i + 1);
+  const unsigned low = lead == 0xE0 ? 0xA0 : lead == 0xF0 ? 0x90 : 0x80;
+  const unsigned high = lead == 0xED ? 0x9F : lead == 0xF4 ? 0x8F : 0xBF;
+  if (second < low || second > high) return 0;
+  for (std::size_t k = 2; k < length; ++k)
+    if ((byte(i + k) & 0xC0u) != 0x80u) return 0;
+  return length;
+}
+
+// `text` with each byte outside a well-formed UTF-8 sequence replaced by '?':
+// a JSON parse error quotes the bytes it last read, which may end inside a
+// multibyte character, and a message must decode as text wherever it goes.
+std::string valid_utf8(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size();) {
+    const std::size_t length = utf8_sequence_length(text, i);
+    if (length == 0) {
+      out += '?';
+      ++i;
+    } else {
+      out.append(text, i, length);
+      i += length;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 Model model_from_json(const std::string& text, const std::string& source) {
   if (text.size() > model_file_max_bytes)
     throw ModelFileError(source + ": " + std::to_string(text.size()) + " bytes, more than the limit of " +
@@ -540,14 +581,14 @@ Model model_from_json(const std::string& text, const std::string& source) {
   try {
     root = json::parse(text, bounded_depth);
   } catch (const json::exception& e) {  // a syntax error, or a number beyond double's range
-    throw ModelFileError(source + ": not valid JSON: " + e.what());
+    throw ModelFileError(source + ": not valid JSON: " + valid_utf8(e.what()));
   }
   try {
     return model_from(root, source);
   } catch (const ModelFileError&) {
     throw;
   } catch (const json::exception& e) {
-    throw ModelFileError(source + ": " + e.what());
+    throw ModelFileError(source + ": " + valid_utf8(e.what()));
   }
 }
 

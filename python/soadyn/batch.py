@@ -227,6 +227,8 @@ def rollout(m, x0s, controls_or_sources=None, dt: float = 1e-3, steps: int = 100
         raise TypeError(f"integrator must be a str ('rk4', 'euler' or 'dopri5'), got {type(integrator).__name__}")
     if not (np.isfinite(dt) and dt > 0):
         raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
+    if not np.isfinite(dt * max(steps, 1)):
+        raise ValueError(f"dt ({dt!r}) times steps ({steps}) is beyond floating point: the run's times would overflow")
     controls, per_run, sources = _controls_and_sources(m, controls_or_sources, runs, steps)
     entries, values = _parameters(m, parameters, runs)
     kinds, times = _events(m, events, runs)

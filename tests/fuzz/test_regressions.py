@@ -222,3 +222,35 @@ def test_a_configuration_of_the_wrong_shape_is_named_by_its_shape():
     m = soadyn.scenes.pendulum_chain(2)
     with pytest.raises(ValueError, match=r"q0 has shape \(1, 2\), expected \(2,\) \(nq\)"):
         soadyn.static_equilibrium(m, np.zeros((1, 2)))
+
+
+def test_a_json_error_inside_a_multibyte_character_is_a_model_file_error():
+    """The parser quotes the bytes it last read, which can end inside a character: the message still decodes."""
+    with pytest.raises(soadyn.ModelFileError, match="hostile.json: not valid JSON"):
+        soadyn.model_file.model_from_json('{"format": \u00e9\u00e9}', "hostile.json")
+
+
+def test_a_rod_whose_length_overflows_is_refused_by_name():
+    m = soadyn.Model()
+    m.add_body("far", None, J.prismatic([1, 0, 0]), mass=1.0, com=[0, 0, 0], inertia=[0.1, 0.1, 0.1])
+    m.add_body("farther", "far", J.prismatic([0, 1, 0]), mass=1.0, com=[0, 0, 0], inertia=[0.1, 0.1, 0.1])
+    with pytest.raises(soadyn.LoopError, match="loop 'rod': the distance between frame_a and frame_b at the given"):
+        m.add_loop("rod", "farther", None, "distance", q=np.array([1.7e308, 1.7e308]))
+
+
+def test_a_rollout_whose_times_overflow_is_refused():
+    m = soadyn.scenes.pendulum_chain(2)
+    with pytest.raises(ValueError, match=r"dt \(1e\+308\) times steps \(5\)"):
+        soadyn.batch.rollout(m, np.zeros((1, 4)), dt=1e308, steps=5)
+
+
+def test_a_flexible_body_with_huge_damping_stays_finite():
+    body = soadyn.FlexibleBody.cantilever_beam(length=1.0, EI=1.0, mass_per_length=1.0, n_modes=1)
+    huge = np.full((body.n_modes, body.n_modes), 1.7e308)
+    try:
+        stiff = soadyn.FlexibleBody(body.nodes, body.masses, body.rotary_inertias, body.mode_shapes, body.stiffness,
+                                    damping=np.diag(np.diag(huge)))
+    except ValueError as error:
+        assert "damping" in str(error)
+    else:
+        assert np.all(np.isfinite(stiff.damping))

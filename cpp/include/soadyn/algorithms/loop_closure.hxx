@@ -3,6 +3,7 @@
 #include <cmath>
 #include "soadyn/algorithms/kinematics.hpp"
 #include "soadyn/algorithms/loop_closure.hpp"
+#include "soadyn/spatial/scaled_norm.hpp"
 
 namespace soadyn {
 
@@ -137,22 +138,6 @@ void turning_directions(int fixed, int turning, const Mat3<S>& R, const Vec3<S>&
   if (!W_rate) return;
   W_rate->template block<3, 1>(turning, 3) = omega.cross(R.col(0));
   W_rate->template block<3, 1>(turning, 4) = omega.cross(R.col(1));
-}
-
-// |d|, and the unit vector d / |d| in `direction`, computed on d scaled by
-// its largest entry so that neither overflows or underflows for any finite d
-// (a distance loop far from the origin: |d|^2 would overflow past 1e154).
-template <class S>
-S scaled_norm(const Vec3<S>& d, Vec3<S>* direction) {
-  const S largest = d.cwiseAbs().maxCoeff();
-  if (!(largest > S(0))) {
-    if (direction) *direction = d / largest;  // 0/0: NaN, as d.normalized() of a zero vector would be
-    return largest;
-  }
-  const Vec3<S> scaled = d / largest;
-  const S scaled_length = scaled.norm();
-  if (direction) *direction = scaled / scaled_length;
-  return largest * scaled_length;
 }
 
 // The constraint directions W (6 x k, first k columns) of a loop, in `W`,

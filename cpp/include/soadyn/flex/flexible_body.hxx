@@ -131,14 +131,16 @@ void check_modal_mass(const FlexibleNodes<S>& nodes, int n_modes) {
 
 // Replaces the rotary inertias, K and C by their symmetric parts (they are
 // symmetric to the validation tolerance), so that M(eta) is exactly symmetric.
+// Halved before they are added: (a + a')/2 would overflow for entries past
+// half the largest double.
 template <class S>
 void symmetrize(FlexibleBodyDescription<S>& d) {
   for (FlexibleNode<S>& node : d.nodes) {
     const Mat3<S> J = node.rotary_inertia;
-    node.rotary_inertia = S(0.5) * (J + J.transpose());
+    node.rotary_inertia = S(0.5) * J + S(0.5) * J.transpose();
   }
-  d.stiffness = S(0.5) * (d.stiffness + d.stiffness.transpose()).eval();
-  d.damping = S(0.5) * (d.damping + d.damping.transpose()).eval();
+  d.stiffness = (S(0.5) * d.stiffness + S(0.5) * d.stiffness.transpose()).eval();
+  d.damping = (S(0.5) * d.damping + S(0.5) * d.damping.transpose()).eval();
 }
 
 inline void check_attachments(const std::map<std::string, int>& attachments, int n_nodes) {

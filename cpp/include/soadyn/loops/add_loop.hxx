@@ -2,6 +2,7 @@
 #pragma once
 #include <cmath>
 #include "soadyn/model.hpp"
+#include "soadyn/spatial/scaled_norm.hpp"
 #include "soadyn/validation.hpp"
 
 namespace soadyn {
@@ -54,7 +55,7 @@ S loop_length_at(const ModelTpl<S>& m, const LoopTpl<S>& loop, const S* q) {
   }
   const Vec3<S> a = rigid_body_pose_at(m, loop.body_a, q).apply_point(loop.placement_a.translation);
   const Vec3<S> b = rigid_body_pose_at(m, loop.body_b, q).apply_point(loop.placement_b.translation);
-  return (a - b).norm();
+  return scaled_norm<S>(a - b, nullptr);
 }
 }  // namespace detail
 
@@ -124,6 +125,10 @@ int ModelTpl<S>::add_loop(const std::string& name, const std::string& frame_a, c
           detail::loop_fail(name, "coordinate '" + coordinate_names[static_cast<std::size_t>(k)] +
                             "' of the configuration that gives the length is not finite");
     if (length == S(0)) length = detail::loop_length_at(*this, loop, configuration);
+    if (!std::isfinite(static_cast<double>(length)))
+      detail::loop_fail(name, std::string("the distance between frame_a and frame_b at the ") +
+                        (configuration ? "given" : "neutral") +
+                        " configuration is not finite (too large for floating point): give the rod's length=");
     if (!(length > S(100) * Eigen::NumTraits<S>::epsilon()))
       detail::loop_fail(name, std::string("frame_a and frame_b coincide at the ") +
                         (configuration ? "given" : "neutral") + " configuration: give the rod's length=");
