@@ -85,12 +85,24 @@ Array checked_matrix(py::handle obj, const char* arg, py::ssize_t cols, const st
 
 namespace {
 
-[[noreturn]] void wrong_type(const char* arg, const char* expected, py::handle obj) {
-  throw py::type_error(std::string(arg) + " must be " + expected + ", got " +
-                       py::str(py::type::handle_of(obj).attr("__name__")).cast<std::string>());
+// The type's name as Python prints it: "float", "NoneType", "numpy.bool".
+std::string type_name(py::handle obj) {
+  const py::handle type = py::type::handle_of(obj);
+  const std::string module = py::str(type.attr("__module__")).cast<std::string>();
+  const std::string name = py::str(type.attr("__qualname__")).cast<std::string>();
+  return module == "builtins" ? name : module + "." + name;
 }
 
-bool is_bool(py::handle obj) { return py::isinstance<py::bool_>(obj) || py::str(py::type::handle_of(obj).attr("__name__")).cast<std::string>() == "bool_"; }
+[[noreturn]] void wrong_type(const char* arg, const char* expected, py::handle obj) {
+  throw py::type_error(std::string(arg) + " must be " + expected + ", got " + type_name(obj));
+}
+
+// Python's bool or numpy's (which is no int subclass, but converts to one).
+bool is_bool(py::handle obj) {
+  if (PyBool_Check(obj.ptr())) return true;
+  static const py::handle numpy_bool = py::object(py::module_::import("numpy").attr("bool_")).release();  // kept for the process
+  return py::isinstance(obj, numpy_bool);
+}
 
 }  // namespace
 
@@ -126,7 +138,7 @@ std::string checked_text(py::handle obj, const char* arg) {
 
 bool checked_flag(py::handle obj, const char* arg) {
   if (!is_bool(obj)) wrong_type(arg, "a bool", obj);
-  return obj.cast<bool>();
+  return PyObject_IsTrue(obj.ptr()) == 1;
 }
 
 }  // namespace soadyn_py

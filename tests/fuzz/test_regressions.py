@@ -254,3 +254,17 @@ def test_a_flexible_body_with_huge_damping_stays_finite():
         assert "damping" in str(error)
     else:
         assert np.all(np.isfinite(stiff.damping))
+
+
+def test_numpy_scalars_are_taken_as_python_ones_and_bools_are_not_numbers():
+    m = soadyn.scenes.pendulum_chain(2)
+    z = np.zeros(2)
+    body = m.body_names[0]
+    assert np.array_equal(soadyn.frame_acceleration(m, z, z, z, body, classical=np.True_),
+                          soadyn.frame_acceleration(m, z, z, z, body, classical=True))
+    assert np.array_equal(soadyn.integrate(m, z, np.ones(2), np.float64(0.5)), soadyn.integrate(m, z, np.ones(2), 0.5))
+    assert np.array_equal(soadyn.random_configuration(m, np.int64(3)), soadyn.random_configuration(m, 3))
+    with pytest.raises(TypeError, match="dt must be a real number, got numpy.bool"):
+        soadyn.integrate(m, z, z, np.True_)
+    with pytest.raises(TypeError, match="dt must be a real number, got bool"):
+        soadyn.integrate(m, z, z, True)
