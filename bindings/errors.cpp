@@ -61,11 +61,12 @@ void raise_on(const soadyn::Status& s, const soadyn::Model& m, const char* what)
   }
   if (s.code == soadyn::StatusCode::loop_assembly_stalled) {
     const std::string loop = s.index >= 0 && s.index < m.nloops() ? m.loops[static_cast<std::size_t>(s.index)].name : "?";
-    throw soadyn::LoopError(std::string(what) + ": loop '" + loop + "' cannot be closed from here: " +
-                            std::to_string(soadyn::assembly_stall_steps) +
-                            " Gauss-Newton steps in a row, each halved down to 2^-20 of its length, did not lower "
-                            "its residual (the DOFs allowed to move cannot close it: every DOF of the loop is held, "
-                            "or the mechanism is at a singular configuration)");
+    throw soadyn::LoopError(std::string(what) + ": loop '" + loop + "' cannot be closed from here: its residual " +
+                            "stopped falling (" + std::to_string(soadyn::assembly_stall_steps) +
+                            " Gauss-Newton steps in a row, each halved down to 2^-20 of its length, gained nothing, or " +
+                            std::to_string(soadyn::assembly_halving_steps) +
+                            " steps did not halve it): the DOFs allowed to move cannot close it (every DOF of the loop "
+                            "held, a configuration out of their reach, or a singular one)");
   }
   const std::string& dof = name_of(m.dof_names, s.index);
   if (s.code == soadyn::StatusCode::inconsistent_loop_equations) {

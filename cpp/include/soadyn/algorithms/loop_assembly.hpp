@@ -26,17 +26,22 @@ namespace soadyn {
 // |Psi_i| <= tolerance (Status ok); after max_iterations Gauss-Newton steps
 // (StatusCode::loop_not_closed, index: the loop with the largest residual);
 // when assembly_stall_steps steps in a row, each halved down to 2^-20 of its
-// length, did not lower the largest residual (StatusCode::
-// loop_assembly_stalled: the DOFs allowed to move cannot close the loop from
-// here, e.g. every DOF of the loop is held); or when `interrupt` asks
+// length, did not lower the largest residual, or assembly_halving_steps steps
+// did not halve it (StatusCode::loop_assembly_stalled: the DOFs allowed to
+// move cannot close the loop from here, e.g. every DOF of the loop is held,
+// or creep towards a configuration they cannot reach); or when `interrupt` asks
 // (StatusCode::interrupted). `iterations`, if given, receives the number of
 // steps taken.
 template <class S>
 Status assemble_loops(const ModelTpl<S>& model, DataTpl<S>& data, VecRef<S> q, const ConstVecRef<S>& free,
                       S tolerance, int max_iterations, int* iterations = nullptr, const Interrupt* interrupt = nullptr);
 
-// Gauss-Newton steps in a row without progress after which assembly stops.
+// Gauss-Newton steps in a row without progress, and steps without halving
+// the largest residual, after which assembly stops. Gauss-Newton halves it in
+// a step or two near a regular closure and in a handful where it converges
+// linearly (redundant equations, near a dead centre).
 constexpr int assembly_stall_steps = 3;
+constexpr int assembly_halving_steps = 25;
 
 // Velocity closure in place: the free DOFs' velocities change by the
 // smallest correction that makes C v = 0 (least squares when the held DOFs'

@@ -52,16 +52,17 @@ template <class S>
 Status assemble_loops(const ModelTpl<S>& m, DataTpl<S>& d, VecRef<S> q, const ConstVecRef<S>& free, S tolerance,
                       int max_iterations, int* iterations, const Interrupt* interrupt) {
   LoopData<S>& ld = d.loops;
-  int steps = 0, row = 0, steps_without_progress = 0;
+  int steps = 0, row = 0, steps_without_progress = 0, last_halving = 0;
   if (iterations) *iterations = 0;
   if (m.nloops() == 0) return Status{};
   loop_residual<S>(m, d, q, nullptr);
   S error = detail::largest_residual(ld.residual, &row);
+  S halving_reference = error;  // the residual the next halving is counted from
   while (!(error <= tolerance)) {
     if (steps == max_iterations || !std::isfinite(static_cast<double>(error)) ||
         !detail::minimum_norm_correction<S>(m, ld, free, ld.residual))
       return Status{StatusCode::loop_not_closed, detail::loop_of_row(m, row)};
-    if (steps_without_progress == assembly_stall_steps)
+    if (steps_without_progress == assembly_stall_steps || steps - last_halving == assembly_halving_steps)
       return Status{StatusCode::loop_assembly_stalled, detail::loop_of_row(m, row)};
     if (interrupt_requested(interrupt)) return Status{StatusCode::interrupted, -1};
     ++steps;
@@ -77,6 +78,10 @@ Status assemble_loops(const ModelTpl<S>& m, DataTpl<S>& d, VecRef<S> q, const Co
         steps_without_progress = trial < error ? 0 : steps_without_progress + 1;
         error = trial;
         row = trial_row;
+        if (error <= halving_reference / S(2)) {
+          halving_reference = error;
+          last_halving = steps;
+        }
         break;
       }
       scale *= S(0.5);
