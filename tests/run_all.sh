@@ -11,7 +11,7 @@
 set -uo pipefail
 cd "$(dirname "$0")/.."
 
-# The viewer's browser test (tests/test_viewer_browser.py) drives Debian's
+# The viewer's browser test (tests/viz/test_viewer_browser.py) drives Debian's
 # Chromium headless; installed here when missing and we may (root, apt-get).
 if ! command -v chromium >/dev/null 2>&1 && [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null 2>&1; then
   { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium; } >/dev/null 2>&1 ||

@@ -6,7 +6,7 @@ mistyped parameters) and makes one public call with hostile arguments
 case must keep: the call returns finite numbers of the documented shape, or
 raises one of the documented errors with a message; never another exception,
 never a crash, never a silent NaN. The same cases serve the quick property
-test (tests/test_fuzz_api.py, hypothesis) and the long campaign
+test (tests/fuzz/test_fuzz_api.py, hypothesis) and the long campaign
 (bench/fuzz_campaign.py, each case in its own process).
 """
 from __future__ import annotations

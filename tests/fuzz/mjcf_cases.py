@@ -12,7 +12,7 @@ nested up to 100,000 levels deep), or random bytes, or a truncated file.
 Property: load_mjcf returns a Model whose parameters are all finite and
 whose forward dynamics at a random state are finite (or a DynamicsError
 naming a DOF), or raises MjcfError naming the file; nothing else: no other
-exception, no crash, no hang. The quick test is tests/test_mjcf_fuzz.py; the
+exception, no crash, no hang. The quick test is tests/fuzz/test_mjcf_fuzz.py; the
 long campaign bench/fuzz_campaign.py (surface "mjcf").
 """
 from __future__ import annotations

@@ -16,7 +16,7 @@ Property: load_model returns a Model whose parameters are all finite (its
 own model-file text holds finite numbers only) and whose forward dynamics at
 a random state are finite (or a DynamicsError naming a DOF), or raises
 ModelFileError naming the file; nothing else: no other exception, no crash,
-no hang. The quick test is tests/test_model_file_fuzz.py; the long campaign
+no hang. The quick test is tests/fuzz/test_model_file_fuzz.py; the long campaign
 bench/fuzz_campaign.py (surface "model_file").
 """
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Hostile datagrams for the HIL link, each case drawn from one integer seed,
-for the long fuzz campaign (bench/fuzz_campaign.py); tests/test_hil_fuzz.py
+for the long fuzz campaign (bench/fuzz_campaign.py); tests/fuzz/test_hil_fuzz.py
 holds the quick property test.
 
 A case starts a runner on a 3-link chain with a UDP link on a free port,

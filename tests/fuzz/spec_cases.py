@@ -11,7 +11,7 @@ random bytes, or random TOML-like text. The property: load_spec returns a Spec
 whose numbers are finite and whose description can be stored (JSON without
 NaN), or raises SpecError whose message names the file and, for every problem,
 the item at fault; anything else (another exception, a crash, a hang) fails.
-The quick test is tests/test_campaign_spec_fuzz.py; the long campaign
+The quick test is tests/fuzz/test_campaign_spec_fuzz.py; the long campaign
 bench/fuzz_campaign.py --surface spec.
 """
 from __future__ import annotations

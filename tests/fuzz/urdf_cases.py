@@ -1,5 +1,5 @@
 """Hostile URDF files, each drawn from one integer seed, for the long fuzz
-campaign (bench/fuzz_campaign.py); tests/test_urdf_fuzz.py holds the quick
+campaign (bench/fuzz_campaign.py); tests/fuzz/test_urdf_fuzz.py holds the quick
 property tests of the same kinds of files.
 
 A case is random bytes, random URDF-like text, or a random valid tree with
@@ -56,7 +56,7 @@ def tree(rng: np.random.Generator) -> str:
 def mutate(text: str, pick: Callable[[Sequence], Any]) -> str:
     """One to three mutations of a valid file; `pick` chooses an item of a
     sequence (from a seeded generator here, from hypothesis in
-    tests/test_urdf_fuzz.py)."""
+    tests/fuzz/test_urdf_fuzz.py)."""
     root = ElementTree.fromstring(text)
     for _ in range(pick([1, 2, 3])):
         element = pick(list(root.iter()))

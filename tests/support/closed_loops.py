@@ -9,7 +9,7 @@ import pinocchio as pin
 
 import soadyn
 from support.pinocchio_trees import Mapping, build_pinocchio, build_soadyn, random_specs
-from trees import random_tree
+from support.trees import random_tree
 
 
 def _pose(T):

@@ -16,8 +16,8 @@ import numpy as np
 import pinocchio as pin
 
 import soadyn
-from pinocchio_mapping import JointMatch, PinocchioMapping, free_joint_names
-from trees import JOINT_KINDS, random_inertia, random_rotation, random_unit
+from support.pinocchio_mapping import JointMatch, PinocchioMapping, free_joint_names
+from support.trees import JOINT_KINDS, random_inertia, random_rotation, random_unit
 
 SEEDS = range(6)
 CASES = [(seed, floating) for seed in SEEDS for floating in (True, False)]
