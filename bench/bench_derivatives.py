@@ -1,15 +1,14 @@
 """Analytic derivatives: soadyn.dynamics_derivatives against Pinocchio's computeABADerivatives, and
 soadyn.inverse_dynamics_derivatives against computeRNEADerivatives, C++, same machine, same run.
 
-soadyn: C++ loops in the extension (_time_cpp, the protocol of ../shared/tools/peer_bench: median of
-7 repetitions of N calls cycling through 64 random states), all DOFs regular, and with half of the
-DOFs prescribed (hybrid). Pinocchio: bench/peer/pin_derivatives.cpp, the same protocol, built by
-bench/peer/build.sh against the Pinocchio of peer_bench (its build.sh runs first if needed), the
-same compiler, -O3, no -march=native on either side. The machine's speed drifts, so the timings run
-in rounds (Pinocchio, then soadyn, per round) and each ratio is the median over rounds of the ratio
-within a round.
+soadyn: C++ loops (timing.time_cpp, peer_bench's protocol: median of 7 repetitions of N calls
+cycling through 64 random states), all DOFs regular, and with every other DOF prescribed
+(hybrid). Pinocchio: bench/peer/pin_derivatives.cpp, the same protocol, built by
+bench/peer/build.sh against peer_bench's Pinocchio (bench/peers.py), the same compiler, -O3,
+no -march=native on either side. The timings run in rounds (Pinocchio, then soadyn, per
+round) and each ratio is the median over rounds of the ratio within a round.
 
-Writes bench/results/derivatives.md. Usage: python bench/bench_derivatives.py [--quick]
+Writes bench/results/derivatives.json. Usage: python bench/bench_derivatives.py [--quick]
 """
 from __future__ import annotations
 
@@ -21,28 +20,10 @@ from pathlib import Path
 
 import numpy as np
 
-import soadyn
-from soadyn._soadyn import _time_cpp
-
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-sys.path.insert(0, str(HERE.parent / "tests"))
-from bench_robots import PEER, ROBOTS, parse_peer_output, random_states, write_report  # noqa: E402
-from robots import robot  # noqa: E402
-
-PEER_DIR = Path(os.environ.get("PEER_BENCH_DIR", Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
-                               / "peer_bench"))
-
-
-def peer_program(name: str = "pin_derivatives") -> Path | None:
-    """A program of bench/peer/ (built by its build.sh, after peer_bench's own build if needed)."""
-    program = PEER_DIR / name
-    if program.is_file():
-        return program
-    if not (PEER_DIR / "prefix").is_file():
-        subprocess.run(["bash", str(PEER / "build.sh")], check=False)
-    subprocess.run(["bash", str(HERE / "peer" / "build.sh")], check=False)
-    return program if program.is_file() else None
+from fixtures import ROBOTS, load_robot, random_states, robot
+from peers import parse_peer_output, peer_program
+from report import Table, write
+from timing import time_cpp
 
 
 def pinocchio_timings(program: Path, paths: dict, calls: int) -> dict:
@@ -56,16 +37,16 @@ def main() -> int:
     parser.add_argument("--quick", action="store_true", help="fewer calls and rounds (smoke test)")
     args = parser.parse_args()
     calls, rounds = (500, 1) if args.quick else (5000, 5)
-    program = peer_program()
+    program = peer_program("pin_derivatives")
     if program is None:
         print("Pinocchio's derivative timing program could not be built", file=sys.stderr)
         return 1
     paths = {name: robot(name)[0] for name in ROBOTS}
     models, states = {}, {}
-    rng = np.random.default_rng(0)
+    rng = np.random.default_rng(0)  # one stream, drawn robot after robot
     for name in ROBOTS:
-        m = soadyn.load_urdf(paths[name], floating_base=robot(name)[1])
-        models[name], states[name] = m, random_states(m, rng)
+        models[name] = load_robot(name)
+        states[name] = random_states(models[name], rng)
     samples = {name: {k: [] for k in ("aba_d", "rnea_d", "fd", "id", "hybrid", "ratio_fd", "ratio_id")}
                for name in ROBOTS}
     for _ in range(rounds):
@@ -73,10 +54,10 @@ def main() -> int:
         for name in ROBOTS:
             m, (q, v, u) = models[name], states[name]
             m.set_prescribed(np.zeros(m.nv, dtype=bool))
-            fd = _time_cpp(m, "dynamics_derivatives", q, v, u, calls)
-            id_ = _time_cpp(m, "inverse_dynamics_derivatives", q, v, u, calls)
+            fd = time_cpp(m, "dynamics_derivatives", q, v, u, calls)
+            id_ = time_cpp(m, "inverse_dynamics_derivatives", q, v, u, calls)
             m.set_prescribed(np.arange(m.nv) % 2 == 0)
-            hybrid = _time_cpp(m, "dynamics_derivatives", q, v, u, calls)
+            hybrid = time_cpp(m, "dynamics_derivatives", q, v, u, calls)
             m.set_prescribed(np.zeros(m.nv, dtype=bool))
             s = samples[name]
             s["aba_d"].append(peer[name]["aba_derivatives"])
@@ -87,22 +68,25 @@ def main() -> int:
             s["ratio_fd"].append(fd / peer[name]["aba_derivatives"])
             s["ratio_id"].append(id_ / peer[name]["rnea_derivatives"])
     med = {name: {k: float(np.median(x)) for k, x in s.items()} for name, s in samples.items()}
-    lines = ["# Analytic derivatives: soadyn against Pinocchio (C++)", "",
-             f"Command: `python bench/bench_derivatives.py{' --quick' if args.quick else ''}` "
-             f"({rounds} rounds of {calls} calls per timing; medians over rounds).", "",
-             "| robot | nv | soadyn dynamics_derivatives (us) | pin computeABADerivatives (us) | ratio | "
-             "soadyn, half the DOFs prescribed (us) | soadyn inverse_dynamics_derivatives (us) | "
-             "pin computeRNEADerivatives (us) | ratio |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    table = Table("C++ per call (us)", [
+        "robot", "nv", "soadyn dynamics_derivatives", "pin computeABADerivatives", "dynamics_derivatives / pin",
+        "soadyn, half the DOFs prescribed", "soadyn inverse_dynamics_derivatives", "pin computeRNEADerivatives",
+        "inverse_dynamics_derivatives / pin"],
+        headline=["dynamics_derivatives / pin", "inverse_dynamics_derivatives / pin"])
+    table.formats = {c: ".2f" for c in table.columns[2:]}
     for name in ROBOTS:
         r = med[name]
-        lines.append(f"| {name} | {models[name].nv} | {r['fd']:.2f} | {r['aba_d']:.2f} | {r['ratio_fd']:.2f} | "
-                     f"{r['hybrid']:.2f} | {r['id']:.2f} | {r['rnea_d']:.2f} | {r['ratio_id']:.2f} |")
-    lines += ["", "Ratios are soadyn over Pinocchio (below 1: soadyn faster). dynamics_derivatives returns all six "
-              "matrices (dqdd/dq, dqdd/dv, dqdd/du = M^-1, and the prescribed DOFs' force derivatives) and the "
-              "hybrid dynamics itself; computeABADerivatives returns dqdd/dq, dqdd/dv and M^-1."]
-    write_report("derivatives.md", lines)
-    print("\n".join(lines))
+        table.add(name, models[name].nv, r["fd"], r["aba_d"], r["ratio_fd"], r["hybrid"], r["id"], r["rnea_d"],
+                  r["ratio_id"])
+    table.print()
+    notes = ["Times: medians over rounds; ratios: soadyn over Pinocchio (below 1: soadyn faster), medians over "
+             "rounds of the ratio within a round.",
+             "dynamics_derivatives returns all six matrices (dqdd/dq, dqdd/dv, dqdd/du = M^-1, and the prescribed "
+             "DOFs' force derivatives) and the hybrid dynamics itself; computeABADerivatives returns dqdd/dq, "
+             "dqdd/dv and M^-1."]
+    write("derivatives", "Analytic derivatives: soadyn against Pinocchio (C++)", [table],
+          {"rounds": rounds, "calls": calls, "repetitions": 7, "states": 64,
+           "peer": "Pinocchio C++ (bench/peer/pin_derivatives.cpp), g++ -O3, no -march=native"}, notes)
     return 0
 
 

@@ -4,17 +4,19 @@ the per-step read bound at its default (16) and effectively unbounded.
 Prints the compute-time median and p99, the deadline misses and the packet
 counters of each run (and of a quiet run for reference). Loopback only.
 
-    python bench/bench_hil_flood.py [--seconds 4] [--rounds 1]
+Writes bench/results/hil_flood.json.
+Usage: python bench/bench_hil_flood.py [--seconds 4] [--rounds 1]
 """
 from __future__ import annotations
 
 import argparse
 import socket
-import struct
 import subprocess
 import sys
 
-from soadyn.hil import run_hil, scene_simulator
+from fixtures import cassini_simulator
+from report import Table, write
+from soadyn.hil import run_hil
 
 FLOODER = r"""
 import socket, struct, sys, time
@@ -39,8 +41,9 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def one_run(seconds: float, bound: int | None, flood: bool) -> str:
-    sim = scene_simulator("cassini", 1000.0)
+def one_run(seconds: float, bound: int | None, flood: bool) -> tuple:
+    """(label, p50, p99, misses, steps, sent, read, kernel drops, steps at the bound) of one run."""
+    sim = cassini_simulator(1000.0)
     port = free_port()
     flooder = None
     if flood:
@@ -62,21 +65,29 @@ def one_run(seconds: float, bound: int | None, flood: bool) -> str:
         flooder.wait()
     p, c = report.packets, report.compute_us
     label = "quiet" if not flood else f"flood, bound {bound or 'none'}"
-    return (f"{label:<20} p50 {c['p50']:7.1f} us  p99 {c['p99']:7.1f} us  misses {report.deadline_misses:4d} of "
-            f"{report.steps}  sent {sent}  read {p['received'] + p['stale'] + p['dropped'] + p['rejected_sender']}  "
-            f"kernel drops {p['kernel_drops']}  steps at the bound {p['steps_left_pending']}")
+    return (label, c["p50"], c["p99"], report.deadline_misses, report.steps, sent,
+            p["received"] + p["stale"] + p["dropped"] + p["rejected_sender"], p["kernel_drops"],
+            p["steps_left_pending"])
 
 
-def main() -> None:
+def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=4.0)
     parser.add_argument("--rounds", type=int, default=1)
     args = parser.parse_args()
+    table = Table("Cassini at 1 kHz under a UDP flood", [
+        "run", "compute p50 (us)", "compute p99 (us)", "deadline misses", "steps", "datagrams sent",
+        "datagrams read", "kernel drops", "steps at the read bound"],
+        {"compute p50 (us)": ".1f", "compute p99 (us)": ".1f"}, summary=True)
     for _ in range(args.rounds):
-        print(one_run(args.seconds, None, flood=False))
-        print(one_run(args.seconds, 16, flood=True))
-        print(one_run(args.seconds, None, flood=True))
+        for bound, flood in ((None, False), (16, True), (None, True)):
+            print(table.add(*one_run(args.seconds, bound, flood)), flush=True)
+    table.print()
+    write("hil_flood", "The HIL loop under a UDP flood", [table], {"seconds": args.seconds, "rounds": args.rounds},
+          ["Another process sends valid commands from the accepted peer as fast as it can; the per-step read "
+           "bound at its default (16) and effectively unbounded; a quiet run for reference. Loopback only."])
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

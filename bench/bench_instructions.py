@@ -1,42 +1,33 @@
-"""Instructions per call, counted by valgrind's callgrind: soadyn against Pinocchio on the
-bench_robots robots, and the cassini RK4 step against the round's starting build.
+"""Instructions per call, counted by valgrind's callgrind: soadyn against Pinocchio on the peer
+robots, and the cassini RK4 step of this build (and of an earlier one, --before).
 
-A shared host's timings swing by up to 2x within seconds (bench/results/history.md); the
-number of instructions executed inside a call does not depend on the host at all. It is not a
-time: it weighs a division like an addition and knows nothing of caches, of dependency chains
-or of how many instructions the processor retires per cycle. Both libraries here are scalar
-double-precision code built by g++ -O3 without -march=native, yet their ratios of counts and
-of times differ by algorithm: on 2026-11-28 the counts gave CRBA ratios of 0.67-0.76 where the
-quietest timings gave 0.65-0.75, but hybrid / pin ABA 0.58-0.62 where the timings gave
-0.31-0.33 (soadyn's sweeps retire more instructions per cycle). So the counts are the
-deterministic companion of bench_robots.py and bench_round2.py for judging a change to one
-library, and not a measure of speed against the other.
+The number of instructions executed inside a call does not depend on the host, whose timings
+are noisy. It is not a time: it weighs a division like an addition and knows nothing of
+caches, of dependency chains or of how many instructions the processor retires per cycle, so a
+ratio of counts between two libraries is not a ratio of times (docs/performance.md compares
+them). The counts judge a change to one library: compare them with the same library's counts
+before the change.
 
-- soadyn: the C++ loop that bench_robots times (soadyn._soadyn._time_cpp, one repetition of
-  `calls` calls over bench_robots' 64 random states), counted only inside
-  soadyn::forward_dynamics, hybrid_dynamics, inverse_dynamics and mass_matrix.
+- soadyn: the C++ loop that bench_robots times (timing.time_cpp, one repetition of `calls`
+  calls over the peer robots' 64 random states), counted only inside soadyn::forward_dynamics,
+  hybrid_dynamics, inverse_dynamics and mass_matrix (and the CRBA's baseline kernel).
 - Pinocchio: bench/peer/pin_calls.cpp (peer_bench's models and states), counted only inside
   its never-inlined call_aba, call_rnea and call_crba; built by bench/peer/build.sh.
-- cassini: Simulator._run of `steps` RK4 steps at 1 ms as `soadyn hil` runs the scene
-  (soadyn.hil.scene_simulator), counted inside Simulator::step, in this build and in the build
-  at --before (a `pip install --target` of the commit the round started from).
+- cassini: Simulator._run of `steps` RK4 steps at 1 ms as `soadyn hil` runs the scene,
+  counted inside Simulator::step, in this build and in the build at --before (a
+  `pip install --target` of the commit --before-rev names).
 
-Writes bench/results/instructions.md. Needs valgrind (Debian: apt-get install valgrind).
-Usage: python bench/bench_instructions.py [--calls N] [--before DIR --before-rev REV]
+Writes bench/results/instructions.json. Needs valgrind (Debian: apt-get install valgrind).
+Usage: python bench/bench_instructions.py [--calls N] [--steps N] [--before DIR --before-rev REV]
 """
 from __future__ import annotations
 
 import argparse
-import os
 import re
 import shutil
 import subprocess
 import sys
-import time
 from pathlib import Path
-
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent / "tests"))
 
 # What each of soadyn's timed calls is counted inside, and Pinocchio's call it is compared with.
 SOADYN_FUNCTIONS = {
@@ -78,21 +69,18 @@ def collected(command: list[str], function: str, env: dict | None = None) -> int
 def soadyn_child(robot_name: str, algorithm: str, prescribed: str, calls: int) -> None:
     """Runs the timed C++ loop once (the process valgrind counts)."""
     import numpy as np
-    import soadyn
-    from soadyn._soadyn import _time_cpp
-    from bench_robots import random_states
-    from robots import robot
+    from fixtures import load_robot, random_states
+    from timing import time_cpp
 
-    path, floating = robot(robot_name)
-    model = soadyn.load_urdf(path, floating_base=floating)
+    model = load_robot(robot_name)
     model.set_prescribed(np.full(model.nv, prescribed == "all"))
-    q, v, u = random_states(model, np.random.default_rng(1))
-    _time_cpp(model, algorithm, q, v, u, calls, 1)
+    time_cpp(model, algorithm, *random_states(model, 1), calls, 1)
 
 
 def cassini_child(steps: int) -> None:
-    from soadyn.hil import scene_simulator
-    scene_simulator("cassini", 1000.0)._run(steps)
+    from fixtures import cassini_simulator
+
+    cassini_simulator(1000.0)._run(steps)
 
 
 def main() -> int:
@@ -100,70 +88,61 @@ def main() -> int:
     parser.add_argument("--calls", type=positive_int, default=500, help="calls counted per algorithm and robot")
     parser.add_argument("--steps", type=positive_int, default=200, help="cassini steps counted per build")
     parser.add_argument("--before", type=Path, default=None,
-                        help="a directory holding the earlier build's soadyn package (pip install --target); "
+                        help="a directory holding an earlier build's soadyn package (pip install --target); "
                              "without it the cassini step is counted for this build only")
-    parser.add_argument("--before-rev", default="26f4505", help="the commit that build was made from")
+    parser.add_argument("--before-rev", help="the commit that build was made from (required with --before)")
     args = parser.parse_args()
     if shutil.which("valgrind") is None:
         print("valgrind not found (Debian: apt-get install valgrind)", file=sys.stderr)
         return 2
-    from bench_derivatives import peer_program
-    from soadyn._soadyn import _joint_angle_kernel, _mass_matrix_kernel
-    from bench_robots import ROBOTS, source_revision, write_report
-    from build_comparison import has_build
-    from robots import robot
+    from builds import build_env, has_build, missing_build_message
+    from fixtures import ROBOTS, robot
+    from peers import peer_program
+    from report import Table, write
+    from timing import joint_angle_kernel, mass_matrix_kernel
 
+    if args.before is not None and not (args.before_rev and has_build(args.before)):
+        print(missing_build_message(args.before, args.before_rev or "REV") if not has_build(args.before)
+              else "--before needs --before-rev", file=sys.stderr)
+        return 2
     program = peer_program("pin_calls")
     if program is None:
         print("bench/peer/pin_calls could not be built (peer_bench's Pinocchio missing?)", file=sys.stderr)
         return 2
     me = [sys.executable, str(Path(__file__).resolve())]
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    rows = []
+    env = build_env()
+    calls = Table("soadyn / Pinocchio, instructions per call", [
+        "robot", "comparison", "soadyn", "Pinocchio", "soadyn / Pinocchio"],
+        {"soadyn": ",.0f", "Pinocchio": ",.0f", "soadyn / Pinocchio": ".2f"}, headline=["soadyn / Pinocchio"], key=2)
     for name in ROBOTS:
         path = str(robot(name)[0])
         peer = {alg: collected([str(program), path, alg, str(args.calls)], f"call_{alg}*") / args.calls
                 for alg in ("aba", "rnea", "crba")}
-        cells = []
         for label, ours, prescribed, theirs in COMPARISONS:
             count = collected([*me, "--child", name, ours, prescribed, str(args.calls)], SOADYN_FUNCTIONS[ours],
                               env) / args.calls
-            cells.append(f"{count:,.0f} / {peer[theirs]:,.0f} = **{count / peer[theirs]:.2f}**")
-        rows.append(f"| {name} | " + " | ".join(cells) + " |")
-        print(rows[-1], flush=True)
-    step_rows = []
+            print(calls.add(name, label, count, peer[theirs], count / peer[theirs]), flush=True)
     builds = [("this build", env)]
     if has_build(args.before):
-        builds.append((f"commit {args.before_rev}", {**env, "PYTHONPATH": str(args.before)}))
+        builds.append((f"commit {args.before_rev}", build_env(args.before)))
     steps = {label: collected([*me, "--cassini-child", str(args.steps)], STEP_FUNCTION, e) / args.steps
              for label, e in builds}
+    step = Table("The cassini RK4 step (15 bodies, nv 28), instructions per step",
+                 ["build", "instructions per step", "this build / that build"],
+                 {"instructions per step": ",.0f", "this build / that build": ".3f"},
+                 headline=["instructions per step", "this build / that build"])
     for label, count in steps.items():
-        step_rows.append(f"| {label} | {count:,.0f} |")
-    if len(steps) == 2:
-        after, before = steps.values()
-        step_rows.append(f"| **this build / commit {args.before_rev}** (goal <= 0.6 in time) | **{after / before:.3f}** |")
-    source = source_revision()
-    lines = [
-        "# Instructions per call (valgrind callgrind): soadyn against Pinocchio, and the cassini step", "",
-        f"- Date: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; source: {source}; command: "
-        f"`python bench/bench_instructions.py` ({args.calls} calls per algorithm and robot, {args.steps} cassini steps)",
-        "- Counted only inside the calls: soadyn's C++ loop of bench_robots (`_time_cpp`) and Pinocchio's "
-        "never-inlined calls of bench/peer/pin_calls.cpp, on the same URDFs, roots and kind of random states. "
-        "A count is not a time, but it does not depend on the host: compare a change's counts with the same "
-        "library's counts before it. Ratios of counts between the libraries are not ratios of times (see the "
-        "script's docstring: hybrid / pin ABA counts about 0.6 where timings give about 0.3).",
-        f"- soadyn's kernels on this processor (chosen at run time): joint angles `{_joint_angle_kernel()}`, mass "
-        f"matrix `{_mass_matrix_kernel()}`; the CRBA's `baseline` kernel (x86-64 SSE2) is counted too.", "",
-        "## soadyn / Pinocchio, instructions per call", "",
-        "| robot | " + " | ".join(label for label, *_ in COMPARISONS) + " |",
-        "|---|" + "---:|" * len(COMPARISONS),
-        *rows, "",
-        "## The cassini RK4 step (15 bodies, nv 28), instructions per step", "",
-        "| build | instructions per step |",
-        "|---|---:|",
-        *step_rows,
-    ]
-    write_report("instructions.md", lines, timings=False)
+        step.add(label, count, steps["this build"] / count if label != "this build" else None)
+    for table in (calls, step):
+        table.print()
+    settings = {"calls": args.calls, "steps": args.steps, "before": {"commit": args.before_rev} if len(steps) > 1 else None,
+                "kernels": {"joint angles": joint_angle_kernel(), "mass matrix": mass_matrix_kernel()}}
+    notes = ["Counted only inside the calls: soadyn's C++ timing loop and Pinocchio's never-inlined calls of "
+             "bench/peer/pin_calls.cpp, on the same URDFs, roots and kind of random states.",
+             "A count is not a time, but it does not depend on the host: compare a change's counts with the same "
+             "library's counts before it."]
+    write("instructions", "Instructions per call (valgrind callgrind): soadyn against Pinocchio, and the cassini "
+          "step", [calls, step], settings, notes)
     return 0
 
 

@@ -1,36 +1,25 @@
 """Cost of soadyn.parameter_sensitivity (forward-mode automatic differentiation) per parameter
 direction, against central differences of the dynamics (two dynamics calls per direction, plus the
-set_parameter calls), on the benchmark robots and the four-bar loop scene.
-Writes bench/results/sensitivity.md.
+set_parameter calls), on four robots and the four-bar loop scene. Median of 5 runs.
 
-    python bench/bench_sensitivity.py
+Writes bench/results/sensitivity.json. Usage: python bench/bench_sensitivity.py
 """
 from __future__ import annotations
 
 import sys
-import time
-from pathlib import Path
 
 import numpy as np
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-sys.path.insert(0, str(HERE.parent / "tests"))
-
-import soadyn  # noqa: E402
-from bench_robots import write_report  # noqa: E402
-from robots import robot  # noqa: E402
+import soadyn
+from fixtures import four_bar, load_robot, one_state
+from measure import run_seconds
+from report import Table, write
 
 REPEATS = 5
 
 
 def median_time(fn) -> float:
-    times = []
-    for _ in range(REPEATS):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
+    return float(np.median(run_seconds(fn, REPEATS)))
 
 
 def dynamics(m, q, v, u):
@@ -58,26 +47,22 @@ def central_differences(m, names, q, v, u, h=1e-6) -> int:
 
 
 def cases():
+    """(label, model, q, v, u): the robots at the configuration of seed 1 with standard normal v and u (seed 2);
+    the four-bar at its closed state with a standard normal u (seed 2)."""
     for name in ("ur5", "panda", "anymal_c", "talos"):
-        path, floating = robot(name)
-        m = soadyn.load_urdf(str(path), floating_base=floating)
-        yield name, m, soadyn.random_configuration(m, 1)
-    yield "four_bar (loops)", soadyn.scenes.four_bar(), soadyn.scenes.four_bar_state(0.7, 1.3)[0]
+        m = load_robot(name)
+        yield (name, m, *one_state(m, 2, normal=True))
+    m, q, v = four_bar()
+    yield "four_bar (loops)", m, q, v, np.random.default_rng(2).normal(size=m.nv)
 
 
 def main() -> int:
-    lines = ["# Design sensitivity: automatic differentiation against central differences", "",
-             "Per parameter direction (a mass is 1 direction, a com 3, an inertia 9, a placement 6, gravity 3).",
-             "AD: soadyn.parameter_sensitivity for every parameter of the model (one dual-number dynamics",
-             "call per direction, in C++). FD: central differences from Python, two dynamics calls per",
-             "direction plus set_parameter. Median of 5 runs.", "",
-             "| model | nv | parameters | directions | dynamics call (us) | AD per direction (us) | "
-             "FD per direction (us) | AD / FD | AD / dynamics call |",
-             "|---|---|---|---|---|---|---|---|---|"]
-    for label, m, q in cases():
-        rng = np.random.default_rng(2)
-        v = rng.normal(size=m.nv) if not m.nloops else soadyn.scenes.four_bar_state(0.7, 1.3)[1]
-        u = rng.normal(size=m.nv)
+    table = Table("Per parameter direction: automatic differentiation (AD) against central differences (FD)", [
+        "model", "nv", "parameters", "directions", "dynamics call (us)", "AD per direction (us)",
+        "FD per direction (us)", "AD / FD", "AD / dynamics call"], headline=["AD / FD", "AD / dynamics call"])
+    table.formats = {"dynamics call (us)": ".1f", "AD per direction (us)": ".1f", "FD per direction (us)": ".1f",
+                     "AD / FD": ".2f", "AD / dynamics call": ".1f"}
+    for label, m, q, v, u in cases():
         names = m.parameter_names
         result = soadyn.parameter_sensitivity(m, q, v, u, names)
         n_dir = sum(int(np.prod(r[0].shape[1:])) for r in result.values())
@@ -85,10 +70,15 @@ def main() -> int:
         fd_dirs = central_differences(m, names, q, v, u)
         t_fd = median_time(lambda: central_differences(m, names, q, v, u)) / fd_dirs
         t_dyn = median_time(lambda: [dynamics(m, q, v, u) for _ in range(100)]) / 100
-        lines.append(f"| {label} | {m.nv} | {len(names)} | {n_dir} | {t_dyn * 1e6:.1f} | {t_ad * 1e6:.1f} | "
-                     f"{t_fd * 1e6:.1f} | {t_ad / t_fd:.2f} | {t_ad / t_dyn:.1f} |")
-        print(lines[-1])
-    write_report("sensitivity.md", lines)
+        print(table.add(label, m.nv, len(names), n_dir, t_dyn * 1e6, t_ad * 1e6, t_fd * 1e6, t_ad / t_fd,
+                        t_ad / t_dyn), flush=True)
+    table.print()
+    notes = ["Directions: a mass is 1, a centre of mass 3, an inertia 9, a placement 6, gravity 3.",
+             "AD: soadyn.parameter_sensitivity for every parameter of the model (one dual-number dynamics call per "
+             "direction, in C++). FD: central differences from Python, two dynamics calls per direction plus "
+             "set_parameter. Median of 5 runs."]
+    write("sensitivity", "Design sensitivity: automatic differentiation against central differences", [table],
+          {"repeats": REPEATS}, notes)
     return 0
 
 

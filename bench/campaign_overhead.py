@@ -7,24 +7,21 @@ part written: campaign.run's `run_seconds`) and the whole call (spec check, clus
 stop, results.parquet). Overhead = time / plain loop - 1 with 1 worker; speedup = plain loop /
 time with N workers. The three are timed in turns, `--rounds` times, and the medians reported
 (the machine's speed drifts; nothing is compared across rounds). Writes
-bench/results/campaign_overhead.json with the command that produced it.
+bench/results/campaign_overhead.json.
 
     python bench/campaign_overhead.py [--runs 1000] [--duration 1.0] [--workers 1 2] [--rounds 3]
 """
 from __future__ import annotations
 
 import argparse
-import json
 import platform
-import shlex
 import statistics
 import sys
 import tempfile
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
+from report import Table, command, write
 
 
 def example_spec(runs: int, duration: float):
@@ -67,7 +64,6 @@ def main(argv=None) -> int:
     parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--chunk", type=int, default=None, help="runs per task (default: campaign.run's choice)")
-    parser.add_argument("--json", default=str(HERE / "results" / "campaign_overhead.json"))
     args = parser.parse_args(argv)
 
     import dask
@@ -90,43 +86,27 @@ def main(argv=None) -> int:
 
     median = {key: statistics.median(v) for key, v in samples.items()}
     loop = median["loop"]
-    print(f"\n{args.runs} runs of cassini-example, {args.duration:g} s simulated each (RK4, 1 ms), "
-          f"{failed} failed; medians of {args.rounds} rounds")
-    print(f"{'':<22}{'seconds':>10}{'runs/s':>10}{'vs loop':>10}")
-    print(f"{'plain loop':<22}{loop:>10.2f}{args.runs / loop:>10.1f}{1.0:>10.3f}")
-    summary = {}
+    table = Table(f"{args.runs} runs of cassini-example, {args.duration:g} s simulated each (RK4, 1 ms); medians of "
+                  f"{args.rounds} rounds", ["setting", "seconds", "runs per second", "time / plain loop"],
+                  {"seconds": ".2f", "runs per second": ".1f", "time / plain loop": ".3f"},
+                  headline=["time / plain loop"])
+    table.add("plain loop", loop, args.runs / loop, 1.0)
     for n in args.workers:
         for phase, label in (("run", "run phase"), ("total", "whole call")):
             t = median[f"{n}w_{phase}"]
-            print(f"{f'{n} worker(s), {label}':<22}{t:>10.2f}{args.runs / t:>10.1f}{t / loop:>10.3f}")
-        summary[f"{n}_workers"] = {
-            "run_seconds": median[f"{n}w_run"], "total_seconds": median[f"{n}w_total"],
-            "runs_per_second": args.runs / median[f"{n}w_run"],
-            "overhead_run_phase": median[f"{n}w_run"] / loop - 1 if n == 1 else None,
-            "overhead_total": median[f"{n}w_total"] / loop - 1 if n == 1 else None,
-            "speedup_run_phase": loop / median[f"{n}w_run"], "speedup_total": loop / median[f"{n}w_total"]}
-    if 1 in args.workers:
-        one = summary["1_workers"]
-        print(f"\noverhead with 1 worker: {100 * one['overhead_run_phase']:.1f} % (run phase), "
-              f"{100 * one['overhead_total']:.1f} % (whole call, cluster start included)")
-    for n in args.workers:
-        if n > 1:
-            s = summary[f"{n}_workers"]
-            print(f"speedup with {n} workers: {s['speedup_run_phase']:.2f}x (run phase), "
-                  f"{s['speedup_total']:.2f}x (whole call)")
-
-    command = "python bench/campaign_overhead.py " + " ".join(shlex.quote(a) for a in (argv or sys.argv[1:]))
-    report = {"command": command.strip(), "date": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-              "runs": args.runs, "duration_s": args.duration, "rounds": args.rounds, "chunk": args.chunk,
-              "failed_runs": failed, "plain_loop_seconds": loop, "plain_loop_runs_per_second": args.runs / loop,
-              "workers": summary, "samples": samples,
-              "software": {"soadyn": soadyn.__version__, "dask": dask.__version__,
-                           "distributed": distributed.__version__, "python": platform.python_version()},
-              "machine": {"cores": _cores(), "platform": platform.platform()}}
-    path = Path(args.json)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(report, indent=2) + "\n")
-    print(f"wrote {path}")
+            table.add(f"{n} worker{'s' if n > 1 else ''}, {label}", t, args.runs / t, t / loop)
+    table.print()
+    print(f"\nfailed runs: {failed}")
+    settings = {"runs": args.runs, "duration_s": args.duration, "rounds": args.rounds, "chunk": args.chunk,
+                "workers": args.workers, "cores_available": _cores()}
+    notes = ["Run phase: from the first task submitted to the last part written (campaign.run's run_seconds); "
+             "whole call: spec check, cluster start and stop, results.parquet included.",
+             "Overhead = time / plain loop - 1 with 1 worker; speedup = plain loop / time with N workers."]
+    extra = {"failed_runs": failed, "samples_seconds": samples,
+             "software": {"soadyn": soadyn.__version__, "dask": dask.__version__,
+                          "distributed": distributed.__version__, "python": platform.python_version()}}
+    write("campaign_overhead", "Campaign overhead and scaling on local Dask workers", [table], settings, notes, extra,
+          command_line=command([sys.argv[0], *(argv if argv is not None else sys.argv[1:])]))
     return 0
 
 

@@ -8,7 +8,7 @@ about a millisecond, far less than starting Python), so a crash or a hang
 of one case is seen and counted without ending the campaign. A case is a
 seed: the same seed rebuilds the same case (tests/fuzz/*_cases.py), so any
 failure printed here is reproduced with `run_case(seed)`. Results go to
-bench/results/fuzz_campaign.md.
+bench/results/fuzz_campaign.json.
 """
 from __future__ import annotations
 
@@ -20,6 +20,8 @@ import signal
 import sys
 import time
 from pathlib import Path
+
+from report import Table, write
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tests"))
@@ -86,24 +88,27 @@ def main() -> int:
     parser.add_argument("--cases", type=int, default=100_000)
     parser.add_argument("--timeout", type=float, default=10.0, help="seconds before a case counts as a hang")
     parser.add_argument("--first-seed", type=int, default=0)
-    parser.add_argument("--out", type=Path, default=HERE / "results" / "fuzz_campaign.md")
+    parser.add_argument("--results", default="fuzz_campaign",
+                        help="the results file, bench/results/RESULTS.json (campaigns run side by side need one each)")
     args = parser.parse_args()
-    lines = ["# Fuzz campaign", "", f"`python bench/fuzz_campaign.py --cases {args.cases} --surface "
-             f"{' '.join(args.surface)}` (each case in its own forked process, hang timeout {args.timeout} s)", "",
-             "| surface | cases | ok | expected errors | crashes | hangs | silent non-finite / broken | "
-             "unexpected exceptions | seconds |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    table = Table(f"Cases from seed {args.first_seed}, each in its own forked process (hang timeout "
+                  f"{args.timeout:g} s)", ["surface", "cases", "ok", "expected errors", "crashes", "hangs",
+                                          "silent non-finite / broken", "unexpected exceptions", "seconds"],
+                  {"seconds": ".0f"}, summary=True)
+    failed = {}
     bad = 0
     for surface in args.surface:
         counts, failures, seconds = campaign(surface, args.cases, args.timeout, args.first_seed)
         crashes = sum(n for k, n in counts.items() if k.startswith("crash"))
         bad += len(failures)
-        lines.append(f"| {surface} | {args.cases} | {counts['ok']} | {counts['expected error']} | {crashes} | "
-                     f"{counts['hang']} | {counts['silent non-finite or broken property']} | "
-                     f"{counts['unexpected exception']} | {seconds:.0f} |")
-        for seed, outcome in failures[:20]:
-            lines.append(f"<!-- {surface} seed {seed}: {outcome} -->")
-    args.out.write_text("\n".join(lines) + "\n")
-    print("\n".join(lines))
+        table.add(surface, args.cases, counts["ok"], counts["expected error"], crashes, counts["hang"],
+                  counts["silent non-finite or broken property"], counts["unexpected exception"], seconds)
+        failed[surface] = [{"seed": seed, "outcome": outcome} for seed, outcome in failures[:20]]
+    table.print()
+    write(args.results, "Fuzz campaign", [table],
+          {"cases": args.cases, "first_seed": args.first_seed, "timeout_s": args.timeout, "surfaces": args.surface},
+          ["Each failure's seed rebuilds its case: run_case(seed) of tests/fuzz/<surface>_cases.py."],
+          {"failures": failed})
     return 1 if bad else 0
 
 
