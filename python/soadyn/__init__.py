@@ -5,6 +5,10 @@ Conventions: spatial vectors are [angular; linear]; quaternions are stored
 the body-frame linear velocity of the body origin. Every function returns
 fresh numpy arrays; the model's preallocated scratch is reused between calls.
 """
+import sys as _sys
+from importlib import import_module as _import_module
+from importlib.util import spec_from_loader as _spec_from_loader
+
 from ._soadyn import (
     QUATERNION_TOLERANCE,
     DynamicsError,
@@ -46,22 +50,22 @@ from ._soadyn import (  # the equations of motion term by term
     mass_matrix_derivative,
 )
 from ._soadyn import dissipated_power, force_element_potential, force_elements  # springs and dampers
-from .derivatives import dynamics_derivatives, inverse_dynamics_derivatives
+from .analysis.derivatives import dynamics_derivatives, inverse_dynamics_derivatives
+from .analysis.linearize import linearize
+from .analysis.modes import Modes, modes, natural_frequencies, stiffness_matrix
+from .analysis.parameters import ParameterError, parameter_sensitivity
+from .analysis.statics import (StaticEquilibrium, equilibrium_sensitivities, loop_force_stiffness, objective_gradient,
+                               static_equilibrium)
+from .io.mjcf import MjcfError, MjcfIgnoredWarning, load_mjcf
+from .io.model_file import ModelFileError, load_model, save_model
+from .io.urdf import UrdfError, load_urdf
+from .io.urdf_export import UrdfExportWarning, save_urdf
 from .loops import assemble, project_velocity
-from .linearize import linearize
-from .modes import Modes, modes, natural_frequencies, stiffness_matrix
-from .statics import (StaticEquilibrium, equilibrium_sensitivities, loop_force_stiffness, objective_gradient,
-                      static_equilibrium)
 from .model import Model
-from .parameters import ParameterError, parameter_sensitivity
 from .simulator import MotionSource, Simulator, Trajectory
-from .urdf import UrdfError, load_urdf
-from .mjcf import MjcfError, MjcfIgnoredWarning, load_mjcf
-from .visuals import Visual
-from .model_file import ModelFileError, load_model, save_model
-from .urdf_export import UrdfExportWarning, save_urdf
+from .viz.visuals import Visual
+from .viz.viewer import Viewer  # viser is imported when a Viewer is made
 from . import batch, campaign, hil, scenes
-from .viewer import Viewer  # viser is imported when a Viewer is made
 
 from ._version import __version__  # written by the build from pyproject.toml
 
@@ -83,10 +87,55 @@ __all__ += ["gravity_forces", "external_forces_to_generalized", "coriolis_matrix
 __all__ += ["static_equilibrium", "StaticEquilibrium", "loop_force_stiffness"]
 __all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives", "linearize", "modes", "Modes"]
 __all__ += ["force_elements", "force_element_potential", "dissipated_power"]
-__all__ += ["dynamics_derivatives", "inverse_dynamics_derivatives"]
 __all__ += ["parameter_sensitivity", "ParameterError"]
 __all__ += ["equilibrium_sensitivities", "objective_gradient"]
 __all__ += ["Visual", "load_mjcf", "MjcfError", "MjcfIgnoredWarning"]
 __all__ += ["save_model", "load_model", "ModelFileError"]
 __all__ += ["save_urdf", "UrdfExportWarning"]
 __all__ += ["Viewer"]
+
+# The package was flat before it had subpackages: its old module paths keep working, as the very modules at
+# their new homes (`import soadyn.urdf`, `from soadyn.urdf import ...`, `soadyn.urdf`; monkeypatching either
+# name patches both). A module imported above is bound under its old path at once (so `import soadyn.modes`
+# never rebinds the function soadyn.modes), the others when first imported, by _MovedModuleFinder.
+_MOVED_MODULES = {f"soadyn.{old}": f"soadyn.{new}" for old, new in {
+    "urdf": "io.urdf", "urdf_reader": "io.urdf_reader", "urdf_inertia": "io.urdf_inertia",
+    "urdf_visuals": "io.urdf_visuals", "urdf_export": "io.urdf_export", "mjcf": "io.mjcf",
+    "model_file": "io.model_file", "text_files": "io.text_files",
+    "derivatives": "analysis.derivatives", "linearize": "analysis.linearize", "modes": "analysis.modes",
+    "statics": "analysis.statics", "equilibrium_sensitivity": "analysis.equilibrium_sensitivity",
+    "parameters": "analysis.parameters",
+    "oracles": "check.oracles", "mujoco_oracle": "check.mujoco_oracle", "pinocchio_mjcf": "check.pinocchio_mjcf",
+    "viewer": "viz.viewer", "visuals": "viz.visuals",
+    "cli": "apps.cli", "demo": "apps.demo", "four_bar_demo": "apps.four_bar_demo",
+    "boom_vibration": "apps.boom_vibration",
+}.items()}
+
+
+class _MovedModuleFinder:
+    """Import hook (sys.meta_path) for the old module paths: the module at the new home, not a copy."""
+
+    def find_spec(self, name, path=None, target=None):
+        return _spec_from_loader(name, self) if name in _MOVED_MODULES else None
+
+    def create_module(self, spec):
+        return None  # a placeholder, which exec_module replaces in sys.modules
+
+    def exec_module(self, module):
+        _sys.modules[module.__name__] = _import_module(_MOVED_MODULES[module.__name__])
+
+    def get_code(self, name):
+        """`python -m <old path>` runs the module at its new home as __main__."""
+        return compile(f"import runpy; runpy.run_module({_MOVED_MODULES[name]!r}, run_name='__main__', "
+                       "alter_sys=True)", f"<{name}: moved to {_MOVED_MODULES[name]}>", "exec")
+
+
+def __getattr__(name: str):
+    """soadyn.<old module name> (soadyn.urdf, soadyn.oracles, soadyn.cli, ...): the module at its new home."""
+    if f"soadyn.{name}" in _MOVED_MODULES:
+        return _import_module(f"soadyn.{name}")
+    raise AttributeError(f"module 'soadyn' has no attribute {name!r}")
+
+
+_sys.modules.update({old: _sys.modules[new] for old, new in _MOVED_MODULES.items() if new in _sys.modules})
+_sys.meta_path.append(_MovedModuleFinder())

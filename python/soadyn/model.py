@@ -7,7 +7,9 @@ from typing import Iterable, Union
 
 import numpy as np
 
+from . import _soadyn
 from ._soadyn import FlexibleBody, Joint, LoopError, NonphysicalInertiaError, _Model, _add_joint_spring, _add_point_spring
+from .viz.visuals import Visual
 
 __all__ = ["Model", "Joint", "NonphysicalInertiaError"]
 
@@ -89,6 +91,13 @@ def _refuse_ambiguous_indices(indices: np.ndarray, nv: int) -> None:
     values, counts = np.unique(indices, return_counts=True)
     if (counts > 1).any():
         raise ValueError(f"set_prescribed: DOF index {int(values[counts > 1][0])} is given more than once")
+
+
+def parameter_name(name) -> str:
+    """`name` if it is a str (a parameter name); TypeError naming it otherwise."""
+    if not isinstance(name, str):
+        raise TypeError(f"parameter name must be a str, got {type(name).__name__} ({name!r})")
+    return name
 
 
 def _body_name(name) -> str:
@@ -179,7 +188,6 @@ class Model(_Model):
             if kind == "distance" and not length > 0:
                 raise LoopError(f"loop '{name}': a distance loop needs a finite, positive length")
         if q is not None:
-            from . import _soadyn
             _soadyn.forward_kinematics(self, q)  # checks q: shape, finite, unit quaternions (named errors)
             q = np.ascontiguousarray(q, dtype=float)
         return self._add_loop(name, a_name, b_name, kind, Ra, pa, Rb, pb, length, q)
@@ -340,21 +348,27 @@ class Model(_Model):
 
     @property
     def parameter_names(self) -> list:
-        """Names of the model's parameters (soadyn.parameters): <body>.mass, .com, .inertia, .placement, gravity."""
-        from . import parameters
-        return parameters.parameter_names(self)
+        """Names of the model's parameters: per rigid body <body>.mass (float), .com (3,), .inertia (3, 3; about
+        the centre of mass, body frame), per body (flexible ones included) .placement (4, 4: the joint frame in the
+        parent body's frame), each force element's constants (<element>.stiffness, .damping, ...), and gravity
+        (3,). A body carries what is welded to it by fixed joints; a welded part has no parameters of its own."""
+        return _soadyn._parameter_names(self)
 
     def get_parameter(self, name: str):
-        """The value of a named parameter: a float or a numpy array (see soadyn.parameters for shapes)."""
-        from . import parameters
-        return parameters.get_parameter(self, name)
+        """The value of a named parameter: a float or a numpy array (shapes as in parameter_names)."""
+        return _soadyn._get_parameter(self, parameter_name(name))
 
     def set_parameter(self, name: str, value) -> None:
-        """Change a named parameter in place (no structural change). ParameterError (a ValueError) names an
-        unknown parameter, a wrong shape or a non-finite or out-of-range value; NonphysicalInertiaError an
-        impossible mass distribution. A refused value changes nothing."""
-        from . import parameters
-        parameters.set_parameter(self, name, value)
+        """Change a named parameter in place (no structural change; in C++ no allocation). A placement also
+        takes (R, p). ParameterError (a ValueError) names an unknown parameter, a wrong shape or a non-finite
+        or out-of-range value; NonphysicalInertiaError an impossible mass distribution. A refused value changes
+        nothing."""
+        name = parameter_name(name)
+        if name.endswith(".placement") and isinstance(value, tuple):
+            R, p = _placement(value, name[: -len(".placement")])
+            value = np.eye(4)
+            value[:3, :3], value[:3, 3] = R, p
+        _soadyn._set_parameter(self, name, value)
 
     @property
     def visuals(self) -> list:
@@ -366,7 +380,6 @@ class Model(_Model):
 
     @visuals.setter
     def visuals(self, visuals) -> None:
-        from .visuals import Visual
         visuals = list(visuals)
         for v in visuals:
             if not isinstance(v, Visual):
@@ -385,11 +398,6 @@ class Model(_Model):
 
     def __deepcopy__(self, memo) -> "Model":
         return self.copy()
-
-    def __reduce__(self):
-        """A Model pickles as its model-file text (soadyn.save_model's format), never as pointers."""
-        from .model_file import reduce_model
-        return reduce_model(self)
 
     def __repr__(self) -> str:
         return f"<soadyn.Model nbodies={self.nbodies} nq={self.nq} nv={self.nv}>"

@@ -15,7 +15,7 @@ from typing import Optional
 
 import numpy as np
 
-from ..model_file import model_from_json
+from ..io.model_file import model_from_json
 from ..simulator import Simulator
 from .dispersions import add_sources_and_events, set_initial, set_parameters
 from .metrics import evaluate

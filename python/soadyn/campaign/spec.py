@@ -40,6 +40,7 @@ from typing import Optional
 
 from ..bounded_input import MAX_NESTING_DEPTH
 from .problems import Problems, shown, spec_error
+from .simulate import prepare
 from .starts import start_state
 from .tables import (TOP_KEYS, check_dispersions, check_events, check_initial, check_keys, check_metrics, check_model,
                      check_name, check_runs, check_seed, check_simulation, check_step_count, check_trajectory_every,
@@ -237,8 +238,6 @@ def _trial(spec: Spec) -> None:
     """Set up (not step) a run of the nominal model with the other dispersions at the centres of
     their distributions: sources and events the simulator refuses are found before any run. (A
     dispersed parameter value the model refuses fails that run only.)"""
-    from .simulate import prepare
-
     others = tuple(d for d in spec.dispersions if d.kind != "parameter")
     centres = [d.distribution.a if d.distribution.kind != "uniform" else
                0.5 * (d.distribution.a + d.distribution.b) for d in others]

@@ -26,6 +26,8 @@ from typing import Optional
 
 import numpy as np
 
+from .._soadyn import _appendage_kernel, _joint_angle_kernel, _mass_matrix_kernel
+from .._version import __version__
 from ..bounded_input import check_json, read_text
 from ..output_paths import output_problem
 from .errors import CampaignError, ResultsDirectoryError
@@ -66,10 +68,6 @@ def trajectory_table(spec, trajectory: dict):
 
 
 def software() -> dict:
-    from .. import __version__
-
-    from .._soadyn import _appendage_kernel, _joint_angle_kernel, _mass_matrix_kernel
-
     versions = {"soadyn": __version__, "numpy": np.__version__, "python": platform.python_version(),
                 "joint_angle_kernel": _joint_angle_kernel(), "mass_matrix_kernel": _mass_matrix_kernel(),
                 "appendage_kernel": _appendage_kernel()}

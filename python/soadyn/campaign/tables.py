@@ -13,11 +13,13 @@ from pathlib import Path
 from typing import Optional
 
 from .. import scenes
-from ..model_file import ModelFileError, model_from_json, model_to_json
+from ..bounded_input import MAX_INPUT_BYTES
+from ..hil.events import parse_event
+from ..io.model_file import ModelFileError, model_from_json, model_to_json
+from ..simulator import Simulator
 from .dispersions import parse_dispersion
 from .metrics import resolve
 from .problems import Problems, closest, finite_number, shown, spec_error
-from ..bounded_input import MAX_INPUT_BYTES
 from .starts import SCENE_NAMES
 
 TOP_KEYS = ("name", "seed", "runs", "model", "simulation", "initial", "dispersions", "outputs")
@@ -169,8 +171,6 @@ def _positive(table: dict, key: str, where: str, required: bool = False) -> floa
 
 
 def check_step_count(model, duration: float, dt: float) -> int:
-    from ..simulator import Simulator
-
     try:
         steps = Simulator(model, dt, "euler").steps_in(duration)  # the count does not depend on the integrator
     except ValueError as error:
@@ -182,8 +182,6 @@ def check_step_count(model, duration: float, dt: float) -> int:
 
 
 def check_events(texts: list, model, problems: Problems) -> tuple:
-    from ..hil import parse_event
-
     events = []
     for i, text in enumerate(texts):
         where = f"[simulation] events[{i}]"

@@ -45,8 +45,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _soadyn
-from ._soadyn import constrained_dynamics
+from .. import _soadyn
+from .._soadyn import constrained_dynamics
 from .equilibrium_sensitivity import equilibrium_sensitivities, objective_gradient
 
 __all__ = ["StaticEquilibrium", "static_equilibrium", "loop_force_stiffness", "equilibrium_sensitivities",

@@ -142,7 +142,7 @@ class DartOracle:
                                          else dart.utils.DartLoaderRootJointType.FIXED)
         loader.setOptions(options)
         path = Path(path).resolve()
-        urdf_text = _without_geometry(path, drop_world=floating_base)
+        urdf_text = without_geometry(path, drop_world=floating_base)
         self.skeleton = loader.parseSkeletonString(urdf_text, dart.common.Uri("file://" + str(path)))
         if self.skeleton is None:
             raise ValueError(f"DART could not load '{path}'")
@@ -229,7 +229,7 @@ class DartOracle:
         return groups
 
 
-def _without_geometry(path: Path, drop_world: bool = False) -> str:
+def without_geometry(path: Path, drop_world: bool = False) -> str:
     """The URDF text for DART: no <visual> or <collision> (no mesh is ever
     loaded) and an explicit zero <inertial> where a link has none. With
     `drop_world`, a root link named 'world' and its weld are removed: DART

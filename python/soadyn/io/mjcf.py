@@ -78,10 +78,10 @@ from xml.etree import ElementTree
 
 import numpy as np
 
-from ._soadyn import Joint
-from .bounded_input import parse_xml, read_bytes
-from .model import Model
-from .visuals import Visual
+from .._soadyn import Joint
+from ..bounded_input import parse_xml, read_bytes
+from ..model import Model
+from ..viz.visuals import Visual
 
 __all__ = ["load_mjcf", "MjcfError", "MjcfIgnoredWarning", "MjcfModel", "load_mjcf_with_map"]
 

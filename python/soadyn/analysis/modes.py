@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _soadyn
-from .derivatives import _by_dual_numbers, inverse_dynamics_derivatives
+from .. import _soadyn
+from .derivatives import by_dual_numbers, inverse_dynamics_derivatives
 
 __all__ = ["Modes", "modes", "natural_frequencies", "stiffness_matrix"]
 
@@ -91,7 +91,7 @@ def modes(model, q) -> Modes:
     model linearised about q at rest (see Modes; C++: soadyn/algorithms/modes.hpp).
     Prescribed DOFs are held. Models with flexible bodies or point springs: from the dual-number
     derivatives (soadyn.inverse_dynamics_derivatives) through the same eigen-analysis."""
-    if _by_dual_numbers(model) and not model.nloops:
+    if by_dual_numbers(model) and not model.nloops:
         K, D, M = _at_rest_derivatives(model, q)
         dofs, w, zeta, roots, shapes = _soadyn._modes_of(model, M, K, D)
     else:

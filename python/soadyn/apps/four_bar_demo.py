@@ -20,9 +20,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _soadyn as core
-from .scenes import four_bar, four_bar_state
-from .simulator import MotionSource, Simulator
+from .. import _soadyn as core
+from ..scenes import four_bar, four_bar_state
+from ..simulator import MotionSource, Simulator
 
 DOFS = ("crank", "coupler", "rocker")
 

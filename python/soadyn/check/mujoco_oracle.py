@@ -20,7 +20,8 @@ import copy
 
 import numpy as np
 
-from .mjcf import FREE, HINGE, SLIDE, MjcfModel
+from ..io.mjcf import FREE, HINGE, SLIDE, MjcfModel
+from .oracles import without_geometry
 
 
 def _without_constraints(mj):
@@ -82,9 +83,7 @@ def urdf_in_mujoco(model, path, floating_base: bool) -> MjcfModel:
     """The URDF compiled by MuJoCo, its joints matched to `model`'s (load_urdf's) by name."""
     import mujoco
 
-    from .oracles import _without_geometry
-
-    spec = mujoco.MjSpec.from_string(_without_geometry(path))
+    spec = mujoco.MjSpec.from_string(without_geometry(path))
     if floating_base:
         spec.worldbody.first_body().add_freejoint(name="root_joint")
     mj = spec.compile()

@@ -1,38 +1,16 @@
-"""Named model parameters and the design sensitivity of the dynamics.
+"""The design sensitivity of the dynamics with respect to named model parameters.
 
-Parameters (``Model.parameter_names``): per rigid body ``<body>.mass`` (float), ``<body>.com`` (3,),
-``<body>.inertia`` (3, 3; about the centre of mass, body frame), per body (flexible ones included)
-``<body>.placement`` (4, 4 homogeneous matrix of the joint frame in the parent body's frame; ``set_parameter``
-also takes ``(R, p)``), and ``gravity`` (3,). A body carries what is welded to it by fixed joints; a welded
-part has no parameters of its own. ``set_parameter`` changes no structure and, in C++, allocates nothing.
+The parameters themselves (names, shapes, get and set) are the model's: ``Model.parameter_names``,
+``Model.get_parameter``, ``Model.set_parameter`` (soadyn/model.py).
 """
 from __future__ import annotations
 
-import numpy as np
-
-from . import _soadyn
-from .model import _placement
+from .. import _soadyn
+from ..model import parameter_name
 
 __all__ = ["parameter_sensitivity", "ParameterError"]
 
 ParameterError = _soadyn.ParameterError
-
-
-def parameter_names(model) -> list:
-    return _soadyn._parameter_names(model)
-
-
-def get_parameter(model, name: str):
-    return _soadyn._get_parameter(model, _name(name))
-
-
-def set_parameter(model, name: str, value) -> None:
-    name = _name(name)
-    if name.endswith(".placement") and isinstance(value, tuple):
-        R, p = _placement(value, name[: -len(".placement")])
-        value = np.eye(4)
-        value[:3, :3], value[:3, 3] = R, p
-    _soadyn._set_parameter(model, name, value)
 
 
 def parameter_sensitivity(model, q, v, u, params) -> dict:
@@ -58,10 +36,4 @@ def parameter_name_list(params) -> list:
         items = list(params)
     except TypeError:
         raise TypeError(f"params must be a parameter name or a list of them, got {type(params).__name__}") from None
-    return [_name(p) for p in items]
-
-
-def _name(name) -> str:
-    if not isinstance(name, str):
-        raise TypeError(f"parameter name must be a str, got {type(name).__name__} ({name!r})")
-    return name
+    return [parameter_name(p) for p in items]

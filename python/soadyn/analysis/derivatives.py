@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _soadyn
+from .. import _soadyn
 
 __all__ = ["inverse_dynamics_derivatives", "dynamics_derivatives"]
 
@@ -29,7 +29,7 @@ def _has_point_springs(model) -> bool:
     return any(e["kind"] == "point_spring" for e in _soadyn.force_elements(model))
 
 
-def _by_dual_numbers(model) -> bool:
+def by_dual_numbers(model) -> bool:
     """Whether the model needs the dual-number sweeps: loops, point springs or flexible bodies."""
     return bool(model.nloops) or any(model.n_modes) or _has_point_springs(model)
 
@@ -71,6 +71,6 @@ def dynamics_derivatives(model, q, v, u, f_ext=None):
     forward-mode automatic differentiation of its sweeps (one dual-number evaluation per column,
     exact to rounding; soadyn/algorithms/parameter_sensitivity.hpp).
     """
-    if _by_dual_numbers(model):
+    if by_dual_numbers(model):
         return _soadyn._dual_dynamics_derivatives(model, q, v, u, f_ext)
     return _soadyn._tree_dynamics_derivatives(model, q, v, u, f_ext)

@@ -41,7 +41,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from .model import Model
+from ..model import Model
 from .text_files import write_text
 from .urdf import UrdfError
 

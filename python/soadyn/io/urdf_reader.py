@@ -32,7 +32,7 @@ from xml.etree import ElementTree
 
 import numpy as np
 
-from .bounded_input import parse_xml, read_bytes
+from ..bounded_input import parse_xml, read_bytes
 
 __all__ = ["UrdfError", "UrdfInertial", "UrdfLink", "UrdfJoint", "UrdfRobot", "read_urdf", "JOINT_TYPES"]
 

@@ -52,8 +52,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ._soadyn import Joint, NonphysicalInertiaError
-from .model import Model
+from .._soadyn import Joint, NonphysicalInertiaError
+from ..model import Model
 from .urdf_inertia import merge_parts, minimal_inertial, repaired_inertia
 from .urdf_reader import UrdfError, UrdfJoint, UrdfRobot, read_urdf
 from .urdf_visuals import read_visuals

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _soadyn as core
-from .scenes import TURNTABLE_RATE
+from .. import _soadyn as core
+from ..scenes import TURNTABLE_RATE
 
 
 @dataclass

@@ -25,9 +25,12 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _soadyn as core
+from .. import _soadyn as core
+from ..io.mjcf import MjcfIgnoredWarning, load_mjcf_with_map
+from ..io.urdf import load_urdf
+from .mujoco_oracle import MujocoOracle, urdf_in_mujoco
 from .oracles import DartOracle, PinocchioOracle
-from .urdf import load_urdf
+from .pinocchio_mjcf import PinocchioMjcfOracle
 
 DART_MJCF = ("its MJCF reader infers inertias and splits multi-joint bodies its own way, with its own DOF "
              "names: nothing maps it to the file's joints")
@@ -121,8 +124,6 @@ def _try_oracle(report: CheckReport, name: str, build):
 
 
 def _check_urdf(path, floating_base, states, seed) -> CheckReport:
-    from .mujoco_oracle import MujocoOracle, urdf_in_mujoco
-
     report = CheckReport(str(path), "URDF")
     model = load_urdf(path, floating_base=floating_base)
     pin_oracle = PinocchioOracle(model, path, floating_base)
@@ -156,10 +157,6 @@ def rigid_part(model):
 
 
 def _check_mjcf(path, floating_base, states, seed) -> CheckReport:
-    from .mjcf import MjcfIgnoredWarning, load_mjcf_with_map
-    from .mujoco_oracle import MujocoOracle
-    from .pinocchio_mjcf import PinocchioMjcfOracle
-
     report = CheckReport(str(path), "MJCF")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", MjcfIgnoredWarning)

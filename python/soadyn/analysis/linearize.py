@@ -1,7 +1,7 @@
 """Exact linearizations of the dynamics (C++: soadyn/sim/linearization.hpp, which documents the math)."""
 from __future__ import annotations
 
-from . import _soadyn
+from .. import _soadyn
 
 __all__ = ["linearize"]
 

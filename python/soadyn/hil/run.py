@@ -1,33 +1,19 @@
-"""Real-time (hardware-in-the-loop) runs of a Simulator.
-
-`run_hil` steps a Simulator at a fixed wall-clock rate in C++ (a worker
-thread, GIL released) while the main thread shows the progress. Optionally a
-controller in another process drives the regular DOFs over UDP on 127.0.0.1
-(packet format: cpp/include/soadyn/sim/udp_link.hpp and the README). The
-returned HilReport holds the timing statistics, the packet counts, the
-energy and momentum of the model at start and end, the per-step timings and a
-decimated state history. HilRunner is the bare loop, for callers that need
-its UDP port before it runs.
-"""
+"""run_hil: step a Simulator at a fixed wall-clock rate in C++ while the main thread shows the progress;
+scene_simulator: the built-in scenes set up for it."""
 from __future__ import annotations
 
-import json
 import math
 import os
-import re
 import threading
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _soadyn as core
-from ._soadyn import HilRunner
-from .progress import progress_bar
-from .scenes import LOOP_SCENE_STARTS, SCENES, drive_cassini
-from .simulator import Simulator
-
-__all__ = ["HilEvent", "HilReport", "HilRunner", "format_table", "parse_event", "plot_report", "require_matplotlib",
-           "resolve_command_limits", "run_hil", "scene_simulator"]
+from .. import _soadyn as core
+from .._soadyn import HilRunner
+from ..progress import progress_bar
+from ..scenes import LOOP_SCENE_STARTS, SCENES, drive_cassini
+from ..simulator import Simulator
+from .report import HilReport
 
 RECORDED_SAMPLES = 2000  # rows of state history kept for the plot
 PROGRESS_INTERVAL = 0.1  # seconds between progress-bar refreshes
@@ -37,114 +23,9 @@ COMMAND_POLICIES = ("clamp", "reject", "stop")
 MAX_PACKETS_PER_STEP = 16  # datagrams read per step at most (the rest wait for the next step)
 MAX_FLOOR_PERIODS = 10000  # periods of the machine's floor after a paced run, at most
 
-
-@dataclass
-class HilReport:
-    """The outcome of run_hil. Times are wall-clock; `steps` may be below
-    `requested_steps` when the simulation failed (`status`) or was interrupted."""
-
-    rate_hz: float
-    realtime: bool
-    requested_steps: int
-    steps: int
-    deadline_misses: int
-    compute_us: dict
-    lateness_us: dict
-    packets: dict
-    wall_seconds: float
-    sim_time: float
-    status: str
-    failed_step: int | None
-    failed_dof: str | None
-    interrupted: bool
-    energy: dict
-    momentum: dict
-    scheduling: dict  # real-time scheduling asked for and granted (format_scheduling)
-    commands: dict  # command limits, policy, saturated and rejected counts
-    dof_names: list = field(repr=False)
-    compute_ns: np.ndarray = field(repr=False)
-    lateness_ns: np.ndarray = field(repr=False)
-    t: np.ndarray = field(repr=False)  # recorded times
-    q: np.ndarray = field(repr=False)  # recorded configurations, one row per time
-    v: np.ndarray = field(repr=False)  # recorded velocities
-    error: str | None = None  # what a step raised (status "exception in a step"), as "Type: message"
-    report_errors: list = field(default_factory=list)  # measurements that could not be made, and why
-    exception: BaseException | None = field(default=None, repr=False)  # the exception a step raised
-    failed_loop: str | None = None  # the loop whose closure projection failed (status "loop closure not reached")
-    # Models with loops: the largest closure residuals the integrator left before the projection of a step,
-    # {"max_position": ..., "max_velocity": ...}; None without loops.
-    loop_drift: dict | None = None
-    # Deadline misses by cause: "compute" (the step's own compute exceeded the period) and "machine" (woken or
-    # let run too late); they add up to deadline_misses.
-    misses: dict = field(default_factory=dict)
-    # The state at the end of the run, {"t", "q", "v"}: after a failed step, the last good one (a failed step
-    # leaves the state as it was before it).
-    final_state: dict | None = None
-    # The machine's floor measured after the run (paced runs; None otherwise): register arithmetic of the steps'
-    # median length, paced like the steps: {"periods", "target", "p50", "p99", "p999", "max"} in us, and
-    # "tail_ratio" = compute p99.9 / floor p99.9 (1: the step's tail is the machine's).
-    floor_us: dict | None = None
-    floor_ns: np.ndarray | None = field(default=None, repr=False)
-
-    @property
-    def ok(self) -> bool:
-        return self.status == "ok"
-
-    def to_dict(self) -> dict:
-        """The summary as JSON-ready data (no per-step arrays)."""
-        keys = ["rate_hz", "realtime", "requested_steps", "steps", "deadline_misses", "compute_us", "lateness_us",
-                "packets", "commands", "wall_seconds", "sim_time", "status", "failed_step", "failed_dof", "error",
-                "interrupted", "energy", "momentum", "scheduling", "report_errors", "failed_loop", "loop_drift",
-                "misses", "floor_us"]
-        return _finite_or_none({k: getattr(self, k) for k in keys})
-
-    def to_json(self, indent: int | None = 2) -> str:
-        """Strict JSON: a non-finite number (an unlimited DOF, a NaN energy) is null."""
-        return json.dumps(self.to_dict(), indent=indent, allow_nan=False)
-
-
-def _finite_or_none(x):
-    if isinstance(x, float):
-        return x if math.isfinite(x) else None
-    if isinstance(x, dict):
-        return {k: _finite_or_none(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_finite_or_none(v) for v in x]
-    return x
-
-
 # Statuses whose index is a loop: a step whose closure projection failed, and closure
 # accelerations the prescribed motion contradicts.
 LOOP_STATUSES = ("loop closure not reached", "loop-closure equations cannot be met")
-
-
-@dataclass
-class HilEvent:
-    kind: str  # 'lock' or 'release'
-    target: str  # DOF or joint name
-    time: float
-
-    def __str__(self) -> str:
-        return f"{self.kind} {self.target} at {self.time:g}"
-
-
-_EVENT = re.compile(r"^\s*(lock|release)\s+(\S+)\s+at\s+(\S+)\s*$")
-
-
-def parse_event(text: str) -> HilEvent:
-    """'lock <dof-or-joint> at <seconds>' or 'release <dof-or-joint> at <seconds>'."""
-    match = _EVENT.match(text)
-    if not match:
-        raise ValueError(f"bad event {text!r}: expected 'lock <dof-or-joint> at <seconds>' "
-                         "or 'release <dof-or-joint> at <seconds>'")
-    kind, target, when = match.groups()
-    try:
-        time = float(when)
-    except ValueError:
-        raise ValueError(f"bad event {text!r}: the time {when!r} is not a number") from None
-    if not (math.isfinite(time) and time >= 0):
-        raise ValueError(f"bad event {text!r}: the time must be finite and >= 0")
-    return HilEvent(kind, target, time)
 
 
 def scene_simulator(scene: str, rate: float, integrator: str = "rk4", events=()) -> Simulator:
@@ -455,110 +336,3 @@ def _scheduling(granted: dict) -> dict:
         out[f"{key}_refused"] = os.strerror(granted[errno]) if asked and not granted[ok] else None
     return {"fifo_priority": granted["fifo_priority"], "cpu": granted["cpu"], "lock_memory": granted["lock_memory"],
             **out}
-
-
-def format_scheduling(s: dict) -> str:
-    """One line: what real-time scheduling the loop asked for and got."""
-    parts = []
-    if s["fifo_priority"] > 0:
-        parts.append(f"SCHED_FIFO {s['fifo_priority']}" if s["fifo_granted"]
-                     else f"SCHED_FIFO {s['fifo_priority']} refused ({s['fifo_refused']})")
-    if s["cpu"] >= 0:
-        parts.append(f"on CPU {s['cpu']}" if s["cpu_granted"] else f"CPU {s['cpu']} refused ({s['cpu_refused']})")
-    if s["lock_memory"]:
-        parts.append("memory locked" if s["memory_locked"] else f"memory lock refused ({s['lock_refused']})")
-    return ", ".join(parts) if parts else "default (no real-time priority, pinning or memory lock asked for)"
-
-
-def format_table(r: HilReport) -> str:
-    """The timing table printed by `soadyn hil`."""
-    c, lat, p, cmd = r.compute_us, r.lateness_us, r.packets, r.commands
-    mode = "real time" if r.realtime else "as fast as possible"
-    e0, e1, h0, h1 = r.energy["start"], r.energy["end"], r.momentum["start"], r.momentum["end"]
-    energy = f"{e0:.6g} -> {e1:.6g}" if e0 is not None and e1 is not None else "not measured (see report_errors)"
-    momentum = (f"largest change {max(abs(a - b) for a, b in zip(h1, h0)):.3e}" if h0 is not None and h1 is not None
-                else "not measured (see report_errors)")
-    saturated = ", ".join(f"{name} {n}" for name, n in cmd["saturated_dofs"].items())
-    lines = [
-        f"steps            {r.steps} of {r.requested_steps} at {r.rate_hz:g} Hz ({mode}), "
-        f"{r.sim_time:.3f} s simulated in {r.wall_seconds:.3f} s",
-        f"deadline misses  {r.deadline_misses}"
-        + (f" ({r.misses['compute']} compute overran the period, {r.misses['machine']} woken or run late)"
-           if r.deadline_misses else ""),
-        f"scheduling       {format_scheduling(r.scheduling)}",
-        f"compute   us     p50 {c['p50']:8.1f}   p99 {c['p99']:8.1f}   p99.9 {c['p999']:8.1f}   max {c['max']:8.1f}",
-        f"lateness  us     p50 {lat['p50']:8.1f}   p99 {lat['p99']:8.1f}   max {lat['max']:8.1f}",
-        *([f"machine   us     p50 {f['p50']:8.1f}   p99 {f['p99']:8.1f}   p99.9 {f['p999']:8.1f}   max {f['max']:8.1f}"
-           f"   (floor: {f['periods']} periods of {f['target']:.1f} us register arithmetic; step p99.9 / floor p99.9 "
-           + (f"{f['tail_ratio']:.2f})" if f["tail_ratio"] is not None else "n/a)")] if (f := r.floor_us) else []),
-        f"packets          received {p['received']}, dropped {p['dropped']}, sent {p['sent']}, "
-        f"rejected sender {p['rejected_sender']}, stale {p['stale']}, kernel drops {p['kernel_drops']}, "
-        f"send failures {p['send_failures']}, steps at the read bound {p['steps_left_pending']}",
-        f"commands         policy {cmd['policy']}: saturated {cmd['saturated']}"
-        + (f" ({saturated})" if saturated else "") + f", rejected {cmd['rejected']}",
-        f"energy    J      {energy}",
-        f"momentum         {momentum}",
-        *([f"loop drift       before projection: max {r.loop_drift['max_position']:.2e} (position), "
-           f"{r.loop_drift['max_velocity']:.2e} (velocity); closure projected to the tolerance after every step"]
-          if r.loop_drift else []),
-        f"status           {r.status}" + (f" at step {r.failed_step}" if r.failed_step is not None else "")
-        + (f" (DOF '{r.failed_dof}')" if r.failed_dof else "") + (f" (loop '{r.failed_loop}')" if r.failed_loop else "")
-        + (f": {r.error}" if r.error else "")
-        + (" (interrupted)" if r.interrupted else ""),
-    ]
-    return "\n".join(lines)
-
-
-def require_matplotlib():
-    """The matplotlib module, or an ImportError saying how to install it."""
-    try:
-        import matplotlib
-    except ImportError:
-        raise ImportError("plotting needs matplotlib: pip install 'soadyn[plot]'") from None
-    return matplotlib
-
-
-def plot_report(r: HilReport, path, model=None, max_dofs: int = 6) -> None:
-    """A PNG with the compute-time and lateness histograms, the velocities of
-    the `max_dofs` DOFs that moved most, and (given the model) the energy."""
-    matplotlib = require_matplotlib()
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(2, 2, figsize=(12, 8))
-    _histogram(axes[0, 0], r.compute_ns / 1e3, "compute time per step (us)", 1e6 / r.rate_hz)
-    _histogram(axes[0, 1], r.lateness_ns / 1e3, "lateness of the wake-up (us)", None)
-    _velocity_history(axes[1, 0], r, max_dofs)
-    _energy_history(axes[1, 1], r, model)
-    fig.suptitle(f"soadyn HIL: {r.steps} steps at {r.rate_hz:g} Hz, {r.deadline_misses} deadline misses")
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-
-
-def _histogram(ax, values_us, label: str, period_us: float | None) -> None:
-    if len(values_us):
-        ax.hist(values_us, bins=100, log=True)
-    if period_us is not None:
-        ax.axvline(period_us, color="red", linestyle="--", label="period")
-        ax.legend()
-    ax.set_xlabel(label)
-    ax.set_ylabel("steps")
-
-
-def _velocity_history(ax, r: HilReport, max_dofs: int) -> None:
-    if len(r.t):
-        moved = np.ptp(r.v, axis=0)
-        for k in np.argsort(-moved)[:max_dofs]:
-            ax.plot(r.t, r.v[:, k], label=r.dof_names[k])
-        ax.legend(fontsize="small")
-    ax.set_xlabel("simulation time (s)")
-    ax.set_ylabel("velocity (rad/s or m/s)")
-
-
-def _energy_history(ax, r: HilReport, model) -> None:
-    if model is not None and len(r.t):
-        energy = [core.kinetic_energy(model, q, v) + core.potential_energy(model, q) for q, v in zip(r.q, r.v)]
-        ax.plot(r.t, energy)
-    ax.set_xlabel("simulation time (s)")
-    ax.set_ylabel("kinetic + potential energy (J)")

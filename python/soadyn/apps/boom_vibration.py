@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .modes import natural_frequencies
-from .simulator import MotionSource, Simulator
+from ..analysis.modes import natural_frequencies
+from ..simulator import MotionSource, Simulator
 
 
 @dataclass

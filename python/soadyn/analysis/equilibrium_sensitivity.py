@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _soadyn
+from .. import _soadyn
 from .parameters import parameter_name_list
 
 __all__ = ["equilibrium_sensitivities", "objective_gradient"]

@@ -20,15 +20,16 @@ would make such a file is refused when saved.
 """
 from __future__ import annotations
 
+import copyreg
 import json
 import os
 from typing import Optional
 
-from ._soadyn import ModelFileError
-from .bounded_input import MAX_NESTING_DEPTH, check_json, check_size, json_depth, read_text
-from .model import Model
+from .._soadyn import ModelFileError
+from ..bounded_input import MAX_NESTING_DEPTH, check_json, check_size, json_depth, read_text
+from ..model import Model
+from ..viz.visuals import Visual
 from .text_files import write_text
-from .visuals import Visual
 
 __all__ = ["save_model", "load_model", "model_to_json", "model_from_json", "ModelFileError"]
 
@@ -163,6 +164,11 @@ def _unpickle(text: str) -> Model:
 
 
 def reduce_model(m: Model):
-    """Model.__reduce__: a Model pickles as its model-file text."""
+    """How a Model pickles: as its model-file text (visuals and metadata included), never as pointers."""
     return (_unpickle, (model_to_json(m),))
+
+
+# Registered here, beside the format, rather than as Model.__reduce__, so that model.py need not import the
+# format that imports it; pickle looks the Model type up in copyreg's table.
+copyreg.pickle(Model, reduce_model)
 

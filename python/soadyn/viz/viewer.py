@@ -37,8 +37,13 @@ import warnings
 
 import numpy as np
 
-from ._soadyn import forward_kinematics, frame_pose
-from .model import Model
+from .. import scenes
+from .._soadyn import forward_kinematics, frame_pose, neutral_configuration
+from ..io.mjcf import load_mjcf
+from ..io.model_file import load_model
+from ..io.urdf import load_urdf
+from ..loops import assemble
+from ..model import Model
 
 __all__ = ["Viewer", "flexible_shapes", "scene_poses"]
 
@@ -77,7 +82,7 @@ class _Poser:
 def drawn_frames(m: Model) -> list[str]:
     """The frames the viewer draws: every frame that is not a body, except attachment frames of flexible
     bodies (their nodes move with the modal coordinates, which frame_pose does not follow)."""
-    q0, bodies = _neutral(m), set(m.body_names)
+    q0, bodies = neutral_configuration(m), set(m.body_names)
     drawn = []
     for name in m.frame_names:
         if name in bodies:
@@ -154,14 +159,14 @@ class Viewer:
         self.server = viser.ViserServer(host=host, port=port, verbose=False)
         self._loops = _loop_anchors(m)
         self._flexible = _flexible_blocks(m)
-        flexible_shapes(m, _neutral(m), exaggeration, [])  # checks the factor
+        flexible_shapes(m, neutral_configuration(m), exaggeration, [])  # checks the factor
         self._exaggeration = float(exaggeration)
         self._lock = threading.Lock()
         self.handles: dict = {}
         self._add_nodes(frames)
         self.q = None
         self.exaggeration_slider = self._add_exaggeration_slider() if self._flexible else None
-        self.show(np.asarray(q, dtype=float) if q is not None else _neutral(m))
+        self.show(np.asarray(q, dtype=float) if q is not None else neutral_configuration(m))
 
     @property
     def exaggeration(self) -> float:
@@ -314,18 +319,8 @@ class Viewer:
         self.server.stop()
 
 
-def _neutral(m: Model) -> np.ndarray:
-    from ._soadyn import neutral_configuration
-    return neutral_configuration(m)
-
-
 def load_any(source: str) -> Model:
     """A model from a built-in scene name, a model file (.json), an MJCF (.xml) or a URDF (.urdf)."""
-    from . import scenes
-    from .mjcf import load_mjcf
-    from .model_file import load_model
-    from .urdf import load_urdf
-
     builders = {"cassini": scenes.cassini, "four-bar": scenes.four_bar, "slider-crank": scenes.slider_crank,
                 "delta-robot": scenes.delta_robot}
     if source in builders:
@@ -342,14 +337,12 @@ def load_any(source: str) -> Model:
 
 def start_state(source: str, m: Model) -> tuple[np.ndarray, np.ndarray]:
     """The state `soadyn view` shows first: the loop scenes closed, every other model at rest in q0."""
-    from . import scenes
     closed = {"four-bar": lambda: scenes.four_bar_state(0.5), "slider-crank": lambda: scenes.slider_crank_state(0.5),
               "delta-robot": lambda: scenes.delta_robot_state([0.0, 0.0, -0.6])}
     if source in closed:
         q, v = closed[source]()
         return np.asarray(q, dtype=float), np.asarray(v, dtype=float)
-    q = _neutral(m)
+    q = neutral_configuration(m)
     if m.nloops:  # any other loop model: closed from q0 by Gauss-Newton
-        from .loops import assemble
         q = assemble(m, q)
     return q, np.zeros(m.nv)

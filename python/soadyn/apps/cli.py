@@ -11,11 +11,21 @@ one line too, exit code 1.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import sys
+import time
 from pathlib import Path
 
-from . import scenes
+from .. import campaign, hil, scenes
+from .._soadyn import DynamicsError
+from .._version import __version__
+from ..check.cross_check import cross_check_report, format_report
+from ..output_paths import output_problem
+from ..simulator import STEP_TOLERANCE, Simulator
+from ..viz.viewer import Viewer, load_any, start_state
+from . import four_bar_demo
+from .boom_vibration import format_response, gimbal_step_response, plot_response
 from .demo import describe_scene, format_result, run_demo
 
 # Scenes of `soadyn demo` and the file a bare --plot writes.
@@ -23,8 +33,6 @@ DEMO_PLOTS = {"cassini": "booms.png", "four-bar": "four_bar.png"}
 
 
 def main(argv: list[str] | None = None) -> int:
-    from . import __version__
-
     parser = argparse.ArgumentParser(prog="soadyn", description="O(N) hybrid multibody dynamics.")
     parser.add_argument("--version", action="version", version=f"soadyn {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="{demo,check,hil,view,campaign}")
@@ -99,8 +107,6 @@ def run_demo_command(args, parser) -> int:
     print(describe_scene(args.scene, model))
     print(format_result(run_demo(model, args.duration, args.dt)))
     if args.boom_duration > 0:
-        from .boom_vibration import format_response, gimbal_step_response, plot_response
-
         response = gimbal_step_response(scenes.SCENES[args.scene](), duration=args.boom_duration, dt=args.dt)
         print(format_response(response))
         if args.plot:
@@ -110,17 +116,16 @@ def run_demo_command(args, parser) -> int:
 
 
 def run_four_bar_demo(args) -> int:
-    from . import four_bar_demo as demo
-
     model = scenes.four_bar()
     print(describe_scene(args.scene, model))
     print(f"loop coupler_rocker: revolute cut, {model.nloop_equations} equations; one crank revolution in "
           f"{args.revolution:g} s, sampled every {args.dt:g} s")
-    driven = [demo.constant_rate(args.revolution, args.dt), demo.cycloidal(args.revolution, args.dt)]
-    fall = demo.free_fall(args.duration, args.dt)
-    print(demo.format_runs(driven + [fall]))
+    driven = [four_bar_demo.constant_rate(args.revolution, args.dt),
+              four_bar_demo.cycloidal(args.revolution, args.dt)]
+    fall = four_bar_demo.free_fall(args.duration, args.dt)
+    print(four_bar_demo.format_runs(driven + [fall]))
     if args.plot:
-        demo.plot_runs(driven, fall, args.plot)
+        four_bar_demo.plot_runs(driven, fall, args.plot)
         print(f"plot written to {args.plot}")
     return 0
 
@@ -182,29 +187,29 @@ CAMPAIGN_USAGE = """soadyn campaign SPEC.toml|EXAMPLE --out DIR [--scheduler ADD
 
 
 def add_campaign_parser(sub) -> argparse.ArgumentParser:
-    campaign = sub.add_parser(
+    parser = sub.add_parser(
         "campaign", usage=CAMPAIGN_USAGE,
         help="Monte Carlo campaign of a spec on Dask (local cluster or --scheduler); replay a run; report",
         description="Run the campaign a spec describes (a TOML file, or a built-in example: cassini-example) "
                     "and write its results to DIR, resuming there if an earlier campaign of the same spec "
                     "stopped; `replay DIR RUN_ID` recomputes one run and compares it with the stored one; "
                     "`report DIR` prints a summary table and writes histograms and scatter plots (PNG).")
-    campaign.add_argument("words", nargs="+", metavar="SPEC.toml|replay|report",
-                          help="a spec file or example name; or replay DIR RUN_ID; or report DIR")
-    campaign.add_argument("--out", metavar="DIR", help="results directory (created; resumed if it holds this spec)")
-    campaign.add_argument("--scheduler", metavar="ADDRESS",
-                          help="run on this Dask scheduler (tcp://host:port) instead of a local cluster")
-    campaign.add_argument("--workers", type=int, metavar="N",
-                          help="worker processes of the local cluster (default: one per core)")
-    campaign.add_argument("--runs", type=int, metavar="N", help="number of runs instead of the spec's")
-    campaign.add_argument("--chunk", type=int, metavar="N",
-                          help="runs per Dask task (default: enough tasks to spread the runs, at most 50 runs each)")
-    campaign.add_argument("--no-progress", action="store_true", help="no progress bar")
-    campaign.add_argument("--no-dashboard", action="store_true", help="local cluster: no Dask dashboard")
-    campaign.add_argument("--plots", metavar="DIR",
-                          help="report: where the PNGs and summary.md go (default DIR/report)")
-    campaign.add_argument("--no-plots", action="store_true", help="report: the table only")
-    return campaign
+    parser.add_argument("words", nargs="+", metavar="SPEC.toml|replay|report",
+                        help="a spec file or example name; or replay DIR RUN_ID; or report DIR")
+    parser.add_argument("--out", metavar="DIR", help="results directory (created; resumed if it holds this spec)")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="run on this Dask scheduler (tcp://host:port) instead of a local cluster")
+    parser.add_argument("--workers", type=int, metavar="N",
+                        help="worker processes of the local cluster (default: one per core)")
+    parser.add_argument("--runs", type=int, metavar="N", help="number of runs instead of the spec's")
+    parser.add_argument("--chunk", type=int, metavar="N",
+                        help="runs per Dask task (default: enough tasks to spread the runs, at most 50 runs each)")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument("--no-dashboard", action="store_true", help="local cluster: no Dask dashboard")
+    parser.add_argument("--plots", metavar="DIR",
+                        help="report: where the PNGs and summary.md go (default DIR/report)")
+    parser.add_argument("--no-plots", action="store_true", help="report: the table only")
+    return parser
 
 
 def run_campaign_command(args, parser) -> int:
@@ -232,18 +237,16 @@ def run_campaign_command(args, parser) -> int:
     if args.scheduler is not None and args.workers is not None:
         parser.error("argument --workers: sizes the local cluster; with --scheduler the cluster has its own workers")
     check_outputs(parser, ("--out", args.out, True))
-    from .campaign import CampaignError, ResultsDirectoryError, SpecError, load_spec, run
-
     try:
-        spec = load_spec(words[0], runs=args.runs)
-    except SpecError as error:
+        spec = campaign.load_spec(words[0], runs=args.runs)
+    except campaign.SpecError as error:
         parser.error(f"argument SPEC: {one_line(error)}")
     try:
-        run(spec, args.scheduler, out=args.out, workers=args.workers, chunk_size=args.chunk,
+        campaign.run(spec, args.scheduler, out=args.out, workers=args.workers, chunk_size=args.chunk,
             progress=not args.no_progress, dashboard=not args.no_dashboard)
-    except ResultsDirectoryError as error:
+    except campaign.ResultsDirectoryError as error:
         parser.error(f"argument --out: {one_line(error)}")
-    except CampaignError as error:
+    except campaign.CampaignError as error:
         parser.exit(1, f"soadyn campaign: error: {one_line(error)}\n")
     except KeyboardInterrupt:
         parser.exit(130, f"soadyn campaign: interrupted; the finished runs are in {args.out}: the same command "
@@ -252,8 +255,6 @@ def run_campaign_command(args, parser) -> int:
 
 
 def run_campaign_replay(words, parser) -> int:
-    from .campaign import CampaignError, format_replay, replay
-
     if len(words) != 2:
         parser.error(f"replay takes DIR RUN_ID, got {len(words)} argument{'s' * (len(words) != 1)}")
     out, text = words
@@ -262,18 +263,16 @@ def run_campaign_replay(words, parser) -> int:
     except ValueError:
         parser.error(f"argument RUN_ID: an integer is required, got {text!r}")
     try:
-        result = replay(out, run_id)
-    except CampaignError as error:
+        result = campaign.replay(out, run_id)
+    except campaign.CampaignError as error:
         parser.error(f"argument DIR: {one_line(error)}")
     except ValueError as error:
         parser.error(f"argument RUN_ID: {one_line(error)}")
-    print(format_replay(result))
+    print(campaign.format_replay(result))
     return 0 if result.equal or not result.stored else 1
 
 
 def run_campaign_report(words, args, parser) -> int:
-    from .campaign import CampaignError, format_summary, report
-
     if len(words) != 1:
         parser.error(f"report takes DIR, got {len(words)} arguments")
     if not args.no_plots:
@@ -283,13 +282,13 @@ def run_campaign_report(words, args, parser) -> int:
         elif Path(words[0]).is_dir():  # else the report's own error names DIR
             check_outputs(parser, ("--plots (default DIR/report)", str(Path(words[0]) / "report"), True))
     try:
-        result = report(words[0], plots_dir=args.plots, plots=not args.no_plots)
-    except CampaignError as error:
+        result = campaign.report(words[0], plots_dir=args.plots, plots=not args.no_plots)
+    except campaign.CampaignError as error:
         parser.error(f"argument DIR: {one_line(error)}")
     except OSError as error:
         parser.exit(1, f"soadyn campaign report: error: {one_line(error)}\n")
     print(f"{result.finished} of {result.runs} runs finished, {result.failed} failed")
-    print(format_summary(result.summary))
+    print(campaign.format_summary(result.summary))
     if result.plots:
         print(f"{len(result.plots)} plots and the table written to {result.table_path.parent}")
     return 0
@@ -305,7 +304,6 @@ def open_viewer(parser, model, host: str, port: int, q, exaggeration: float, wha
     if not 0 <= port <= 65535:
         parser.error(f"argument {what}: {port} is not a port number (0-65535)")
     try:
-        from .viewer import Viewer
         return Viewer(model, host=host, port=port, q=q, exaggeration=exaggeration)
     except ImportError as exc:
         parser.exit(1, f"soadyn: the viewer needs viser (pip install 'soadyn[view]'): {exc}\n")
@@ -332,12 +330,8 @@ def parse_command_limits(texts: list[str], dof_names: list[str]) -> dict | None:
 
 
 def check_hil_arguments(args, parser) -> None:
-    from . import hil
-
     finite(parser, "--rate", args.rate, 0.0)
     finite(parser, "--duration", args.duration, 0.0, inclusive=True)
-    from .simulator import STEP_TOLERANCE
-
     steps = round(args.duration * args.rate)
     if abs(args.duration * args.rate - steps) > STEP_TOLERANCE:
         parser.error(f"argument --duration: {args.duration:g} s at --rate {args.rate:g} is not a whole number of "
@@ -358,8 +352,6 @@ def check_hil_arguments(args, parser) -> None:
 
 
 def run_hil_command(args, parser) -> int:
-    from . import hil
-
     check_hil_arguments(args, parser)
     try:
         events = [hil.parse_event(text) for text in args.event]
@@ -411,8 +403,6 @@ def check_outputs(parser, *outputs) -> None:
     """Every output of a command, checked before any work: (option, path) for a file, (option, path,
     True) for a directory (created with its parents); a one-line error naming the option, the path
     and why it cannot be written. An option not given (None or "") is skipped."""
-    from .output_paths import output_problem
-
     for option, path, *directory in outputs:
         problem = output_problem(path, bool(directory and directory[0])) if path else None
         if problem:
@@ -420,20 +410,14 @@ def check_outputs(parser, *outputs) -> None:
 
 
 def require_plotting(parser, option: str = "--plot") -> None:
-    from .hil import require_matplotlib
-
     try:
-        require_matplotlib()
+        hil.require_matplotlib()
     except ImportError as error:
         parser.error(f"argument {option}: {error}")
 
 
 def write_hil_outputs(args, events, sim, report) -> None:
     """The report first (what was measured is kept whatever follows), then the table and the plot."""
-    import json
-
-    from . import hil
-
     if args.report:
         summary = {"scene": args.scene, "integrator": args.integrator, "events": [str(e) for e in events],
                    **report.to_dict()}
@@ -445,8 +429,6 @@ def write_hil_outputs(args, events, sim, report) -> None:
 
 
 def run_check(args, parser) -> int:
-    from .check import cross_check_report, format_report
-
     if args.states < 1:
         parser.error(f"argument --states: must be >= 1, got {args.states}")
     if not (math.isfinite(args.tolerance) and args.tolerance >= 0):
@@ -470,10 +452,6 @@ def one_line(error: BaseException) -> str:
 
 def run_view(args, parser) -> int:
     """soadyn view: serve the model (and an optional simulated run) until Ctrl-C or --duration."""
-    import time
-
-    from .viewer import load_any, start_state
-
     finite(parser, "--simulate", args.simulate, 0.0, inclusive=True)
     if args.duration is not None:
         finite(parser, "--duration", args.duration, 0.0, inclusive=True)
@@ -481,7 +459,6 @@ def run_view(args, parser) -> int:
         model = load_any(args.model)
     except (ValueError, OSError) as exc:
         parser.error(f"argument model: {exc}")
-    from ._soadyn import DynamicsError
     finite(parser, "--exaggeration", args.exaggeration, 0.0, inclusive=True)
     try:
         q, v = start_state(args.model, model)
@@ -490,7 +467,6 @@ def run_view(args, parser) -> int:
         return 1
     viewer = open_viewer(parser, model, args.host, args.port, q, args.exaggeration, "--port")
     if args.simulate > 0:
-        from .simulator import Simulator
         sim = Simulator(model, dt=1e-3)
         sim.set_state(q, v)
         try:

@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..viz.visuals import Visual
 from .urdf_reader import read_root, rpy_matrix
-from .visuals import Visual
 
 __all__ = ["read_visuals", "resolve_mesh"]
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mjcf import BALL, FREE, MjcfModel
+from ..io.mjcf import BALL, FREE, MjcfModel
 from .oracles import PinocchioOracle
 
 COMPOSITE = "Composite_"
