@@ -1,16 +1,13 @@
+# Generated from the compiled module by pybind11-stubgen; do not edit. Regenerate: python tests/support/stub.py --write
 """
-soadyn C++ core.
-
-Type stubs of the compiled module: drafted with pybind11-stubgen, checked and completed by hand
-(the three fast entries, the FlexibleBody types); tests/test_package.py checks that they name exactly
-the module's attributes and parameters.
+soadyn C++ core
 """
 from __future__ import annotations
 import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['DynamicsError', 'FlexibleBody', 'HilRunner', 'Joint', 'MotionSource', 'NonphysicalInertiaError', 'QUATERNION_TOLERANCE', 'bias_forces', 'center_of_mass', 'forward_dynamics', 'forward_kinematics', 'hybrid_dynamics', 'integrate', 'inverse_dynamics', 'joint_wrenches', 'kinetic_energy', 'mass_matrix', 'momentum', 'neutral_configuration', 'potential_energy', 'random_configuration']
+__all__: list[str] = ['DynamicsError', 'FlexibleBody', 'HilRunner', 'Joint', 'LoopError', 'ModelFileError', 'MotionSource', 'NonphysicalInertiaError', 'ParameterError', 'QUATERNION_TOLERANCE', 'bias_forces', 'center_of_mass', 'center_of_mass_jacobian', 'christoffel_symbols', 'constrained_dynamics', 'coriolis_matrix', 'dissipated_power', 'external_forces_to_generalized', 'force_element_potential', 'force_elements', 'forward_dynamics', 'forward_kinematics', 'frame_acceleration', 'frame_jacobian', 'frame_jacobian_time_variation', 'frame_pose', 'frame_velocity', 'gravity_forces', 'hybrid_dynamics', 'independent_coordinates', 'integrate', 'inverse_dynamics', 'joint_wrenches', 'kinetic_energy', 'loop_force_stiffness', 'loop_jacobian', 'loop_rank', 'loop_residual', 'mass_matrix', 'mass_matrix_derivative', 'momentum', 'neutral_configuration', 'potential_energy', 'random_configuration']
 class Joint:
     """
     A joint type; build one with the static constructors.
@@ -90,15 +87,16 @@ class _Model:
         ...
     def _copy_from(self, arg0: _Model) -> None:
         ...
-    def _to_json(self) -> str: ...
-    def _load_json(self, text: str, source: str) -> None: ...
-    _description: str
     def _load_cassini(self) -> None:
         ...
     def _load_delta_robot(self) -> None:
         ...
     def _load_four_bar(self, arg0: str) -> None:
         ...
+    def _load_json(self, text: str, source: str) -> None:
+        """
+        Replaces this model by the one model-file JSON `text` holds.
+        """
     def _load_pendulum_chain(self, arg0: typing.SupportsInt | typing.SupportsIndex, arg1: typing.SupportsFloat | typing.SupportsIndex, arg2: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def _load_slider_crank(self, arg0: str) -> None:
@@ -107,14 +105,18 @@ class _Model:
         """
         Raises ValueError naming the first of `dofs` that is a modal coordinate (always regular).
         """
-    def _set_armature(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], arg1: typing.SupportsFloat) -> None:
+    def _set_armature(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
-    def _set_effort_limit(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], arg1: typing.SupportsFloat) -> None:
+    def _set_effort_limit(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def _set_prescribed_indices(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], arg1: bool) -> None:
         ...
     def _set_prescribed_mask(self, arg0: collections.abc.Sequence[bool]) -> None:
         ...
+    def _to_json(self) -> str:
+        """
+        The model as model-file JSON text (soadyn/model_file.hpp).
+        """
     def body_index(self, arg0: str) -> int:
         """
         Index of the named body, or -1.
@@ -128,14 +130,48 @@ class _Model:
         The FlexibleBody of the named body.
         """
     @property
+    def _description(self) -> str:
+        """
+        The description (visuals, metadata) as JSON text: kept by model files, unused by the dynamics.
+        """
+    @_description.setter
+    def _description(self, arg1: str) -> None:
+        ...
+    @property
+    def appendage_in_root_frame(self) -> list[bool]:
+        """
+        Per body: whether it is a flexible appendage welded to its root, whose modal integrals the dynamics read formed once in the root's frame.
+        """
+    @property
+    def armature(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Float array (nv): each DOF's armature (rotor inertia on the DOF; zero by default).
+        """
+    @property
     def body_names(self) -> list[str]:
         ...
+    @property
+    def constant_leaf_hinge(self) -> list[bool]:
+        """
+        Per body: whether it is a leaf turning about an axis of mass symmetry on a body welded to its root (a reaction wheel), whose hinge terms D, G and P+ the dynamics read formed once (when its DOF is regular and has no armature).
+        """
+    @property
+    def constant_tree_inertia(self) -> list[bool]:
+        """
+        Per body: whether the dynamics read its inertia formed once (constant in its free root's frame: welded to the root, or turning about an axis of mass symmetry on it).
+        """
     @property
     def coordinate_names(self) -> list[str]:
         ...
     @property
     def dof_names(self) -> list[str]:
         ...
+    @property
+    def effort_limits(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Float array (nv): each DOF's effort limit (largest actuator force or torque; inf: none,
+        the default). HIL runs take it as the DOF's command limit.
+        """
     @property
     def frame_names(self) -> list[str]:
         ...
@@ -154,6 +190,21 @@ class _Model:
     def joint_types(self) -> list[str]:
         ...
     @property
+    def leaf_terms_presummed(self) -> list[tuple[bool, bool]]:
+        """
+        Per body: (under the prescribed flags, with every DOF regular), whether it is a leaf whose constant P+ (or, prescribed, its constant P) its parent's articulated inertia starts with, summed once.
+        """
+    @property
+    def loop_names(self) -> list[str]:
+        """
+        Names of the closed loops, in the order added.
+        """
+    @property
+    def loop_solver(self) -> str:
+        """
+        How constrained_dynamics solves the loops of this model: 'articulated' (the articulated-body response to unit multipliers, O(N) in the bodies) or 'mass matrix' (M by CRBA, factored with the tree's sparsity: rigid trees where that factor is cheap for their number of loop equations, and models with flexible bodies). A call with a body beyond its tree-frame reach takes the mass matrix in body frames.
+        """
+    @property
     def masses(self) -> list[float]:
         ...
     @property
@@ -170,24 +221,14 @@ class _Model:
     def nbodies(self) -> int:
         ...
     @property
-    def loop_names(self) -> list[str]:
-        """
-        Names of the closed loops, in the order added.
-        """
-    @property
-    def nloops(self) -> int:
-        """
-        Number of closed loops.
-        """
-    @property
     def nloop_equations(self) -> int:
         """
         Number of loop-closure equations (the rows of loop_jacobian).
         """
     @property
-    def loop_solver(self) -> str:
+    def nloops(self) -> int:
         """
-        How constrained_dynamics solves the loops of this model: 'articulated' (the articulated-body response to unit multipliers, O(N) in the bodies) or 'mass matrix' (M by CRBA, factored with the tree's sparsity: rigid trees where that factor is cheap for their number of loop equations, and models with flexible bodies). A call with a body beyond its tree-frame reach takes the mass matrix in body frames.
+        Number of closed loops.
         """
     @property
     def nq(self) -> int:
@@ -199,20 +240,14 @@ class _Model:
     def parents(self) -> list[int]:
         ...
     @property
+    def placement_axes(self) -> list[str]:
+        """
+        Per body: the shape of its placement's rotation as the sweeps apply it: 'identity', 'axis_permutation' (quarter turns: each axis onto a coordinate axis, up to sign) or 'general'. Entries within machine epsilon of the first two count as them.
+        """
+    @property
     def prescribed(self) -> numpy.typing.NDArray[numpy.bool]:
         """
         Bool array (nv): True where the DOF is prescribed.
-        """
-    @property
-    def armature(self) -> numpy.typing.NDArray[numpy.float64]:
-        """
-        Float array (nv): each DOF's armature (rotor inertia on the DOF; zero by default).
-        """
-    @property
-    def effort_limits(self) -> numpy.typing.NDArray[numpy.float64]:
-        """
-        Float array (nv): each DOF's effort limit (largest actuator force or torque; inf: none,
-        the default). HIL runs take it as the DOF's command limit.
         """
     @property
     def q_index(self) -> list[int]:
@@ -220,40 +255,13 @@ class _Model:
     @property
     def v_index(self) -> list[int]:
         ...
-    @property
-    def placement_axes(self) -> list[str]:
-        """
-        Per body: the shape of its placement's rotation as the sweeps apply it: 'identity', 'axis_permutation' (quarter turns: each axis onto a coordinate axis, up to sign) or 'general'. Entries within machine epsilon of the first two count as them.
-        """
-    @property
-    def constant_tree_inertia(self) -> list[bool]:
-        """
-        Per body: whether the dynamics read its inertia formed once (constant in its free root's frame: welded to the root, or turning about an axis of mass symmetry on it).
-        """
-    @property
-    def appendage_in_root_frame(self) -> list[bool]:
-        """
-        Per body: whether it is a flexible appendage welded to its root, whose modal integrals the dynamics read formed once in the root's frame.
-        """
-    @property
-    def constant_leaf_hinge(self) -> list[bool]:
-        """
-        Per body: whether it is a leaf turning about an axis of mass symmetry on a body welded to its root (a reaction wheel), whose hinge terms D, G and P+ the dynamics read formed once (when its DOF is regular and has no armature).
-        """
-    @property
-    def leaf_terms_presummed(self) -> list[tuple[bool, bool]]:
-        """
-        Per body: (under the prescribed flags, with every DOF regular), whether it is a leaf whose constant P+ (or, prescribed, its constant P) its parent's articulated inertia starts with, summed once.
-        """
 class NonphysicalInertiaError(ValueError):
     pass
-class DynamicsError(ArithmeticError):
-    pass
-class ModelFileError(ValueError): ...
-
 class LoopError(ValueError):
     pass
-class ParameterError(ValueError):
+class ModelFileError(ValueError):
+    pass
+class DynamicsError(ArithmeticError):
     pass
 class MotionSource:
     """
@@ -292,7 +300,7 @@ class MotionSource:
 class _SimulatorCore:
     pass
 class _Simulator(_SimulatorCore):
-    def __init__(self, model: _Model, dt: typing.SupportsFloat | typing.SupportsIndex, integrator: str = 'rk4', event_capacity: typing.SupportsInt | typing.SupportsIndex = 64) -> None:
+    def __init__(self, model: _Model, dt: typing.Any, integrator: typing.Any = 'rk4', event_capacity: typing.Any = 64) -> None:
         ...
     def _drive_cassini(self) -> None:
         ...
@@ -333,7 +341,7 @@ class _Simulator(_SimulatorCore):
         default; on in HIL runs. Turning it on takes the current state as the energy's reference.
         """
     @divergence_guard.setter
-    def divergence_guard(self, arg1: bool) -> None:
+    def divergence_guard(self, arg1: typing.Any) -> None:
         ...
     @property
     def dt(self) -> float:
@@ -365,12 +373,18 @@ class _Simulator(_SimulatorCore):
         dopri5: sub-step attempts of the last step.
         """
     @property
-    def max_substeps(self) -> int:
+    def loop_drift(self) -> tuple[float, float]:
         """
-        dopri5: sub-step attempts allowed in one step; beyond it the step fails (DynamicsError).
+        (position, velocity): the largest |Psi_i| and |(C v)_i| the integrator left at the end of the last step,
+        before the closure projection.
         """
-    @max_substeps.setter
-    def max_substeps(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
+    @property
+    def loop_max_iterations(self) -> int:
+        """
+        Gauss-Newton steps the closure projection may take after a step; beyond it the step fails.
+        """
+    @loop_max_iterations.setter
+    def loop_max_iterations(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def loop_tolerance(self) -> float:
@@ -381,24 +395,18 @@ class _Simulator(_SimulatorCore):
     def loop_tolerance(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
-    def loop_max_iterations(self) -> int:
-        """
-        Gauss-Newton steps the closure projection may take after a step; beyond it the step fails.
-        """
-    @loop_max_iterations.setter
-    def loop_max_iterations(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def loop_drift(self) -> tuple:
-        """
-        (position, velocity): the largest |Psi_i| and |(C v)_i| the integrator left at the end of the last step,
-        before the closure projection.
-        """
-    @property
-    def max_loop_drift(self) -> tuple:
+    def max_loop_drift(self) -> tuple[float, float]:
         """
         (position, velocity): the largest loop_drift over all steps so far.
         """
+    @property
+    def max_substeps(self) -> int:
+        """
+        dopri5: sub-step attempts allowed in one step; beyond it the step fails (DynamicsError).
+        """
+    @max_substeps.setter
+    def max_substeps(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
     @property
     def pending_events(self) -> int:
         ...
@@ -426,14 +434,13 @@ class _Simulator(_SimulatorCore):
     def v(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
     @property
-    def velocity_limits(self) -> numpy.typing.NDArray[numpy.float64]:
+    def velocity_limits(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         Per-DOF |v| limits the divergence guard enforces (nv values; inf: none, the default).
         """
     @velocity_limits.setter
     def velocity_limits(self, arg1: typing.Any) -> None:
         ...
-
 class _HilSummary:
     @property
     def as_fast_as_possible(self) -> bool:
@@ -463,6 +470,18 @@ class _HilSummary:
     def compute_p99_us(self) -> float:
         ...
     @property
+    def deadline_misses(self) -> int:
+        ...
+    @property
+    def exception_step(self) -> int:
+        ...
+    @property
+    def failed_dof(self) -> int:
+        ...
+    @property
+    def failed_step(self) -> int:
+        ...
+    @property
     def floor_max_us(self) -> float:
         ...
     @property
@@ -481,24 +500,6 @@ class _HilSummary:
     def floor_target_us(self) -> float:
         ...
     @property
-    def misses_compute_overrun(self) -> int:
-        ...
-    @property
-    def misses_late_wakeup(self) -> int:
-        ...
-    @property
-    def deadline_misses(self) -> int:
-        ...
-    @property
-    def exception_step(self) -> int:
-        ...
-    @property
-    def failed_dof(self) -> int:
-        ...
-    @property
-    def failed_step(self) -> int:
-        ...
-    @property
     def kernel_drops(self) -> int:
         ...
     @property
@@ -515,6 +516,12 @@ class _HilSummary:
         ...
     @property
     def max_packets_per_step(self) -> int:
+        ...
+    @property
+    def misses_compute_overrun(self) -> int:
+        ...
+    @property
+    def misses_late_wakeup(self) -> int:
         ...
     @property
     def packets_dropped(self) -> int:
@@ -564,7 +571,7 @@ class HilRunner:
     """
     def __init__(self, sim: _Simulator, rate_hz: typing.SupportsFloat | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex, udp_port: typing.SupportsInt | typing.SupportsIndex | None = None, udp_destination_port: typing.SupportsInt | typing.SupportsIndex = 0, as_fast_as_possible: bool = False, record_every: typing.SupportsInt | typing.SupportsIndex = 0, spin_us: typing.SupportsFloat | typing.SupportsIndex = 0.0, fifo_priority: typing.SupportsInt | typing.SupportsIndex = 0, cpu: typing.SupportsInt | typing.SupportsIndex = -1, lock_memory: bool = False, command_limits: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, command_policy: str = 'clamp', udp_command_port: typing.SupportsInt | typing.SupportsIndex = -1, max_packets_per_step: typing.SupportsInt | typing.SupportsIndex = 16, floor_periods: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         ...
-    def latest_state(self) -> tuple[int, float, numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]] | None:
+    def latest_state(self) -> typing.Any:
         """
         (step, t, q, v) the loop published last, read without disturbing it (thread-safe; any time during or after run()), or None before the first run.
         """
@@ -601,16 +608,16 @@ class HilRunner:
     def commands_saturated(self) -> int:
         ...
     @property
-    def floor_ns(self) -> numpy.typing.NDArray[numpy.int64]:
-        """
-        Per-period times of the machine's floor (register arithmetic of the steps' median length).
-        """
-    @property
     def compute_ns(self) -> numpy.typing.NDArray[numpy.int64]:
         ...
     @property
     def deadline_misses(self) -> int:
         ...
+    @property
+    def floor_ns(self) -> numpy.typing.NDArray[numpy.int64]:
+        """
+        Per-period times of the machine's floor (register arithmetic of the steps' median length).
+        """
     @property
     def lateness_ns(self) -> numpy.typing.NDArray[numpy.int64]:
         ...
@@ -630,13 +637,13 @@ class FlexibleBody:
     rows [rotation; translation]). Immutable; its modal integrals are computed once.
     """
     @staticmethod
-    def cantilever_beam(length: typing.SupportsFloat | typing.SupportsIndex, EI: typing.SupportsFloat | typing.SupportsIndex, mass_per_length: typing.SupportsFloat | typing.SupportsIndex, n_modes: typing.SupportsInt | typing.SupportsIndex, n_nodes: typing.SupportsInt | typing.SupportsIndex = 60) -> FlexibleBody:
+    def cantilever_beam(length: typing.Any, EI: typing.Any, mass_per_length: typing.Any, n_modes: typing.Any, n_nodes: typing.Any = 60) -> FlexibleBody:
         """
         Uniform Euler-Bernoulli cantilever along x, clamped at the body origin: n_nodes lumped
         segments plus a massless 'tip' node; n_modes clamped-free bending modes per plane in the
         x-y and x-z planes, interleaved (2 * n_modes modes in all).
         """
-    def __init__(self, positions: typing.Any, masses: typing.Any, rotary_inertias: typing.Any, mode_shapes: typing.Any, stiffness: typing.Any, damping: typing.Any = None, attachments: collections.abc.Mapping[str, typing.SupportsInt | typing.SupportsIndex] = ...) -> None:
+    def __init__(self, positions: typing.Any, masses: typing.Any, rotary_inertias: typing.Any, mode_shapes: typing.Any, stiffness: typing.Any, damping: typing.Any = None, attachments: collections.abc.Mapping[str, typing.SupportsInt | typing.SupportsIndex] = {}) -> None:
         """
         positions (N, 3) undeformed node positions in the body frame; masses (N,); rotary_inertias
         (N, 3, 3) about each node; mode_shapes (N, 6, n_modes); stiffness and damping (n_modes,
@@ -652,13 +659,13 @@ class FlexibleBody:
         """
         Natural frequencies (rad/s, ascending) of the body clamped at its reference frame.
         """
-    def node_load(self, j: typing.SupportsInt | typing.SupportsIndex, eta: typing.Any, wrench: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+    def node_load(self, j: typing.Any, eta: typing.Any, wrench: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
         """
         Generalized force of `wrench` = [torque; force] applied at node j (node frame) at eta: returns
         (body_wrench, modal_forces): the wrench about the body origin in the body frame (add it to
         f_ext[body]) and the modal forces (add them to the modal DOFs' entries of tau / u).
         """
-    def node_pose(self, j: typing.SupportsInt | typing.SupportsIndex, eta: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 4]"]:
+    def node_pose(self, j: typing.Any, eta: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 4]"]:
         """
         4x4 pose of node j in the body frame at eta.
         """
@@ -700,16 +707,76 @@ class FlexibleBody:
     @property
     def stiffness(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
+class ParameterError(ValueError):
+    pass
 def _add_joint_spring(arg0: _Model, arg1: str, arg2: typing.SupportsInt | typing.SupportsIndex, arg3: typing.SupportsFloat | typing.SupportsIndex, arg4: typing.SupportsFloat | typing.SupportsIndex, arg5: typing.SupportsFloat | typing.SupportsIndex) -> int:
     ...
 def _add_point_spring(arg0: _Model, arg1: str, arg2: str, arg3: str, arg4: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg5: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg6: typing.SupportsFloat | typing.SupportsIndex, arg7: typing.SupportsFloat | typing.SupportsIndex, arg8: typing.SupportsFloat | typing.SupportsIndex | None, arg9: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], arg10: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex]) -> int:
     ...
-def _delta_robot_state(position: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], velocity: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> tuple:
+def _appendage_kernel() -> str:
+    """
+    The kernel of flexible appendages' step on this processor (algorithms/appendage_step.hpp): 'AVX2 FMA' or 'baseline'; results agree bit for bit only between processes that use the same one.
+    """
+def _assemble(model: _Model, q: typing.Any, free: collections.abc.Sequence[bool], tolerance: typing.Any, max_iterations: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     ...
-def _four_bar_state(crank_angle: typing.SupportsFloat | typing.SupportsIndex, crank_rate: typing.SupportsFloat | typing.SupportsIndex) -> tuple:
+def _batch_dynamics_derivatives(model: _Model, Q: typing.Any, V: typing.Any, U: typing.Any, f_ext: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+    """
+    Dynamics derivatives of n rows (soadyn.batch.dynamics_derivatives).
+    """
+def _batch_forward_dynamics(model: _Model, Q: typing.Any, V: typing.Any, TAU: typing.Any, f_ext: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    Forward dynamics of n rows (soadyn.batch.forward_dynamics).
+    """
+def _batch_hybrid_dynamics(model: _Model, Q: typing.Any, V: typing.Any, U: typing.Any, f_ext: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+    """
+    Hybrid dynamics of n rows (soadyn.batch.hybrid_dynamics).
+    """
+def _batch_inverse_dynamics(model: _Model, Q: typing.Any, V: typing.Any, QDD: typing.Any, f_ext: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    Inverse dynamics of n rows (soadyn.batch.inverse_dynamics).
+    """
+def _batch_mass_matrix(model: _Model, Q: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    Mass matrices of n rows (soadyn.batch.mass_matrix).
+    """
+def _batch_rollout(model: _Model, x0s: typing.Any, runs: typing.SupportsInt | typing.SupportsIndex, controls: typing.Any, controls_per_run: bool, dt: typing.SupportsFloat | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex, integrator: str, record_every: typing.SupportsInt | typing.SupportsIndex, parameters: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], parameter_values: typing.Any, sources: collections.abc.Sequence[tuple[typing.SupportsInt | typing.SupportsIndex, MotionSource]], events: collections.abc.Sequence[tuple[str, typing.SupportsInt | typing.SupportsIndex]], event_times: typing.Any, threads: typing.SupportsInt | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], list[int], list[str]]:
+    """
+    Parallel rollouts (soadyn.batch.rollout): (q, v, failed_step, messages).
+    """
+def _delta_robot_state(position: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], velocity: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+    ...
+def _dual_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, f_ext: typing.Any = None, spanning_tree: bool = False) -> tuple:
+    ...
+def _equilibrium_sensitivities(model: _Model, q: typing.Any, multipliers: typing.Any, free: collections.abc.Sequence[bool], params: collections.abc.Sequence[str]) -> dict:
+    """
+    {name: (dq/dp, dnu/dp, dH/dp of the held DOFs)} at a static equilibrium, direct method.
+    """
+def _four_bar_state(crank_angle: typing.SupportsFloat | typing.SupportsIndex, crank_rate: typing.SupportsFloat | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
     ...
 def _get_parameter(model: _Model, name: str) -> typing.Any:
     ...
+def _joint_angle_kernel() -> str:
+    """
+    The kernel of the joint angles' sines and cosines on this processor (algorithms/joint_angles.hpp): results agree bit for bit only between processes that use the same one.
+    """
+def _linearize(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, dt: typing.Any, integrator: typing.Any, f_ext: typing.Any = None) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+    ...
+def _loop_equation_names(model: _Model) -> list[str]:
+    """
+    'loop[i]' for each loop-closure equation, in the rows' order.
+    """
+def _mass_matrix_kernel() -> str:
+    """
+    The kernel of rigid models' mass matrix on this processor (algorithms/crba.hpp): 'AVX2 FMA' or 'baseline'; results agree bit for bit only between processes that use the same one.
+    """
+def _modes(model: _Model, q: typing.Any) -> tuple:
+    ...
+def _modes_of(model: _Model, mass_matrix: typing.Any, stiffness: typing.Any, damping: typing.Any) -> tuple:
+    ...
+def _objective_gradient(model: _Model, q: typing.Any, multipliers: typing.Any, free: collections.abc.Sequence[bool], params: collections.abc.Sequence[str], dphi_dq: typing.Any, dphi_dnu: typing.Any = None) -> dict:
+    """
+    {name: dphi/dp} of a scalar objective at a static equilibrium, adjoint method.
+    """
 def _parameter_names(model: _Model) -> list[str]:
     ...
 def _parameter_sensitivity(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, params: collections.abc.Sequence[str], spanning_tree: bool = False) -> dict:
@@ -718,16 +785,17 @@ def _probe_array_fields(arg0: typing.Any) -> typing.Any:
     ...
 def _probe_model_handles(arg0: typing.Any) -> tuple[int, int]:
     ...
+def _project_velocity(model: _Model, q: typing.Any, v: typing.Any, free: collections.abc.Sequence[bool]) -> numpy.typing.NDArray[numpy.float64]:
+    ...
 def _set_parameter(model: _Model, name: str, value: typing.Any) -> None:
     ...
-def _slider_crank_state(crank_angle: typing.SupportsFloat | typing.SupportsIndex, crank_rate: typing.SupportsFloat | typing.SupportsIndex) -> tuple:
+def _slider_crank_state(crank_angle: typing.SupportsFloat | typing.SupportsIndex, crank_rate: typing.SupportsFloat | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
     ...
-def _joint_angle_kernel() -> str:
-    """The kernel of the joint angles' sines and cosines on this processor (algorithms/joint_angles.hpp): results agree bit for bit only between processes that use the same one."""
-def _mass_matrix_kernel() -> str:
-    """The kernel of rigid models' mass matrix on this processor (algorithms/crba.hpp): 'AVX2 FMA' or 'baseline'; results agree bit for bit only between processes that use the same one."""
-def _appendage_kernel() -> str:
-    """The kernel of flexible appendages' step on this processor (algorithms/appendage_step.hpp): 'AVX2 FMA' or 'baseline'; results agree bit for bit only between processes that use the same one."""
+def _static_equilibrium(model: _Model, q0: typing.Any, free: collections.abc.Sequence[bool], tol: typing.Any, max_iterations: typing.Any) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], int, float, bool]:
+    """
+    (q, nu, G - C' nu, stiffness eigenvalues, iterations, residual norm, stable) of the static equilibrium
+    nearest q0 with the DOFs whose `free` entry is False held (soadyn.static_equilibrium wraps it).
+    """
 def _time_cpp(model: _Model, algorithm: str, q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], u: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], calls: typing.SupportsInt | typing.SupportsIndex = 20000, repetitions: typing.SupportsInt | typing.SupportsIndex = 7) -> float:
     """
     Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea', 'crba', 'crba_baseline'
@@ -735,50 +803,13 @@ def _time_cpp(model: _Model, algorithm: str, q: typing.Annotated[numpy.typing.Ar
     (constrained_dynamics), 'dynamics_derivatives' (model's flags) or 'inverse_dynamics_derivatives' over the given
     states (rows), `calls` calls per repetition. For benchmarks; the GIL is released.
     """
-def _assemble(model: _Model, q: typing.Any, free: collections.abc.Sequence[bool], tolerance: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+def _tree_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, f_ext: typing.Any = None) -> tuple:
     ...
-def _loop_equation_names(model: _Model) -> list[str]:
-    """
-    'loop[i]' for each loop-closure equation, in the rows' order.
-    """
-def _static_equilibrium(model: _Model, q0: typing.Any, free: collections.abc.Sequence[bool], tol: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex) -> tuple:
-    """
-    (q, nu, G - C' nu, stiffness eigenvalues, iterations, residual norm, stable) of the static equilibrium
-    nearest q0 with the DOFs whose `free` entry is False held (soadyn.static_equilibrium wraps it).
-    """
-def _project_velocity(model: _Model, q: typing.Any, v: typing.Any, free: collections.abc.Sequence[bool]) -> numpy.typing.NDArray[numpy.float64]:
+def _tree_inverse_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any, f_ext: typing.Any = None) -> tuple:
     ...
 def bias_forces(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
     h(q, v): Coriolis, centrifugal and gravity generalized forces.
-    """
-def christoffel_symbols(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
-    """
-    Gamma, (nv, nv, nv), with C(q, v)[i, j] = sum_k Gamma[i, j, k] v[k]. For DOFs whose coordinates
-    integrate their velocities, Gamma[i, j, k] = 1/2 (dM[i,j]/dq_k + dM[i,k]/dq_j - dM[j,k]/dq_i) (symmetric in
-    j, k); for spherical, planar and free joints (body-frame velocities) the derivatives are along
-    q (+) eps e_k and Gamma adds the Lie-bracket terms of that moving frame (README, "Equations term by
-    term"). Rigid bodies only.
-    """
-def coriolis_matrix(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
-    """
-    C(q, v), (nv, nv): C v = h(q, v) - g(q) and dM/dt - 2 C is skew-symmetric (Echeandia & Wensing 2021);
-    C(q, v) = sum_k christoffel_symbols(m, q)[:, :, k] v[k]. Rigid bodies only (ValueError naming a
-    flexible body).
-    """
-def external_forces_to_generalized(model: _Model, q: typing.Any, f_ext: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
-    """
-    J(q)' f_ext, (nv,): the generalized forces of (nbodies, 6) body-frame wrenches [torque; force] about each
-    body origin (the f_ext of forward_dynamics: M qdd + h = tau + J' f_ext).
-    """
-def gravity_forces(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
-    """
-    g(q), (nv,): the generalized gravity forces, h(q, 0) (bias_forces at rest). On a model with flexible
-    bodies, gravity only (their elastic forces are not part of it).
-    """
-def mass_matrix_derivative(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
-    """
-    dM/dt = C + C', (nv, nv): the rate of the mass matrix along the velocity v. Rigid bodies only.
     """
 def center_of_mass(model: _Model, q: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
     """
@@ -788,13 +819,15 @@ def center_of_mass_jacobian(model: _Model, q: typing.Any) -> numpy.typing.NDArra
     """
     Jacobian (3 x nv) of the centre of mass in the world frame: J v is its velocity.
     """
-def forward_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, tau: numpy.typing.ArrayLike, f_ext: numpy.typing.ArrayLike | None = None) -> numpy.typing.NDArray[numpy.float64]:
+def christoffel_symbols(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
-    Accelerations qdd = M^-1 (tau - h + J' f_ext) by the articulated-body algorithm (every DOF regular,
-    whatever the model's flags). f_ext: (nbodies, 6) body-frame wrenches [torque; force] about each body
-    origin. Returns a fresh array.
+    Gamma, (nv, nv, nv), with C(q, v)[i, j] = sum_k Gamma[i, j, k] v[k]. For DOFs whose coordinates
+    integrate their velocities, Gamma[i, j, k] = 1/2 (dM[i,j]/dq_k + dM[i,k]/dq_j - dM[j,k]/dq_i) (symmetric in
+    j, k); for spherical, planar and free joints (body-frame velocities) the derivatives are along
+    q (+) eps e_k and Gamma adds the Lie-bracket terms of that moving frame (README, "Equations term by
+    term"). Rigid bodies only.
     """
-def constrained_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike, f_ext: numpy.typing.ArrayLike | None = None, joint_wrenches: bool = False) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]] | tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+def constrained_dynamics(model, q, v, u, f_ext = None, joint_wrenches = False):
     """
     Hybrid dynamics with the model's closed loops: u as in hybrid_dynamics. Returns fresh arrays (qdd, tau,
     loop_wrenches): every DOF's acceleration and generalized force, and per loop (nloops, 6) the wrench
@@ -806,12 +839,41 @@ def constrained_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typi
     cannot be met (inconsistent prescribed accelerations, a driven mechanism at a dead centre) raise
     DynamicsError naming the loop. Equals hybrid_dynamics without loops.
     """
+def coriolis_matrix(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    C(q, v), (nv, nv): C v = h(q, v) - g(q) and dM/dt - 2 C is skew-symmetric (Echeandia & Wensing 2021);
+    C(q, v) = sum_k christoffel_symbols(m, q)[:, :, k] v[k]. Rigid bodies only (ValueError naming a
+    flexible body).
+    """
+def dissipated_power(model: _Model, q: typing.Any, v: typing.Any) -> float:
+    """
+    Power the dampers dissipate at (q, v), >= 0: the rate at which kinetic plus potential energy falls when no actuator or external force acts.
+    """
+def external_forces_to_generalized(model: _Model, q: typing.Any, f_ext: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    J(q)' f_ext, (nv,): the generalized forces of (nbodies, 6) body-frame wrenches [torque; force] about each
+    body origin (the f_ext of forward_dynamics: M qdd + h = tau + J' f_ext).
+    """
+def force_element_potential(model: _Model, q: typing.Any) -> float:
+    """
+    Potential energy of the springs alone (also included in potential_energy).
+    """
+def force_elements(model: _Model) -> list:
+    """
+    The model's force elements as dicts (joint springs first, then point springs).
+    """
+def forward_dynamics(model, q, v, tau, f_ext = None):
+    """
+    Accelerations qdd = M^-1 (tau - h + J' f_ext) by the articulated-body algorithm (every DOF regular,
+    whatever the model's flags). f_ext: (nbodies, 6) body-frame wrenches [torque; force] about each body
+    origin. Returns a fresh array.
+    """
 def forward_kinematics(model: _Model, q: typing.Any, v: typing.Any = None) -> typing.Any:
     """
     (poses, velocities): (nbodies, 4, 4) homogeneous body poses in the world and, with v, (nbodies, 6)
     body-frame spatial velocities [angular; linear].
     """
-def frame_acceleration(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any, frame: str | int, reference: str = 'local', classical: bool = False) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+def frame_acceleration(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any, frame: typing.Any, reference: typing.Any = 'local', classical: typing.Any = False) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
     Spatial acceleration [angular; linear] of the frame, velocity products included, gravity
     not. classical=True: linear rows w x v + (spatial linear), the classical acceleration.
@@ -819,14 +881,14 @@ def frame_acceleration(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.
     'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links
     included) or a body index.
     """
-def frame_jacobian(model: _Model, q: typing.Any, frame: str | int, reference: str = 'local') -> numpy.typing.NDArray[numpy.float64]:
+def frame_jacobian(model: _Model, q: typing.Any, frame: typing.Any, reference: typing.Any = 'local') -> numpy.typing.NDArray[numpy.float64]:
     """
     Frame Jacobian (6 x nv, rows [angular; linear]): J v is frame_velocity.
     reference: 'world' (world axes, about the world origin), 'local' (frame axes, about the frame origin) or
     'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links
     included) or a body index.
     """
-def frame_jacobian_time_variation(model: _Model, q: typing.Any, v: typing.Any, frame: str | int, reference: str = 'local') -> numpy.typing.NDArray[numpy.float64]:
+def frame_jacobian_time_variation(model: _Model, q: typing.Any, v: typing.Any, frame: typing.Any, reference: typing.Any = 'local') -> numpy.typing.NDArray[numpy.float64]:
     """
     dJ/dt (6 x nv) of frame_jacobian along v: J qdd + dJ/dt v is frame_acceleration (world,
     local), or its classical form (local_world_aligned).
@@ -834,19 +896,24 @@ def frame_jacobian_time_variation(model: _Model, q: typing.Any, v: typing.Any, f
     'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links
     included) or a body index.
     """
-def frame_pose(model: _Model, q: typing.Any, frame: str | int) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 4]"]:
+def frame_pose(model: _Model, q: typing.Any, frame: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 4]"]:
     """
     4x4 homogeneous pose of the frame in the world at q. frame: a body name, a frame name (welded links
     included) or a body index.
     """
-def frame_velocity(model: _Model, q: typing.Any, v: typing.Any, frame: str | int, reference: str = 'local') -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+def frame_velocity(model: _Model, q: typing.Any, v: typing.Any, frame: typing.Any, reference: typing.Any = 'local') -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
     Spatial velocity [angular; linear] of the frame.
     reference: 'world' (world axes, about the world origin), 'local' (frame axes, about the frame origin) or
     'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links
     included) or a body index.
     """
-def hybrid_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, u: numpy.typing.ArrayLike, f_ext: numpy.typing.ArrayLike | None = None, joint_wrenches: bool = False) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]] | tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+def gravity_forces(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    g(q), (nv,): the generalized gravity forces, h(q, 0) (bias_forces at rest). On a model with flexible
+    bodies, gravity only (their elastic forces are not part of it).
+    """
+def hybrid_dynamics(model, q, v, u, f_ext = None, joint_wrenches = False):
     """
     Hybrid dynamics (Jain & Rodriguez 1993, Eqs. 14, 28, 29): u holds the torque of each regular DOF and the acceleration of
     each prescribed DOF (model.prescribed). Returns fresh arrays (qdd, tau) with every DOF's acceleration
@@ -858,11 +925,11 @@ def independent_coordinates(model: _Model, q: typing.Any) -> list[str]:
     constraint Jacobian C(q) carry the largest pivots of a fully pivoted LU factorisation are dependent,
     the others (nv - rank C of them, in DOF order) independent.
     """
-def integrate(model: _Model, q: typing.Any, v: typing.Any, dt: typing.SupportsFloat | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+def integrate(model: _Model, q: typing.Any, v: typing.Any, dt: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
     q (+) v dt, each joint on its manifold (quaternions by the exponential map; free joints on SE(3)).
     """
-def inverse_dynamics(model: _Model, q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, qdd: numpy.typing.ArrayLike, f_ext: numpy.typing.ArrayLike | None = None) -> numpy.typing.NDArray[numpy.float64]:
+def inverse_dynamics(model, q, v, qdd, f_ext = None):
     """
     Generalized forces tau = M qdd + h - J' f_ext (recursive Newton-Euler). Returns a fresh array.
     """
@@ -873,18 +940,6 @@ def joint_wrenches(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any,
     closed loops the tree is also loaded by the loop forces, so loop_wrenches (nloops, 6) is required: the
     wrenches constrained_dynamics returns (each acts on frame_a's body about frame_a's origin, its opposite
     on frame_b's body with the force at frame_b's origin, frame_a's for a prismatic loop).
-    """
-def dissipated_power(model: _Model, q: typing.Any, v: typing.Any) -> float:
-    """
-    Power the dampers dissipate at (q, v), >= 0: the rate at which kinetic plus potential energy falls when no actuator or external force acts.
-    """
-def force_element_potential(model: _Model, q: typing.Any) -> float:
-    """
-    Potential energy of the springs alone (also included in potential_energy).
-    """
-def force_elements(model: _Model) -> list:
-    """
-    The model's force elements as dicts (joint springs first, then point springs).
     """
 def kinetic_energy(model: _Model, q: typing.Any, v: typing.Any) -> float:
     """
@@ -912,6 +967,10 @@ def mass_matrix(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.floa
     """
     Joint-space mass matrix M(q), (nv, nv) (composite-rigid-body algorithm).
     """
+def mass_matrix_derivative(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
+    """
+    dM/dt = C + C', (nv, nv): the rate of the mass matrix along the velocity v. Rigid bodies only.
+    """
 def momentum(model: _Model, q: typing.Any, v: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
     Spatial momentum [angular about the world origin; linear] in the world frame.
@@ -924,38 +983,9 @@ def potential_energy(model: _Model, q: typing.Any) -> float:
     """
     Gravitational potential energy -sum m g.c (zero at the world origin).
     """
-def random_configuration(model: _Model, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+def random_configuration(model: _Model, seed: typing.Any = 0) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
     Random configuration: angles in [-pi, pi], offsets in [-1, 1], uniform unit quaternions.
     """
 QUATERNION_TOLERANCE: float = 1e-06
-_pybind11_version: str  # the pybind11 version the module was built with
-
-def _tree_inverse_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any, f_ext: typing.Any = None) -> tuple:
-    """(dtau_dq, dtau_dv, M) of inverse dynamics (soadyn.inverse_dynamics_derivatives)."""
-def _tree_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, f_ext: typing.Any = None) -> tuple:
-    """The six derivatives of hybrid dynamics (soadyn.dynamics_derivatives)."""
-def _linearize(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, dt: typing.Any, integrator: str, f_ext: typing.Any = None) -> tuple:
-    """(A, B) (soadyn.linearize)."""
-def _modes(model: _Model, q: typing.Any) -> tuple:
-    """(dofs, w, zeta, roots, shapes) (soadyn.modes)."""
-def _equilibrium_sensitivities(model: _Model, q: typing.Any, multipliers: typing.Any, free: collections.abc.Sequence[bool], params: collections.abc.Sequence[str]) -> dict:
-    """{name: (dq/dp, dnu/dp, dH/dp of the held DOFs)} at a static equilibrium, direct method."""
-def _objective_gradient(model: _Model, q: typing.Any, multipliers: typing.Any, free: collections.abc.Sequence[bool], params: collections.abc.Sequence[str], dphi_dq: typing.Any, dphi_dnu: typing.Any = None) -> dict:
-    """{name: dphi/dp} of a scalar objective at a static equilibrium, adjoint method."""
-def _modes_of(model: _Model, mass_matrix: typing.Any, stiffness: typing.Any, damping: typing.Any) -> tuple:
-    """(dofs, w, zeta, roots, shapes) of the regular DOFs from given M, K, D at rest (soadyn.modes)."""
-def _batch_dynamics_derivatives(model: _Model, Q: typing.Any, V: typing.Any, U: typing.Any, f_ext: typing.Any, n: typing.SupportsInt, threads: typing.SupportsInt) -> tuple:
-    """Dynamics derivatives of n rows (soadyn.batch.dynamics_derivatives)."""
-def _batch_forward_dynamics(model: _Model, Q: typing.Any, V: typing.Any, TAU: typing.Any, f_ext: typing.Any, n: typing.SupportsInt, threads: typing.SupportsInt) -> numpy.typing.NDArray[numpy.float64]:
-    """Forward dynamics of n rows (soadyn.batch.forward_dynamics)."""
-def _batch_hybrid_dynamics(model: _Model, Q: typing.Any, V: typing.Any, U: typing.Any, f_ext: typing.Any, n: typing.SupportsInt, threads: typing.SupportsInt) -> tuple:
-    """Hybrid dynamics of n rows (soadyn.batch.hybrid_dynamics)."""
-def _batch_inverse_dynamics(model: _Model, Q: typing.Any, V: typing.Any, QDD: typing.Any, f_ext: typing.Any, n: typing.SupportsInt, threads: typing.SupportsInt) -> numpy.typing.NDArray[numpy.float64]:
-    """Inverse dynamics of n rows (soadyn.batch.inverse_dynamics)."""
-def _batch_mass_matrix(model: _Model, Q: typing.Any, n: typing.SupportsInt, threads: typing.SupportsInt) -> numpy.typing.NDArray[numpy.float64]:
-    """Mass matrices of n rows (soadyn.batch.mass_matrix)."""
-def _batch_rollout(model: _Model, x0s: typing.Any, runs: typing.SupportsInt, controls: typing.Any, controls_per_run: bool, dt: typing.SupportsFloat, steps: typing.SupportsInt, integrator: str, record_every: typing.SupportsInt, parameters: collections.abc.Sequence[typing.SupportsInt], parameter_values: typing.Any, sources: collections.abc.Sequence[tuple[typing.SupportsInt, MotionSource]], events: collections.abc.Sequence[tuple[str, typing.SupportsInt]], event_times: typing.Any, threads: typing.SupportsInt) -> tuple:
-    """Parallel rollouts (soadyn.batch.rollout): (q, v, failed_step, messages)."""
-def _dual_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, f_ext: typing.Any = None, spanning_tree: bool = False) -> tuple:
-    """The six derivatives of constrained (or hybrid) dynamics by forward-mode AD (soadyn.dynamics_derivatives)."""
+_pybind11_version: str = '3.1.0'
