@@ -94,19 +94,17 @@ def kernel_names() -> dict:
 
 
 def main() -> int:
-    from builds import alternate_builds, has_build, missing_build_message, run_child
+    from builds import add_before_arguments, alternate_builds, before_error, run_child
     from measure import fastest_ratio, median_ratio, quartiles
     from peers import peer_timings
     from report import Table, write
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer rounds and calls (a smoke run, noisier)")
-    parser.add_argument("--before", type=Path, required=True,
-                        help="a directory holding the earlier build's soadyn package (pip install --target)")
-    parser.add_argument("--before-rev", required=True, help="the commit that build was made from")
+    add_before_arguments(parser, required=True)
     args = parser.parse_args()
-    if not has_build(args.before):
-        print(missing_build_message(args.before, args.before_rev), file=sys.stderr)
+    if before_error(args):
+        print(before_error(args), file=sys.stderr)
         return 2
     rounds, calls, steps = (2, 2000, 500) if args.quick else (6, 20000, 4000)
     paths = {name: robot(name)[0] for name in ROBOTS}

@@ -84,26 +84,24 @@ def cassini_child(steps: int) -> None:
 
 
 def main() -> int:
+    from builds import add_before_arguments, before_error, build_env, has_build
+
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--calls", type=positive_int, default=500, help="calls counted per algorithm and robot")
     parser.add_argument("--steps", type=positive_int, default=200, help="cassini steps counted per build")
-    parser.add_argument("--before", type=Path, default=None,
-                        help="a directory holding an earlier build's soadyn package (pip install --target); "
-                             "without it the cassini step is counted for this build only")
-    parser.add_argument("--before-rev", help="the commit that build was made from (required with --before)")
+    add_before_arguments(parser, required=False, without="; without it the cassini step is counted for this "
+                         "build only")
     args = parser.parse_args()
     if shutil.which("valgrind") is None:
         print("valgrind not found (Debian: apt-get install valgrind)", file=sys.stderr)
         return 2
-    from builds import build_env, has_build, missing_build_message
     from fixtures import ROBOTS, robot
     from peers import peer_program
     from report import Table, write
     from timing import joint_angle_kernel, mass_matrix_kernel
 
-    if args.before is not None and not (args.before_rev and has_build(args.before)):
-        print(missing_build_message(args.before, args.before_rev or "REV") if not has_build(args.before)
-              else "--before needs --before-rev", file=sys.stderr)
+    if before_error(args):
+        print(before_error(args), file=sys.stderr)
         return 2
     program = peer_program("pin_calls")
     if program is None:

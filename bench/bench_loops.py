@@ -73,7 +73,7 @@ import os  # noqa: E402
 import pinocchio as pin  # noqa: E402
 
 import soadyn  # noqa: E402
-from builds import alternate_builds, has_build, missing_build_message  # noqa: E402
+from builds import add_before_arguments, alternate_builds, before_error, has_build  # noqa: E402
 from measure import interleaved_per_call_us, median_ratio  # noqa: E402
 from support.pinocchio_mapping import JointMatch, PinocchioMapping, free_joint_names  # noqa: E402  (tests/support)
 from report import Table, write  # noqa: E402
@@ -402,13 +402,10 @@ def add_case(table: Table, c: Case, t: dict) -> None:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer calls (a smoke run, noisier)")
-    parser.add_argument("--before", type=Path, default=None,
-                        help="a directory holding an earlier build's soadyn package (pip install --target)")
-    parser.add_argument("--before-rev", help="the commit that build was made from (required with --before)")
+    add_before_arguments(parser, required=False, without="; without it, no comparison of builds")
     args = parser.parse_args()
-    if args.before is not None and not (args.before_rev and has_build(args.before)):
-        print(missing_build_message(args.before, args.before_rev or "REV") if not has_build(args.before)
-              else "--before needs --before-rev", file=sys.stderr)
+    if before_error(args):
+        print(before_error(args), file=sys.stderr)
         return 2
     calls, rounds, cpp_calls, hybrid_py_calls = (300, 2, 2000, 300) if args.quick else (1000, 6, 20000, 2000)
 

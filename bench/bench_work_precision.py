@@ -13,7 +13,8 @@ import io
 import subprocess
 import sys
 from collections import defaultdict
-from report import RESULTS, Table, write
+
+from report import RESULTS, Table, repo_path, write
 
 STYLE = {"euler": "o-", "rk4": "s-", "dopri5": "^-"}
 
@@ -115,8 +116,7 @@ def main() -> int:
              "dopri5 of the 100 s runs: 1 ms output steps, rtol 1e-10.",
              advice]
     write("work_precision", "Work-precision: error against CPU time for every integrator, step and scalar", tables,
-          {"horizon_s": 1.0, "repeats": 3}, notes, command_line="python bench/bench_work_precision.py "
-          "build/bench/bench/bench_work_precision")
+          {"horizon_s": 1.0, "repeats": 3}, notes, command_line=f"python bench/bench_work_precision.py {repo_path(sys.argv[1])}")
     return 0
 
 

@@ -11,6 +11,7 @@ on its last line of output.
 """
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import subprocess
@@ -47,6 +48,20 @@ def has_build(directory: Path | None) -> bool:
     return directory is not None and (Path(directory) / "soadyn" / "__init__.py").is_file()
 
 
-def missing_build_message(directory: Path, rev: str) -> str:
-    return (f"no soadyn package under {directory}: install the build of {rev} there first "
-            f"(pip install --no-deps --no-build-isolation --target DIR <checkout of {rev}>)")
+def add_before_arguments(parser: argparse.ArgumentParser, required: bool, without: str = "") -> None:
+    """--before DIR and --before-rev REV (both required when `required`; `without`: what a run without does)."""
+    parser.add_argument("--before", type=Path, required=required, default=None,
+                        help="a directory holding an earlier build's soadyn package (pip install --target)" + without)
+    parser.add_argument("--before-rev", required=required, help="the commit that build was made from")
+
+
+def before_error(args: argparse.Namespace) -> str | None:
+    """Why the parsed --before and --before-rev cannot be used (None: they can, or were not given)."""
+    if args.before is None:
+        return "--before-rev needs --before" if args.before_rev else None
+    if not args.before_rev:
+        return "--before needs --before-rev"
+    if not has_build(args.before):
+        return (f"no soadyn package under {args.before}: install the build of {args.before_rev} there first "
+                f"(pip install --no-deps --no-build-isolation --target DIR <sources of {args.before_rev}>)")
+    return None

@@ -50,7 +50,9 @@ class Table:
         index = [self.columns.index(c) for c in columns]
         bold = [bold and c in self.headline for c in columns]
         header = "| " + " | ".join(f"**{c}**" if b else c for c, b in zip(columns, bold)) + " |"
-        rule = "|" + "".join("---|" if k < self.key else "---:|" for k in range(len(columns)))
+        numeric = [any(isinstance(row[i], (int, float)) and not isinstance(row[i], bool) for row in self.rows)
+                   for i in index]
+        rule = "|" + "".join("---:|" if k >= self.key and numeric[k] else "---|" for k in range(len(columns)))
         lines = [header, rule]
         for row in self.rows:
             cells = [shown(row[i], self.formats.get(self.columns[i])) for i in index]
@@ -117,6 +119,12 @@ def machine() -> dict:
     except OSError:
         pass
     return {"cpu": cpu, "logical_cores": os.cpu_count(), "architecture": platform.machine()}
+
+
+def repo_path(path) -> Path:
+    """A path as seen from the repository's root (its name alone outside the repository): no machine's folders."""
+    path = Path(path).resolve()
+    return path.relative_to(HERE.parent) if path.is_relative_to(HERE.parent) else Path(path.name)
 
 
 def command(argv: list[str] | None = None) -> str:

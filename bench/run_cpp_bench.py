@@ -12,9 +12,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from report import tables_from_markdown, write
-
-REPO = Path(__file__).resolve().parent.parent
+from report import repo_path, tables_from_markdown, write
 
 BENCHMARKS = {  # name: (title, table titles, key columns per table)
     "core": ("Core benchmark: the hybrid algorithm against ABA, RNEA and CRBA",
@@ -43,9 +41,7 @@ def main() -> int:
     tables, notes = tables_from_markdown(out.stdout, titles, keys)
     for table in tables:
         table.summary = True
-    path = Path(program).resolve()
-    shown = path.relative_to(REPO) if path.is_relative_to(REPO) else Path(path.name)
-    command = " ".join([str(shown), *arguments])
+    command = " ".join([str(repo_path(program)), *arguments])
     write(name, title, tables, {"program": Path(program).name, "arguments": arguments,
                                 "build": "Release (-O3 -DNDEBUG), no -march=native"}, notes, command_line=command)
     return 0
