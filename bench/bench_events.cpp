@@ -18,7 +18,7 @@
 #include <memory>
 #include <string>
 #include <vector>
-#include "soadyn/scenes.hpp"
+#include "soadyn_scenes/scenes.hpp"
 #include "soadyn/sim/simulator.hpp"
 
 namespace {

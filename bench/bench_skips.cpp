@@ -16,7 +16,7 @@
 #include "batch_timing.hpp"
 #include "random_tree.hpp"  // tests/cpp: the models shared with the tests
 #include "soadyn/algorithms/hybrid.hxx"
-#include "soadyn/scenes.hpp"
+#include "soadyn_scenes/scenes.hpp"
 
 namespace {
 
@@ -62,12 +62,12 @@ void hybrid_with_wrenches(const Model& m, soadyn::Data& d, const soadyn_test::St
 }
 void body_frame_sweeps(const Model& m, soadyn::Data& d, const soadyn_test::State& s) {
   soadyn::detail::body_frame_sweeps<Flags::model_flags, double>(m, d, s.q.data(), s.v.data(), s.u.data(), nullptr,
-                                                               soadyn::world_acceleration(m), false);
+                                                               soadyn::detail::world_acceleration(m), false);
 }
 template <bool Flex>
 void tree_frame_sweeps(const Model& m, soadyn::Data& d, const soadyn_test::State& s) {
   soadyn::detail::tree_frame_sweeps<Flags::model_flags, Flex, double>(m, d, s.q.data(), s.v.data(), s.u.data(), nullptr,
-                                                              soadyn::world_acceleration(m), false);
+                                                              soadyn::detail::world_acceleration(m), false);
 }
 const Eigen::VectorXd& zeros() {
   static const Eigen::VectorXd zero = Eigen::VectorXd::Zero(256);  // no allocation in the timed calls
@@ -80,7 +80,7 @@ void hybrid_at_rest(const Model& m, soadyn::Data& d, const soadyn_test::State& s
 // ...which the sweeps given the zero vector itself compute.
 void sweeps_at_rest_with_velocity_terms(const Model& m, soadyn::Data& d, const soadyn_test::State& s) {
   soadyn::detail::tree_frame_sweeps<Flags::model_flags, false, double>(m, d, s.q.data(), zeros().data(), s.u.data(),
-                                                                       nullptr, soadyn::world_acceleration(m), false);
+                                                                       nullptr, soadyn::detail::world_acceleration(m), false);
 }
 
 Model general_joints(Model m) {  // every joint through the general joint code

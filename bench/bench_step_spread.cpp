@@ -22,7 +22,7 @@
 #include <functional>
 #include <string>
 #include <vector>
-#include "soadyn/scenes.hpp"
+#include "soadyn_scenes/scenes.hpp"
 #include "soadyn/sim/simulator.hpp"
 #include "soadyn/soadyn.hpp"
 

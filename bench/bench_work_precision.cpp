@@ -28,7 +28,7 @@
 #include <vector>
 #include "random_tree.hpp"  // tests/cpp: the 7-DOF arm spec shared with bench_core
 #include "soadyn/algorithms/energy.hpp"
-#include "soadyn/scenes.hpp"
+#include "soadyn_scenes/scenes.hpp"
 
 namespace {
 

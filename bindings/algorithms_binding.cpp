@@ -10,8 +10,8 @@
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
-#include "soadyn/algorithms/appendage_step.hpp"
-#include "soadyn/algorithms/joint_angles.hpp"
+#include "soadyn/sweeps/appendage_step.hpp"
+#include "soadyn/sweeps/joint_angles.hpp"
 #include "soadyn/soadyn.hpp"
 
 namespace soadyn_py {
@@ -49,13 +49,13 @@ void bind_algorithms(py::module_& mod) {
   py::register_exception<DynamicsError>(mod, "DynamicsError", PyExc_ArithmeticError);
   mod.attr("QUATERNION_TOLERANCE") = kQuaternionTolerance;
   mod.def("_joint_angle_kernel", &soadyn::joint_angle_kernel,
-          "The kernel of the joint angles' sines and cosines on this processor (algorithms/joint_angles.hpp): "
+          "The kernel of the joint angles' sines and cosines on this processor (sweeps/joint_angles.hpp): "
           "results agree bit for bit only between processes that use the same one.");
   mod.def("_mass_matrix_kernel", &soadyn::mass_matrix_kernel,
           "The kernel of rigid models' mass matrix on this processor (algorithms/crba.hpp): 'AVX2 FMA' or "
           "'baseline'; results agree bit for bit only between processes that use the same one.");
   mod.def("_appendage_kernel", &soadyn::appendage_kernel,
-          "The kernel of flexible appendages' step on this processor (algorithms/appendage_step.hpp): 'AVX2 FMA' "
+          "The kernel of flexible appendages' step on this processor (sweeps/appendage_step.hpp): 'AVX2 FMA' "
           "or 'baseline'; results agree bit for bit only between processes that use the same one.");
 
   mod.def("forward_dynamics",

@@ -20,7 +20,7 @@
 #include "soadyn/algorithms/configuration.hpp"
 #include "soadyn/parallel/batch_dynamics.hpp"
 #include "soadyn/parallel/rollout.hpp"
-#include "soadyn/parameters.hpp"
+#include "soadyn/model/parameters.hpp"
 
 namespace soadyn_py {
 

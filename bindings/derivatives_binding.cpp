@@ -1,4 +1,4 @@
-// Analytic derivatives of the dynamics (algorithms/dynamics_derivatives.hpp):
+// Analytic derivatives of the dynamics (analysis/dynamics_derivatives.hpp):
 // check arguments, run the C++ algorithm on the model's Data, copy out.
 #include <pybind11/complex.h>
 
@@ -7,10 +7,10 @@
 #include "errors.hpp"
 #include "model_handle.hpp"
 #include "simulator_handle.hpp"
-#include "soadyn/algorithms/dynamics_derivatives.hpp"
-#include "soadyn/algorithms/modes.hpp"
-#include "soadyn/algorithms/parameter_sensitivity.hpp"
-#include "soadyn/sim/linearization.hpp"
+#include "soadyn/analysis/dynamics_derivatives.hpp"
+#include "soadyn/analysis/modes.hpp"
+#include "soadyn/analysis/parameter_sensitivity.hpp"
+#include "soadyn/analysis/linearization.hpp"
 
 namespace soadyn_py {
 

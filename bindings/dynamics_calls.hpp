@@ -6,7 +6,7 @@
 
 #include "arrays.hpp"
 #include "model_handle.hpp"
-#include "soadyn/status.hpp"
+#include "soadyn/core/status.hpp"
 
 namespace soadyn_py {
 

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "soadyn/algorithms/force_elements.hpp"
-#include "soadyn/algorithms/loop_assembly.hpp"
-#include "soadyn/loops/loop.hpp"
+#include "soadyn/constraints/loop_assembly.hpp"
+#include "soadyn/model/loop.hpp"
 
 namespace soadyn_py {
 

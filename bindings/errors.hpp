@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
-#include "soadyn/data.hpp"
-#include "soadyn/status.hpp"
+#include "soadyn/model/data.hpp"
+#include "soadyn/core/status.hpp"
 
 namespace soadyn_py {
 

@@ -1,4 +1,4 @@
-// Force elements (force_elements/force_elements.hpp): adding them to a model,
+// Force elements (model/force_element.hpp): adding them to a model,
 // listing them, their potential energy and dissipated power.
 #include <optional>
 #include <vector>

@@ -10,9 +10,9 @@
 #include <optional>
 #include <stdexcept>
 
-#include "soadyn/sim/hil_runner.hpp"
+#include "soadyn/realtime/hil_runner.hpp"
 #include "soadyn/sim/simulator.hpp"
-#include "soadyn/sim/udp_link.hpp"
+#include "soadyn/realtime/udp_link.hpp"
 #include "simulator_handle.hpp"
 
 namespace soadyn_py {

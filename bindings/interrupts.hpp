@@ -1,4 +1,4 @@
-// Ctrl-C for the long computations called from Python (soadyn/interrupt.hpp).
+// Ctrl-C for the long computations called from Python (soadyn/core/interrupt.hpp).
 //
 // The poll looks at Python's pending signals at most every 20 ms of wall
 // time, taking the GIL for it when the computation released it. An exception
@@ -9,7 +9,7 @@
 
 #include <chrono>
 
-#include "soadyn/interrupt.hpp"
+#include "soadyn/core/interrupt.hpp"
 
 namespace soadyn_py {
 

@@ -1,4 +1,4 @@
-// Loop assembly and projection (soadyn/algorithms/loop_assembly.hpp): thin
+// Loop assembly and projection (soadyn/constraints/loop_assembly.hpp): thin
 // calls behind soadyn.assemble, soadyn.project_velocity and
 // soadyn.independent_coordinates (python/soadyn/loops.py turns `hold` into
 // the mask of DOFs allowed to move).

@@ -8,12 +8,12 @@
 #include <utility>
 #include <variant>
 
-#include "soadyn/model_file.hpp"
+#include "soadyn/model/model_file.hpp"
 #include "arrays.hpp"
 #include "model_handle.hpp"
-#include "soadyn/modal_rule.hpp"
+#include "soadyn/model/modal_rule.hpp"
 #include "soadyn/flex/flexible_body.hpp"
-#include "soadyn/scenes.hpp"
+#include "soadyn_scenes/scenes.hpp"
 
 namespace soadyn_py {
 
@@ -216,7 +216,7 @@ void bind_model(py::module_& mod) {
            "Velocity index of the named DOF, or -1.")
       .def("_load_cassini", [](ModelHandle& h) { load_scene(h, [] { return soadyn::cassini_model<double>(); }); })
       .def("_to_json", [](const ModelHandle& h) { return soadyn::model_to_json(h.model); },
-           "The model as model-file JSON text (soadyn/model_file.hpp).")
+           "The model as model-file JSON text (soadyn/model/model_file.hpp).")
       .def("_load_json",
            [](ModelHandle& h, const std::string& text, const std::string& source) {
              load_scene(h, [&] { return soadyn::model_from_json(text, source); });

@@ -16,7 +16,7 @@
 #include <memory>
 #include <mutex>
 #include <stdexcept>
-#include "soadyn/data.hpp"
+#include "soadyn/model/data.hpp"
 
 namespace soadyn {
 class BatchDynamics;

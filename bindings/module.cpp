@@ -12,7 +12,6 @@ void add_fast_paths(pybind11::module_& mod);
 void bind_simulator(pybind11::module_& mod);
 void bind_hil(pybind11::module_& mod);
 void bind_flexible_body(pybind11::module_& mod);
-void bind_timing(pybind11::module_& mod);
 void bind_force_elements(pybind11::module_& mod);
 void bind_parameters(pybind11::module_& mod);
 void bind_batch(pybind11::module_& mod);
@@ -31,7 +30,6 @@ PYBIND11_MODULE(_soadyn, mod) {
   soadyn_py::bind_simulator(mod);
   soadyn_py::bind_hil(mod);
   soadyn_py::bind_flexible_body(mod);
-  soadyn_py::bind_timing(mod);
   soadyn_py::bind_force_elements(mod);
   soadyn_py::bind_parameters(mod);
   soadyn_py::bind_batch(mod);

@@ -1,5 +1,5 @@
 // Named parameters (parameters.hpp) and their sensitivities
-// (algorithms/parameter_sensitivity.hpp): convert values between numpy's
+// (analysis/parameter_sensitivity.hpp): convert values between numpy's
 // row-major shapes and the table's column-major storage, call the C++ code.
 #include <pybind11/stl.h>
 
@@ -10,9 +10,9 @@
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
-#include "soadyn/algorithms/equilibrium_sensitivity.hpp"
-#include "soadyn/algorithms/parameter_sensitivity.hpp"
-#include "soadyn/parameters.hpp"
+#include "soadyn/analysis/equilibrium_sensitivity.hpp"
+#include "soadyn/analysis/parameter_sensitivity.hpp"
+#include "soadyn/model/parameters.hpp"
 
 namespace soadyn_py {
 

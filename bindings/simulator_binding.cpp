@@ -16,7 +16,7 @@
 #include "interrupts.hpp"
 #include "model_handle.hpp"
 #include "simulator_handle.hpp"
-#include "soadyn/scenes.hpp"
+#include "soadyn_scenes/scenes.hpp"
 
 namespace soadyn_py {
 

@@ -1,17 +1,17 @@
 // Static equilibrium (python/soadyn/statics.py): the Newton solve
-// (soadyn/algorithms/static_equilibrium.hpp) and the loop part of its matrix,
-// d(C(q)' nu)/dq (soadyn/algorithms/loop_force_stiffness.hpp).
+// (soadyn/analysis/static_equilibrium.hpp) and the loop part of its matrix,
+// d(C(q)' nu)/dq (soadyn/analysis/loop_force_stiffness.hpp).
 #include <pybind11/stl.h>
 
 #include "arrays.hpp"
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
-#include "soadyn/algorithms/loop_force_stiffness.hpp"
+#include "soadyn/analysis/loop_force_stiffness.hpp"
 #include "interrupts.hpp"
 
 #include <limits>
-#include "soadyn/algorithms/static_equilibrium.hpp"
+#include "soadyn/analysis/static_equilibrium.hpp"
 
 namespace soadyn_py {
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include <soadyn/scenes.hpp>
+#include <soadyn_scenes/scenes.hpp>
 #include <soadyn/sim/simulator.hpp>
 
 #include "paced_clock.hpp"

@@ -1,7 +1,7 @@
 // A closed-loop mechanism stepped in real time without Python: the planar
 // crank-rocker four-bar of Saha, Shah & Nandihal (Mechanical Sciences 4,
 // 2013, Fig. 16), the built-in scene soadyn::four_bar_model (a tree of three
-// hinges closed by one revolute cut: cpp/src/scenes.cpp shows the add_body
+// hinges closed by one revolute cut: examples/soadyn_scenes/scenes.cpp shows the add_body
 // and add_loop calls), assembled at crank angle 0 from a rough guess, then
 // stepped at 1 kHz with RK4: the crank driven at 1 rev/s for the first half
 // (its drive torque is the actuator force of the closed chain), then released
@@ -14,7 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include <soadyn/scenes.hpp>
+#include <soadyn_scenes/scenes.hpp>
 #include <soadyn/soadyn.hpp>
 
 #include "paced_clock.hpp"

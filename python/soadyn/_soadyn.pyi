@@ -115,7 +115,7 @@ class _Model:
         ...
     def _to_json(self) -> str:
         """
-        The model as model-file JSON text (soadyn/model_file.hpp).
+        The model as model-file JSON text (soadyn/model/model_file.hpp).
         """
     def body_index(self, arg0: str) -> int:
         """
@@ -715,7 +715,7 @@ def _add_point_spring(arg0: _Model, arg1: str, arg2: str, arg3: str, arg4: typin
     ...
 def _appendage_kernel() -> str:
     """
-    The kernel of flexible appendages' step on this processor (algorithms/appendage_step.hpp): 'AVX2 FMA' or 'baseline'; results agree bit for bit only between processes that use the same one.
+    The kernel of flexible appendages' step on this processor (sweeps/appendage_step.hpp): 'AVX2 FMA' or 'baseline'; results agree bit for bit only between processes that use the same one.
     """
 def _assemble(model: _Model, q: typing.Any, free: collections.abc.Sequence[bool], tolerance: typing.Any, max_iterations: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     ...
@@ -757,7 +757,7 @@ def _get_parameter(model: _Model, name: str) -> typing.Any:
     ...
 def _joint_angle_kernel() -> str:
     """
-    The kernel of the joint angles' sines and cosines on this processor (algorithms/joint_angles.hpp): results agree bit for bit only between processes that use the same one.
+    The kernel of the joint angles' sines and cosines on this processor (sweeps/joint_angles.hpp): results agree bit for bit only between processes that use the same one.
     """
 def _linearize(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, dt: typing.Any, integrator: typing.Any, f_ext: typing.Any = None) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     ...
@@ -795,13 +795,6 @@ def _static_equilibrium(model: _Model, q0: typing.Any, free: collections.abc.Seq
     """
     (q, nu, G - C' nu, stiffness eigenvalues, iterations, residual norm, stable) of the static equilibrium
     nearest q0 with the DOFs whose `free` entry is False held (soadyn.static_equilibrium wraps it).
-    """
-def _time_cpp(model: _Model, algorithm: str, q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], u: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], calls: typing.SupportsInt | typing.SupportsIndex = 20000, repetitions: typing.SupportsInt | typing.SupportsIndex = 7) -> float:
-    """
-    Median microseconds per C++ call of 'hybrid' (model's flags), 'aba', 'rnea', 'crba', 'crba_baseline'
-    (the mass matrix's baseline kernel, rigid models), 'constrained'
-    (constrained_dynamics), 'dynamics_derivatives' (model's flags) or 'inverse_dynamics_derivatives' over the given
-    states (rows), `calls` calls per repetition. For benchmarks; the GIL is released.
     """
 def _tree_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.Any, u: typing.Any, f_ext: typing.Any = None) -> tuple:
     ...

@@ -1,4 +1,4 @@
-"""Assembly and projection of closed loops (C++: soadyn/algorithms/loop_assembly.hpp).
+"""Assembly and projection of closed loops (C++: soadyn/constraints/loop_assembly.hpp).
 
 ``assemble`` solves the closure equations Psi(q) = 0 by Gauss-Newton with
 minimum-norm steps of the DOFs not held; ``project_velocity`` makes C(q) v = 0

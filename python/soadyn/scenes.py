@@ -1,4 +1,4 @@
-"""Built-in scenes (built in C++, cpp/src/scenes.cpp, so C++ programs share them).
+"""Built-in scenes (built in C++, examples/soadyn_scenes/scenes.cpp, so C++ programs share them).
 
 ``cassini`` follows the application example of the prescribed-motion paper
 (Jain & Rodriguez): a free-flying spacecraft bus with a turntable driven at
@@ -15,7 +15,7 @@ turntable and the engine gimbal.
 
 Closed-loop scenes (trees closed by cut joints; their data, in C++
 FourBarData, SliderCrankData and DeltaRobotData, are documented in
-cpp/include/soadyn/scenes.hpp):
+examples/soadyn_scenes/scenes.hpp):
 
 ``four_bar`` is the planar crank-rocker of Saha, Shah & Nandihal, "Evolution
 of the DeNOC-based dynamic modelling for multibody systems", Mechanical

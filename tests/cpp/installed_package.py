@@ -95,6 +95,9 @@ def install(build: Path, source: Path, scratch: Path) -> None:
     require((libraries / "libsoadyn.a").is_file() and (libraries / "libsoadyn_realtime.a").is_file(),
             "libsoadyn.a (soadyn::core) and libsoadyn_realtime.a (soadyn::realtime)")
     require((prefix / "include" / "soadyn" / "soadyn.hpp").is_file(), "the headers")
+    require((libraries / "libsoadyn_scenes.a").is_file() and
+            (prefix / "include" / "soadyn_scenes" / "scenes.hpp").is_file(),
+            "the built-in scenes beside the core (libsoadyn_scenes.a, soadyn_scenes/scenes.hpp)")
 
     # One version: the package's is pyproject.toml's.
     version = re.search(r'set\(PACKAGE_VERSION "([^"]+)"\)', (config_dir / "soadynConfigVersion.cmake").read_text())
@@ -104,7 +107,7 @@ def install(build: Path, source: Path, scratch: Path) -> None:
 
     # soadyn::core links Eigen only (and, where the C library has it, glibc's
     # vector math library, as a part of the C library like libm: the joint
-    # angles' sines, cpp/src/joint_angles.cpp), and its archive calls no
+    # angles' sines, cpp/src/sweeps/joint_angles.cpp), and its archive calls no
     # socket, thread or scheduling function.
     targets = (config_dir / "soadynTargets.cmake").read_text()
     core = re.search(r"set_target_properties\(soadyn::core PROPERTIES(.*?)\n\)", targets, re.DOTALL)
@@ -120,6 +123,10 @@ def install(build: Path, source: Path, scratch: Path) -> None:
     realtime = run(["nm", "-u", "--format=just-symbols", str(libraries / "libsoadyn_realtime.a")], show_output=False)
     require("socket" in {line.strip() for line in realtime.splitlines()},
             "the socket calls in libsoadyn_realtime.a (the symbol check above sees what it looks for)")
+    defined = run(["nm", "--defined-only", "--format=just-symbols", "-C", str(libraries / "libsoadyn.a")],
+                  show_output=False)
+    scenes = sorted({line.strip() for line in defined.splitlines() if "cassini_model" in line})
+    require(not scenes, f"no scene in libsoadyn.a (soadyn::core defines {', '.join(scenes[:3])})")
     print(f"installed soadyn {version.group(1)} into {prefix}: soadyn::core needs Eigen only")
 
 

@@ -1,4 +1,4 @@
-// The flexible appendages' step kernels (algorithms/appendage_step.hpp)
+// The flexible appendages' step kernels (sweeps/appendage_step.hpp)
 // against each other and against the elimination of the modal DOFs from the
 // body's full mass matrix.
 //
@@ -22,8 +22,9 @@
 #include "failure_count.hpp"
 #include "random_tree.hpp"
 #include "threads_at_once.hpp"
-#include "soadyn/algorithms/appendage_step.hpp"
+#include "soadyn/sweeps/appendage_step.hpp"
 #include "soadyn/soadyn.hpp"
+#include "soadyn_scenes/scenes.hpp"
 
 using soadyn_test::check;
 using soadyn_test::failures;

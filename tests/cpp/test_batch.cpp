@@ -17,12 +17,12 @@
 #include <vector>
 
 #include "random_tree.hpp"
-#include "soadyn/algorithms/dynamics_derivatives.hpp"
-#include "soadyn/algorithms/parameter_sensitivity.hpp"
+#include "soadyn/analysis/dynamics_derivatives.hpp"
+#include "soadyn/analysis/parameter_sensitivity.hpp"
 #include "soadyn/parallel/batch_dynamics.hpp"
 #include "soadyn/parallel/rollout.hpp"
-#include "soadyn/parameters.hpp"
-#include "soadyn/scenes.hpp"
+#include "soadyn/model/parameters.hpp"
+#include "soadyn_scenes/scenes.hpp"
 #include "soadyn/soadyn.hpp"
 
 namespace {

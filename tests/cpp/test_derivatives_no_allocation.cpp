@@ -16,8 +16,8 @@
 
 #include "allocation_counter.hpp"
 #include "random_tree.hpp"
-#include "soadyn/algorithms/dynamics_derivatives.hpp"
-#include "soadyn/sim/linearization.hpp"
+#include "soadyn/analysis/dynamics_derivatives.hpp"
+#include "soadyn/analysis/linearization.hpp"
 #include "soadyn/soadyn.hpp"
 
 using namespace soadyn_test;

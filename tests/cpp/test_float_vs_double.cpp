@@ -20,7 +20,7 @@
 #include <vector>
 #include "float_error_tracker.hpp"
 #include "random_tree.hpp"
-#include "soadyn/scenes.hpp"
+#include "soadyn_scenes/scenes.hpp"
 
 namespace {
 

@@ -15,7 +15,7 @@
 
 #include "allocation_counter.hpp"
 #include "random_tree.hpp"
-#include "soadyn/force_elements/add_force_element.hxx"  // joint_has_scalar_coordinates
+#include "soadyn/model/add_force_element.hxx"  // joint_has_scalar_coordinates
 #include "soadyn/soadyn.hpp"
 
 using namespace soadyn_test;

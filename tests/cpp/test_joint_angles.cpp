@@ -23,8 +23,8 @@
 #include "failure_count.hpp"
 #include "random_tree.hpp"
 #include "threads_at_once.hpp"
-#include "soadyn/algorithms/joint_angles.hpp"
-#include "soadyn/model_cast.hxx"  // ModelTpl::cast
+#include "soadyn/sweeps/joint_angles.hpp"
+#include "soadyn/model/model_cast.hxx"  // ModelTpl::cast
 #include "soadyn/soadyn.hpp"
 
 namespace {

@@ -12,7 +12,7 @@
 #include <vector>
 #include "allocation_counter.hpp"
 #include "random_tree.hpp"
-#include "soadyn/algorithms/loop_force_stiffness.hpp"
+#include "soadyn/analysis/loop_force_stiffness.hpp"
 #include "soadyn/soadyn.hpp"
 
 using namespace soadyn_test;

@@ -19,7 +19,7 @@
 #include "soadyn/soadyn.hpp"
 #include "allocation_counter.hpp"
 #include "random_tree.hpp"
-#include "soadyn/scenes.hpp"
+#include "soadyn_scenes/scenes.hpp"
 
 using namespace soadyn_test;
 

@@ -1,4 +1,4 @@
-// Model files (soadyn/model_file.hpp) from C++: every model the library can
+// Model files (soadyn/model/model_file.hpp) from C++: every model the library can
 // build is saved, loaded and saved again, and
 // - the second text equals the first (nothing lost, numbers exact);
 // - the loaded model's dynamics equal the original's bit for bit at random
@@ -15,6 +15,7 @@
 #include "failure_count.hpp"
 #include "random_tree.hpp"
 #include "soadyn/soadyn.hpp"
+#include "soadyn_scenes/scenes.hpp"
 
 namespace {
 

@@ -13,7 +13,7 @@
 
 #include "allocation_counter.hpp"
 #include "random_tree.hpp"
-#include "soadyn/parameters.hpp"
+#include "soadyn/model/parameters.hpp"
 #include "soadyn/soadyn.hpp"
 
 namespace {

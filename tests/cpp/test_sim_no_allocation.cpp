@@ -32,9 +32,9 @@
 #include <thread>
 #include <vector>
 #include "allocation_counter.hpp"
-#include "soadyn/scenes.hpp"
-#include "soadyn/sim/hil_runner.hpp"
-#include "soadyn/sim/state_snapshot.hpp"
+#include "soadyn_scenes/scenes.hpp"
+#include "soadyn/realtime/hil_runner.hpp"
+#include "soadyn/realtime/state_snapshot.hpp"
 
 using namespace soadyn_test;
 

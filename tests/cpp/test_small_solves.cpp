@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <random>
 #include "failure_count.hpp"
-#include "soadyn/algorithms/spd_factor6.hpp"
-#include "soadyn/algorithms/steps.hpp"
+#include "soadyn/linalg/spd_factor6.hpp"
+#include "soadyn/sweeps/steps.hpp"
 
 using namespace soadyn;
 using soadyn_test::check;
@@ -38,7 +38,7 @@ void free_root_solve(std::mt19937& rng) {
     Vec6<double> b;
     for (int r = 0; r < 6; ++r) b[r] = unit(rng);
     Mat6<double> factor;
-    const int bad = spd_factor6(P, singular_pivot_threshold(P), factor);
+    const int bad = spd_factor6(P, detail::singular_pivot_threshold(P), factor);
     check(bad == -1, "a positive definite P accepted");
     const Vec6<double> x = spd_solve6(factor, b);
     const Eigen::LLT<Mat6<double>> llt(P);
@@ -57,8 +57,8 @@ void free_root_solve(std::mt19937& rng) {
     P.row(zero).setZero();
     P.col(zero).setZero();
     Mat6<double> factor, L = P;
-    const int bad = spd_factor6(P, singular_pivot_threshold(P), factor);
-    agreed += bad == cholesky_in_place(L, singular_pivot_threshold(P)) && bad == zero;
+    const int bad = spd_factor6(P, detail::singular_pivot_threshold(P), factor);
+    agreed += bad == cholesky_in_place(L, detail::singular_pivot_threshold(P)) && bad == zero;
   }
   std::printf("spd_factor6: singular pivot named as by cholesky_in_place: %d of 6\n", agreed);
   check(agreed == 6, "every singular pivot named");
@@ -71,7 +71,7 @@ int two_dof(const Mat6<double>& P, const Eigen::Matrix<double, 6, 2>& s, Mat6N<d
   Vec6<double> z = Vec6<double>::Constant(0.3), z_plus;
   VecN<double> torque(2);
   torque << 1.0, -2.0;
-  return articulated_hinge_step<PlusMode::store>(P, Sr, z, torque, static_cast<const double*>(nullptr), G, nu, factor,
+  return detail::articulated_hinge_step<detail::PlusMode::store>(P, Sr, z, torque, static_cast<const double*>(nullptr), G, nu, factor,
                                                 P_plus, z_plus);
 }
 
@@ -92,7 +92,7 @@ void two_dof_hinge(std::mt19937& rng) {
     const Eigen::Matrix<double, 6, 2> G_ref = (D.llt().solve((P * s).transpose())).transpose();
     worst = std::max(worst, (Eigen::Matrix<double, 6, 2>(G) - G_ref).norm() / G_ref.norm());
     Eigen::Matrix2d L = D;
-    cholesky_in_place(L, singular_pivot_threshold(P));
+    cholesky_in_place(L, detail::singular_pivot_threshold(P));
     const auto close = [](double x, double y) { return std::abs(x - y) <= 4e-16 * std::abs(y); };
     close_factors += close(factor(0, 0), L(0, 0)) && close(factor(1, 0), L(1, 0)) && close(factor(1, 1), L(1, 1));
     ++cases;

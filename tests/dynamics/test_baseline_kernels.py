@@ -175,18 +175,18 @@ def test_kernel_names_are_the_kernels_that_run():
 
 
 def test_timing_the_baseline_kernel_refuses_a_flexible_model_by_name():
-    """`_time_cpp(..., "crba_baseline")` times the rigid-model kernel alone: a model with flexible
+    """`time_cpp(..., "crba_baseline")` (soadyn._timing) times the rigid-model kernel alone: a model with flexible
     bodies (whose mass matrix is formed in body frames) is refused with the algorithm named."""
     from soadyn import scenes
-    from soadyn._soadyn import _time_cpp
+    from soadyn._timing import time_cpp
 
     m = scenes.cassini()
     q = soadyn.random_configuration(m, seed=3)[None, :]
     zeros = np.zeros((1, m.nv))
     with pytest.raises(ValueError, match="crba_baseline takes rigid models only"):
-        _time_cpp(m, "crba_baseline", q, zeros, zeros, 10, 1)
+        time_cpp(m, "crba_baseline", q, zeros, zeros, 10, 1)
     with pytest.raises(ValueError, match="unknown algorithm 'crba_fma'.*crba_baseline"):
-        _time_cpp(m, "crba_fma", q, zeros, zeros, 10, 1)
+        time_cpp(m, "crba_fma", q, zeros, zeros, 10, 1)
     rigid, _ = robot_with_oracle("panda", False)
     qr = soadyn.random_configuration(rigid, seed=3)[None, :]
-    assert _time_cpp(rigid, "crba_baseline", qr, np.zeros((1, rigid.nv)), np.zeros((1, rigid.nv)), 10, 1) > 0
+    assert time_cpp(rigid, "crba_baseline", qr, np.zeros((1, rigid.nv)), np.zeros((1, rigid.nv)), 10, 1) > 0

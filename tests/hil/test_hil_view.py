@@ -1,7 +1,7 @@
 """Watching a HIL run: the runner's latest-state snapshot, run_hil's on_state and `soadyn hil --view`.
 
 The loop publishes (step, t, q, v) into a sequence-locked snapshot after every
-step (cpp/include/soadyn/sim/state_snapshot.hpp; its allocation-free,
+step (cpp/include/soadyn/realtime/state_snapshot.hpp; its allocation-free,
 tear-free publication under a concurrent reader is proved by
 tests/cpp/test_sim_no_allocation.cpp). Here: what a reader gets is a state
 the simulation really passed through, the last one is the final state, a

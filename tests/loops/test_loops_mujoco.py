@@ -7,7 +7,7 @@ the cut joints,
 with prescribed DOFs substituted, and solved by least squares (minimum-norm
 multipliers when loop equations are redundant). Nothing of soadyn enters
 the reference: the constraint directions W of each kind are written below
-from the sites' frames, after the conventions of soadyn/loops/loop.hpp.
+from the sites' frames, after the conventions of soadyn/model/loop.hpp.
 
 Trees: the spatial random trees of support/pinocchio_trees.random_specs
 (helical joints, which MuJoCo lacks, become cylindrical ones about the same

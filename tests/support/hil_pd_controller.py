@@ -1,6 +1,6 @@
 """A PD controller for one DOF, run as a separate process by tests/hil/test_hil.py.
 
-It speaks the soadyn HIL packet format (cpp/include/soadyn/sim/udp_link.hpp)
+It speaks the soadyn HIL packet format (cpp/include/soadyn/realtime/udp_link.hpp)
 with nothing but the standard library, as an independent implementation:
 binds 127.0.0.1 on a free port and prints the port, then answers every sensor
 packet (kind 2: q then v) with a command packet (kind 1: nv torques, zero

@@ -1,7 +1,7 @@
 """Derivatives of the dynamics with respect to q, v and the inputs.
 
 Rigid trees use the analytic recursive algorithm in C++
-(cpp/include/soadyn/algorithms/dynamics_derivatives.hpp): the derivative of
+(cpp/include/soadyn/analysis/dynamics_derivatives.hpp): the derivative of
 the Newton-Euler sweeps, O(N d) for tree depth d, and the hybrid problem's
 partitioned solve with the tree-sparse factor of the mass matrix. Models with
 closed loops are differentiated by forward-mode automatic differentiation of
@@ -69,7 +69,7 @@ def dynamics_derivatives(model, q, v, u, f_ext=None):
 
     Loop models: the derivatives of constrained_dynamics (the same outputs and inputs), by
     forward-mode automatic differentiation of its sweeps (one dual-number evaluation per column,
-    exact to rounding; soadyn/algorithms/parameter_sensitivity.hpp).
+    exact to rounding; soadyn/analysis/parameter_sensitivity.hpp).
     """
     if by_dual_numbers(model):
         return _soadyn._dual_dynamics_derivatives(model, q, v, u, f_ext)

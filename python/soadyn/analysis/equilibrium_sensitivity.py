@@ -17,7 +17,7 @@ dH/dp = dG_h/dp + K_hf dq_f/dp - C_h' dnu/dp.
 Parameters whose change moves the loops' closure (a body's placement on a loop model) are refused:
 the closure's own dependence on them is not differentiated here.
 
-Computed in C++ (soadyn/algorithms/equilibrium_sensitivity.hpp: EquilibriumSensitivity::direct and
+Computed in C++ (soadyn/analysis/equilibrium_sensitivity.hpp: EquilibriumSensitivity::direct and
 ::objective_gradient); this module names the results.
 """
 from __future__ import annotations

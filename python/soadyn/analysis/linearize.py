@@ -1,4 +1,4 @@
-"""Exact linearizations of the dynamics (C++: soadyn/sim/linearization.hpp, which documents the math)."""
+"""Exact linearizations of the dynamics (C++: soadyn/analysis/linearization.hpp, which documents the math)."""
 from __future__ import annotations
 
 from .. import _soadyn

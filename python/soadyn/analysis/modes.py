@@ -88,7 +88,7 @@ class Modes:
 
 def modes(model, q) -> Modes:
     """Frequencies (Hz and rad/s), damping ratios and DOF-labelled mode shapes of the
-    model linearised about q at rest (see Modes; C++: soadyn/algorithms/modes.hpp).
+    model linearised about q at rest (see Modes; C++: soadyn/analysis/modes.hpp).
     Prescribed DOFs are held. Models with flexible bodies or point springs: from the dual-number
     derivatives (soadyn.inverse_dynamics_derivatives) through the same eigen-analysis."""
     if by_dual_numbers(model) and not model.nloops:

@@ -14,7 +14,7 @@ constrained_dynamics (M qdd + h = tau + C' nu). Newton's matrix is analytic:
 dG/dq from inverse_dynamics_derivatives at v = 0, qdd = 0, and d(C' nu)/dq at
 fixed nu from loop_force_stiffness. Increments are tangent vectors applied
 with soadyn.integrate (q-derivatives in the tangent space). The Newton solve
-is C++ (soadyn/algorithms/static_equilibrium.hpp, loop_force_stiffness.hpp);
+is C++ (soadyn/analysis/static_equilibrium.hpp, loop_force_stiffness.hpp);
 this module turns `hold` into the mask of free DOFs and adds the wrenches.
 
 Decisions:
@@ -37,7 +37,7 @@ Decisions:
   every eigenvalue is > 0 (a hanging pendulum: m g l; upside down: -m g l).
 - Only `hold` fixes DOFs: the model's prescribed flags play no part.
 - Models with flexible bodies or point springs take the stiffness from the
-  dual-number sweeps (soadyn/algorithms/static_stiffness.hpp).
+  dual-number sweeps (soadyn/analysis/static_stiffness.hpp).
 """
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """soadyn's own model files: save_model / load_model, and pickling of a Model.
 
 The format (JSON, "format": "soadyn-model", "version": 1) is written and read
-by the C++ library (soadyn/model_file.hpp: `soadyn::save_model`,
+by the C++ library (soadyn/model/model_file.hpp: `soadyn::save_model`,
 `soadyn::load_model`), so a model built in Python loads unchanged in a C++
 simulator or a campaign worker. Numbers are written with the 17 significant
 digits that round-trip: a loaded model's dynamics equal the saved model's bit

@@ -2,7 +2,7 @@
 // manifolds, and the unit-quaternion check.
 #pragma once
 #include <cstdint>
-#include "soadyn/algorithms/steps.hpp"
+#include "soadyn/sweeps/steps.hpp"
 
 namespace soadyn {
 

@@ -2,7 +2,7 @@
 #pragma once
 #include <vector>
 
-#include "soadyn/algorithms/steps.hpp"
+#include "soadyn/sweeps/steps.hpp"
 
 namespace soadyn {
 

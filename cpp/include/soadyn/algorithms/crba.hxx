@@ -1,8 +1,8 @@
 #pragma once
 #include "soadyn/algorithms/crba.hpp"
 #include "soadyn/algorithms/rnea.hxx"
-#include "soadyn/algorithms/tree_cholesky.hpp"
-#include "soadyn/algorithms/tree_frame_steps.hpp"
+#include "soadyn/linalg/tree_cholesky.hpp"
+#include "soadyn/sweeps/tree_frame_steps.hpp"
 
 namespace soadyn {
 
@@ -88,7 +88,7 @@ Status finish_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, S probe) {
     probe += M.diagonal().sum();
   }
   using std::isfinite;
-  if (!isfinite(scalar_value(probe))) return check_finite_columns(M);  // names the column; a false alarm (the sum overflowed) passes
+  if (!isfinite(scalar_value(probe))) return detail::check_finite_columns(M);  // names the column; a false alarm (the sum overflowed) passes
   return Status{};
 }
 
@@ -146,7 +146,7 @@ SOADYN_FLATTEN Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, 
 template <class S>
 Status tree_frame_mass_matrix_and_bias(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* f_ext) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
-  const Vec6<S> world_acc = world_acceleration(m);
+  const Vec6<S> world_acc = detail::world_acceleration(m);
   tabulate_joint_angles(m, d.sweep, q);
   for (std::size_t i = 0; i < n; ++i) {
     tree_velocity_step(m, d, i, q, v);
@@ -249,7 +249,7 @@ Status mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q)
     if (status.code != StatusCode::beyond_tree_frame_reach) return status;
   }
   detail::composite_body_frames(m, d, q);
-  return check_finite_columns(d.mass_matrix);
+  return detail::check_finite_columns(d.mass_matrix);
 }
 
 }  // namespace soadyn

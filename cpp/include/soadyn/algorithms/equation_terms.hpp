@@ -37,7 +37,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "soadyn/algorithms/steps.hpp"
+#include "soadyn/sweeps/steps.hpp"
 
 namespace soadyn {
 

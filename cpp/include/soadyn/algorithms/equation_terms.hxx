@@ -1,7 +1,7 @@
 #pragma once
 #include "soadyn/algorithms/equation_terms.hpp"
 #include "soadyn/algorithms/rnea.hxx"
-#include "soadyn/algorithms/tree_frame_steps.hpp"
+#include "soadyn/sweeps/tree_frame_steps.hpp"
 #include "soadyn/spatial/coriolis_inertia.hpp"
 
 namespace soadyn {
@@ -97,7 +97,7 @@ void coriolis_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, EquationTermsWorkspace
 template <class S>
 Status gravity_forces(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   detail::rnea<S>(m, d, q.data(), nullptr, nullptr, nullptr);  // h at rest: g(q)
-  return check_finite(d.tau);
+  return detail::check_finite(d.tau);
 }
 
 template <class S>
@@ -112,14 +112,14 @@ Status external_forces_to_generalized(const ModelTpl<S>& m, DataTpl<S>& d, const
     detail::newton_euler_sweeps<false>(m, d, q.data(), static_cast<const S*>(nullptr),
                                        static_cast<const S*>(nullptr), f_ext, no_gravity);
   d.tau = -d.tau;
-  return check_finite(d.tau);
+  return detail::check_finite(d.tau);
 }
 
 template <class S>
 Status coriolis_matrix(const ModelTpl<S>& m, DataTpl<S>& d, EquationTermsWorkspace<S>& w, const ConstVecRef<S>& q,
                        const ConstVecRef<S>& v, Eigen::Ref<MatX<S>> coriolis) {
   detail::coriolis_sweeps(m, d, w, q.data(), v.data(), coriolis);
-  return check_finite_columns(coriolis);
+  return detail::check_finite_columns(coriolis);
 }
 
 template <class S>
@@ -128,7 +128,7 @@ Status mass_matrix_derivative(const ModelTpl<S>& m, DataTpl<S>& d, EquationTerms
                               Eigen::Ref<MatX<S>> mass_rate) {
   detail::coriolis_sweeps(m, d, w, q.data(), v.data(), coriolis);
   mass_rate = coriolis + coriolis.transpose();  // Mdot - 2C skew-symmetric and Mdot symmetric
-  return check_finite_columns(mass_rate);
+  return detail::check_finite_columns(mass_rate);
 }
 
 template <class S>
@@ -140,7 +140,7 @@ Status christoffel_symbols(const ModelTpl<S>& m, DataTpl<S>& d, EquationTermsWor
     detail::coriolis_sweeps<S>(m, d, w, q.data(), w.unit_velocity.data(), christoffel.middleCols(k * nv, nv));
     w.unit_velocity[k] = S(0);
   }
-  return check_finite_columns(christoffel);
+  return detail::check_finite_columns(christoffel);
 }
 
 }  // namespace soadyn

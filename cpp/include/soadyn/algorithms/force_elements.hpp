@@ -1,4 +1,4 @@
-// Force elements in the dynamics (force_elements/force_elements.hpp): their
+// Force elements in the dynamics (model/force_element.hpp): their
 // forces, potential energy and dissipated power. Every dynamics entry point
 // (inverse_dynamics, bias_forces, forward_dynamics, hybrid_dynamics,
 // constrained_dynamics, loop_joint_wrenches, and through them the Simulator)
@@ -11,7 +11,7 @@
 // rigid terms and do not include them. A model without force elements pays
 // one test per call.
 #pragma once
-#include "soadyn/algorithms/steps.hpp"
+#include "soadyn/sweeps/steps.hpp"
 
 namespace soadyn {
 

@@ -54,8 +54,8 @@ FrameLocation<S> locate_frame(const ModelTpl<S>& model, const std::string& name)
 template <class S>
 FrameLocation<S> locate_frame(const ModelTpl<S>& model, int body);
 
-template <class S> using Mat6XRef = typename type_identity<Eigen::Ref<Eigen::Matrix<S, 6, Eigen::Dynamic>>>::type;
-template <class S> using Mat3XRef = typename type_identity<Eigen::Ref<Eigen::Matrix<S, 3, Eigen::Dynamic>>>::type;
+template <class S> using Mat6XRef = typename detail::type_identity<Eigen::Ref<Eigen::Matrix<S, 6, Eigen::Dynamic>>>::type;
+template <class S> using Mat3XRef = typename detail::type_identity<Eigen::Ref<Eigen::Matrix<S, 3, Eigen::Dynamic>>>::type;
 
 // Pose of the frame in the world at q.
 template <class S>

@@ -62,10 +62,10 @@ void path_kinematics(const ModelTpl<S>& m, DataTpl<S>& d, int body, const S* q, 
     int j = body;
     for (int k = 0; k < level; ++k) j = m.parent[static_cast<std::size_t>(j)];
     const std::size_t b = static_cast<std::size_t>(j);
-    joint_step(m, d, b, q, v);
+    detail::joint_step(m, d, b, q, v);
     const int p = m.parent[b];
     d.pose_in_world[b] = p >= 0 ? d.pose_in_world[static_cast<std::size_t>(p)] * d.pose_in_parent[b] : d.pose_in_parent[b];
-    if (v) velocity_step(m, d, b, v);
+    if (v) detail::velocity_step(m, d, b, v);
   }
 }
 
@@ -134,7 +134,7 @@ Vec6<S> frame_acceleration(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRe
   Vec6<S> world = Vec6<S>::Zero();
   for (int j = f.body; j >= 0; j = m.parent[static_cast<std::size_t>(j)]) {
     const std::size_t b = static_cast<std::size_t>(j);
-    const Vec6<S> relative = subspace_times(d.sweep.body_subspace[b], qdd.data() + m.v_index[b]) + d.sweep.body_coriolis[b];
+    const Vec6<S> relative = detail::subspace_times(d.sweep.body_subspace[b], qdd.data() + m.v_index[b]) + d.sweep.body_coriolis[b];
     world += d.pose_in_world[b].motion_to_parent(relative);
   }
   const Transform<S> X = detail::frame_pose_in_world(d, f);

@@ -14,7 +14,7 @@
 // (tree_frame_sweeps.hxx), the others in body frames (body_frame_sweeps.hxx);
 // dynamics_path.hxx chooses.
 #pragma once
-#include "soadyn/algorithms/steps.hpp"
+#include "soadyn/sweeps/steps.hpp"
 
 namespace soadyn {
 

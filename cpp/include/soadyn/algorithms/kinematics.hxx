@@ -1,5 +1,5 @@
 #pragma once
-#include "soadyn/algorithms/flexible_steps.hpp"
+#include "soadyn/sweeps/flexible_steps.hpp"
 #include "soadyn/algorithms/kinematics.hpp"
 
 namespace soadyn {

@@ -1,6 +1,6 @@
 // Inverse dynamics by the recursive Newton-Euler algorithm (Jain & Rodriguez 1993, Eqs. 1-4).
 #pragma once
-#include "soadyn/algorithms/steps.hpp"
+#include "soadyn/sweeps/steps.hpp"
 
 namespace soadyn {
 

@@ -1,5 +1,5 @@
 #pragma once
-#include "soadyn/algorithms/flexible_steps.hpp"
+#include "soadyn/sweeps/flexible_steps.hpp"
 #include "soadyn/algorithms/force_elements.hxx"
 #include "soadyn/algorithms/rnea.hpp"
 
@@ -16,7 +16,7 @@ void newton_euler_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
     body_joint_step<Flex>(m, d, i, q, v);
     body_motion_step<Flex>(m, d, i, q, v, f_ext);
     d.body_acceleration[i] = body_parent_acceleration<Flex>(m, d, i, world_acc, qdd) + d.sweep.body_coriolis[i];
-    if (qdd) d.body_acceleration[i] += subspace_times(d.sweep.body_subspace[i], qdd + m.v_index[i]);
+    if (qdd) d.body_acceleration[i] += detail::subspace_times(d.sweep.body_subspace[i], qdd + m.v_index[i]);
     if constexpr (Flex) {
       if (m.is_flexible(static_cast<int>(i))) {
         flexible_newton_euler(m, d, i, qdd);
@@ -26,9 +26,9 @@ void newton_euler_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
     d.hinge_force[i] = m.inertia[i] * d.body_acceleration[i] + d.sweep.body_bias_force[i];
   }
   for (std::size_t i = n; i-- > 0;) {  // tip to base: hinge forces
-    subspace_transpose_times(d.sweep.body_subspace[i], d.hinge_force[i],
+    detail::subspace_transpose_times(d.sweep.body_subspace[i], d.hinge_force[i],
                              d.tau.segment(m.v_index[i], m.nv_body[i]));
-    if (qdd) add_armature_torques(m, i, qdd, d.tau.data());
+    if (qdd) detail::add_armature_torques(m, i, qdd, d.tau.data());
     if constexpr (Flex)
       if (m.is_flexible(static_cast<int>(i)))
         d.tau.segment(m.modal_v_index(static_cast<int>(i)), m.n_modes[i]) = flexible_data(m, d, i).modal_force;
@@ -39,9 +39,9 @@ void newton_euler_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
 template <class S>
 void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* qdd, const S* f_ext) {
   if (m.has_flexible_bodies())
-    newton_euler_sweeps<true>(m, d, q, v, qdd, f_ext, world_acceleration(m));
+    newton_euler_sweeps<true>(m, d, q, v, qdd, f_ext, detail::world_acceleration(m));
   else
-    newton_euler_sweeps<false>(m, d, q, v, qdd, f_ext, world_acceleration(m));
+    newton_euler_sweeps<false>(m, d, q, v, qdd, f_ext, detail::world_acceleration(m));
 }
 }  // namespace detail
 
@@ -49,8 +49,8 @@ template <class S>
 Status inverse_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                         const ConstVecRef<S>& qdd, const S* f_ext) {
   const auto rigid = [&](const S*, const S* f) {
-    detail::rnea(m, d, q.data(), velocities_unless_at_rest(m, v), qdd.data(), f);
-    return check_finite(d.tau);
+    detail::rnea(m, d, q.data(), detail::velocities_unless_at_rest(m, v), qdd.data(), f);
+    return detail::check_finite(d.tau);
   };
   if (!m.has_force_elements()) return rigid(nullptr, f_ext);
   return detail::with_force_elements(m, d, q.data(), v.data(), static_cast<const S*>(nullptr), f_ext,
@@ -61,7 +61,7 @@ template <class S>
 Status bias_forces(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
   const auto rigid = [&](const S*, const S* f) {
     detail::rnea<S>(m, d, q.data(), v.data(), nullptr, f);
-    return check_finite(d.tau);
+    return detail::check_finite(d.tau);
   };
   if (!m.has_force_elements()) return rigid(nullptr, nullptr);
   return detail::with_force_elements(m, d, q.data(), v.data(), static_cast<const S*>(nullptr),

@@ -10,7 +10,7 @@
 #include "soadyn/flex/flexible_body.hpp"
 #include "soadyn/flex/modal_integrals.hxx"
 #include "soadyn/spatial/lie.hpp"
-#include "soadyn/validation.hpp"
+#include "soadyn/core/validation.hpp"
 
 namespace soadyn {
 

@@ -119,7 +119,7 @@ struct ModalIntegrals {
   MatX<S> symmetric_rate_linear;
   MatX<S> symmetric_rate_quadratic;
   MatX<S> modal_mass;                                // M_ee (n_m x n_m)
-  // For bodies that carry nothing on a node (algorithms/appendage_step.hpp):
+  // For bodies that carry nothing on a node (sweeps/appendage_step.hpp):
   MatX<S> modal_mass_inverse;                        // M_ee^-1
   MatX<S> modal_first_moment_gain;                   // W = M_ee^-1 S1' (n_m x 3)
   Mat3<S> translational_appendage_inertia = Mat3<S>::Zero();  // m 1 - S1 W

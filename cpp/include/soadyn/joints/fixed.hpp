@@ -22,7 +22,7 @@ struct FixedJoint {
   void random(CoordinateSampler&, S*) const {}
   void check(const std::string&) {}
 
-  // Kernel: the body's pose is its placement (algorithms/steps.hpp).
+  // Kernel: the body's pose is its placement (sweeps/steps.hpp).
   JointKernel kernel(S& sign) const {
     sign = S(1);
     return JointKernel::fixed;

@@ -94,7 +94,7 @@ struct FreeJoint {
     sign = S(1);
     return JointKernel::free;
   }
-  // Tree-frame kernel (algorithms/tree_frame_steps.hpp): pose = base * joint
+  // Tree-frame kernel (sweeps/tree_frame_steps.hpp): pose = base * joint
   // pose (a root body's origin at the tree origin) and H* = X(pose), which
   // carries body twists to tree-frame twists. No bias (S is constant).
   static SOADYN_ALWAYS_INLINE void tree_step(const Transform<S>& base, const S* q, bool root, Transform<S>& pose,

@@ -92,7 +92,7 @@ JointKernel classify_joint(const JointModel<S>& j, S& sign) {
 }
 
 // The signs of the joint's angles that the sweeps' table holds
-// (algorithms/joint_angles.hpp), one per tabulated coordinate, in order: an
+// (sweeps/joint_angles.hpp), one per tabulated coordinate, in order: an
 // axis-aligned revolute joint's one (`kernel` and `sign` from
 // classify_joint), a universal joint's two when both its axes are coordinate
 // axes; none for any other joint.

@@ -32,7 +32,7 @@
 #include "soadyn/joints/joint_kernel.hpp"
 #include "soadyn/joints/vector_space.hpp"
 #include "soadyn/spatial/lie.hpp"
-#include "soadyn/validation.hpp"
+#include "soadyn/core/validation.hpp"
 
 namespace soadyn {
 

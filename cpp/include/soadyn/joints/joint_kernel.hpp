@@ -6,7 +6,7 @@
 // tree-frame kernels. The code of each kernel lives in its
 // joint's header (revolute.hpp, prismatic.hpp, free.hpp, universal.hpp,
 // spherical.hpp); the sweeps switch on the tag once per body
-// (algorithms/steps.hpp, tree_frame_steps.hpp).
+// (sweeps/steps.hpp, tree_frame_steps.hpp).
 // Every other joint takes the general path through JointModel's variant.
 // The model classifies each joint once, when the body is added
 // (classify_joint in joint.hpp, from the joint's own `kernel`).

@@ -48,7 +48,7 @@ struct PrismaticJoint {
     pose.rotation = placement.rotation;
     pose.translation = placement.translation + placement.rotation.col(k) * offset;
   }
-  // Tree frame (algorithms/tree_frame_steps.hpp): the same motion from
+  // Tree frame (sweeps/tree_frame_steps.hpp): the same motion from
   // `base`, a root body's origin kept at the tree origin, and H* = [0; w]
   // for the axis w = sign R e_k.
   static SOADYN_ALWAYS_INLINE void aligned_tree_step(int k, const Transform<S>& base, const S& offset, const S& sign,

@@ -88,7 +88,7 @@ struct RevoluteJoint {
   static SOADYN_ALWAYS_INLINE void aligned_pose(const Transform<S>& placement, const S& angle, Transform<S>& pose) {
     rotate_about_coordinate_axis<Axis>(placement, angle, pose);
   }
-  // Tree frame (algorithms/tree_frame_steps.hpp): pose = base * Rot, and
+  // Tree frame (sweeps/tree_frame_steps.hpp): pose = base * Rot, and
   // H* = [w; t x w] for the axis w = sign R e_Axis through the body origin t;
   // the angle's cosine and sine come from the sweep's table (joint_angles.hpp).
   template <int Axis>

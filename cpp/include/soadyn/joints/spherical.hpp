@@ -85,7 +85,7 @@ struct SphericalJoint {
     sign = S(1);
     return JointKernel::spherical;
   }
-  // Tree-frame kernel (algorithms/tree_frame_steps.hpp): R = R_base R(q), and
+  // Tree-frame kernel (sweeps/tree_frame_steps.hpp): R = R_base R(q), and
   // the body-frame subspace [1; 0] carried to the tree frame is
   // H* = [R; t x R] (the body origin t does not move). Zero bias.
   static SOADYN_ALWAYS_INLINE void tree_step(const Transform<S>& base, const S* q, bool root, Transform<S>& pose,

@@ -49,7 +49,7 @@ struct UniversalJoint {
     sign = S(1);
     return JointKernel::universal;
   }
-  // Tree-frame kernel (algorithms/tree_frame_steps.hpp): rotation R1 about
+  // Tree-frame kernel (sweeps/tree_frame_steps.hpp): rotation R1 about
   // a1, then R2 about a2. In the tree frame the axes are w1 = R_base a1 and
   // w2 = R_base R1 a2 = R a2, both through the body origin t, so
   // H* = [w1 w2; t x w1  t x w2]. The body-frame velocity product
@@ -70,7 +70,7 @@ struct UniversalJoint {
   }
   // The same for axes along coordinate axes, with the cosines and sines of
   // the two angles (sign times coordinate) from the sweep's table
-  // (algorithms/joint_angles.hpp; ModelTpl::angle_slot).
+  // (sweeps/joint_angles.hpp; ModelTpl::angle_slot).
   Vec6<S> aligned_tree_step(const Transform<S>& base, const S* cosine, const S* sine, const S* v, bool root,
                             Transform<S>& pose, Mat6N<S>& s) const {
     S sign1, sign2;

@@ -30,7 +30,7 @@ struct VectorSpace {
   static void chart_rate(const S*, const S*, const S* v, S* rate) {
     for (int k = 0; k < N; ++k) rate[k] = v[k];
   }
-  // First-order maps of the chart (sim/linearization.hpp), written into the
+  // First-order maps of the chart (analysis/linearization.hpp), written into the
   // joint's N x N diagonal block at (o, o) of nv x nv matrices; q =
   // retract(q0, xi). Tangent directions are those of integrate.
   //   base_transport   d(tangent at q) / d(tangent at q0), xi fixed

@@ -16,9 +16,9 @@
 #include <memory>
 #include <vector>
 
-#include "soadyn/data.hpp"
+#include "soadyn/model/data.hpp"
 #include "soadyn/parallel/thread_pool.hpp"
-#include "soadyn/status.hpp"
+#include "soadyn/core/status.hpp"
 
 namespace soadyn {
 
@@ -47,7 +47,7 @@ class BatchDynamics {
   BatchOutcome hybrid_dynamics(std::int64_t n, const double* Q, const double* V, const double* U, const double* F,
                                double* QDD, double* TAU);
   BatchOutcome mass_matrix(std::int64_t n, const double* Q, double* M);
-  // dqdd_dq, dqdd_dv, dqdd_du, dtau_dq, dtau_dv, dtau_du (algorithms/dynamics_derivatives.hpp):
+  // dqdd_dq, dqdd_dv, dqdd_du, dtau_dq, dtau_dv, dtau_du (analysis/dynamics_derivatives.hpp):
   // the analytic recursion for trees, the dual-number sweeps for loops,
   // flexible bodies and point springs, as the single call chooses.
   BatchOutcome dynamics_derivatives(std::int64_t n, const double* Q, const double* V, const double* U,

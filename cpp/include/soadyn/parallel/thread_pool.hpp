@@ -21,7 +21,7 @@
 #include <thread>
 #include <vector>
 
-#include "soadyn/interrupt.hpp"
+#include "soadyn/core/interrupt.hpp"
 
 namespace soadyn {
 
@@ -39,7 +39,7 @@ class ThreadPool {
   int size() const { return static_cast<int>(workers_.size()) + 1; }
   void parallel_for(std::int64_t n, std::int64_t grain, const ChunkFunction& fn);
 
-  // An Interrupt (soadyn/interrupt.hpp; null: none) that the calling thread
+  // An Interrupt (soadyn/core/interrupt.hpp; null: none) that the calling thread
   // polls between chunks and in stop_requested(); when it asks, no new chunk
   // starts and parallel_for returns early with interrupted() true. The
   // caller keeps it alive until parallel_for returns.

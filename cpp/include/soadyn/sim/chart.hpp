@@ -7,7 +7,7 @@
 // spherical.hpp, free.hpp) defines its chart.
 #pragma once
 #include "soadyn/joints/joint.hpp"
-#include "soadyn/model.hpp"
+#include "soadyn/model/model.hpp"
 
 namespace soadyn {
 

@@ -39,8 +39,8 @@
 #include <Eigen/Core>
 
 #include "soadyn/algorithms/crba.hpp"
-#include "soadyn/data.hpp"
-#include "soadyn/model.hpp"
+#include "soadyn/model/data.hpp"
+#include "soadyn/model/model.hpp"
 
 namespace soadyn {
 

@@ -43,7 +43,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "soadyn/algorithms/steps.hpp"
+#include "soadyn/sweeps/steps.hpp"
 
 namespace soadyn {
 

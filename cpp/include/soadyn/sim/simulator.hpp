@@ -30,7 +30,7 @@
 #include <stdexcept>
 #include <string>
 #include "soadyn/algorithms/hybrid.hpp"
-#include "soadyn/algorithms/loop_assembly.hpp"
+#include "soadyn/constraints/loop_assembly.hpp"
 #include "soadyn/sim/divergence_guard.hpp"
 #include "soadyn/sim/motion_source.hpp"
 

@@ -4,13 +4,13 @@
 #include <limits>
 #include <stdexcept>
 #include "soadyn/algorithms/configuration.hpp"
-#include "soadyn/algorithms/constrained_dynamics.hpp"
-#include "soadyn/algorithms/constrained_impulse.hpp"
-#include "soadyn/algorithms/loop_closure.hpp"
+#include "soadyn/constraints/constrained_dynamics.hpp"
+#include "soadyn/constraints/constrained_impulse.hpp"
+#include "soadyn/constraints/loop_closure.hpp"
 #include "soadyn/algorithms/energy.hpp"
 #include "soadyn/algorithms/hybrid.hpp"
 #include "soadyn/sim/chart.hpp"
-#include "soadyn/modal_rule.hpp"
+#include "soadyn/model/modal_rule.hpp"
 #include "soadyn/sim/simulator.hpp"
 
 namespace soadyn {

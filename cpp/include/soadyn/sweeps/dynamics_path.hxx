@@ -1,0 +1,52 @@
+// The one place that chooses which sweeps forward dynamics, hybrid dynamics
+// and its impulse form run: the model's DynamicsPath (model.hpp), fixed when
+// its structure changes, and per call the tree-frame reach
+// (tree_frame_reach.hxx). The README's architecture section tabulates it.
+#pragma once
+#include "soadyn/sweeps/body_frame_sweeps.hxx"
+#include "soadyn/sweeps/tree_frame_sweeps.hxx"
+
+namespace soadyn {
+namespace detail {
+
+// The tree-frame sweeps under `Modes`; under the model's flags, a model
+// whose every body has an articulated inertia (a regular hinge at each root)
+// runs the variant without the Newton-Euler branches.
+template <ModePolicy Modes, bool Flex, class S>
+Status tree_frame_sweeps_for(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u,
+                             const S* f_ext, const Vec6<S>& world_acc, bool want_force) {
+  if constexpr (Modes == ModePolicy::model_flags) {
+    if (!m.has_newton_euler_region)
+      return tree_frame_sweeps<ModePolicy::model_flags_articulated, Flex>(m, d, q, v, u, f_ext, world_acc,
+                                                                          want_force);
+  }
+  return tree_frame_sweeps<Modes, Flex>(m, d, q, v, u, f_ext, world_acc, want_force);
+}
+
+// Runs the hybrid algorithm's sweeps on the model's path: `Modes` is
+// model_flags (hybrid dynamics, impulse form) or all_regular (forward
+// dynamics); arguments as body_frame_sweeps. A tree-frame path that meets a
+// body beyond its reach has changed no output and hands over to body frames.
+template <ModePolicy Modes, class S>
+Status dynamics_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u, const S* f_ext,
+                       const Vec6<S>& world_acc, bool want_force) {
+  switch (m.dynamics_path) {
+    case DynamicsPath::rigid_tree_frames: {
+      const S* v_unless_at_rest = detail::velocities_unless_at_rest(m, v);
+      const Status s =
+          tree_frame_sweeps_for<Modes, false>(m, d, q, v_unless_at_rest, u, f_ext, world_acc, want_force);
+      if (s.code != StatusCode::beyond_tree_frame_reach) return s;
+      break;
+    }
+    case DynamicsPath::appendage_tree_frames: {
+      const Status s = tree_frame_sweeps_for<Modes, true>(m, d, q, v, u, f_ext, world_acc, want_force);
+      if (s.code != StatusCode::beyond_tree_frame_reach) return s;
+      break;
+    }
+    case DynamicsPath::body_frames: break;
+  }
+  return body_frame_sweeps<Modes>(m, d, q, v, u, f_ext, world_acc, want_force);
+}
+
+}  // namespace detail
+}  // namespace soadyn

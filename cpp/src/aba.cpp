@@ -1,9 +1,0 @@
-#include "soadyn/algorithms/aba.hxx"
-
-namespace soadyn {
-#define SOADYN_INSTANTIATE(S)                                                                                  \
-  template Status forward_dynamics<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, const ConstVecRef<S>&, \
-                                      const ConstVecRef<S>&, const S*);
-SOADYN_INSTANTIATE(double)
-SOADYN_INSTANTIATE(float)
-}  // namespace soadyn

@@ -1,0 +1,147 @@
+// Batched dynamics on a thread pool (parallel/batch_dynamics.hpp).
+#include "soadyn/parallel/batch_dynamics.hpp"
+
+#include <algorithm>
+#include <mutex>
+
+#include "soadyn/algorithms/aba.hpp"
+#include "soadyn/algorithms/crba.hpp"
+#include "soadyn/analysis/dynamics_derivatives.hpp"
+#include "soadyn/algorithms/hybrid.hpp"
+#include "soadyn/analysis/parameter_sensitivity.hpp"
+#include "soadyn/algorithms/rnea.hpp"
+
+namespace soadyn {
+
+namespace {
+
+using Map = Eigen::Map<const Eigen::VectorXd>;
+using VectorOut = Eigen::Map<Eigen::VectorXd>;
+using RowMajorOut = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+
+// Rows per chunk: enough to make a chunk's hand-off negligible, few enough
+// that both threads get work on small batches and a preempted thread does
+// not hold back the rest.
+std::int64_t grain(std::int64_t n, int threads) { return std::clamp<std::int64_t>(n / (8 * threads), 1, 64); }
+
+}  // namespace
+
+struct BatchDynamics::Workspace {
+  explicit Workspace(const Model& model) : data(model) {}
+  Data data;
+  std::unique_ptr<DynamicsDerivatives> derivatives;  // built at the first derivatives call
+  std::unique_ptr<ParameterSensitivity> dual;
+  std::array<Eigen::MatrixXd, 6> dual_results;
+};
+
+BatchDynamics::BatchDynamics(const Model& model, int threads) : model_(model), pool_(threads) {
+  for (int w = 0; w < pool_.size(); ++w) workspaces_.push_back(std::make_unique<Workspace>(model));
+}
+
+BatchDynamics::~BatchDynamics() = default;
+
+bool BatchDynamics::derivatives_by_dual_numbers(const Model& model) {
+  return model.nloops() > 0 || model.has_flexible_bodies() || !model.force_elements.point_springs.empty();
+}
+
+template <class RowFn>
+BatchOutcome BatchDynamics::for_rows(std::int64_t n, RowFn&& fn) {
+  BatchOutcome outcome;
+  std::mutex failures;
+  pool_.parallel_for(n, grain(n, threads()), [&](std::int64_t begin, std::int64_t end, int worker) {
+    Workspace& w = *workspaces_[static_cast<std::size_t>(worker)];
+    for (std::int64_t row = begin; row < end; ++row) {
+      const Status status = fn(row, w);
+      if (status.ok()) continue;
+      std::lock_guard<std::mutex> lock(failures);
+      ++outcome.failed_rows;
+      if (outcome.first_failed_row < 0 || row < outcome.first_failed_row) {
+        outcome.first_failed_row = row;
+        outcome.first_status = status;
+      }
+    }
+  });
+  return outcome;
+}
+
+template <class Call>
+BatchOutcome BatchDynamics::vector_call(std::int64_t n, const double* Q, const double* V, const double* X,
+                                        const double* F, double* OUT, Call&& call) {
+  const int nq = model_.nq, nv = model_.nv, nf = 6 * model_.nbodies();
+  return for_rows(n, [&](std::int64_t k, Workspace& w) {
+    return call(w.data, Map(Q + k * nq, nq), Map(V + k * nv, nv), Map(X + k * nv, nv), F ? F + k * nf : nullptr,
+                VectorOut(OUT + k * nv, nv));
+  });
+}
+
+BatchOutcome BatchDynamics::forward_dynamics(std::int64_t n, const double* Q, const double* V, const double* TAU,
+                                             const double* F, double* QDD) {
+  return vector_call(n, Q, V, TAU, F, QDD, [&](Data& d, const Map& q, const Map& v, const Map& tau, const double* f,
+                                               VectorOut qdd) {
+    const Status s = soadyn::forward_dynamics<double>(model_, d, q, v, tau, f);
+    qdd = d.qdd;
+    return s;
+  });
+}
+
+BatchOutcome BatchDynamics::inverse_dynamics(std::int64_t n, const double* Q, const double* V, const double* QDD,
+                                             const double* F, double* TAU) {
+  return vector_call(n, Q, V, QDD, F, TAU, [&](Data& d, const Map& q, const Map& v, const Map& qdd, const double* f,
+                                               VectorOut tau) {
+    const Status s = soadyn::inverse_dynamics<double>(model_, d, q, v, qdd, f);
+    tau = d.tau;
+    return s;
+  });
+}
+
+BatchOutcome BatchDynamics::hybrid_dynamics(std::int64_t n, const double* Q, const double* V, const double* U,
+                                            const double* F, double* QDD, double* TAU) {
+  const int nq = model_.nq, nv = model_.nv, nf = 6 * model_.nbodies();
+  return for_rows(n, [&](std::int64_t k, Workspace& w) {
+    const Status s = soadyn::hybrid_dynamics<double>(model_, w.data, Map(Q + k * nq, nq), Map(V + k * nv, nv),
+                                                     Map(U + k * nv, nv), F ? F + k * nf : nullptr,
+                                                     DynamicsOutputs{false});
+    VectorOut(QDD + k * nv, nv) = w.data.qdd;
+    VectorOut(TAU + k * nv, nv) = w.data.tau;
+    return s;
+  });
+}
+
+BatchOutcome BatchDynamics::mass_matrix(std::int64_t n, const double* Q, double* M) {
+  const int nq = model_.nq, nv = model_.nv;
+  return for_rows(n, [&](std::int64_t k, Workspace& w) {
+    const Status s = soadyn::mass_matrix<double>(model_, w.data, Map(Q + k * nq, nq));
+    RowMajorOut(M + k * nv * nv, nv, nv) = w.data.mass_matrix;
+    return s;
+  });
+}
+
+BatchOutcome BatchDynamics::dynamics_derivatives(std::int64_t n, const double* Q, const double* V, const double* U,
+                                                 const double* F, const std::array<double*, 6>& D) {
+  const int nq = model_.nq, nv = model_.nv, nf = 6 * model_.nbodies();
+  const bool dual = derivatives_by_dual_numbers(model_);
+  for (auto& w : workspaces_) {  // built once, before the parallel part
+    if (dual && !w->dual) w->dual = std::make_unique<ParameterSensitivity>(model_);
+    if (!dual && !w->derivatives) w->derivatives = std::make_unique<DynamicsDerivatives>(model_);
+  }
+  return for_rows(n, [&](std::int64_t k, Workspace& w) {
+    const Map q(Q + k * nq, nq), v(V + k * nv, nv), u(U + k * nv, nv);
+    const double* f = F ? F + k * nf : nullptr;
+    Status status;
+    std::array<const Eigen::MatrixXd*, 6> results;
+    if (dual) {
+      std::array<Eigen::MatrixXd, 6>& r = w.dual_results;
+      for (Eigen::MatrixXd& x : r) x.setZero(nv, nv);
+      status = w.dual->state_derivatives(model_, q, v, u, f, r[0], r[1], r[2], r[3], r[4], r[5]);
+      for (std::size_t i = 0; i < 6; ++i) results[i] = &r[i];
+    } else {
+      status = soadyn::dynamics_derivatives<double>(model_, w.data, *w.derivatives, q, v, u, f);
+      const DynamicsDerivatives& d = *w.derivatives;
+      results = {&d.dqdd_dq, &d.dqdd_dv, &d.dqdd_du, &d.dtau_dq, &d.dtau_dv, &d.dtau_du};
+    }
+    for (std::size_t i = 0; i < 6; ++i) RowMajorOut(D[i] + k * nv * nv, nv, nv) = *results[i];
+    return status;
+  });
+}
+
+}  // namespace soadyn

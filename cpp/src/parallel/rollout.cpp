@@ -1,0 +1,143 @@
+// Parallel rollouts (parallel/rollout.hpp).
+#include "soadyn/parallel/rollout.hpp"
+
+#include <algorithm>
+#include <exception>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+
+#include "soadyn/model/parameters.hpp"
+
+namespace soadyn {
+
+namespace {
+
+using Map = Eigen::Map<const Eigen::VectorXd>;
+
+void check(const Model& model, const RolloutRequest& r, const ParameterTable<double>& table) {
+  if (r.runs < 0 || r.steps < 0) throw std::invalid_argument("rollout: runs and steps must be >= 0");
+  if (!(r.dt > 0) || !std::isfinite(r.dt)) throw std::invalid_argument("rollout: dt must be a finite number > 0");
+  if (r.record_every < 1 || r.steps % r.record_every != 0)
+    throw std::invalid_argument("rollout: record_every must be >= 1 and divide the number of steps");
+  if (r.runs > 0 && !r.initial_states) throw std::invalid_argument("rollout: initial states are missing");
+  if (!r.parameters.empty() && !r.parameter_values) throw std::invalid_argument("rollout: parameter values are missing");
+  if (!r.events.empty() && !r.event_times) throw std::invalid_argument("rollout: event times are missing");
+  for (int k : r.parameters)
+    if (k < 0 || k >= table.size()) throw std::invalid_argument("rollout: parameter entry out of range");
+  for (const auto& [dof, source] : r.sources) {
+    if (dof < 0 || dof >= model.nv) throw std::invalid_argument("rollout: source DOF out of range");
+    if (std::holds_alternative<CallbackSource<double>>(source))
+      throw std::invalid_argument("rollout: callback sources cannot run in parallel");
+  }
+  for (const auto& [kind, dof] : r.events)
+    if (dof < 0 || dof >= model.nv || kind == EventKind::prescribe)
+      throw std::invalid_argument("rollout: events are lock or release of a DOF in range");
+}
+
+// One run, recorded into its rows; the message says why it stopped early.
+class Run {
+ public:
+  Run(const Model& base, const RolloutRequest& r, const ParameterTable<double>& table, std::int64_t run,
+      const RolloutOutputs& out)
+      : base_(base), r_(r), table_(table), run_(run), out_(out), rows_(rollout_rows(r)) {}
+
+  // Runs on `worker` of `pool`; stops early (its rows left as they are) when
+  // the pool is stopping (ThreadPool::stop_requested).
+  void operator()(Model& scratch, ThreadPool& pool, int worker) {
+    std::unique_ptr<Simulator> sim;
+    try {
+      sim = setup(scratch);
+    } catch (const std::exception& e) {
+      out_.message[run_] = e.what();
+      fill_nan(0);
+      return;
+    }
+    record(*sim, 0);
+    const int nv = base_.nv;
+    for (std::int64_t k = 0; k < r_.steps; ++k) {
+      if (pool.stop_requested(worker)) return;
+      if (r_.controls) {
+        const double* u = r_.controls + (r_.controls_per_run ? run_ * r_.steps * nv : 0) + k * nv;
+        for (int dof = 0; dof < nv; ++dof)
+          if (!sim->model().is_prescribed(dof)) sim->set_input(dof, u[dof]);
+      }
+      const Status status = sim->step();
+      if (!status.ok()) {
+        out_.status[run_] = status;
+        out_.failed_step[run_] = k;
+        out_.message[run_] = sim->describe(status);
+        fill_nan(k / r_.record_every + 1);
+        return;
+      }
+      if ((k + 1) % r_.record_every == 0) record(*sim, (k + 1) / r_.record_every);
+    }
+  }
+
+ private:
+  std::unique_ptr<Simulator> setup(Model& scratch) {
+    scratch = base_;
+    const double* value = r_.parameter_values;
+    if (value) {
+      std::int64_t width = 0;
+      for (int k : r_.parameters) width += table_.entry(k).size();
+      value += run_ * width;
+    }
+    for (int k : r_.parameters) {
+      table_.set(scratch, k, value);
+      value += table_.entry(k).size();
+    }
+    auto sim = std::make_unique<Simulator>(scratch, r_.dt, r_.integrator,
+                                           std::max<int>(64, static_cast<int>(r_.events.size())));
+    for (const auto& [dof, source] : r_.sources) sim->prescribe(dof, source);
+    const double* x0 = r_.initial_states + run_ * (base_.nq + base_.nv);
+    sim->set_state(Map(x0, base_.nq), Map(x0 + base_.nq, base_.nv));
+    for (std::size_t e = 0; e < r_.events.size(); ++e)
+      sim->schedule(r_.event_times[run_ * static_cast<std::int64_t>(r_.events.size()) + static_cast<std::int64_t>(e)],
+                    r_.events[e].first, r_.events[e].second);
+    return sim;
+  }
+
+  void record(const Simulator& sim, std::int64_t row) {
+    const int nq = base_.nq, nv = base_.nv;
+    Eigen::Map<Eigen::VectorXd>(out_.q + (run_ * rows_ + row) * nq, nq) = sim.q();
+    Eigen::Map<Eigen::VectorXd>(out_.v + (run_ * rows_ + row) * nv, nv) = sim.v();
+  }
+
+  void fill_nan(std::int64_t from_row) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const int nq = base_.nq, nv = base_.nv;
+    std::fill(out_.q + (run_ * rows_ + from_row) * nq, out_.q + (run_ + 1) * rows_ * nq, nan);
+    std::fill(out_.v + (run_ * rows_ + from_row) * nv, out_.v + (run_ + 1) * rows_ * nv, nan);
+  }
+
+  const Model& base_;
+  const RolloutRequest& r_;
+  const ParameterTable<double>& table_;
+  std::int64_t run_;
+  const RolloutOutputs& out_;
+  std::int64_t rows_;
+};
+
+}  // namespace
+
+std::int64_t rollout_rows(const RolloutRequest& request) {
+  return 1 + request.steps / std::max<std::int64_t>(1, request.record_every);
+}
+
+void rollout(ThreadPool& pool, const Model& model, const RolloutRequest& request, const RolloutOutputs& outputs) {
+  const ParameterTable<double> table(model);
+  check(model, request, table);
+  for (std::int64_t run = 0; run < request.runs; ++run) {
+    outputs.status[run] = Status{};
+    outputs.failed_step[run] = -1;
+    outputs.message[run].clear();
+  }
+  std::vector<Model> scratch(static_cast<std::size_t>(pool.size()), model);  // one model copy per thread
+  pool.parallel_for(request.runs, 1, [&](std::int64_t begin, std::int64_t end, int worker) {
+    for (std::int64_t run = begin; run < end; ++run)
+      Run(model, request, table, run, outputs)(scratch[static_cast<std::size_t>(worker)], pool, worker);
+  });
+}
+
+}  // namespace soadyn
