@@ -3,8 +3,8 @@
 //
 // A stepping loop calls them as f(model, q, v, x) with float64 arrays of the
 // right length. pybind11's general dispatch (argument vectors, casters,
-// defaults) and array conversion then cost about 0.4 us per call: a quarter
-// of the call on a one-body model, a tenth on ur5. These entry points take
+// defaults) and array conversion are then a large share of a small model's
+// call (docs/performance.md). These entry points take
 // exactly that call shape straight from CPython's vectorcall protocol and
 // read the arrays in place. Every other call (keywords, f_ext, lists, other
 // dtypes or layouts) and every failure (a non-finite entry, a non-unit

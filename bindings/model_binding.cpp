@@ -270,14 +270,14 @@ void bind_model(py::module_& mod) {
       .def_property_readonly("q_index", [](const ModelHandle& h) { return h.model.q_index; })
       .def_property_readonly("v_index", [](const ModelHandle& h) { return h.model.v_index; })
       .def_property_readonly(
-          "constant_tree_inertia", [](const ModelHandle& h) { return as_bools(h.model.constant_tree_inertia); },
+          "constant_tree_inertia", [](const ModelHandle& h) { return as_bools(h.model.derived.constant_tree_inertia); },
           "Per body: whether the dynamics read its inertia formed once (constant in its free root's frame: "
           "welded to the root, or turning about an axis of mass symmetry on it).")
       .def_property_readonly(
           "placement_axes",
           [](const ModelHandle& h) {
             std::vector<const char*> shapes;
-            for (const soadyn::PlacementAxes<double>& axes : h.model.placement_axes)
+            for (const soadyn::PlacementAxes<double>& axes : h.model.derived.placement_axes)
               shapes.push_back(axes.kind == soadyn::PlacementAxes<double>::Kind::identity             ? "identity"
                                : axes.kind == soadyn::PlacementAxes<double>::Kind::signed_permutation ? "axis_permutation"
                                                                                                 : "general");
@@ -287,11 +287,11 @@ void bind_model(py::module_& mod) {
           "'axis_permutation' (quarter turns: each axis onto a coordinate axis, up to sign) or 'general'. "
           "Entries within machine epsilon of the first two count as them.")
       .def_property_readonly(
-          "appendage_in_root_frame", [](const ModelHandle& h) { return as_bools(h.model.appendage_in_root_frame); },
+          "appendage_in_root_frame", [](const ModelHandle& h) { return as_bools(h.model.derived.appendage_in_root_frame); },
           "Per body: whether it is a flexible appendage welded to its root, whose modal integrals the dynamics "
           "read formed once in the root's frame.")
       .def_property_readonly(
-          "constant_leaf_hinge", [](const ModelHandle& h) { return as_bools(h.model.constant_leaf_hinge); },
+          "constant_leaf_hinge", [](const ModelHandle& h) { return as_bools(h.model.derived.constant_leaf_hinge); },
           "Per body: whether it is a leaf turning about an axis of mass symmetry on a body welded to its root "
           "(a reaction wheel), whose hinge terms D, G and P+ the dynamics read formed once (when its DOF is "
           "regular and has no armature).")
@@ -299,7 +299,7 @@ void bind_model(py::module_& mod) {
           "leaf_terms_presummed",
           [](const ModelHandle& h) {
             std::vector<std::pair<bool, bool>> out;
-            for (const std::uint8_t bits : h.model.leaf_plus_presummed) out.emplace_back(bits & 1, bits & 2);
+            for (const std::uint8_t bits : h.model.derived.leaf_plus_presummed) out.emplace_back(bits & 1, bits & 2);
             return out;
           },
           "Per body: (under the prescribed flags, with every DOF regular), whether it is a leaf whose constant "

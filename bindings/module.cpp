@@ -19,6 +19,7 @@ void bind_batch(pybind11::module_& mod);
 
 PYBIND11_MODULE(_soadyn, mod) {
   mod.doc() = "soadyn C++ core";
+  soadyn_py::bind_flexible_body(mod);  // before the Model, whose signatures name it
   soadyn_py::bind_model(mod);
   soadyn_py::bind_algorithms(mod);
   soadyn_py::bind_loop_kinematics(mod);
@@ -29,7 +30,6 @@ PYBIND11_MODULE(_soadyn, mod) {
   soadyn_py::add_fast_paths(mod);
   soadyn_py::bind_simulator(mod);
   soadyn_py::bind_hil(mod);
-  soadyn_py::bind_flexible_body(mod);
   soadyn_py::bind_force_elements(mod);
   soadyn_py::bind_parameters(mod);
   soadyn_py::bind_batch(mod);

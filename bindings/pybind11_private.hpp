@@ -1,9 +1,9 @@
 // Every use this module makes of pybind11's private `pybind11::detail`
 // namespace, in one place. pybind11 does not promise to keep these stable;
 // the fast call entries (fast_calls.cpp) and the fresh output arrays
-// (arrays.cpp) use them because the public API costs about 0.4 us per call
-// in argument vectors, type casters and shape containers, a quarter of a
-// dynamics call on a small model. What is used, and why:
+// (arrays.cpp) use them because the public API's argument vectors, type
+// casters and shape containers dominate a small model's dynamics call. What
+// is used, and why:
 //
 //   detail::npy_api                 numpy's C API table, loaded by pybind11:
 //                                   PyArray_Check_, PyArray_DescrFromType_,

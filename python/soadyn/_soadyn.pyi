@@ -8,6 +8,83 @@ import numpy
 import numpy.typing
 import typing
 __all__: list[str] = ['DynamicsError', 'FlexibleBody', 'HilRunner', 'Joint', 'LoopError', 'ModelFileError', 'MotionSource', 'NonphysicalInertiaError', 'ParameterError', 'QUATERNION_TOLERANCE', 'bias_forces', 'center_of_mass', 'center_of_mass_jacobian', 'christoffel_symbols', 'constrained_dynamics', 'coriolis_matrix', 'dissipated_power', 'external_forces_to_generalized', 'force_element_potential', 'force_elements', 'forward_dynamics', 'forward_kinematics', 'frame_acceleration', 'frame_jacobian', 'frame_jacobian_time_variation', 'frame_pose', 'frame_velocity', 'gravity_forces', 'hybrid_dynamics', 'independent_coordinates', 'integrate', 'inverse_dynamics', 'joint_wrenches', 'kinetic_energy', 'loop_force_stiffness', 'loop_jacobian', 'loop_rank', 'loop_residual', 'mass_matrix', 'mass_matrix_derivative', 'momentum', 'neutral_configuration', 'potential_energy', 'random_configuration']
+class FlexibleBody:
+    """
+    Modal flexible body: a rigid reference frame at the inboard hinge plus n_modes linear modes
+    of a lumped model (nodes with point masses, rotary inertias and 6 x n_modes mode shapes,
+    rows [rotation; translation]). Immutable; its modal integrals are computed once.
+    """
+    @staticmethod
+    def cantilever_beam(length: typing.Any, EI: typing.Any, mass_per_length: typing.Any, n_modes: typing.Any, n_nodes: typing.Any = 60) -> FlexibleBody:
+        """
+        Uniform Euler-Bernoulli cantilever along x, clamped at the body origin: n_nodes lumped
+        segments plus a massless 'tip' node; n_modes clamped-free bending modes per plane in the
+        x-y and x-z planes, interleaved (2 * n_modes modes in all).
+        """
+    def __init__(self, positions: typing.Any, masses: typing.Any, rotary_inertias: typing.Any, mode_shapes: typing.Any, stiffness: typing.Any, damping: typing.Any = None, attachments: collections.abc.Mapping[str, typing.SupportsInt | typing.SupportsIndex] = {}) -> None:
+        """
+        positions (N, 3) undeformed node positions in the body frame; masses (N,); rotary_inertias
+        (N, 3, 3) about each node; mode_shapes (N, 6, n_modes); stiffness and damping (n_modes,
+        n_modes), symmetric positive semidefinite (damping None: zero); attachments {name: node}.
+        """
+    def __repr__(self) -> str:
+        ...
+    def augmented_mass_matrix(self, eta: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        M(eta), (6 + n_modes) square: T = 1/2 [V; eta_dot]' M [V; eta_dot], V = [omega; v_origin] body frame.
+        """
+    def natural_frequencies_clamped(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Natural frequencies (rad/s, ascending) of the body clamped at its reference frame.
+        """
+    def node_load(self, j: typing.Any, eta: typing.Any, wrench: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+        """
+        Generalized force of `wrench` = [torque; force] applied at node j (node frame) at eta: returns
+        (body_wrench, modal_forces): the wrench about the body origin in the body frame (add it to
+        f_ext[body]) and the modal forces (add them to the modal DOFs' entries of tau / u).
+        """
+    def node_pose(self, j: typing.Any, eta: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 4]"]:
+        """
+        4x4 pose of node j in the body frame at eta.
+        """
+    def strain_energy(self, eta: typing.Any) -> float:
+        """
+        1/2 eta' K eta.
+        """
+    @property
+    def attachments(self) -> dict[str, int]:
+        ...
+    @property
+    def damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    @property
+    def masses(self) -> numpy.typing.NDArray[numpy.float64]:
+        ...
+    @property
+    def modal_mass(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    @property
+    def mode_shapes(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        (N, 6, n_modes): rows [rotation; translation].
+        """
+    @property
+    def n_modes(self) -> int:
+        ...
+    @property
+    def n_nodes(self) -> int:
+        ...
+    @property
+    def nodes(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        (N, 3) undeformed node positions, body frame.
+        """
+    @property
+    def rotary_inertias(self) -> numpy.typing.NDArray[numpy.float64]:
+        ...
+    @property
+    def stiffness(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
 class Joint:
     """
     A joint type; build one with the static constructors.
@@ -629,83 +706,6 @@ class HilRunner:
         ...
     @property
     def udp_port(self) -> typing.Any:
-        ...
-class FlexibleBody:
-    """
-    Modal flexible body: a rigid reference frame at the inboard hinge plus n_modes linear modes
-    of a lumped model (nodes with point masses, rotary inertias and 6 x n_modes mode shapes,
-    rows [rotation; translation]). Immutable; its modal integrals are computed once.
-    """
-    @staticmethod
-    def cantilever_beam(length: typing.Any, EI: typing.Any, mass_per_length: typing.Any, n_modes: typing.Any, n_nodes: typing.Any = 60) -> FlexibleBody:
-        """
-        Uniform Euler-Bernoulli cantilever along x, clamped at the body origin: n_nodes lumped
-        segments plus a massless 'tip' node; n_modes clamped-free bending modes per plane in the
-        x-y and x-z planes, interleaved (2 * n_modes modes in all).
-        """
-    def __init__(self, positions: typing.Any, masses: typing.Any, rotary_inertias: typing.Any, mode_shapes: typing.Any, stiffness: typing.Any, damping: typing.Any = None, attachments: collections.abc.Mapping[str, typing.SupportsInt | typing.SupportsIndex] = {}) -> None:
-        """
-        positions (N, 3) undeformed node positions in the body frame; masses (N,); rotary_inertias
-        (N, 3, 3) about each node; mode_shapes (N, 6, n_modes); stiffness and damping (n_modes,
-        n_modes), symmetric positive semidefinite (damping None: zero); attachments {name: node}.
-        """
-    def __repr__(self) -> str:
-        ...
-    def augmented_mass_matrix(self, eta: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
-        """
-        M(eta), (6 + n_modes) square: T = 1/2 [V; eta_dot]' M [V; eta_dot], V = [omega; v_origin] body frame.
-        """
-    def natural_frequencies_clamped(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
-        """
-        Natural frequencies (rad/s, ascending) of the body clamped at its reference frame.
-        """
-    def node_load(self, j: typing.Any, eta: typing.Any, wrench: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
-        """
-        Generalized force of `wrench` = [torque; force] applied at node j (node frame) at eta: returns
-        (body_wrench, modal_forces): the wrench about the body origin in the body frame (add it to
-        f_ext[body]) and the modal forces (add them to the modal DOFs' entries of tau / u).
-        """
-    def node_pose(self, j: typing.Any, eta: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 4]"]:
-        """
-        4x4 pose of node j in the body frame at eta.
-        """
-    def strain_energy(self, eta: typing.Any) -> float:
-        """
-        1/2 eta' K eta.
-        """
-    @property
-    def attachments(self) -> dict[str, int]:
-        ...
-    @property
-    def damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
-        ...
-    @property
-    def masses(self) -> numpy.typing.NDArray[numpy.float64]:
-        ...
-    @property
-    def modal_mass(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
-        ...
-    @property
-    def mode_shapes(self) -> numpy.typing.NDArray[numpy.float64]:
-        """
-        (N, 6, n_modes): rows [rotation; translation].
-        """
-    @property
-    def n_modes(self) -> int:
-        ...
-    @property
-    def n_nodes(self) -> int:
-        ...
-    @property
-    def nodes(self) -> numpy.typing.NDArray[numpy.float64]:
-        """
-        (N, 3) undeformed node positions, body frame.
-        """
-    @property
-    def rotary_inertias(self) -> numpy.typing.NDArray[numpy.float64]:
-        ...
-    @property
-    def stiffness(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
 class ParameterError(ValueError):
     pass

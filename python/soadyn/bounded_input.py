@@ -11,7 +11,7 @@ element is level 1. No file soadyn writes comes near either limit (a model
 file nests at most 8 levels plus its metadata, a URDF 5); the limits keep hostile
 files from exhausting the stack of a recursive parser (Python's json and
 tomllib recurse, and so does serialising a parsed document) or the memory.
-tests/test_model_file.py holds the C++ model-file reader (what C++ programs
+tests/io/test_model_file.py holds the C++ model-file reader (what C++ programs
 and campaign workers call) to the same depth, counted the same way.
 
 The JSON depth is found before any parser sees the text, by a vectorised

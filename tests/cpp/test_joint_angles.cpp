@@ -205,8 +205,7 @@ int main() {
   for (int b = 0; b < m.nbodies(); ++b) {
     const std::size_t i = static_cast<std::size_t>(b);
     const soadyn::JointKernel k = m.joint_kernel[i];
-    const bool revolute_aligned = k == soadyn::JointKernel::revolute_x || k == soadyn::JointKernel::revolute_y ||
-                                  k == soadyn::JointKernel::revolute_z;
+    const bool revolute_aligned = soadyn::joint_turning_axis(k) >= 0;
     const auto* universal = std::get_if<soadyn::UniversalJoint<double>>(&m.joints[i]);
     double sign1 = 0, sign2 = 0;
     const bool universal_aligned = universal && soadyn::coordinate_axis(universal->axis1, sign1) >= 0 &&

@@ -145,7 +145,7 @@ int main() {
       {"7-DOF arm", soadyn_test::build_model<double>(soadyn_test::seven_dof_arm_spec())},
       {"quarter-turn arm", soadyn_test::build_model<double>(quarter_turn_arm_spec())}};
   int permutations = 0;
-  for (const soadyn::PlacementAxes<double>& axes : models[2].second.placement_axes)
+  for (const soadyn::PlacementAxes<double>& axes : models[2].second.derived.placement_axes)
     permutations += axes.kind == soadyn::PlacementAxes<double>::Kind::signed_permutation;
   std::printf("quarter-turn arm: %d of %d placements applied as axis permutations\n", permutations,
               models[2].second.nbodies());

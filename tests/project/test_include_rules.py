@@ -135,3 +135,18 @@ def test_the_rule_finds_a_planted_violation(tmp_path, header, target, expected):
     planted.write_text(f'#pragma once\n#include "{target if target.startswith("soadyn_") else "soadyn/" + target}"\n')
     bad = layer_violations([planted], lambda p: p.parent.name)
     assert len(bad) == 1 and expected in bad[0][2], bad
+
+
+def test_only_joints_name_a_joint_kernel():
+    """The joints' fast paths are chosen in joints/ alone (joints/kernel_steps.hpp): elsewhere a kernel tag
+    is read through joint_kernel.hpp's predicates, never compared with or switched on by name."""
+    kernel_name = re.compile(r"\bJointKernel::\w+")
+    found = []
+    for path in sorted([*INCLUDE.rglob("*.h*"), *SOURCES.rglob("*.cpp"), *(ROOT / "bindings").rglob("*.*pp")]):
+        if (INCLUDE / "joints") in path.parents:
+            continue
+        for number, line in enumerate(path.read_text().splitlines(), 1):
+            code = line.split("//")[0]
+            if kernel_name.search(code):
+                found.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
+    assert not found, "joint kernels named outside joints/:\n" + "\n".join(found)

@@ -16,9 +16,9 @@ Status baseline_mass_matrix(const ModelTpl<double>& m, DataTpl<double>& d, const
 #define SOADYN_HAVE_AVX2_FMA_CRBA 1
 // The same algorithm with every call inlined and compiled for AVX2 and FMA:
 // the 3- and 6-vector products become fused multiply-adds in 3-operand
-// instructions, about 20 % fewer instructions and 5-10 % less time on the
-// robots of bench_robots. Each fused product is rounded once instead of
-// twice, so M differs from the baseline's in its last bits.
+// instructions (docs/performance.md has the measurements). Each fused
+// product is rounded once instead of twice, so M differs from the
+// baseline's in its last bits.
 __attribute__((target("avx2,fma"), flatten)) Status avx2_fma_mass_matrix(const ModelTpl<double>& m, DataTpl<double>& d,
                                                                          const ConstVecRef<double>& q) {
   return composite_rigid_body(m, d, q);

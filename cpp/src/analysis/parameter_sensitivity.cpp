@@ -106,9 +106,9 @@ void ParameterSensitivity::load(const Model& model) {
   m.n_prescribed = model.n_prescribed;
   m.prescribed_dofs = model.prescribed_dofs;
   m.has_newton_euler_region = model.has_newton_euler_region;
-  m.tree_frame_reach_squared.assign(model.tree_frame_reach_squared.begin(), model.tree_frame_reach_squared.end());
-  m.check_tree_frame_reach = model.check_tree_frame_reach;
-  m.reach_checks_needed = model.reach_checks_needed;
+  m.derived.tree_frame_reach_squared.assign(model.derived.tree_frame_reach_squared.begin(), model.derived.tree_frame_reach_squared.end());
+  m.derived.check_tree_frame_reach = model.derived.check_tree_frame_reach;
+  m.derived.reach_checks_needed = model.derived.reach_checks_needed;
 }
 
 Status ParameterSensitivity::compute(const Model& model, const ParameterTable<double>& table, int k,

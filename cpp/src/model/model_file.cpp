@@ -325,7 +325,7 @@ void restore_inertias(Model& m, const std::vector<Item>& bodies) {
       body.at("spatial_inertia").fail("does not agree with mass, com and inertia");
     m.inertia[i] = written;
   }
-  m.refresh_derived_parameters();
+  m.refresh_derived_caches();
 }
 
 void add_frame_from(Model& m, const Item& frame) {

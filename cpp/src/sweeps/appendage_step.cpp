@@ -24,9 +24,9 @@ template <int N, class S>
 #define SOADYN_HAVE_AVX2_FMA_APPENDAGE 1
 // The same with every call inlined and compiled for AVX2 and FMA: the
 // products over four modes fill a register, and the 3- and 6-vector updates
-// fuse; about 6 % fewer instructions and 6 % less time on cassini's step
-// (bench/results/history.md). Fused products round once instead of twice,
-// so the results differ from the baseline's in their last bits.
+// fuse (docs/performance.md has the measurements). Fused products round
+// once instead of twice, so the results differ from the baseline's in their
+// last bits.
 template <int N>
 [[gnu::noinline]] __attribute__((target("avx2,fma"), flatten)) void avx2_fma_appendage_terms(
     const ModelTpl<double>& m, DataTpl<double>& d, std::size_t i, const ModalIntegrals<double>& mi, const double* q,

@@ -153,8 +153,7 @@ constexpr SineCosineKernel polynomial_avx2_kernel{"polynomial AVX2", sine_cosine
 
 // Every kernel this processor can run (AVX2 ones unless the baseline kernels
 // were requested: processor_features.hpp), the fastest first: the polynomial
-// (about 15% more angles per second than libmvec's two calls, and no call
-// at all), libmvec, then the C library.
+// kernel (no library call), libmvec, then the C library.
 std::vector<SineCosineKernel> runnable_kernels() {
   std::vector<SineCosineKernel> kernels;
 #ifdef SOADYN_HAVE_AVX2_KERNEL

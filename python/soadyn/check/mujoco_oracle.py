@@ -8,7 +8,7 @@ matched to soadyn's DOFs by name.
 
 What MuJoCo computes beyond multibody dynamics is switched off in the
 oracle's copy of the model: contacts, equality constraints (soft in MuJoCo;
-loops are compared by their KKT system in tests/test_mjcf.py), joint limits,
+loops are compared by their KKT system in tests/io/test_mjcf.py), joint limits,
 friction loss, actuation, fluid forces and gravity compensation. A URDF's
 damping, which MuJoCo imports and soadyn's load_urdf leaves out by default,
 is zeroed too. Springs, dampers and armature of an MJCF file stay: soadyn

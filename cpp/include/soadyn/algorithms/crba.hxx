@@ -27,7 +27,7 @@ SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S
   const int p = m.parent[i];
   if (p >= 0) d.sweep.tree_composite_inertia[static_cast<std::size_t>(p)] += composite;
   if constexpr (FreeRootFrames) {
-    if (p < 0 && m.joint_kernel[i] == JointKernel::free) {  // H* = 1: its block of M is its composite inertia
+    if (p < 0 && joint_is_free(m.joint_kernel[i])) {  // H* = 1: its block of M is its composite inertia
       Mat6<S> block;
       assign_spatial_inertia(composite, block);
       M.template block<6, 6>(m.v_index[i], m.v_index[i]) = block;
@@ -42,7 +42,7 @@ SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S
     for_each_ancestor_run(k, true, m.dof_parent, m.dof_run_start, [&](int first, int last) {
       if (last >= first + 5 && m.dof_parent[static_cast<std::size_t>(first)] < 0) {
         const std::size_t root = static_cast<std::size_t>(m.dof_body[static_cast<std::size_t>(first)]);
-        if (m.joint_kernel[root] == JointKernel::free) {
+        if (joint_is_free(m.joint_kernel[root])) {
           Vec6<S> rows;
           if constexpr (FreeRootFrames) {
             rows = F;
@@ -122,10 +122,10 @@ SOADYN_FLATTEN Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, 
       tree_joint_step<true>(m, d, i, q.data(), static_cast<const S*>(nullptr));
     }
     if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
-    if (m.constant_tree_inertia[i])  // constant in its root's frame (constant_tree_inertia.hxx)
-      d.sweep.tree_composite_inertia[i] = m.tree_inertia_parameters[i];
+    if (m.derived.constant_tree_inertia[i])  // constant in its root's frame (constant_tree_inertia.hxx)
+      d.sweep.tree_composite_inertia[i] = m.derived.tree_inertia_parameters[i];
     else
-      inertia_parameters_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i], m.diagonal_inertia_com[i] != 0,
+      inertia_parameters_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i], m.derived.diagonal_inertia_com[i] != 0,
                                   d.sweep.tree_composite_inertia[i]);
     store_subspace_columns(m, d, i);
   }

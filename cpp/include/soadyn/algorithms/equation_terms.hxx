@@ -33,7 +33,7 @@ void hinge_subspace_rate(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t 
   const Mat6N<S>& s = d.sweep.tree_subspace[i];
   for (Eigen::Index c = 0; c < s.cols(); ++c)
     rate.col(c) = motion_cross(d.sweep.tree_velocity[i], Vec6<S>(s.col(c)));
-  if (m.joint_kernel[i] != JointKernel::universal) return;
+  if (!joint_axes_coupled(m.joint_kernel[i])) return;
   const UniversalJoint<S>& joint = *std::get_if<UniversalJoint<S>>(&m.joints[i]);
   const S* qi = q + m.q_index[i];
   const Vec3<S> first_axis = axis_angle_rotation(joint.axis2, qi[1]).transpose() * joint.axis1;

@@ -71,7 +71,7 @@ namespace detail {
 template <class S>
 Vec6<S> inboard_velocity(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i, Eigen::Index c, const S* v,
                          const Vec6<S>& parent_velocity) {
-  if (c == 1 && m.joint_kernel[i] == JointKernel::universal)
+  if (c == 1 && joint_axes_coupled(m.joint_kernel[i]))
     return parent_velocity + Vec6<S>(d.sweep.tree_subspace[i].col(0)) * v[m.v_index[i]];
   return parent_velocity;
 }
@@ -92,7 +92,7 @@ void derivative_kinematics_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDer
   Vec6<S>& velocity_force = w.velocity_force[i];
   velocity_force = force_cross(velocity, Vec6<S>(inertia * velocity));
   if (f_ext) velocity_force -= d.sweep.tree_pose[i].force_to_parent(Eigen::Map<const Vec6<S>>(f_ext + 6 * i));
-  const bool universal = m.joint_kernel[i] == JointKernel::universal;
+  const bool universal = joint_axes_coupled(m.joint_kernel[i]);
   for (Eigen::Index c = 0; c < ni; ++c) {
     const Vec6<S> axis = s.col(c);
     const Vec6<S> inboard = inboard_velocity(m, d, i, c, v, parent_velocity);
@@ -123,7 +123,7 @@ void derivative_acceleration_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsD
     const Vec6<S> axis = s.col(c);
     const Vec6<S> inboard = inboard_velocity(m, d, i, c, v, parent_velocity);
     Vec6<S> inboard_acceleration = parent_acceleration;
-    if (c == 1 && m.joint_kernel[i] == JointKernel::universal) {
+    if (c == 1 && joint_axes_coupled(m.joint_kernel[i])) {
       const Vec6<S> first_axis = s.col(0);
       inboard_acceleration += motion_cross(parent_velocity, first_axis) * v[vi];
       if (qdd) inboard_acceleration += first_axis * qdd[vi];
@@ -182,7 +182,7 @@ void derivative_acceleration_terms(const ModelTpl<S>& m, DynamicsDerivativesTpl<
   const Mat6<S>& inertia = w.composite_inertia[i];
   const Mat6<S>& coriolis = w.composite_coriolis_inertia[i];
   const Vec6<S>& force = w.composite_force[i];
-  const bool universal = m.joint_kernel[i] == JointKernel::universal;
+  const bool universal = joint_axes_coupled(m.joint_kernel[i]);
   for (Eigen::Index c = 0; c < ni; ++c) {
     const Eigen::Index k = vi + c;
     const Vec6<S> axis = w.dof_axis.col(k);

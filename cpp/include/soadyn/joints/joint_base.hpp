@@ -55,9 +55,10 @@ Vec3<S> checked_joint_axis(const Vec3<S>& axis, const std::string& joint, const 
 
 // Draws of random configurations (algorithms/configuration.hxx): angles
 // uniform in [-pi, pi], offsets uniform in [-1, 1], unit quaternions uniform
-// on the sphere; deterministic for a given seed. A seed gives the
-// configurations it gave before joint types had their own headers: joints
-// that then drew values they did not keep still `skip` them.
+// on the sphere; deterministic for a given seed and model. The free,
+// spherical, planar and cylindrical joints first `skip` a fixed number of
+// angles: the seeded states of the tests and benchmarks (whose float-versus-
+// double tolerances were set on them) are defined with those draws.
 class CoordinateSampler {
  public:
   explicit CoordinateSampler(std::uint64_t seed) : rng_(seed) {}

@@ -5,8 +5,9 @@
 // joints, and revolute and prismatic joints about any other axis, have
 // tree-frame kernels. The code of each kernel lives in its
 // joint's header (revolute.hpp, prismatic.hpp, free.hpp, universal.hpp,
-// spherical.hpp); the sweeps switch on the tag once per body
-// (sweeps/steps.hpp, tree_frame_steps.hpp).
+// spherical.hpp), and the one switch on the tag is kernel_steps.hpp, which
+// the sweeps call once per body; elsewhere the tag is read through the
+// predicates below.
 // Every other joint takes the general path through JointModel's variant.
 // The model classifies each joint once, when the body is added
 // (classify_joint in joint.hpp, from the joint's own `kernel`).
@@ -39,6 +40,25 @@ constexpr bool joint_has_rate_term(JointKernel k) { return k == JointKernel::uni
 constexpr bool joint_has_constant_body_subspace(JointKernel k) {
   return k <= JointKernel::prismatic_z || k == JointKernel::free || k == JointKernel::fixed;
 }
+
+// The free joint: its motion subspace in the body frame is the identity
+// (H* = 1), so a free root's twist is its v and its block of M its
+// composite inertia.
+constexpr bool joint_is_free(JointKernel k) { return k == JointKernel::free; }
+
+// A weld: no motion, the placement alone.
+constexpr bool joint_is_weld(JointKernel k) { return k == JointKernel::fixed; }
+
+// The coordinate axis (0, 1, 2) a revolute joint turns about, or -1 for
+// every other kernel.
+constexpr int joint_turning_axis(JointKernel k) {
+  return k <= JointKernel::revolute_z ? static_cast<int>(k) - static_cast<int>(JointKernel::revolute_x) : -1;
+}
+
+// Whether the joint's second subspace column turns with its first
+// coordinate (the universal joint: S depends on q, so the derivatives of
+// S v by q couple its two axes).
+constexpr bool joint_axes_coupled(JointKernel k) { return k == JointKernel::universal; }
 
 // The coordinate axis k and sign s with axis = s e_k, or k = -1.
 template <class S>

@@ -4,10 +4,9 @@
 // reciprocals of D's pivots stored, a solve is two substitutions and a
 // scaling with no division. Backward stable for a positive definite P: the
 // solution's error stays of the order of the rounding unit times P's
-// condition number. (An explicit inverse from this factor costs about twice
-// the factor again, where the sweeps need one solve; an inverse by 3x3
-// adjugates loses far more accuracy: up to 1e-11 times the condition on
-// random matrices.)
+// condition number. The sweeps need one solve per call, not an inverse
+// (an explicit inverse costs about twice the factor again, and an inverse
+// by 3x3 adjugates loses accuracy).
 #pragma once
 #include "soadyn/spatial/types.hpp"
 

@@ -44,56 +44,54 @@ bool mass_symmetric_about_axis(int axis, const Vec3<S>& com, const Mat3<S>& iner
 template <class S>
 void ModelTpl<S>::refresh_constant_tree_inertia() {
   const std::size_t n = parent.size();
-  constant_tree_inertia.assign(n, 0);
-  tree_inertia_parameters.resize(n);
-  welded_to_root_.assign(n, 0);
-  pose_in_root_.resize(n);
-  appendage_in_root_frame.assign(n, 0);
-  root_frame_integrals.resize(flexible_bodies.size());
-  constant_leaf_hinge.assign(n, 0);
-  leaf_hinge_terms.resize(n);
-  leaf_plus_presummed.assign(n, 0);
-  leaf_presum_slot.assign(n, -1);
-  placement_axes.assign(n, PlacementAxes<S>());
-  diagonal_inertia_com.assign(n, 0);
+  derived.constant_tree_inertia.assign(n, 0);
+  derived.tree_inertia_parameters.resize(n);
+  derived.welded_to_root.assign(n, 0);
+  derived.pose_in_root.resize(n);
+  derived.appendage_in_root_frame.assign(n, 0);
+  derived.root_frame_integrals.resize(flexible_bodies.size());
+  derived.constant_leaf_hinge.assign(n, 0);
+  derived.leaf_hinge_terms.resize(n);
+  derived.leaf_plus_presummed.assign(n, 0);
+  derived.leaf_presum_slot.assign(n, -1);
+  derived.placement_axes.assign(n, PlacementAxes<S>());
+  derived.diagonal_inertia_com.assign(n, 0);
   if constexpr (!std::is_floating_point_v<S>) return;
   for (std::size_t i = 0; i < n; ++i) {
-    placement_axes[i] = placement_axes_of(placement[i].rotation);
-    diagonal_inertia_com[i] = detail::is_diagonal(inertia_com[i]);
+    derived.placement_axes[i] = placement_axes_of(placement[i].rotation);
+    derived.diagonal_inertia_com[i] = detail::is_diagonal(inertia_com[i]);
   }
   // Per body: bit 1, some body is its child; bit 2, on one of its nodes.
-  has_children_.assign(n, 0);
+  derived.has_children.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i)
-    if (parent[i] >= 0) has_children_[static_cast<std::size_t>(parent[i])] |= attachment_node[i] >= 0 ? 3 : 1;
+    if (parent[i] >= 0) derived.has_children[static_cast<std::size_t>(parent[i])] |= attachment_node[i] >= 0 ? 3 : 1;
   for (std::size_t i = 0; i < n; ++i) {
     const int p = parent[i];
     const JointKernel kernel = joint_kernel[i];
     const int flexible = flexible_index[i];
-    if (flexible >= 0 && p >= 0 && attachment_node[i] < 0 && !(has_children_[i] & 2) &&
-        kernel == JointKernel::fixed && welded_to_root_[static_cast<std::size_t>(p)]) {  // a welded appendage
-      appendage_in_root_frame[i] = 1;
-      pose_in_root_[i] = pose_in_root_[static_cast<std::size_t>(p)] * placement[i];
+    if (flexible >= 0 && p >= 0 && attachment_node[i] < 0 && !(derived.has_children[i] & 2) &&
+        joint_is_weld(kernel) && derived.welded_to_root[static_cast<std::size_t>(p)]) {  // a welded appendage
+      derived.appendage_in_root_frame[i] = 1;
+      derived.pose_in_root[i] = derived.pose_in_root[static_cast<std::size_t>(p)] * placement[i];
       const std::size_t f = static_cast<std::size_t>(flexible);
-      flexible_bodies[f].modal_integrals().in_frame(pose_in_root_[i], root_frame_integrals[f]);
+      flexible_bodies[f].modal_integrals().in_frame(derived.pose_in_root[i], derived.root_frame_integrals[f]);
     }
     if (flexible >= 0 || attachment_node[i] >= 0) continue;  // rigid bodies on a body frame only
     if (p < 0) {
       if (!joint_has_constant_body_subspace(kernel)) continue;
-      welded_to_root_[i] = 1;
-      pose_in_root_[i] = Transform<S>();
+      derived.welded_to_root[i] = 1;
+      derived.pose_in_root[i] = Transform<S>();
     } else {
       const std::size_t pp = static_cast<std::size_t>(p);
-      if (!welded_to_root_[pp]) continue;
-      const bool welded = kernel == JointKernel::fixed;
-      const int axis = static_cast<int>(kernel) - static_cast<int>(JointKernel::revolute_x);
-      const bool coordinate_axis = kernel == JointKernel::revolute_x || kernel == JointKernel::revolute_y ||
-                                   kernel == JointKernel::revolute_z;
-      if (!welded && !(coordinate_axis && detail::mass_symmetric_about_axis(axis, com[i], inertia_com[i]))) continue;
-      welded_to_root_[i] = welded ? 1 : 0;
-      pose_in_root_[i] = pose_in_root_[pp] * placement[i];  // a turning body's at angle 0: the same inertia
+      if (!derived.welded_to_root[pp]) continue;
+      const bool welded = joint_is_weld(kernel);
+      const int axis = joint_turning_axis(kernel);
+      if (!welded && !(axis >= 0 && detail::mass_symmetric_about_axis(axis, com[i], inertia_com[i]))) continue;
+      derived.welded_to_root[i] = welded ? 1 : 0;
+      derived.pose_in_root[i] = derived.pose_in_root[pp] * placement[i];  // a turning body's at angle 0: the same inertia
     }
-    constant_tree_inertia[i] = 1;
-    inertia_parameters_in_frame(pose_in_root_[i], mass[i], com[i], inertia_com[i], tree_inertia_parameters[i]);
+    derived.constant_tree_inertia[i] = 1;
+    inertia_parameters_in_frame(derived.pose_in_root[i], mass[i], com[i], inertia_com[i], derived.tree_inertia_parameters[i]);
   }
   refresh_constant_leaf_hinges();
 }
@@ -104,22 +102,20 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
 template <class S>
 void ModelTpl<S>::refresh_constant_leaf_hinges() {
   const std::size_t n = parent.size();
-  for (std::size_t i = 0; i < n; ++i) {  // has_children_: refresh_constant_tree_inertia's
+  for (std::size_t i = 0; i < n; ++i) {  // has_children: refresh_constant_tree_inertia's
     const JointKernel kernel = joint_kernel[i];
-    const bool turns = kernel == JointKernel::revolute_x || kernel == JointKernel::revolute_y ||
-                       kernel == JointKernel::revolute_z;
-    if (!constant_tree_inertia[i] || has_children_[i] || parent[i] < 0 || !turns) continue;
-    const int axis = static_cast<int>(kernel) - static_cast<int>(JointKernel::revolute_x);
-    const Transform<S>& pose = pose_in_root_[i];  // at angle 0; the axis and its point do not move
+    const int axis = joint_turning_axis(kernel);
+    if (!derived.constant_tree_inertia[i] || derived.has_children[i] || parent[i] < 0 || axis < 0) continue;
+    const Transform<S>& pose = derived.pose_in_root[i];  // at angle 0; the axis and its point do not move
     const Vec3<S> w = pose.rotation.col(axis) * axis_sign[i];
     Vec6<S> subspace;
     subspace << w, pose.translation.cross(w);
     Mat6<S> P;
-    assign_spatial_inertia(tree_inertia_parameters[i], P);
+    assign_spatial_inertia(derived.tree_inertia_parameters[i], P);
     const Vec6<S> u = P * subspace;
     const S D = subspace.dot(u);
     if (!(D > detail::singular_pivot_threshold(P))) continue;  // left to the general step, which names the DOF
-    ConstantHingeTerms<S>& terms = leaf_hinge_terms[i];
+    ConstantHingeTerms<S>& terms = derived.leaf_hinge_terms[i];
     terms.articulated_d = D;
     terms.inverse_d = S(1) / D;
     terms.gain = u * terms.inverse_d;
@@ -127,7 +123,7 @@ void ModelTpl<S>::refresh_constant_leaf_hinges() {
     terms.articulated_plus.noalias() -= terms.gain * u.transpose();
     terms.subspace = subspace;
     terms.origin = pose.translation;
-    constant_leaf_hinge[i] = 1;
+    derived.constant_leaf_hinge[i] = 1;
   }
   // A slot for each welded rigid body with a leaf child that has DOFs:
   // those leaves are the ones whose terms can be constant (above), so the
@@ -136,12 +132,12 @@ void ModelTpl<S>::refresh_constant_leaf_hinges() {
   int slots = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const int p = parent[i];
-    if (p < 0 || has_children_[i] || nv_body[i] == 0 || flexible_index[i] >= 0 || attachment_node[i] >= 0) continue;
+    if (p < 0 || derived.has_children[i] || nv_body[i] == 0 || flexible_index[i] >= 0 || attachment_node[i] >= 0) continue;
     const std::size_t pp = static_cast<std::size_t>(p);
-    if (welded_to_root_[pp] && leaf_presum_slot[pp] < 0) leaf_presum_slot[pp] = slots++;
+    if (derived.welded_to_root[pp] && derived.leaf_presum_slot[pp] < 0) derived.leaf_presum_slot[pp] = slots++;
   }
-  leaf_presum_flags.resize(static_cast<std::size_t>(slots));
-  leaf_presum_regular.resize(static_cast<std::size_t>(slots));
+  derived.leaf_presum_flags.resize(static_cast<std::size_t>(slots));
+  derived.leaf_presum_regular.resize(static_cast<std::size_t>(slots));
   refresh_leaf_presums();
 }
 
@@ -154,31 +150,31 @@ void ModelTpl<S>::refresh_constant_leaf_hinges() {
 template <class S>
 void ModelTpl<S>::refresh_leaf_presums() {
   const std::size_t n = parent.size();
-  if (leaf_presum_slot.size() != n || modes.size() != n) return;  // during construction: refreshed once sized
-  for (Mat6<S>& sum : leaf_presum_flags) sum.setZero();
-  for (Mat6<S>& sum : leaf_presum_regular) sum.setZero();
+  if (derived.leaf_presum_slot.size() != n || modes.size() != n) return;  // during construction: refreshed once sized
+  for (Mat6<S>& sum : derived.leaf_presum_flags) sum.setZero();
+  for (Mat6<S>& sum : derived.leaf_presum_regular) sum.setZero();
   for (std::size_t i = 0; i < n; ++i) {
-    leaf_plus_presummed[i] = 0;
+    derived.leaf_plus_presummed[i] = 0;
     const int p = parent[i];
-    if (p < 0 || leaf_presum_slot[static_cast<std::size_t>(p)] < 0 || has_children_[i] || nv_body[i] == 0 ||
-        !constant_tree_inertia[i])
+    if (p < 0 || derived.leaf_presum_slot[static_cast<std::size_t>(p)] < 0 || derived.has_children[i] || nv_body[i] == 0 ||
+        !derived.constant_tree_inertia[i])
       continue;
-    const std::size_t slot = static_cast<std::size_t>(leaf_presum_slot[static_cast<std::size_t>(p)]);
+    const std::size_t slot = static_cast<std::size_t>(derived.leaf_presum_slot[static_cast<std::size_t>(p)]);
     const HingeModes& h = modes[i];
-    const bool constant_terms = constant_leaf_hinge[i] && !h.has_armature;
+    const bool constant_terms = derived.constant_leaf_hinge[i] && !h.has_armature;
     if (constant_terms) {
-      leaf_presum_regular[slot] += leaf_hinge_terms[i].articulated_plus;
-      leaf_plus_presummed[i] |= 2;
+      derived.leaf_presum_regular[slot] += derived.leaf_hinge_terms[i].articulated_plus;
+      derived.leaf_plus_presummed[i] |= 2;
     }
     if (!modes[static_cast<std::size_t>(p)].needs_articulated_inertia) continue;  // under the flags, no P to start
     if (constant_terms && h.n_prescribed == 0) {
-      leaf_presum_flags[slot] += leaf_hinge_terms[i].articulated_plus;
-      leaf_plus_presummed[i] |= 1;
+      derived.leaf_presum_flags[slot] += derived.leaf_hinge_terms[i].articulated_plus;
+      derived.leaf_plus_presummed[i] |= 1;
     } else if (h.n_regular == 0) {
       Mat6<S> P;
-      assign_spatial_inertia(tree_inertia_parameters[i], P);
-      leaf_presum_flags[slot] += P;
-      leaf_plus_presummed[i] |= 1;
+      assign_spatial_inertia(derived.tree_inertia_parameters[i], P);
+      derived.leaf_presum_flags[slot] += P;
+      derived.leaf_plus_presummed[i] |= 1;
     }
   }
 }

@@ -66,7 +66,7 @@ DataTpl<S>::DataTpl(const ModelTpl<S>& model)
   for (std::size_t i = 0; i < n; ++i)
     if (model.attachment_node[i] >= 0)
       w.attachment_subspace[i].setZero(6, model.n_modes[static_cast<std::size_t>(model.parent[i])]);
-  if (model.has_flexible_bodies() || model.reach_checks_needed) w.unit_acceleration.setZero(model.nv);
+  if (model.has_flexible_bodies() || model.derived.reach_checks_needed) w.unit_acceleration.setZero(model.nv);
   w.tree_subspace_columns.setZero(6, model.nv);
   const Eigen::Index angle_slots = (static_cast<Eigen::Index>(model.angle_coordinates.size()) + 3) / 4 * 4;
   w.tree_joint_angle.setZero(angle_slots);

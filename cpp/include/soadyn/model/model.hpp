@@ -22,7 +22,7 @@
 #include <type_traits>
 #include <string>
 #include <unordered_map>
-#include "soadyn/model/constant_hinge_terms.hpp"
+#include "soadyn/model/derived_caches.hpp"
 #include "soadyn/flex/flexible_body.hpp"
 #include "soadyn/model/force_element.hpp"
 #include "soadyn/joints/joint.hpp"
@@ -82,12 +82,8 @@ struct HingeModes {
 // The models whose loops constrained_dynamics solves through the mass matrix
 // (ModelTpl::loops_through_mass_matrix): those whose tree-sparse factor of M
 // costs at most this much (ModelTpl::tree_factor_work) per loop equation.
-// Against the articulated path, the mass-matrix path (in tree frames) took,
-// same machine (bench/results/history.md): four-bar (work 6, 3 equations)
-// 0.72x, a Delta robot (181, 9) 0.75x, random trees (687, 3) 0.89x,
-// (1798, 12) 0.81x and (3172, 12) 0.87x; but (3172, 3) 1.11x, (4538, 6) 1.09x,
-// a 24-DOF chain (4900, 3) 1.10x, talos (4087, 12) 1.08x and a 58-DOF tree
-// (41125, 12) 1.6x.
+// The constant separates the models on which the mass-matrix path is the
+// faster (docs/performance.md, closed loops).
 constexpr int kMassMatrixLoopsWorkPerEquation = 300;
 
 enum class DynamicsPath : std::uint8_t {
@@ -192,12 +188,19 @@ class ModelTpl {
   // throws std::invalid_argument naming the DOF. Allocation free.
   void set_effort_limit(int dof, S value);
 
-  // After a change of mass, com, inertia_com / inertia or placement
-  // (parameters.hpp): refreshes what is derived from them (the tree-frame
-  // reach, the constant tree-frame inertias). Allocation free.
-  void refresh_derived_parameters() {
+  // Refreshes the derived caches (`derived`) after `change`: a structural
+  // change or a change of mass, com, inertia_com / inertia or placement
+  // (parameters.hpp) refreshes them all (the tree-frame reach, the constant
+  // tree-frame inertias, the constant leaf hinges and their presums); a
+  // change of the prescribed flags or the armature only the presums.
+  // Allocation free once the structure is set.
+  void refresh_derived_caches(DerivedChange change = DerivedChange::parameters) {
+    if (change == DerivedChange::flags) {
+      refresh_leaf_presums();
+      return;
+    }
     refresh_tree_frame_reach();
-    refresh_constant_tree_inertia();
+    refresh_constant_tree_inertia();  // then the constant leaf hinges and the presums
   }
 
   // Name lookups; -1 when absent.
@@ -258,64 +261,10 @@ class ModelTpl {
   // region of a fixed-base tree whose hinges are all prescribed.
   bool has_newton_euler_region = false;
 
-  // Tree frames' precision (tree_frame_reach.hxx): per body, the squared
-  // distance from its tree origin within which the rigid sweeps may use tree
-  // frames, and whether its distance can exceed it (then checked per call).
-  std::vector<S> tree_frame_reach_squared;
-  std::vector<std::uint8_t> check_tree_frame_reach;
-  bool reach_checks_needed = false;
-
-  // Inertias the dynamics sweeps and the CRBA need not form
-  // (constant_tree_inertia.hxx): there a root whose joint has a constant
-  // body-frame subspace (free, revolute or prismatic about a coordinate
-  // axis, fixed) has its own body frame for its tree frame, so a rigid body
-  // welded to it (through fixed joints), or turning on such a body about an
-  // axis of symmetry of its mass (a reaction wheel, a turntable), has the
-  // same inertia in its tree frame in every configuration. Per body: 1 when
-  // it does, and then its ten inertia parameters in that frame. Floating-point
-  // scalars only (an automatic-differentiation scalar keeps every inertia's
-  // derivatives by forming it per call).
-  std::vector<std::uint8_t> constant_tree_inertia;
-  aligned_vector<InertiaParameters<S>> tree_inertia_parameters;
-  // Per body, exact properties of its parameters that spare the sweeps and
-  // the CRBA work on every call (refresh_constant_tree_inertia, run by every
-  // change of a placement or an inertia; floating-point scalars only, else
-  // none recorded, so that derivatives by those parameters stay right): the
-  // shape of its placement's rotation (spatial/placement_axes.hpp: the
-  // identity or a quarter-turn permutation of the axes spares the rotation
-  // product of parent * placement), and whether its inertia about its centre
-  // of mass is exactly diagonal (R I_c R' scales R's columns).
-  std::vector<PlacementAxes<S>> placement_axes;
-  std::vector<std::uint8_t> diagonal_inertia_com;
-  // Likewise a flexible appendage welded to such a root (through fixed
-  // joints): its pose in the root's frame is constant, so its modal
-  // integrals are held in that frame too (ModalIntegrals::in_frame), and the
-  // sweeps eliminate its modes there, with no congruence to the tree frame.
-  // Per body: 1 for such an appendage; per flexible body (flexible_index):
-  // its integrals in its root's body frame, where flagged.
-  std::vector<std::uint8_t> appendage_in_root_frame;
-  std::vector<ModalIntegrals<S>> root_frame_integrals;
-  // And a leaf among the bodies with a constant inertia there that turns
-  // about a coordinate axis (a reaction wheel) has a constant subspace too,
-  // so its regular hinge step's D, G and P+ are constants
-  // (constant_hinge_terms.hpp). Per body: 1 when they are, and the terms.
-  std::vector<std::uint8_t> constant_leaf_hinge;
-  aligned_vector<ConstantHingeTerms<S>> leaf_hinge_terms;
-  // What such leaves add to their parent's articulated inertia is then
-  // constant too: a regular constant leaf's P+ (above), and the P of a leaf
-  // with a constant inertia whose DOFs are all prescribed (a turntable
-  // driven at a rate), which it passes on unchanged (Eq. 28 with no regular
-  // DOF). The tree-frame sweeps start the parent's P with their sum
-  // (sweeps/tree_frame_sweeps.hxx), so no call adds them one by one.
-  // Two sums, as the sweeps run under the model's prescribed flags (hybrid
-  // dynamics) or with every DOF regular (forward dynamics). Per body:
-  // leaf_plus_presummed, bit 0 (flags) and bit 1 (all regular) when its
-  // term is in its parent's sum; leaf_presum_slot, the slot of its
-  // children's sums (-1: none). The slots follow the structure; the sums
-  // and bits follow the flags, armature and inertias (refresh_leaf_presums).
-  std::vector<std::uint8_t> leaf_plus_presummed;
-  std::vector<int> leaf_presum_slot;
-  aligned_vector<Mat6<S>> leaf_presum_flags, leaf_presum_regular;
+  // What the sweeps read instead of recomputing per call: properties derived
+  // from the structure, the parameters and the flags (derived_caches.hpp),
+  // refreshed by refresh_derived_caches.
+  DerivedCachesTpl<S> derived;
 
   // Set by every structural change (add_body, add_flexible_body); a copy carries it.
   DynamicsPath dynamics_path = DynamicsPath::rigid_tree_frames;
@@ -380,13 +329,6 @@ class ModelTpl {
   int resolve_loop_frame(const std::string& loop, const std::string& frame, const Transform<S>& placement,
                          const char* which, Transform<S>& in_body) const;
   std::unordered_map<std::string, int> body_lookup_, dof_lookup_, frame_lookup_;
-  // refresh_tree_frame_reach's scratch, kept so that a refresh allocates nothing.
-  std::vector<S> subtree_radius_, distance_bound_;
-  // refresh_constant_tree_inertia's: per body, whether its pose in its
-  // root's body frame is constant, and that pose; whether it has children
-  // (bit 1) and children on its nodes (bit 2).
-  std::vector<std::uint8_t> welded_to_root_, has_children_;
-  aligned_vector<Transform<S>> pose_in_root_;
 };
 
 using Model = ModelTpl<double>;

@@ -257,8 +257,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
     }
     frame_lookup_[name] = static_cast<int>(frames.size());
     frames.push_back(Frame<S>{name, parent_body, X, -1});
-    refresh_tree_frame_reach();
-    refresh_constant_tree_inertia();
+    refresh_derived_caches();
     refresh_dynamics_path();
     ++version;
     return -1;
@@ -330,8 +329,7 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
   modes.emplace_back();
   refresh_body_modes(index);
   refresh_modes();
-  refresh_tree_frame_reach();
-  refresh_constant_tree_inertia();
+  refresh_derived_caches();
   refresh_dynamics_path();
   ++version;
   return index;
@@ -379,7 +377,7 @@ void ModelTpl<S>::refresh_modes() {
                                   (p >= 0 && modes[static_cast<std::size_t>(p)].needs_articulated_inertia);
     has_newton_euler_region = has_newton_euler_region || !h.needs_articulated_inertia;
   }
-  refresh_leaf_presums();
+  refresh_derived_caches(DerivedChange::flags);
 }
 
 template <class S>
@@ -426,7 +424,7 @@ void ModelTpl<S>::set_armature(int dof, S value) {
     body_has = body_has || armature[static_cast<std::size_t>(v0 + k)] != S(0);
   modes[static_cast<std::size_t>(body)].has_armature = body_has;
   has_armature = std::any_of(armature.begin(), armature.end(), [](const S& a) { return a != S(0); });
-  refresh_leaf_presums();
+  refresh_derived_caches(DerivedChange::flags);
 }
 
 template <class S>

@@ -116,9 +116,9 @@ ModelTpl<T> ModelTpl<S>::cast() const {
   out.n_prescribed = n_prescribed;
   out.prescribed_dofs = prescribed_dofs;
   out.has_newton_euler_region = has_newton_euler_region;
-  out.tree_frame_reach_squared = c::scalars<T>(tree_frame_reach_squared);
-  out.check_tree_frame_reach = check_tree_frame_reach;
-  out.reach_checks_needed = reach_checks_needed;
+  out.derived.tree_frame_reach_squared = c::scalars<T>(derived.tree_frame_reach_squared);
+  out.derived.check_tree_frame_reach = derived.check_tree_frame_reach;
+  out.derived.reach_checks_needed = derived.reach_checks_needed;
   out.refresh_constant_tree_inertia();  // from the converted inertias (none cached for a non-floating-point T)
   out.dynamics_path = dynamics_path;
   out.tree_factor_work = tree_factor_work;

@@ -43,7 +43,7 @@ void store_mass_properties(ModelTpl<S>& model, const ParameterEntry<S>& e, S mas
   model.com[i] = com;
   model.inertia_com[i] = inertia_com;
   model.inertia[i] = M;
-  model.refresh_derived_parameters();
+  model.refresh_derived_caches();
 }
 
 template <class S>
@@ -104,7 +104,7 @@ void set_placement(ModelTpl<S>& model, const ParameterEntry<S>& e, const S* in) 
   Transform<S>& X = model.placement[static_cast<std::size_t>(e.index)];
   X.rotation = R;
   X.translation = H.template topRightCorner<3, 1>();
-  model.refresh_derived_parameters();
+  model.refresh_derived_caches();
 }
 
 template <class S>

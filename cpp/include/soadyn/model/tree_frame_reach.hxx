@@ -32,7 +32,7 @@ void ModelTpl<S>::refresh_tree_frame_reach() {
   const S infinity = std::numeric_limits<S>::infinity();
   // Smallest RMS radius, about its own origin, of a massive body in each subtree:
   // trace of the rotational inertia about the origin = 2 sum m |r|^2.
-  std::vector<S>& radius = subtree_radius_;
+  std::vector<S>& radius = derived.subtree_radius;
   radius.assign(n, infinity);
   for (std::size_t i = 0; i < n; ++i)
     if (mass[i] > S(0)) radius[i] = std::sqrt(inertia[i].template topLeftCorner<3, 3>().trace() / (S(2) * mass[i]));
@@ -42,11 +42,11 @@ void ModelTpl<S>::refresh_tree_frame_reach() {
       r = std::min(r, radius[i]);
     }
   // An upper bound on each body's distance from its tree origin in any configuration.
-  std::vector<S>& distance_bound = distance_bound_;
+  std::vector<S>& distance_bound = derived.distance_bound;
   distance_bound.assign(n, S(0));
-  tree_frame_reach_squared.assign(n, infinity);
-  check_tree_frame_reach.assign(n, 0);
-  reach_checks_needed = false;
+  derived.tree_frame_reach_squared.assign(n, infinity);
+  derived.check_tree_frame_reach.assign(n, 0);
+  derived.reach_checks_needed = false;
   for (std::size_t i = 0; i < n; ++i) {
     if (parent[i] >= 0) {
       const bool unbounded = joint_translates(joints[i]) || attachment_node[i] >= 0;
@@ -54,10 +54,10 @@ void ModelTpl<S>::refresh_tree_frame_reach() {
                                     : distance_bound[static_cast<std::size_t>(parent[i])] + placement[i].translation.norm();
     }
     const S reach = S(kTreeFrameReachRatio) * radius[i];
-    tree_frame_reach_squared[i] = reach * reach;
+    derived.tree_frame_reach_squared[i] = reach * reach;
     if (!(distance_bound[i] <= reach)) {
-      check_tree_frame_reach[i] = 1;
-      reach_checks_needed = true;
+      derived.check_tree_frame_reach[i] = 1;
+      derived.reach_checks_needed = true;
     }
   }
 }

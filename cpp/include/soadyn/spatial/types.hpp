@@ -74,8 +74,8 @@ SOADYN_ALWAYS_INLINE void store_as_pairs(const Vec3<S>& a, const Vec3<S>& b, Out
 // and double; other scalars pass through). Reading a 6-vector that was
 // just stored through such values keeps GCC from merging neighbouring
 // reads into one 2-vector load across two stores (a load straddling two
-// stores cannot take its data from the store buffer and waits about a dozen
-// cycles: perf found such loads in the velocity step's cross product).
+// stores cannot take its data from the store buffer and waits, as in the
+// velocity step's cross product).
 template <class S>
 SOADYN_ALWAYS_INLINE S in_register(S x) {
 #if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && defined(__SSE2__)
@@ -99,7 +99,7 @@ struct ScalarsInRegister {
 // stored into r as three 2-vectors (r must not alias v or m). The sweeps use
 // this form: a product assembled from two 3-vector cross products was stored
 // as scalars and read back as 2-vectors across the halves, which stalls
-// store forwarding (perf: about 10 % of the tree-frame inward sweep); the
+// store forwarding; the
 // operands are read entry by entry for the same reason (in_register).
 template <class S>
 SOADYN_ALWAYS_INLINE void motion_cross_into(const Vec6<S>& V, const Vec6<S>& M, Vec6<S>& r) {

@@ -21,8 +21,7 @@
 // Every product is a loop over modes of fixed-size 3- and 6-vector and 3x3
 // updates. The step is compiled for each mode count from 1 to
 // max_fixed_appendage_modes (appendage_step.cpp), where those loops unroll
-// and the flattened invariants' products keep their sums in registers
-// (7-8 % off cassini's step and hybrid dynamics: two booms of four modes);
+// and the flattened invariants' products keep their sums in registers;
 // other counts and non-floating-point scalars take the generic code. For
 // double it is compiled twice, for x86-64's baseline and for AVX2 with FMA,
 // and the processor chooses on the first call (appendage_kernel below).

@@ -61,7 +61,7 @@ namespace detail {
 // arrays of at least n rounded up to a multiple of four (the lanes past n get
 // angle 0). The kernel reads the coordinates itself, into its vector
 // registers: angles stored one by one and read back at once as a vector
-// would stall store forwarding (about 15 ns a call).
+// would stall store forwarding.
 struct SineCosineKernel {
   const char* name;
   void (*run)(const JointAngleSources<double>& sources, double* angle, double* sine, double* cosine);

@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 #include <limits>
 #include <cmath>
+#include "soadyn/joints/kernel_steps.hpp"
 #include "soadyn/linalg/small_cholesky.hpp"
 #include "soadyn/model/data.hpp"
 #include "soadyn/core/status.hpp"
@@ -124,27 +125,10 @@ template <class S>
 inline void joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   const int iq = m.q_index[i], iv = m.v_index[i];
   Transform<S>& pose = d.pose_in_parent[i];
-  const Transform<S>& placement = m.placement[i];
-  // The 1-DOF kernels' coordinate along +e_k.
-  const auto x = [&] { return q[iq] * m.axis_sign[i]; };
-  switch (m.joint_kernel[i]) {
-    case JointKernel::revolute_x: RevoluteJoint<S>::template aligned_pose<0>(placement, x(), pose); return;
-    case JointKernel::revolute_y: RevoluteJoint<S>::template aligned_pose<1>(placement, x(), pose); return;
-    case JointKernel::revolute_z: RevoluteJoint<S>::template aligned_pose<2>(placement, x(), pose); return;
-    case JointKernel::prismatic_x:
-    case JointKernel::prismatic_y:
-    case JointKernel::prismatic_z: {
-      const int k = static_cast<int>(m.joint_kernel[i]) - static_cast<int>(JointKernel::prismatic_x);
-      PrismaticJoint<S>::aligned_pose(k, placement, x(), pose);
-      return;
-    }
-    case JointKernel::fixed: pose = placement; return;
-    default: {
-      Transform<S> joint_pose;
-      joint_calc(m.joints[i], q + iq, v ? v + iv : nullptr, joint_pose, d.sweep.body_subspace[i], d.sweep.body_joint_bias[i]);
-      pose = placement * joint_pose;
-    }
-  }
+  if (kernel_body_pose(m.joint_kernel[i], m.placement[i], q + iq, m.axis_sign[i], pose)) return;
+  Transform<S> joint_pose;
+  joint_calc(m.joints[i], q + iq, v ? v + iv : nullptr, joint_pose, d.sweep.body_subspace[i], d.sweep.body_joint_bias[i]);
+  pose = m.placement[i] * joint_pose;
 }
 
 // Body velocity V(i) = phi* V(parent) + S v_i and Coriolis term

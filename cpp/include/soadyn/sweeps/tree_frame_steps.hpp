@@ -43,7 +43,7 @@
 
 #include "soadyn/sweeps/appendage_step.hpp"
 #include "soadyn/sweeps/joint_angles.hpp"
-#include "soadyn/joints/joint.hpp"
+#include "soadyn/joints/kernel_steps.hpp"
 
 namespace soadyn {
 
@@ -107,7 +107,7 @@ SOADYN_ALWAYS_INLINE void compose_with_placement(const Transform<S>& parent, con
 template <class S>
 SOADYN_ALWAYS_INLINE bool is_free_root(const ModelTpl<S>& m, int i) {
   const std::size_t b = static_cast<std::size_t>(i);
-  return m.parent[b] < 0 && m.joint_kernel[b] == JointKernel::free;
+  return m.parent[b] < 0 && joint_is_free(m.joint_kernel[b]);
 }
 
 // Whether body i is a root whose tree frame is its own body frame under
@@ -123,7 +123,7 @@ SOADYN_ALWAYS_INLINE bool is_body_frame_root(const ModelTpl<S>& m, int i) {
 // body-frame root, ModelTpl::appendage_in_root_frame), not in its body frame.
 template <bool RootBodyFrames, class S>
 SOADYN_ALWAYS_INLINE bool appendage_eliminated_in_tree_frame(const ModelTpl<S>& m, std::size_t i) {
-  return RootBodyFrames && m.appendage_in_root_frame[i];
+  return RootBodyFrames && m.derived.appendage_in_root_frame[i];
 }
 
 // Pose of body i in its tree frame and its motion subspace there; returns the
@@ -144,42 +144,15 @@ inline Vec6<S> tree_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
   else if (RootBodyFrames && is_body_frame_root(m, p))
     base = m.placement[i];
   else
-    detail::compose_with_placement(d.sweep.tree_pose[static_cast<std::size_t>(p)], m.placement[i], m.placement_axes[i],
+    detail::compose_with_placement(d.sweep.tree_pose[static_cast<std::size_t>(p)], m.placement[i], m.derived.placement_axes[i],
                                    base);
   Transform<S>& pose = d.sweep.tree_pose[i];
   Mat6N<S>& s = d.sweep.tree_subspace[i];
-  // The 1-DOF kernels' coordinate along +e_k; a revolute kernel's cosine and
-  // sine of it, from the sweep's table (tabulate_joint_angles).
-  const auto x = [&] { return q[m.q_index[i]] * m.axis_sign[i]; };
-  const auto turn = [&](auto axis) {
-    const Eigen::Index slot = m.angle_slot[i];
-    RevoluteJoint<S>::template aligned_tree_step<decltype(axis)::value>(
-        base, d.sweep.tree_joint_cosine[slot], d.sweep.tree_joint_sine[slot], m.axis_sign[i], pose, s);
-  };
-  switch (m.joint_kernel[i]) {
-    case JointKernel::revolute_x: turn(std::integral_constant<int, 0>{}); break;
-    case JointKernel::revolute_y: turn(std::integral_constant<int, 1>{}); break;
-    case JointKernel::revolute_z: turn(std::integral_constant<int, 2>{}); break;
-    case JointKernel::prismatic_x:
-    case JointKernel::prismatic_y:
-    case JointKernel::prismatic_z: {
-      const int k = static_cast<int>(m.joint_kernel[i]) - static_cast<int>(JointKernel::prismatic_x);
-      PrismaticJoint<S>::aligned_tree_step(k, base, x(), m.axis_sign[i], root, pose, s);
-      break;
-    }
-    case JointKernel::free: FreeJoint<S>::tree_step(base, q + m.q_index[i], root, pose, s); break;
-    case JointKernel::fixed: pose = base; break;
-    case JointKernel::spherical: SphericalJoint<S>::tree_step(base, q + m.q_index[i], root, pose, s); break;
-    case JointKernel::universal: return detail::universal_tree_step(m, d, i, base, q, v, root);
-    case JointKernel::revolute_axis:
-      std::get_if<RevoluteJoint<S>>(&m.joints[i])->tree_step(base, q[m.q_index[i]], pose, s);
-      break;
-    case JointKernel::prismatic_axis:
-      std::get_if<PrismaticJoint<S>>(&m.joints[i])->tree_step(base, q[m.q_index[i]], root, pose, s);
-      break;
-    default: return detail::general_joint_tree_step(m, d, i, base, q, v, root);
-  }
-  return Vec6<S>::Zero();
+  if (kernel_tree_step(m.joint_kernel[i], m.joints[i], base, q + m.q_index[i], m.axis_sign[i],
+                       d.sweep.tree_joint_cosine.data(), d.sweep.tree_joint_sine.data(), m.angle_slot[i], root, pose, s))
+    return Vec6<S>::Zero();
+  if (joint_axes_coupled(m.joint_kernel[i])) return detail::universal_tree_step(m, d, i, base, q, v, root);
+  return detail::general_joint_tree_step(m, d, i, base, q, v, root);
 }
 
 // Tree-frame kinematics of body i (Jain & Rodriguez 1993, Eq. 1): pose and subspace,
@@ -194,9 +167,9 @@ template <bool RootBodyFrames = false, class S>
 SOADYN_ALWAYS_INLINE void tree_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
                                              bool pose_wanted = true) {
   Vec6<S> joint_rate;  // revolute leaves have none (joint_has_rate_term)
-  if (RootBodyFrames && !pose_wanted && m.constant_leaf_hinge[i]) {
-    d.sweep.tree_pose[i].translation = m.leaf_hinge_terms[i].origin;  // for beyond_tree_frame_reach
-    d.sweep.tree_subspace[i] = m.leaf_hinge_terms[i].subspace;
+  if (RootBodyFrames && !pose_wanted && m.derived.constant_leaf_hinge[i]) {
+    d.sweep.tree_pose[i].translation = m.derived.leaf_hinge_terms[i].origin;  // for beyond_tree_frame_reach
+    d.sweep.tree_subspace[i] = m.derived.leaf_hinge_terms[i].subspace;
   } else {
     joint_rate = tree_joint_step<RootBodyFrames>(m, d, i, q, v);
   }
@@ -232,7 +205,7 @@ inline void root_body_frame_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_
   SweepData<S>& w = d.sweep;
   w.tree_pose[i] = Transform<S>();
   w.tree_subspace[i] = w.body_subspace[i];
-  if (v && m.joint_kernel[i] == JointKernel::free)  // H* = 1: the twist is the joint's v
+  if (v && joint_is_free(m.joint_kernel[i]))  // H* = 1: the twist is the joint's v
     w.tree_velocity[i] = Eigen::Map<const Vec6<S>>(v + m.v_index[i]);
   else if (v)
     w.tree_velocity[i] = detail::subspace_times(w.body_subspace[i], v + m.v_index[i]);
@@ -246,12 +219,11 @@ inline void root_body_frame_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_
   }
   Transform<S> world_pose = m.placement[i];
   const JointKernel kernel = m.joint_kernel[i];
-  if (kernel == JointKernel::free) {
+  if (joint_is_free(kernel)) {
     world_pose.rotation = m.placement[i].rotation * quaternion_rotation(q + m.q_index[i] + 3);
-  } else if (kernel <= JointKernel::revolute_z) {  // the angle's cosine and sine from the sweep's table
+  } else if (const int axis = joint_turning_axis(kernel); axis >= 0) {  // cosine and sine from the sweep's table
     const std::size_t slot = static_cast<std::size_t>(m.angle_slot[i]);
-    rotate_about_coordinate_axis(static_cast<int>(kernel) - static_cast<int>(JointKernel::revolute_x), m.placement[i],
-                                 w.tree_joint_cosine[slot], w.tree_joint_sine[slot], world_pose);
+    rotate_about_coordinate_axis(axis, m.placement[i], w.tree_joint_cosine[slot], w.tree_joint_sine[slot], world_pose);
   }  // prismatic and fixed joints do not turn the body
   const Mat3<S>& R = world_pose.rotation;
   a << R.transpose() * world_acc.template head<3>(), R.transpose() * world_acc.template tail<3>();
@@ -262,10 +234,10 @@ inline void root_body_frame_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_
 // bodies whose geometry does not bound that distance below the reach.
 template <class S>
 SOADYN_ALWAYS_INLINE bool beyond_tree_frame_reach(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i) {
-  if (!(m.reach_checks_needed && m.check_tree_frame_reach[i])) return false;
+  if (!(m.derived.reach_checks_needed && m.derived.check_tree_frame_reach[i])) return false;
   const Vec3<S>& t = d.sweep.tree_pose[i].translation;  // just stored: read entry by entry (in_register)
   const S x = in_register(t[0]), y = in_register(t[1]), z = in_register(t[2]);
-  return x * x + y * y + z * z > m.tree_frame_reach_squared[i];
+  return x * x + y * y + z * z > m.derived.tree_frame_reach_squared[i];
 }
 
 // Body terms of rigid body i in its tree frame: M(i)'s ten parameters into
@@ -279,10 +251,10 @@ template <bool RootBodyFrames = false, class S>
 SOADYN_ALWAYS_INLINE void tree_rigid_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v,
                                                const S* f_ext, InertiaParameters<S>& parameters) {
   const Transform<S>& pose = d.sweep.tree_pose[i];
-  if (RootBodyFrames && m.constant_tree_inertia[i])
-    parameters = m.tree_inertia_parameters[i];
+  if (RootBodyFrames && m.derived.constant_tree_inertia[i])
+    parameters = m.derived.tree_inertia_parameters[i];
   else
-    inertia_parameters_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i], m.diagonal_inertia_com[i] != 0, parameters);
+    inertia_parameters_in_frame(pose, m.mass[i], m.com[i], m.inertia_com[i], m.derived.diagonal_inertia_com[i] != 0, parameters);
   // b is stored entry by entry in both places: a copy read back from memory
   // right after scalar stores would stall store forwarding.
   Vec6<S>& b = d.sweep.tree_bias_force[i];
@@ -315,7 +287,7 @@ inline void tree_flexible_body_step(const ModelTpl<S>& m, DataTpl<S>& d, std::si
   if (appendage_eliminated_in_tree_frame<RootBodyFrames>(m, i)) {
     if (f_ext) external = pose.force_to_parent(external);
     const std::size_t f = static_cast<std::size_t>(m.flexible_index[i]);
-    appendage_step(m, d, i, m.root_frame_integrals[f], q, v, u, f_ext ? &external : nullptr,
+    appendage_step(m, d, i, m.derived.root_frame_integrals[f], q, v, u, f_ext ? &external : nullptr,
                    d.sweep.tree_velocity[i], d.sweep.tree_articulated_inertia[i], d.sweep.tree_bias_and_children_z[i]);
     return;
   }

@@ -47,7 +47,7 @@ inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, 
 // DOF regular, with no armature, which would change D.
 template <ModePolicy Modes, bool RootBodyFrames, class S>
 SOADYN_ALWAYS_INLINE bool constant_leaf_hinge(const ModelTpl<S>& m, std::size_t i) {
-  return RootBodyFrames && m.constant_leaf_hinge[i] && regular_hinge<Modes>(m, i) && !m.modes[i].has_armature;
+  return RootBodyFrames && m.derived.constant_leaf_hinge[i] && regular_hinge<Modes>(m, i) && !m.modes[i].has_armature;
 }
 
 // The bit of ModelTpl::leaf_plus_presummed that holds under `Modes`.
@@ -61,15 +61,15 @@ constexpr std::uint8_t presum_bit() {
 // the terms are constant in the root's body frame).
 template <ModePolicy Modes, bool RootBodyFrames, class S>
 SOADYN_ALWAYS_INLINE bool leaf_plus_presummed(const ModelTpl<S>& m, std::size_t i) {
-  return RootBodyFrames && (m.leaf_plus_presummed[i] & presum_bit<Modes>());
+  return RootBodyFrames && (m.derived.leaf_plus_presummed[i] & presum_bit<Modes>());
 }
 
 // Body i's P starts as its own inertia plus its constant leaves' terms.
 template <ModePolicy Modes, bool RootBodyFrames, class S>
 SOADYN_ALWAYS_INLINE void add_presummed_leaves(const ModelTpl<S>& m, SweepData<S>& w, std::size_t i) {
-  const int slot = RootBodyFrames ? m.leaf_presum_slot[i] : -1;
+  const int slot = RootBodyFrames ? m.derived.leaf_presum_slot[i] : -1;
   if (slot < 0) return;
-  const auto& sums = Modes == ModePolicy::all_regular ? m.leaf_presum_regular : m.leaf_presum_flags;
+  const auto& sums = Modes == ModePolicy::all_regular ? m.derived.leaf_presum_regular : m.derived.leaf_presum_flags;
   w.tree_articulated_inertia[i] += sums[static_cast<std::size_t>(slot)];
 }
 
@@ -88,10 +88,10 @@ SOADYN_ALWAYS_INLINE bool constant_leaf_step(const ModelTpl<S>& m, std::size_t i
 template <class S>
 SOADYN_ALWAYS_INLINE void constant_leaf_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
                                                bool presummed, Vec6<S>& z_plus) {
-  const ConstantHingeTerms<S>& terms = m.leaf_hinge_terms[i];
+  const ConstantHingeTerms<S>& terms = m.derived.leaf_hinge_terms[i];
   SweepData<S>& w = d.sweep;
   Vec6<S> z = w.tree_bias_and_children_z[i];
-  z += momentum(m.tree_inertia_parameters[i], w.tree_coriolis[i]);  // P a, P its constant inertia
+  z += momentum(m.derived.tree_inertia_parameters[i], w.tree_coriolis[i]);  // P a, P its constant inertia
   const S e = u[m.v_index[i]] - w.tree_subspace[i].col(0).dot(z);
   w.tree_gain[i].col(0) = terms.gain;
   w.innovation[i][0] = e * terms.inverse_d;
@@ -174,7 +174,7 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
   // Constant leaves and their parents' sums: every such leaf's parent has a
   // slot (ModelTpl::leaf_presum_slot), so a model without slots (most
   // robots) tests nothing per body.
-  const bool leaf_terms = RootBodyFrames && !m.leaf_presum_flags.empty();
+  const bool leaf_terms = RootBodyFrames && !m.derived.leaf_presum_flags.empty();
   tabulate_joint_angles(m, w, q);
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, M, b (Eq. 1); all-prescribed regions' accelerations
     if (RootBodyFrames && is_body_frame_root(m, static_cast<int>(i)))
