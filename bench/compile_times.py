@@ -80,19 +80,19 @@ def main(argv=None) -> None:
         groups.setdefault(group_of(output), []).append((unit_name(output), s))
     total = sum(seconds.values())
 
-    per_group = report.Table("Compile and link seconds by group", ["group", "units", "seconds", "share"],
-                             {"seconds": ".1f", "share": ".0%"}, headline=["seconds"])
-    units = report.Table("Compile seconds per unit (slowest first)", ["unit", "group", "seconds", "share"],
-                         {"seconds": ".1f", "share": ".1%"}, key=2, summary=False)
+    per_group = report.Table("Compile and link seconds by group", ["group", "units", "seconds", "share (%)"],
+                             {"seconds": ".1f", "share (%)": ".1f"}, headline=["seconds"])
+    units = report.Table("Compile seconds per unit (slowest first)", ["unit", "group", "seconds", "share (%)"],
+                         {"seconds": ".1f", "share (%)": ".1f"}, key=2, summary=False)
     for name, _ in GROUPS + [("other", "")]:
         entries = groups.get(name, [])
         if entries:
             s = sum(t for _, t in entries)
-            per_group.add(name, len(entries), s, s / total)
-    per_group.add("all", len(seconds), total, 1.0)
+            per_group.add(name, len(entries), s, 100 * s / total)
+    per_group.add("all", len(seconds), total, 100.0)
     for name, entries in groups.items():
         for unit, s in entries:
-            units.add(unit, name, s, s / total)
+            units.add(unit, name, s, 100 * s / total)
     units.rows.sort(key=lambda row: -row[2])
     settings = {"options": cache_settings(args.build), "units": len(seconds), "sum_seconds": round(total, 1)}
     if args.wall is not None:
