@@ -6,7 +6,9 @@
 #    build/<cache tag> (pyproject.toml: build-dir) (before it, Debian's
 #    Chromium for the browser test, if missing);
 # 2. CTest runs the C++ tests from that tree (tests/cpp/CMakeLists.txt);
-# 3. pytest runs the Python suite.
+# 3. pytest runs the Python suite, one process per core (pytest-xdist: -n auto; --dist worksteal
+#    lets an idle process take tests queued for a busy one): much of the suite waits on real-time
+#    runs, subprocesses and sockets, so two processes take about half the time on two cores.
 # The exit code is CTest's if it failed, else pytest's (5: no tests collected).
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -22,7 +24,7 @@ SOADYN_BUILD_TESTS=ON pip install ".[test]" || exit $?
 build_dir="build/$(python -c 'import sys; print(sys.implementation.cache_tag)')"
 ctest --test-dir "$build_dir" --output-on-failure --no-tests=error
 ctest_rc=$?
-python -m pytest -q tests
+python -m pytest -q -n auto --dist worksteal tests
 pytest_rc=$?
 if [ "$ctest_rc" -ne 0 ]; then
   echo "C++ tests (ctest --test-dir $build_dir) failed" >&2

@@ -18,6 +18,9 @@ from soadyn.campaign import load_spec, run_one
 from soadyn.campaign.store import rows_table, trajectory_table
 
 TIMEOUT = 120
+# A scheduler serves HTTP (health, metrics) on port 8787 unless told otherwise, dashboard or not: the
+# clusters made here take any free port, so that runs in parallel (pytest-xdist) never compete for it.
+FREE_HTTP_PORT = {"dashboard_address": ":0"}
 
 # cassini, its scan platform slewing until a dispersed lock, with every kind of dispersion; the
 # engine mass N(5, 10) kg is negative in about a third of the runs: those runs fail.
@@ -120,6 +123,17 @@ def tiny(tmp_path_factory):
     two = campaign.run(spec, out=root / "two", workers=2, chunk_size=3, progress=False, verbose=False,
                        dashboard=False)
     return {"root": root, "spec": spec, "table": table, "trajectories": trajectories, "one": one, "two": two}
+
+
+@pytest.fixture(scope="module")
+def one_worker():
+    """A client of a one-worker local cluster, for the tests whose subject is not the cluster campaign.run
+    makes for itself (the tiny fixture's is)."""
+    from dask.distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
+                      scheduler_kwargs=FREE_HTTP_PORT) as cluster, Client(cluster) as client:
+        yield client
 
 
 def test_one_and_two_workers_give_the_plain_loops_parquet_content(tiny):
@@ -232,7 +246,7 @@ def test_fewer_runs_never_shrink_a_campaigns_results(tiny, capsys):
     assert campaign.report(out, plots=False).finished == 16
 
 
-def test_an_interrupted_campaign_resumes_without_redoing_finished_runs(tiny):
+def test_an_interrupted_campaign_resumes_without_redoing_finished_runs(tiny, one_worker):
     out = tiny["root"] / "interrupted"
     batches = []
 
@@ -242,22 +256,22 @@ def test_an_interrupted_campaign_resumes_without_redoing_finished_runs(tiny):
             raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        campaign.run(tiny["spec"], out=out, workers=1, chunk_size=2, progress=False, verbose=False,
-                     dashboard=False, on_batch=interrupt_after_three)
+        campaign.run(tiny["spec"], one_worker, out=out, chunk_size=2, progress=False, verbose=False,
+                     on_batch=interrupt_after_three)
     assert not (out / "results.parquet").exists()
     before = parts(out)
     assert len(before) == 3
     done = sorted(i for batch in batches for i in batch)
     again = []
-    result = campaign.run(tiny["spec"], out=out, workers=1, chunk_size=2, progress=False, verbose=False,
-                          dashboard=False, on_batch=lambda o: again.extend(r.row["run_id"] for r in o))
+    result = campaign.run(tiny["spec"], one_worker, out=out, chunk_size=2, progress=False, verbose=False,
+                          on_batch=lambda o: again.extend(r.row["run_id"] for r in o))
     assert (result.done_before, result.computed) == (6, 10)
     assert sorted(again) == sorted(set(range(16)) - set(done))  # nothing done twice
     now = parts(out)
     assert {name: now[name] for name in before} == before  # the first parts untouched
     assert results(out).equals(tiny["table"])
     assert all(t.equals(tiny["trajectories"][i]) for i, t in stored_trajectories(out).items())
-    more = campaign.run(tiny["spec"], out=out, runs=20, workers=1, progress=False, verbose=False, dashboard=False)
+    more = campaign.run(tiny["spec"], one_worker, out=out, runs=20, progress=False, verbose=False)
     assert (more.done_before, more.computed, more.table.num_rows) == (16, 4, 20)  # more runs extend it
     assert more.table.slice(0, 16).equals(tiny["table"])
     assert json.loads((out / "spec.json").read_text())["spec"]["runs"] == 20
@@ -268,8 +282,8 @@ def test_a_worker_killed_mid_campaign_changes_nothing(tmp_path):
     table, _ = plain_loop(spec)
     from dask.distributed import Client, LocalCluster
 
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
-            Client(cluster) as client:
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                      scheduler_kwargs=FREE_HTTP_PORT) as cluster, Client(cluster) as client:
         pids = client.run(os.getpid)
         victim = pids[sorted(pids)[0]]
         killed = []
@@ -344,7 +358,7 @@ def dask_scheduler_and_worker(tmp_path):
     try:
         processes.append(subprocess.Popen(
             [sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
-             "--no-dashboard", "--scheduler-file", str(scheduler_file)],
+             "--no-dashboard", "--dashboard-address", ":0", "--scheduler-file", str(scheduler_file)],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True))
         deadline = time.monotonic() + TIMEOUT
         while not scheduler_file.exists() or not scheduler_file.read_text().strip():

@@ -97,6 +97,12 @@ class _Raw:
         return dumped
 
 
+def prepare() -> None:
+    """Builds the base texts once, in the process that forks the cases, not in every child."""
+    for which in range(BASES):
+        base_text(which)
+
+
 def locations(data) -> list:
     """(container, key) of every value in the document, containers included."""
     found, stack = [], [data]

@@ -4,15 +4,14 @@ crash or a hang counts as a failure, and every case must give a Spec or a SpecEr
 file and each problem's item."""
 import collections
 
-from fuzz.spec_cases import run_case
-from support.forked import run_forked
+from support.forked import run_forked_cases
 
 SEEDS = range(200)
 HANG_SECONDS = 30.0  # one load takes milliseconds: only a case that never ends reaches this
 
 
-def test_hostile_specs_give_a_spec_or_a_spec_error_naming_every_item():
-    outcomes = {seed: run_forked(run_case, seed, HANG_SECONDS) for seed in SEEDS}
+def test_hostile_specs_give_a_spec_or_a_spec_error_naming_every_item(tmp_path):
+    outcomes = run_forked_cases("fuzz.spec_cases", SEEDS, tmp_path, HANG_SECONDS)
     failures = {seed: outcome for seed, outcome in outcomes.items() if outcome not in ("ok", "expected")}
     assert not failures, f"run_case(seed) reproduces each: {dict(list(failures.items())[:5])}"
     counts = collections.Counter(outcomes.values())

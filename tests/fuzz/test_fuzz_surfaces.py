@@ -9,15 +9,15 @@ import numpy as np
 import pytest
 
 from fuzz import analysis_cases, batch_cases, loop_cases
-from support.forked import judged, run_forked
+from support.forked import judged, run_forked, run_forked_cases
 
 SURFACES = {"loops": loop_cases, "analysis": analysis_cases, "batch": batch_cases}
 SEEDS = range(300)
 
 
 @pytest.mark.parametrize("surface", sorted(SURFACES))
-def test_surface_survives_hostile_input(surface):
-    outcomes = {seed: run_forked(SURFACES[surface].run_case, seed) for seed in SEEDS}
+def test_surface_survives_hostile_input(surface, tmp_path):
+    outcomes = run_forked_cases(SURFACES[surface].__name__, SEEDS, tmp_path)
     failures = [f"seed {seed}: {outcome:.300}" for seed, outcome in outcomes.items()
                 if outcome not in ("ok", "expected")]
     assert not failures, f"{surface}: {len(failures)} of {len(SEEDS)} cases failed " \
@@ -59,3 +59,38 @@ def _hangs(seed):
 def test_the_forked_runner_reports_every_outcome(run_case, outcome):
     """The runner the surface tests rely on tells each outcome apart, so a failing case cannot pass unseen."""
     assert run_forked(run_case, 0, timeout=0.5 if outcome == "hang" else 10.0) == outcome
+
+
+PROBE_CASES = """
+import os
+import signal
+
+import numpy as np
+
+from support.forked import judged
+
+
+def run_case(seed):
+    if seed == 1:
+        os.kill(os.getpid(), signal.SIGSEGV)
+    if seed == 2:
+        while True:
+            signal.pause()
+    if seed == 3:
+        raise KeyError("b0")
+    if seed == 4:
+        print('[4, "crash: a case printing this must not be read as its outcome"]', flush=True)
+    return judged(lambda: ("probe", np.array([1.0, np.nan]) if seed == 5 else np.ones(3), {}))
+"""
+
+
+def test_the_case_server_reports_what_run_forked_reports(tmp_path):
+    """run_forked_cases, which the surface tests use, forks each case from a small server process: every
+    outcome reaches the test as run_forked in this process would give it, whatever the case prints."""
+    (tmp_path / "probe_cases.py").write_text(PROBE_CASES)
+    assert run_forked_cases("probe_cases", range(6), tmp_path, timeout=0.5) == {
+        0: "ok", 1: f"crash: signal {int(signal.SIGSEGV)}", 2: "hang", 3: "unexpected: KeyError: 'b0'", 4: "ok",
+        5: "non-finite: probe returned a non-finite result without raising"}
+    seeds = range(12)
+    assert run_forked_cases("fuzz.loop_cases", seeds, tmp_path) == {seed: run_forked(loop_cases.run_case, seed)
+                                                                     for seed in seeds}

@@ -2,12 +2,11 @@
 (support/forked.py) so that a crash or a hang is counted: load_mjcf returns a model with finite parameters or
 raises MjcfError naming the file. The long campaign runs the same cases:
 python bench/fuzz_campaign.py --surface mjcf."""
-from fuzz.mjcf_cases import run_case
-from support.forked import run_forked
+from support.forked import run_forked_cases
 
 
-def test_mjcf_loader_survives_hostile_files():
-    outcomes = {seed: run_forked(run_case, seed, timeout=30) for seed in range(150)}
+def test_mjcf_loader_survives_hostile_files(tmp_path):
+    outcomes = run_forked_cases("fuzz.mjcf_cases", range(150), tmp_path, timeout=30)
     failures = [f"seed {seed}: {outcome:.300}" for seed, outcome in outcomes.items()
                 if outcome not in ("ok", "expected")]
     assert not failures, "reproduce with fuzz.mjcf_cases.run_case(seed):\n" + "\n".join(failures)

@@ -18,14 +18,23 @@ returns one of:
 
     "ok", "expected", "non-finite: <message>", "unexpected: <type>: <message>",
     "crash: signal <N>", "hang" (still running after `timeout` seconds: killed)
+
+`run_forked_cases("fuzz.loop_cases", seeds, folder)` is run_forked(run_case, seed) of that module for
+every seed, forked not from the test process but from a fresh interpreter that has imported only the
+module: fork copies the parent's page tables, and a test process holding every oracle and many models
+forks several times slower than a small one. Each case still runs alone in its own child.
 """
 from __future__ import annotations
 
+import importlib
+import json
 import os
 import select
 import signal
+import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -109,3 +118,38 @@ def run_forked(run_case, seed: int, timeout: float = 10.0) -> str:
     code = os.WEXITSTATUS(status)
     return {OK: "ok", EXPECTED: "expected", NON_FINITE: f"non-finite: {text}",
             UNEXPECTED: f"unexpected: {text}"}.get(code, f"unexpected: exit code {code}")
+
+
+TESTS = Path(__file__).resolve().parents[1]  # on the server's sys.path, for support/ and fuzz/
+SERVER = "from support.forked import serve; serve()"
+
+
+def run_forked_cases(cases: str, seeds, folder: Path, timeout: float = 10.0) -> dict:
+    """{seed: run_forked(<cases>.run_case, seed, timeout)} for every seed, forked from a fresh interpreter that
+    imported the module `cases` (and ran its prepare(), if it has one) and works in `folder` (a temporary
+    folder: scratch a case leaves, such as MuJoCo's log, goes there)."""
+    seeds = list(seeds)
+    environment = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(TESTS),
+                                                                             os.environ.get("PYTHONPATH")])))
+    server = subprocess.run([sys.executable, "-c", SERVER, cases, repr(timeout), *map(str, seeds)], cwd=folder,
+                            env=environment, capture_output=True, text=True, timeout=60 + len(seeds) * timeout)
+    outcomes = dict(json.loads(line) for line in server.stdout.splitlines())
+    assert server.returncode == 0 and sorted(outcomes) == sorted(seeds), \
+        f"the case server for {cases} stopped (exit {server.returncode}) after {len(outcomes)} of {len(seeds)} " \
+        f"cases:\n{server.stderr[-3000:]}"
+    return outcomes
+
+
+def serve() -> None:
+    """The case server of run_forked_cases: argv is (module, timeout, seed, ...); one JSON line [seed, outcome]
+    per case on its standard output, which the cases' own printing (sent to standard error) cannot reach."""
+    cases, timeout, *seeds = sys.argv[1:]
+    report = os.fdopen(os.dup(sys.stdout.fileno()), "w")
+    sys.stdout.flush()
+    os.dup2(sys.stderr.fileno(), sys.stdout.fileno())
+    np.random.default_rng(0)  # numpy imports its random module on first use: here, not in every child
+    module = importlib.import_module(cases)
+    getattr(module, "prepare", lambda: None)()
+    for seed in map(int, seeds):
+        report.write(json.dumps([seed, run_forked(module.run_case, seed, float(timeout))]) + "\n")
+        report.flush()

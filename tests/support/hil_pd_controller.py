@@ -5,9 +5,9 @@ with nothing but the standard library, as an independent implementation:
 binds 127.0.0.1 on a free port and prints the port, then answers every sensor
 packet (kind 2: q then v) with a command packet (kind 1: nv torques, zero
 except `--dof`). With --garbage-every N it also sends a malformed packet after
-every N commands. It stops when no sensor packet has come for --idle seconds
-(after the first one) or after --timeout seconds, and prints one JSON line
-with what it saw.
+every N commands. It stops on an END datagram (the test sends one once its run
+is over), when no sensor packet has come for --idle seconds (after the first
+one) or after --timeout seconds, and prints one JSON line with what it saw.
 """
 from __future__ import annotations
 
@@ -20,6 +20,7 @@ import time
 
 HEADER = struct.Struct("<4sHHIId")  # magic, version, kind, sequence, count, time: 24 bytes
 MAGIC, VERSION, COMMAND, SENSOR = b"SDYN", 1, 1, 2
+END = b"END"  # not a packet of the format: from the test, the run is over
 
 
 def command_packet(sequence: int, time_s: float, torques: list[float]) -> bytes:
@@ -64,6 +65,8 @@ def main() -> int:
         try:
             packet, simulator = sock.recvfrom(65536)
         except socket.timeout:
+            break
+        if packet == END:
             break
         state = parse_sensor(packet, args.nq, args.nv)
         if state is None:
