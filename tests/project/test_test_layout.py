@@ -105,7 +105,8 @@ def test_shared_code_lives_in_support_or_fuzz():
 
 
 def test_every_subpackage_of_soadyn_has_its_test_folder():
-    subpackages = sorted(path.parent.name for path in PACKAGE.glob("*/__init__.py") if not path.parent.name.startswith("_"))
-    assert "campaign" in subpackages
+    subpackages = sorted(path.parent.name for path in PACKAGE.glob("*/__init__.py")
+                         if not path.parent.name.startswith("_"))
+    assert {"io", "campaign"} <= set(subpackages)
     missing = [name for name in subpackages if name not in CONCERNS]
     assert not missing, f"soadyn subpackages without a folder of tests: {missing}"

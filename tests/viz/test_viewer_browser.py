@@ -9,9 +9,9 @@ a second page (a new client) sees the crank's box moved and the world's box not.
 installs the `chromium` package (apt-get) when it is missing.
 
 Chromium is driven over the DevTools protocol: each page is read and captured as soon as it holds
-what the test looks for (polled against a deadline), rather than after a fixed page time per run. The scene has no environment map (viser's default lighting, an HDR
-image that software WebGL spends seconds per page filtering): the test looks at where the boxes are,
-not at their shading.
+what the test looks for (polled against a deadline), rather than after a fixed page time per run.
+The scene has no environment map (viser's default lighting, an HDR image that software WebGL spends
+seconds per page filtering): the test looks at where the boxes are, not at their shading.
 """
 from __future__ import annotations
 
@@ -45,17 +45,19 @@ def chromium() -> str:
 class Browser:
     """A headless Chromium and its DevTools connection (one websocket, pages attached in flat mode)."""
 
-    def __init__(self, profile):
-        self.process = subprocess.Popen(
-            [chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-             "--enable-unsafe-swiftshader", "--no-first-run", "--disable-dev-shm-usage", f"--user-data-dir={profile}",
-             "--window-size=1200,900", "--remote-debugging-port=0", "about:blank"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    def __init__(self, folder):
+        profile, log = folder / "profile", folder / "chromium.log"  # its messages go to a file: no pipe to fill
+        with log.open("w") as messages:
+            self.process = subprocess.Popen(
+                [chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
+                 "--enable-unsafe-swiftshader", "--no-first-run", "--disable-dev-shm-usage",
+                 f"--user-data-dir={profile}", "--window-size=1200,900", "--remote-debugging-port=0", "about:blank"],
+                stdout=subprocess.DEVNULL, stderr=messages, start_new_session=True)
         try:
             active_port = profile / "DevToolsActivePort"  # Chromium writes its port and path there once listening
             deadline = time.monotonic() + BROWSER_TIMEOUT
             while len(active_port.read_text().split() if active_port.exists() else ()) < 2:
-                assert self.process.poll() is None, f"Chromium exited: {self.process.stderr.read()[-2000:]}"
+                assert self.process.poll() is None, f"Chromium exited: {log.read_text()[-2000:]}"
                 assert time.monotonic() < deadline, "Chromium did not open its DevTools port"
                 time.sleep(0.05)
             port, path = active_port.read_text().split()
@@ -137,7 +139,7 @@ def served_four_bar():
 @pytest.fixture
 def browser(served_four_bar, tmp_path):
     """A Chromium, closed before the viewer (its open connections would hold the server's shutdown)."""
-    chrome = Browser(tmp_path / "profile")
+    chrome = Browser(tmp_path)
     yield chrome
     chrome.close()
 
