@@ -25,32 +25,9 @@ sys.path.insert(0, str(REPO / "tests"))
 ROBOTS = ("ur5", "panda", "solo12", "talos")  # the robots of Pinocchio's peer_bench, in its order
 STATES = 64  # states per timing loop, cycled through (peer_bench's count)
 
-URDFS = {  # name: (path below example-robot-data's robots/, floating base)
-    "ur5": ("ur_description/urdf/ur5_robot.urdf", False),
-    "panda": ("panda_description/urdf/panda.urdf", False),
-    "solo12": ("solo_description/robots/solo12.urdf", True),
-    "anymal_c": ("anymal_c_simple_description/urdf/anymal.urdf", True),
-    "talos": ("talos_data/robots/talos_reduced.urdf", True),
-}
-
-
-# ---------------------------------------------------------------------------
-# Robots
-# ---------------------------------------------------------------------------
-
-def robots_dir() -> Path:
-    """example-robot-data's robots/ folder, found through the cmeel prefix its PyPI package installs into."""
-    for entry in sys.path:
-        candidate = Path(entry) / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
-        if candidate.is_dir():
-            return candidate
-    raise FileNotFoundError("example-robot-data is not installed (pip install example-robot-data)")
-
-
-def robot(name: str) -> tuple[Path, bool]:
-    """(URDF path, floating base) of a robot: ur5 and panda fixed, the others free-floating, as peer_bench has them."""
-    relative, floating = URDFS[name]
-    return robots_dir() / relative, floating
+# The robots' URDF files: example-robot-data, located as the tests locate it.
+from support.robots import ROBOTS as URDFS  # noqa: E402  name: (path below robots/, floating base)
+from support.robots import robot, robots_dir  # noqa: E402,F401  (URDF path, floating base) of a robot
 
 
 def load_robot(name: str) -> soadyn.Model:
