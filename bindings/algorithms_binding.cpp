@@ -10,7 +10,7 @@
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
-#include "soadyn/sweeps/appendage_step.hpp"
+#include "soadyn/sweeps/appendage_update.hpp"
 #include "soadyn/sweeps/joint_angles.hpp"
 #include "soadyn/soadyn.hpp"
 
@@ -55,7 +55,7 @@ void bind_algorithms(py::module_& mod) {
           "The kernel of rigid models' mass matrix on this processor (algorithms/crba.hpp): 'AVX2 FMA' or "
           "'baseline'; results agree bit for bit only between processes that use the same one.");
   mod.def("_appendage_kernel", &soadyn::appendage_kernel,
-          "The kernel of flexible appendages' step on this processor (sweeps/appendage_step.hpp): 'AVX2 FMA' "
+          "The kernel of flexible appendages' update on this processor (sweeps/appendage_update.hpp): 'AVX2 FMA' "
           "or 'baseline'; results agree bit for bit only between processes that use the same one.");
 
   mod.def("forward_dynamics",

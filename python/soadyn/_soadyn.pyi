@@ -715,7 +715,7 @@ def _add_point_spring(arg0: _Model, arg1: str, arg2: str, arg3: str, arg4: typin
     ...
 def _appendage_kernel() -> str:
     """
-    The kernel of flexible appendages' step on this processor (sweeps/appendage_step.hpp): 'AVX2 FMA' or 'baseline'; results agree bit for bit only between processes that use the same one.
+    The kernel of flexible appendages' update on this processor (sweeps/appendage_update.hpp): 'AVX2 FMA' or 'baseline'; results agree bit for bit only between processes that use the same one.
     """
 def _assemble(model: _Model, q: typing.Any, free: collections.abc.Sequence[bool], tolerance: typing.Any, max_iterations: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     ...

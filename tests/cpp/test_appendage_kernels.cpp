@@ -1,4 +1,4 @@
-// The flexible appendages' step kernels (sweeps/appendage_step.hpp)
+// The flexible appendages' step kernels (sweeps/appendage_update.hpp)
 // against each other and against the elimination of the modal DOFs from the
 // body's full mass matrix.
 //
@@ -10,7 +10,7 @@
 // with K and C dense (coupled modes) takes 20 random states, with and without
 // an external wrench, and every kernel runs the step on it:
 //   - the chosen kernel's outputs must be those of the step the sweeps call
-//     (detail::compiled_appendage_step), bit for bit;
+//     (detail::compiled_appendage_update), bit for bit;
 //   - every kernel must agree with the baseline to 1e-14 of each output's
 //     largest entry (fused multiply-adds round differently);
 //   - P^ and G' must match M_VV - M_Ve M_ee^-1 M_eV and M_ee^-1 M_eV formed
@@ -22,7 +22,7 @@
 #include "failure_count.hpp"
 #include "random_tree.hpp"
 #include "threads_at_once.hpp"
-#include "soadyn/sweeps/appendage_step.hpp"
+#include "soadyn/sweeps/appendage_update.hpp"
 #include "soadyn/soadyn.hpp"
 #include "soadyn_scenes/scenes.hpp"
 
@@ -71,7 +71,7 @@ struct StepOutputs {
   Eigen::VectorXd innovation;
 };
 
-StepOutputs run_step(soadyn::AppendageStepFunction<double>* step, const soadyn::Model& m, soadyn::Data& d,
+StepOutputs run_step(soadyn::AppendageUpdateFunction<double>* step, const soadyn::Model& m, soadyn::Data& d,
                      std::size_t i, const soadyn_test::State& s, const soadyn::Vec6<double>& V,
                      const soadyn::Vec6<double>* external) {
   StepOutputs out;
@@ -132,7 +132,7 @@ void compare_kernels(int modes, Worst& worst) {
     for (const soadyn::Vec6<double>* external : {static_cast<const soadyn::Vec6<double>*>(nullptr), &wrench}) {
       const std::string at = std::to_string(modes) + " modes, state " + std::to_string(k) +
                              (external ? ", with a wrench" : "");
-      const StepOutputs dispatched = run_step(soadyn::detail::compiled_appendage_step, m, d, boom, s, V, external);
+      const StepOutputs dispatched = run_step(soadyn::detail::compiled_appendage_update, m, d, boom, s, V, external);
       const StepOutputs baseline = run_step(kernels.back().run, m, d, boom, s, V, external);
       for (const soadyn::detail::AppendageKernel& kernel : kernels) {
         const std::string who = at + ", kernel " + kernel.name;

@@ -204,7 +204,7 @@ int main() {
   int aligned = 0, aligned_universal = 0;
   for (int b = 0; b < m.nbodies(); ++b) {
     const std::size_t i = static_cast<std::size_t>(b);
-    const soadyn::JointKernel k = m.joint_kernel[i];
+    const soadyn::JointFastPath k = m.joint_fast_path[i];
     const bool revolute_aligned = soadyn::joint_turning_axis(k) >= 0;
     const auto* universal = std::get_if<soadyn::UniversalJoint<double>>(&m.joints[i]);
     double sign1 = 0, sign2 = 0;

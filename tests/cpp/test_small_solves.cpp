@@ -1,6 +1,6 @@
 // The sweeps' small solves against Eigen's LLT and against
 // cholesky_in_place: the free root's solves by LDL' (spd_factor6.hpp) and
-// the two-DOF hinge step (steps.hpp), on random positive definite matrices
+// the two-DOF hinge step (body_updates.hpp), on random positive definite matrices
 // (solutions, factors) and on singular ones (which pivot is named, and no
 // inf or NaN on the way).
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <random>
 #include "failure_count.hpp"
 #include "soadyn/linalg/spd_factor6.hpp"
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 using namespace soadyn;
 using soadyn_test::check;
@@ -64,14 +64,14 @@ void free_root_solve(std::mt19937& rng) {
   check(agreed == 6, "every singular pivot named");
 }
 
-// The two-DOF step through articulated_hinge_step on P and a 6 x 2 subspace.
+// The two-DOF step through articulated_hinge_update on P and a 6 x 2 subspace.
 int two_dof(const Mat6<double>& P, const Eigen::Matrix<double, 6, 2>& s, Mat6N<double>& G, VecN<double>& nu,
             Mat6<double>& factor, Mat6<double>& P_plus) {
   const Mat6N<double> Sr = s;
   Vec6<double> z = Vec6<double>::Constant(0.3), z_plus;
   VecN<double> torque(2);
   torque << 1.0, -2.0;
-  return detail::articulated_hinge_step<detail::PlusMode::store>(P, Sr, z, torque, static_cast<const double*>(nullptr), G, nu, factor,
+  return detail::articulated_hinge_update<detail::PlusMode::store>(P, Sr, z, torque, static_cast<const double*>(nullptr), G, nu, factor,
                                                 P_plus, z_plus);
 }
 

@@ -124,7 +124,7 @@ def test_scenes_are_outside_the_core_library():
 
 
 @pytest.mark.parametrize("header, target, expected", [
-    ("model/x.hpp", "sweeps/steps.hpp", "model/ (layer 4) may not include sweeps/ (layer 5)"),
+    ("model/x.hpp", "sweeps/body_updates.hpp", "model/ (layer 4) may not include sweeps/ (layer 5)"),
     ("realtime/x.hpp", "parallel/thread_pool.hpp", "realtime/ (layer 10) may not include parallel/ (layer 10)"),
     ("algorithms/x.hpp", "soadyn.hpp", "nothing includes the umbrella header"),
     ("sim/x.hpp", "soadyn_scenes/scenes.hpp", "the scenes are not part of the library"),
@@ -137,16 +137,16 @@ def test_the_rule_finds_a_planted_violation(tmp_path, header, target, expected):
     assert len(bad) == 1 and expected in bad[0][2], bad
 
 
-def test_only_joints_name_a_joint_kernel():
-    """The joints' fast paths are chosen in joints/ alone (joints/kernel_steps.hpp): elsewhere a kernel tag
-    is read through joint_kernel.hpp's predicates, never compared with or switched on by name."""
-    kernel_name = re.compile(r"\bJointKernel::\w+")
+def test_only_joints_name_a_joint_fast_path():
+    """The joints' fast paths are chosen in joints/ alone (joints/fast_path_updates.hpp): elsewhere a fast-path tag
+    is read through joint_fast_path.hpp's predicates, never compared with or switched on by name."""
+    fast_path_name = re.compile(r"\bJointFastPath::\w+")
     found = []
     for path in sorted([*INCLUDE.rglob("*.h*"), *SOURCES.rglob("*.cpp"), *(ROOT / "bindings").rglob("*.*pp")]):
         if (INCLUDE / "joints") in path.parents:
             continue
         for number, line in enumerate(path.read_text().splitlines(), 1):
             code = line.split("//")[0]
-            if kernel_name.search(code):
+            if fast_path_name.search(code):
                 found.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
-    assert not found, "joint kernels named outside joints/:\n" + "\n".join(found)
+    assert not found, "joint fast paths named outside joints/:\n" + "\n".join(found)

@@ -8,7 +8,7 @@ namespace soadyn {
 // bench/bench_instructions.py find them by name in the stripped module.
 namespace detail {
 
-Status baseline_mass_matrix(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q) {
+TreeFrameStatus baseline_mass_matrix(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q) {
   return composite_rigid_body(m, d, q);
 }
 
@@ -19,7 +19,7 @@ Status baseline_mass_matrix(const ModelTpl<double>& m, DataTpl<double>& d, const
 // instructions (docs/performance.md has the measurements). Each fused
 // product is rounded once instead of twice, so M differs from the
 // baseline's in its last bits.
-__attribute__((target("avx2,fma"), flatten)) Status avx2_fma_mass_matrix(const ModelTpl<double>& m, DataTpl<double>& d,
+__attribute__((target("avx2,fma"), flatten)) TreeFrameStatus avx2_fma_mass_matrix(const ModelTpl<double>& m, DataTpl<double>& d,
                                                                          const ConstVecRef<double>& q) {
   return composite_rigid_body(m, d, q);
 }
@@ -43,7 +43,7 @@ MassMatrixKernel choose_kernel() {
   return baseline_kernel;
 }
 
-using MassMatrixFunction = Status(const ModelTpl<double>&, DataTpl<double>&, const ConstVecRef<double>&);
+using MassMatrixFunction = detail::TreeFrameStatus(const ModelTpl<double>&, DataTpl<double>&, const ConstVecRef<double>&);
 
 MassMatrixFunction* chosen_function() { return choose_kernel().run; }
 
@@ -62,7 +62,7 @@ MassMatrixKernel running_kernel() {
 }  // namespace
 
 template <>
-Status detail::rigid_mass_matrix<double>(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q) {
+detail::TreeFrameStatus detail::rigid_mass_matrix<double>(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q) {
   return ChosenMassMatrix::run(m, d, q);
 }
 

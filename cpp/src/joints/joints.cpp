@@ -14,7 +14,7 @@ namespace soadyn {
   template int joint_quaternion_offset<S>(const JointModel<S>&);                                              \
   template bool joint_translates<S>(const JointModel<S>&);                                                    \
   template void check_joint<S>(JointModel<S>&, const std::string&);                                           \
-  template JointKernel classify_joint<S>(const JointModel<S>&, S&);                                           \
+  template JointFastPath classify_joint<S>(const JointModel<S>&, S&);                                           \
   template void joint_calc<S>(const JointModel<S>&, const S*, const S*, Transform<S>&, Mat6N<S>&, Vec6<S>&);  \
   template void joint_init_subspace<S>(const JointModel<S>&, Mat6N<S>&);                                      \
   template void joint_neutral<S>(const JointModel<S>&, S*);                                                   \

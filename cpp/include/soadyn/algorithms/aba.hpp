@@ -1,7 +1,7 @@
 // Forward dynamics by the articulated-body algorithm: Jain & Rodriguez's algorithm
 // with every hinge regular, whatever the model's flags say.
 #pragma once
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

@@ -2,7 +2,7 @@
 // manifolds, and the unit-quaternion check.
 #pragma once
 #include <cstdint>
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

@@ -2,7 +2,7 @@
 #pragma once
 #include <vector>
 
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 
@@ -24,7 +24,7 @@ namespace detail {
 // (crba.hxx), for double.
 struct MassMatrixKernel {
   const char* name;
-  Status (*run)(const ModelTpl<double>& model, DataTpl<double>& data, const ConstVecRef<double>& q);
+  TreeFrameStatus (*run)(const ModelTpl<double>& model, DataTpl<double>& data, const ConstVecRef<double>& q);
 };
 // Every kernel of this build that this processor can run, the chosen one
 // first (the tests compare them all).

@@ -2,7 +2,7 @@
 #include "soadyn/algorithms/crba.hpp"
 #include "soadyn/algorithms/rnea.hxx"
 #include "soadyn/linalg/tree_cholesky.hpp"
-#include "soadyn/sweeps/tree_frame_steps.hpp"
+#include "soadyn/sweeps/tree_frame_updates.hpp"
 
 namespace soadyn {
 
@@ -27,7 +27,7 @@ SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S
   const int p = m.parent[i];
   if (p >= 0) d.sweep.tree_composite_inertia[static_cast<std::size_t>(p)] += composite;
   if constexpr (FreeRootFrames) {
-    if (p < 0 && joint_is_free(m.joint_kernel[i])) {  // H* = 1: its block of M is its composite inertia
+    if (p < 0 && joint_is_free(m.joint_fast_path[i])) {  // H* = 1: its block of M is its composite inertia
       Mat6<S> block;
       assign_spatial_inertia(composite, block);
       M.template block<6, 6>(m.v_index[i], m.v_index[i]) = block;
@@ -42,11 +42,11 @@ SOADYN_ALWAYS_INLINE void composite_body_columns(const ModelTpl<S>& m, DataTpl<S
     for_each_ancestor_run(k, true, m.dof_parent, m.dof_run_start, [&](int first, int last) {
       if (last >= first + 5 && m.dof_parent[static_cast<std::size_t>(first)] < 0) {
         const std::size_t root = static_cast<std::size_t>(m.dof_body[static_cast<std::size_t>(first)]);
-        if (joint_is_free(m.joint_kernel[root])) {
+        if (joint_is_free(m.joint_fast_path[root])) {
           Vec6<S> rows;
           if constexpr (FreeRootFrames) {
             rows = F;
-          } else {  // H* = diag(R, R) (FreeJoint::tree_step): the rows are R' F, two 3x3 products
+          } else {  // H* = diag(R, R) (FreeJoint::tree_update): the rows are R' F, two 3x3 products
             const Mat3<S>& R = d.sweep.tree_pose[root].rotation;
             rows.template head<3>().noalias() = R.transpose() * F.template head<3>();
             rows.template tail<3>().noalias() = R.transpose() * F.template tail<3>();
@@ -93,7 +93,7 @@ Status finish_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, S probe) {
 }
 
 // Composite-rigid-body algorithm (rigid models) in tree frames
-// (tree_frame_steps.hpp): composite inertias add without a congruence, and
+// (tree_frame_updates.hpp): composite inertias add without a congruence, and
 // a column block F = Ic(i) H*(i) needs no transform on its way to the root,
 // M(j, k) = H*(j)' F for every DOF j on the path from DOF k to the root.
 // Those DOFs are walked as runs of consecutive indices (model.dof_run_start),
@@ -108,20 +108,20 @@ Status finish_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, S probe) {
 // coordinates nor its pose, as it must not (a free joint's velocity is the
 // body's twist in its own frame), and a free root's H* is the identity: its
 // rows of M are F itself.
-// Returns beyond_tree_frame_reach, having formed no M, when a body lies
+// Returns TreeFrameStatus::beyond, having formed no M, when a body lies
 // beyond its tree-frame reach (tree_frame_reach.hxx).
 template <class S>
-SOADYN_FLATTEN Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
+SOADYN_FLATTEN TreeFrameStatus composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   tabulate_joint_angles(m, d.sweep, q.data());
   for (std::size_t i = 0; i < n; ++i) {
-    if (m.parent[i] < 0 && joint_has_constant_body_subspace(m.joint_kernel[i])) {
+    if (m.parent[i] < 0 && joint_has_constant_body_subspace(m.joint_fast_path[i])) {
       d.sweep.tree_pose[i] = Transform<S>();
       d.sweep.tree_subspace[i] = d.sweep.body_subspace[i];
     } else {  // such a root's frame is its body frame, as in the dynamics sweeps: its children's bases are their placements
-      tree_joint_step<true>(m, d, i, q.data(), static_cast<const S*>(nullptr));
+      tree_joint_update<true>(m, d, i, q.data(), static_cast<const S*>(nullptr));
     }
-    if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
+    if (beyond_tree_frame_reach(m, d, i)) return TreeFrameStatus::beyond(static_cast<int>(i));
     if (m.derived.constant_tree_inertia[i])  // constant in its root's frame (constant_tree_inertia.hxx)
       d.sweep.tree_composite_inertia[i] = m.derived.tree_inertia_parameters[i];
     else
@@ -137,22 +137,22 @@ SOADYN_FLATTEN Status composite_rigid_body(const ModelTpl<S>& m, DataTpl<S>& d, 
 // M and the bias forces h - J' f_ext (inverse dynamics at qdd = 0, in
 // d.tau) of a rigid model in one pair of tree-frame sweeps, sharing the
 // kinematics: outward, each body's pose, subspace, velocity, inertia
-// (tree_rigid_body_step), its acceleration at qdd = 0 (in tree_acceleration,
+// (tree_rigid_body_update), its acceleration at qdd = 0 (in tree_acceleration,
 // the base accelerating at world_acceleration: what the loop equations read
 // for kappa) and its force I a + b; inward, the hinge forces H' f (Jain &
 // Rodriguez 1993, Eq. 1, all bodies of a tree in one frame: no transforms)
-// and the composite-body columns of M. Returns beyond_tree_frame_reach,
+// and the composite-body columns of M. Returns TreeFrameStatus::beyond,
 // having formed neither, when a body lies beyond its tree-frame reach.
 template <class S>
-Status tree_frame_mass_matrix_and_bias(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* f_ext) {
+TreeFrameStatus tree_frame_mass_matrix_and_bias(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* f_ext) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   const Vec6<S> world_acc = detail::world_acceleration(m);
   tabulate_joint_angles(m, d.sweep, q);
   for (std::size_t i = 0; i < n; ++i) {
-    tree_velocity_step(m, d, i, q, v);
-    if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
+    tree_velocity_update(m, d, i, q, v);
+    if (beyond_tree_frame_reach(m, d, i)) return TreeFrameStatus::beyond(static_cast<int>(i));
     InertiaParameters<S>& inertia = d.sweep.tree_composite_inertia[i];  // the body's own, then its subtree's
-    tree_rigid_body_step(m, d, i, v, f_ext, inertia);
+    tree_rigid_body_update(m, d, i, v, f_ext, inertia);
     const int p = m.parent[i];
     Vec6<S>& a = d.sweep.tree_acceleration[i];
     a = (p >= 0 ? d.sweep.tree_acceleration[static_cast<std::size_t>(p)] : world_acc) + d.sweep.tree_coriolis[i];
@@ -172,7 +172,7 @@ Status tree_frame_mass_matrix_and_bias(const ModelTpl<S>& m, DataTpl<S>& d, cons
 
 // Models with flexible bodies, and rigid models with a body beyond its
 // tree-frame reach: the composite-body algorithm in body frames, with the
-// augmented bodies of Jain & Rodriguez (JGCD 15(6), 1992; flexible_steps.hpp).
+// augmented bodies of Jain & Rodriguez (JGCD 15(6), 1992; flexible_updates.hpp).
 // A flexible body's composite inertia K = [K_VV K_Ve; K_eV K_ee] over its
 // augmented velocity [V; eta_dot] starts from M(eta); a child c's composite
 // block K_c,VV (its own modal rates and hinges frozen) enters its parent's K
@@ -187,10 +187,10 @@ void composite_body_frames(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRe
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   d.mass_matrix.setZero();
   for (std::size_t i = 0; i < n; ++i) {
-    body_joint_step<true>(m, d, i, q.data(), static_cast<const S*>(nullptr));
+    body_joint_update<true>(m, d, i, q.data(), static_cast<const S*>(nullptr));
     d.sweep.body_bias_force[i].setZero();
     if (m.is_flexible(static_cast<int>(i))) {
-      flexible_inertia_step(m, d, i, q.data());
+      flexible_inertia_update(m, d, i, q.data());
       flexible_data(m, d, i).modal_bias.setZero();
     }
     init_articulated<true>(m, d, i);
@@ -233,20 +233,22 @@ void composite_body_frames(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRe
 // The composite-rigid-body algorithm above as this processor runs it best:
 // for double, the kernel crba.cpp chose (mass_matrix_kernel()).
 template <class S>
-inline Status rigid_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
+inline TreeFrameStatus rigid_mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   return composite_rigid_body(m, d, q);
 }
 template <>
-Status rigid_mass_matrix<double>(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q);
+TreeFrameStatus rigid_mass_matrix<double>(const ModelTpl<double>& m, DataTpl<double>& d, const ConstVecRef<double>& q);
 
 }  // namespace detail
 
 template <class S>
 Status mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   // Models with flexible bodies, or with a body beyond its tree-frame reach: in body frames.
-  if (!m.has_flexible_bodies()) {
-    const Status status = detail::rigid_mass_matrix(m, d, q);
-    if (status.code != StatusCode::beyond_tree_frame_reach) return status;
+  if constexpr (detail::runs_tree_frames<S>) {
+    if (!m.has_flexible_bodies()) {
+      const detail::TreeFrameStatus status = detail::rigid_mass_matrix(m, d, q);
+      if (!status.beyond_reach) return status.status;
+    }
   }
   detail::composite_body_frames(m, d, q);
   return detail::check_finite_columns(d.mass_matrix);

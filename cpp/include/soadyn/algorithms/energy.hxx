@@ -13,7 +13,7 @@ namespace detail {
 template <class S>
 Vec6<S> body_momentum(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   if (!m.is_flexible(static_cast<int>(i))) return m.inertia[i] * d.body_velocity[i];
-  flexible_inertia_step(m, d, i, q);
+  flexible_inertia_update(m, d, i, q);
   const FlexibleBodyData<S>& fd = flexible_data(m, d, i);
   Vec6<S> h;
   h.noalias() = fd.mass.template topLeftCorner<6, 6>() * d.body_velocity[i];

@@ -29,7 +29,7 @@
 // g is gravity only, elastic forces are not part of it). On loop models every
 // term is the spanning tree's; the loop forces enter through loop_jacobian.
 //
-// C is formed in tree frames (tree_frame_steps.hpp) for every body: unlike
+// C is formed in tree frames (tree_frame_updates.hpp) for every body: unlike
 // mass_matrix there is no body-frame fallback for a body beyond its
 // tree-frame reach (tree_frame_reach.hxx), whose entries then lose relative
 // precision as the tree-frame sweeps do there.
@@ -37,7 +37,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

@@ -1,7 +1,7 @@
 #pragma once
 #include "soadyn/algorithms/equation_terms.hpp"
 #include "soadyn/algorithms/rnea.hxx"
-#include "soadyn/sweeps/tree_frame_steps.hpp"
+#include "soadyn/sweeps/tree_frame_updates.hpp"
 #include "soadyn/spatial/coriolis_inertia.hpp"
 
 namespace soadyn {
@@ -33,7 +33,7 @@ void hinge_subspace_rate(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t 
   const Mat6N<S>& s = d.sweep.tree_subspace[i];
   for (Eigen::Index c = 0; c < s.cols(); ++c)
     rate.col(c) = motion_cross(d.sweep.tree_velocity[i], Vec6<S>(s.col(c)));
-  if (!joint_axes_coupled(m.joint_kernel[i])) return;
+  if (!joint_axes_coupled(m.joint_fast_path[i])) return;
   const UniversalJoint<S>& joint = *std::get_if<UniversalJoint<S>>(&m.joints[i]);
   const S* qi = q + m.q_index[i];
   const Vec3<S> first_axis = axis_angle_rotation(joint.axis2, qi[1]).transpose() * joint.axis1;
@@ -58,7 +58,7 @@ void coriolis_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, EquationTermsWorkspace
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   tabulate_joint_angles(m, d.sweep, q);
   for (std::size_t i = 0; i < n; ++i) {  // base to tip
-    tree_velocity_step(m, d, i, q, v);
+    tree_velocity_update(m, d, i, q, v);
     spatial_inertia_in_frame(d.sweep.tree_pose[i], m.mass[i], m.com[i], m.inertia_com[i], w.composite_inertia[i]);
     w.composite_coriolis_inertia[i] = coriolis_inertia(w.composite_inertia[i], d.sweep.tree_velocity[i]);
     hinge_subspace_rate(m, d, i, q, v, w.subspace_rate[i]);

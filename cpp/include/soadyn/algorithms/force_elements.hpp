@@ -11,7 +11,7 @@
 // rigid terms and do not include them. A model without force elements pays
 // one test per call.
 #pragma once
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

@@ -62,10 +62,10 @@ void path_kinematics(const ModelTpl<S>& m, DataTpl<S>& d, int body, const S* q, 
     int j = body;
     for (int k = 0; k < level; ++k) j = m.parent[static_cast<std::size_t>(j)];
     const std::size_t b = static_cast<std::size_t>(j);
-    detail::joint_step(m, d, b, q, v);
+    detail::joint_update(m, d, b, q, v);
     const int p = m.parent[b];
     d.pose_in_world[b] = p >= 0 ? d.pose_in_world[static_cast<std::size_t>(p)] * d.pose_in_parent[b] : d.pose_in_parent[b];
-    if (v) detail::velocity_step(m, d, b, v);
+    if (v) detail::velocity_update(m, d, b, v);
   }
 }
 

@@ -14,7 +14,7 @@
 // (tree_frame_sweeps.hxx), the others in body frames (body_frame_sweeps.hxx);
 // dynamics_path.hxx chooses.
 #pragma once
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

@@ -1,6 +1,6 @@
 // Forward kinematics: body poses in the world and body velocities.
 #pragma once
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

@@ -1,5 +1,5 @@
 #pragma once
-#include "soadyn/sweeps/flexible_steps.hpp"
+#include "soadyn/sweeps/flexible_updates.hpp"
 #include "soadyn/algorithms/kinematics.hpp"
 
 namespace soadyn {
@@ -16,8 +16,8 @@ namespace detail {
 template <bool Flex, class S>
 void kinematic_sweep(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v) {
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    body_joint_step<Flex>(m, d, i, q, v);
-    if (v) body_velocity_step<Flex>(m, d, i, v);
+    body_joint_update<Flex>(m, d, i, q, v);
+    if (v) body_velocity_update<Flex>(m, d, i, v);
   }
 }
 }  // namespace detail

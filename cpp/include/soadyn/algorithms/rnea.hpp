@@ -1,6 +1,6 @@
 // Inverse dynamics by the recursive Newton-Euler algorithm (Jain & Rodriguez 1993, Eqs. 1-4).
 #pragma once
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

@@ -1,5 +1,5 @@
 #pragma once
-#include "soadyn/sweeps/flexible_steps.hpp"
+#include "soadyn/sweeps/flexible_updates.hpp"
 #include "soadyn/algorithms/force_elements.hxx"
 #include "soadyn/algorithms/rnea.hpp"
 
@@ -13,8 +13,8 @@ void newton_euler_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
                          const Vec6<S>& world_acc) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: kinematics, accelerations, body forces
-    body_joint_step<Flex>(m, d, i, q, v);
-    body_motion_step<Flex>(m, d, i, q, v, f_ext);
+    body_joint_update<Flex>(m, d, i, q, v);
+    body_motion_update<Flex>(m, d, i, q, v, f_ext);
     d.body_acceleration[i] = body_parent_acceleration<Flex>(m, d, i, world_acc, qdd) + d.sweep.body_coriolis[i];
     if (qdd) d.body_acceleration[i] += detail::subspace_times(d.sweep.body_subspace[i], qdd + m.v_index[i]);
     if constexpr (Flex) {

@@ -39,7 +39,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

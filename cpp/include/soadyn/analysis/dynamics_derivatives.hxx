@@ -3,7 +3,7 @@
 #include <utility>
 #include "soadyn/analysis/dynamics_derivatives.hpp"
 #include "soadyn/linalg/tree_cholesky.hpp"
-#include "soadyn/sweeps/tree_frame_steps.hpp"
+#include "soadyn/sweeps/tree_frame_updates.hpp"
 #include "soadyn/spatial/coriolis_inertia.hpp"
 
 namespace soadyn {
@@ -53,10 +53,10 @@ namespace detail {
 // that the derivatives (one_sweep_dynamics_derivatives) can run the kinematics once and the
 // accelerations twice (one_sweep_dynamics_derivatives).
 //
-// derivative_kinematics_step: tree-frame kinematics (tree_frame_steps.hpp),
+// derivative_kinematics_update: tree-frame kinematics (tree_frame_updates.hpp),
 // the body's own inertia, Coriolis factor and velocity force
 // V x* (I V) - f_ext, and the per-DOF terms of DynamicsDerivativesTpl that do
-// not depend on qdd. derivative_acceleration_step: alpha(i) = alpha(parent) +
+// not depend on qdd. derivative_acceleration_update: alpha(i) = alpha(parent) +
 // H* qdd + a(i) (Jain & Rodriguez 1993, Eq. 1), the Newton-Euler force
 // f = I alpha + V x* (I V) - f_ext and, with `partials`, y_k (qdd null:
 // zero accelerations).
@@ -71,15 +71,15 @@ namespace detail {
 template <class S>
 Vec6<S> inboard_velocity(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i, Eigen::Index c, const S* v,
                          const Vec6<S>& parent_velocity) {
-  if (c == 1 && joint_axes_coupled(m.joint_kernel[i]))
+  if (c == 1 && joint_axes_coupled(m.joint_fast_path[i]))
     return parent_velocity + Vec6<S>(d.sweep.tree_subspace[i].col(0)) * v[m.v_index[i]];
   return parent_velocity;
 }
 
 template <class S>
-void derivative_kinematics_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w, std::size_t i,
+void derivative_kinematics_update(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w, std::size_t i,
                                 const S* q, const S* v, const S* f_ext) {
-  tree_velocity_step(m, d, i, q, v);
+  tree_velocity_update(m, d, i, q, v);
   const int p = m.parent[i];
   const Vec6<S> parent_velocity = p >= 0 ? d.sweep.tree_velocity[static_cast<std::size_t>(p)] : Vec6<S>::Zero();
   const Mat6N<S>& s = d.sweep.tree_subspace[i];
@@ -92,7 +92,7 @@ void derivative_kinematics_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDer
   Vec6<S>& velocity_force = w.velocity_force[i];
   velocity_force = force_cross(velocity, Vec6<S>(inertia * velocity));
   if (f_ext) velocity_force -= d.sweep.tree_pose[i].force_to_parent(Eigen::Map<const Vec6<S>>(f_ext + 6 * i));
-  const bool universal = joint_axes_coupled(m.joint_kernel[i]);
+  const bool universal = joint_axes_coupled(m.joint_fast_path[i]);
   for (Eigen::Index c = 0; c < ni; ++c) {
     const Vec6<S> axis = s.col(c);
     const Vec6<S> inboard = inboard_velocity(m, d, i, c, v, parent_velocity);
@@ -107,7 +107,7 @@ void derivative_kinematics_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDer
 }
 
 template <class S>
-void derivative_acceleration_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w, std::size_t i,
+void derivative_acceleration_update(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDerivativesTpl<S>& w, std::size_t i,
                                   const S* v, const S* qdd, const Vec6<S>& world_acc, bool partials) {
   const int p = m.parent[i];
   const Vec6<S> parent_velocity = p >= 0 ? d.sweep.tree_velocity[static_cast<std::size_t>(p)] : Vec6<S>::Zero();
@@ -123,7 +123,7 @@ void derivative_acceleration_step(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsD
     const Vec6<S> axis = s.col(c);
     const Vec6<S> inboard = inboard_velocity(m, d, i, c, v, parent_velocity);
     Vec6<S> inboard_acceleration = parent_acceleration;
-    if (c == 1 && joint_axes_coupled(m.joint_kernel[i])) {
+    if (c == 1 && joint_axes_coupled(m.joint_fast_path[i])) {
       const Vec6<S> first_axis = s.col(0);
       inboard_acceleration += motion_cross(parent_velocity, first_axis) * v[vi];
       if (qdd) inboard_acceleration += first_axis * qdd[vi];
@@ -182,7 +182,7 @@ void derivative_acceleration_terms(const ModelTpl<S>& m, DynamicsDerivativesTpl<
   const Mat6<S>& inertia = w.composite_inertia[i];
   const Mat6<S>& coriolis = w.composite_coriolis_inertia[i];
   const Vec6<S>& force = w.composite_force[i];
-  const bool universal = joint_axes_coupled(m.joint_kernel[i]);
+  const bool universal = joint_axes_coupled(m.joint_fast_path[i]);
   for (Eigen::Index c = 0; c < ni; ++c) {
     const Eigen::Index k = vi + c;
     const Vec6<S> axis = w.dof_axis.col(k);
@@ -249,8 +249,8 @@ Status inverse_derivative_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDe
   d.mass_matrix.setZero();
   tabulate_joint_angles(m, d.sweep, q);
   for (std::size_t i = 0; i < n; ++i) {
-    derivative_kinematics_step(m, d, w, i, q, v, f_ext);
-    derivative_acceleration_step(m, d, w, i, v, qdd, world_acc, true);
+    derivative_kinematics_update(m, d, w, i, q, v, f_ext);
+    derivative_acceleration_update(m, d, w, i, v, qdd, world_acc, true);
   }
   for (std::size_t i = n; i-- > 0;) {
     derivative_velocity_terms(m, d, w, i);
@@ -308,8 +308,8 @@ Status one_sweep_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynam
   d.mass_matrix.setZero();
   tabulate_joint_angles(m, d.sweep, q);
   for (std::size_t i = 0; i < n; ++i) {
-    derivative_kinematics_step(m, d, w, i, q, v, f_ext);
-    derivative_acceleration_step(m, d, w, i, v, static_cast<const S*>(nullptr), world_acc, false);
+    derivative_kinematics_update(m, d, w, i, q, v, f_ext);
+    derivative_acceleration_update(m, d, w, i, v, static_cast<const S*>(nullptr), world_acc, false);
   }
   for (std::size_t i = n; i-- > 0;) {
     derivative_velocity_terms(m, d, w, i);
@@ -341,7 +341,7 @@ Status one_sweep_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynam
   d.qdd.noalias() = Minv * rhs;
   Status status = detail::check_finite(d.qdd);
   if (!status.ok()) return status;
-  for (std::size_t i = 0; i < n; ++i) derivative_acceleration_step(m, d, w, i, v, d.qdd.data(), world_acc, true);
+  for (std::size_t i = 0; i < n; ++i) derivative_acceleration_update(m, d, w, i, v, d.qdd.data(), world_acc, true);
   for (std::size_t i = n; i-- > 0;) {
     derivative_acceleration_terms(m, w, i, true);
     add_to_parent(m, w, i, false);

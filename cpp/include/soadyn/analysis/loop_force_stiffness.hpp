@@ -21,7 +21,7 @@
 //     (I - n n') dd / |d|; this adds J_rel' (dW/dq_k) nu_l to column k.
 // Cost O(sum over loops of depth^2); allocation free after Data is built.
 #pragma once
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

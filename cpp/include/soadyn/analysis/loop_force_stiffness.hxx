@@ -30,7 +30,7 @@ Vec3<S> point_rate(const Vec6<S>& psi, const Vec3<S>& p) {
 template <class S>
 bool turns_axis(const ModelTpl<S>& m, std::size_t k_body, Eigen::Index k_col, std::size_t j_body, Eigen::Index j_col) {
   if (k_body != j_body) return true;  // the caller walks only k inboard of j
-  return !(joint_axes_coupled(m.joint_kernel[j_body]) && j_col == 0 && k_col == 1);
+  return !(joint_axes_coupled(m.joint_fast_path[j_body]) && j_col == 0 && k_col == 1);
 }
 
 // One side of a loop: sign * J_body(p)' w with w_O = [tau + p x f; f], the

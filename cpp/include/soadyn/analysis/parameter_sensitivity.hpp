@@ -20,7 +20,7 @@
 // wrenches' derivative (6 per loop, data.loops.wrench's layout).
 #pragma once
 #include <memory>
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 #include "soadyn/model/model.hpp"
 #include "soadyn/model/parameters.hpp"
 #include "soadyn/core/status.hpp"

@@ -72,7 +72,7 @@
 // hybrid_dynamics itself.
 #pragma once
 #include <cmath>
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

@@ -281,13 +281,13 @@ Status mass_matrix_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
 // (ModelTpl::loops_through_mass_matrix()), in tree frames: M and h - J' f_ext
 // from one pair of sweeps sharing the kinematics
 // (tree_frame_mass_matrix_and_bias), the loop equations read from the
-// tree-frame kinematics those sweeps leave. Returns beyond_tree_frame_reach,
+// tree-frame kinematics those sweeps leave. Returns TreeFrameStatus::beyond,
 // having changed no output, when a body lies too far from its tree origin
 // for tree frames.
 template <class S>
-Status tree_frame_mass_matrix_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
+TreeFrameStatus tree_frame_mass_matrix_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
                                                    const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext) {
-  const Status inertia = tree_frame_mass_matrix_and_bias(m, d, q.data(), detail::velocities_unless_at_rest(m, v), f_ext);
+  const TreeFrameStatus inertia = tree_frame_mass_matrix_and_bias(m, d, q.data(), detail::velocities_unless_at_rest(m, v), f_ext);
   if (!inertia.ok()) return inertia;
   d.loops.bias = d.tau;
   set_world_poses_from_tree_frames(m, d, q.data());
@@ -304,14 +304,14 @@ Status tree_frame_mass_matrix_constrained_dynamics(const ModelTpl<S>& m, DataTpl
 // (its lower triangle) and K lambda = rhs; the loop forces then enter z and nu of the
 // loaded bodies and one outward sweep gives qdd and tau: the same equations
 // as constrained_solve at O(N + L m) instead of O(N d^2).
-// Returns beyond_tree_frame_reach, having changed no output, when a body
+// Returns TreeFrameStatus::beyond, having changed no output, when a body
 // lies too far from its tree origin for tree frames.
 template <class S>
-Status articulated_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
+TreeFrameStatus articulated_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q,
                                         const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext) {
   constexpr ModePolicy modes = ModePolicy::model_flags;
   const Vec6<S> world_acc = detail::world_acceleration(m);
-  const Status inward =
+  const TreeFrameStatus inward =
       tree_frame_inward_sweeps<modes, false>(m, d, q.data(), detail::velocities_unless_at_rest(m, v), u.data(), f_ext, world_acc);
   if (!inward.ok()) return inward;
   LoopData<S>& ld = d.loops;
@@ -320,7 +320,7 @@ Status articulated_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, con
   ld.free_acceleration.setZero();
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
     if (!ld.on_loop_path[i]) continue;
-    tree_outward_step<modes, false>(m, d, i, u.data(), world_acc, false);
+    tree_outward_update<modes, false>(m, d, i, u.data(), world_acc, false);
     ld.free_acceleration.segment(m.v_index[i], m.nv_body[i]) = d.qdd.segment(m.v_index[i], m.nv_body[i]);
   }
   set_world_poses_from_tree_frames(m, d, q.data());
@@ -346,11 +346,12 @@ Status rigid_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const Con
                                   const ConstVecRef<S>& v, const ConstVecRef<S>& u, const S* f_ext,
                                   DynamicsOutputs outputs) {
   if (m.nloops() == 0) return rigid_hybrid_dynamics(m, d, q, v, u, f_ext, outputs);
-  Status status{StatusCode::beyond_tree_frame_reach, -1};
-  if (m.dynamics_path == DynamicsPath::rigid_tree_frames)
-    status = m.loops_through_mass_matrix() ? tree_frame_mass_matrix_constrained_dynamics(m, d, q, v, u, f_ext)
-                                         : articulated_constrained_dynamics(m, d, q, v, u, f_ext);
-  if (status.code == StatusCode::beyond_tree_frame_reach) status = mass_matrix_constrained_dynamics(m, d, q, v, u, f_ext);
+  detail::TreeFrameStatus tree = detail::TreeFrameStatus::beyond(-1);  // body frames unless the model's path is tree frames
+  if constexpr (runs_tree_frames<S>)
+    if (m.dynamics_path == DynamicsPath::rigid_tree_frames)
+      tree = m.loops_through_mass_matrix() ? tree_frame_mass_matrix_constrained_dynamics(m, d, q, v, u, f_ext)
+                                           : articulated_constrained_dynamics(m, d, q, v, u, f_ext);
+  Status status = tree.beyond_reach ? mass_matrix_constrained_dynamics(m, d, q, v, u, f_ext) : tree.status;
   if (!status.ok()) return status;
   // A full-rank Delassus system is solved exactly: only a rank-deficient one
   // can leave closure accelerations unmet.

@@ -10,7 +10,7 @@
 // contradict the closure, the answer is the least-squares one and C (v + dv)
 // is not zero. Without loops this is hybrid_impulse. Allocation free.
 #pragma once
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

@@ -17,7 +17,7 @@
 // allocates and is for analysis.
 #pragma once
 #include <vector>
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 #include "soadyn/core/interrupt.hpp"
 
 namespace soadyn {

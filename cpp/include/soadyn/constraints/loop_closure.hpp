@@ -4,7 +4,7 @@
 // C qdd = kappa ("Joint Coordinate Method, Part 1", Eqs. 1.6-1.8;
 // Saha, Shah & Nandihal 2013, Eq. 52b for the planar four-bar).
 #pragma once
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

@@ -66,7 +66,7 @@ struct BodyFrameLoopKinematics {
   }
 };
 
-// Tree frames, as the tree-frame sweeps leave them (tree_frame_steps.hpp:
+// Tree frames, as the tree-frame sweeps leave them (tree_frame_updates.hpp:
 // world axes, about the origin of the body's tree), with
 // loops.tree_origin[b] the world position of that origin and pose_in_world
 // filled (set_world_poses_from_tree_frames). The accelerations are those of

@@ -18,10 +18,6 @@ enum class StatusCode {
   interrupted,                   // stopped by an Interrupt (interrupt.hpp) between iterations
   diverging,                     // the divergence guard stopped the step before the state lost its finiteness
                                  // (sim/divergence_guard.hpp; index: the DOF)
-  // Internal to the dynamics dispatch, never returned by a public algorithm:
-  // a body lies beyond its tree-frame reach (tree_frame_reach.hxx), so the
-  // call is redone in body frames (index: the body).
-  beyond_tree_frame_reach,
 };
 
 inline const char* status_message(StatusCode code) {
@@ -38,7 +34,6 @@ inline const char* status_message(StatusCode code) {
     case StatusCode::loop_assembly_stalled: return "loop assembly stalled";
     case StatusCode::interrupted: return "interrupted";
     case StatusCode::diverging: return "diverging";
-    case StatusCode::beyond_tree_frame_reach: return "beyond tree-frame reach";
   }
   return "unknown";
 }
@@ -48,5 +43,28 @@ struct Status {
   int index = -1;  // the DOF at fault (velocity index), the loop for inconsistent_loop_equations, or -1
   bool ok() const { return code == StatusCode::ok; }
 };
+
+namespace detail {
+
+// What a tree-frame sweep returns (sweeps/tree_frame_sweeps.hxx, the CRBA,
+// the tree-frame loop solves): its Status, or, with `beyond_reach`, that body
+// `status.index` lies beyond its tree-frame reach (model/tree_frame_reach.hxx).
+// No output has then changed, and the caller redoes the call in body frames;
+// public algorithms never return it.
+struct TreeFrameStatus {
+  Status status;
+  bool beyond_reach = false;
+  TreeFrameStatus() = default;
+  TreeFrameStatus(Status s) : status(s) {}  // NOLINT: a sweep's Status converts implicitly
+  TreeFrameStatus(StatusCode code, int index) : status{code, index} {}
+  static TreeFrameStatus beyond(int body) {
+    TreeFrameStatus t{Status{StatusCode::ok, body}};
+    t.beyond_reach = true;
+    return t;
+  }
+  bool ok() const { return !beyond_reach && status.ok(); }
+};
+
+}  // namespace detail
 
 }  // namespace soadyn

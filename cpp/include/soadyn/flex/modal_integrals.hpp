@@ -119,7 +119,7 @@ struct ModalIntegrals {
   MatX<S> symmetric_rate_linear;
   MatX<S> symmetric_rate_quadratic;
   MatX<S> modal_mass;                                // M_ee (n_m x n_m)
-  // For bodies that carry nothing on a node (sweeps/appendage_step.hpp):
+  // For bodies that carry nothing on a node (sweeps/appendage_update.hpp):
   MatX<S> modal_mass_inverse;                        // M_ee^-1
   MatX<S> modal_first_moment_gain;                   // W = M_ee^-1 S1' (n_m x 3)
   Mat3<S> translational_appendage_inertia = Mat3<S>::Zero();  // m 1 - S1 W
@@ -137,7 +137,7 @@ struct ModalIntegrals {
 
   // out = [sym D_0 ... sym D_{n_m-1}] of Eq. (7), each packed
   // (packed_symmetric); `out` must already be 6 x n_m. No allocation. N: n_m
-  // known at compile time (appendage_step.hpp), or Eigen::Dynamic.
+  // known at compile time (appendage_update.hpp), or Eigen::Dynamic.
   template <int N = Eigen::Dynamic>
   void second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, MatX<S>& out) const;
 
@@ -193,7 +193,7 @@ MatX<S> modal_mass_matrix(const FlexibleNodes<S>& nodes, int n_modes);
 extern template struct ModalIntegrals<double>;
 extern template struct ModalIntegrals<float>;
 // The mode-count-generic rates and bias (flexible_body.cpp); the fixed
-// counts are instantiated with the appendage step (appendage_step.cpp).
+// counts are instantiated with the appendage update (appendage_update.cpp).
 extern template void ModalIntegrals<double>::second_moment_rates<Eigen::Dynamic>(const Eigen::Ref<const VecX<double>>&,
                                                                                   MatX<double>&) const;
 extern template void ModalIntegrals<float>::second_moment_rates<Eigen::Dynamic>(const Eigen::Ref<const VecX<float>>&,

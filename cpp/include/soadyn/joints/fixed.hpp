@@ -22,10 +22,10 @@ struct FixedJoint {
   void random(CoordinateSampler&, S*) const {}
   void check(const std::string&) {}
 
-  // Kernel: the body's pose is its placement (sweeps/steps.hpp).
-  JointKernel kernel(S& sign) const {
+  // Fast path: the body's pose is its placement (sweeps/body_updates.hpp).
+  JointFastPath fast_path(S& sign) const {
     sign = S(1);
-    return JointKernel::fixed;
+    return JointFastPath::fixed;
   }
 };
 

@@ -90,14 +90,14 @@ struct FreeJoint {
   }
   void check(const std::string&) {}
 
-  JointKernel kernel(S& sign) const {
+  JointFastPath fast_path(S& sign) const {
     sign = S(1);
-    return JointKernel::free;
+    return JointFastPath::free;
   }
-  // Tree-frame kernel (sweeps/tree_frame_steps.hpp): pose = base * joint
+  // Tree-frame fast path (sweeps/tree_frame_updates.hpp): pose = base * joint
   // pose (a root body's origin at the tree origin) and H* = X(pose), which
   // carries body twists to tree-frame twists. No bias (S is constant).
-  static SOADYN_ALWAYS_INLINE void tree_step(const Transform<S>& base, const S* q, bool root, Transform<S>& pose,
+  static SOADYN_ALWAYS_INLINE void tree_update(const Transform<S>& base, const S* q, bool root, Transform<S>& pose,
                                              Mat6N<S>& s) {
     Transform<S> joint_pose;
     joint_pose.rotation = quaternion_rotation(q + 3);

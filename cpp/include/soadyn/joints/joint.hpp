@@ -21,11 +21,11 @@ namespace detail {
 template <class J>
 using joint_type = std::decay_t<J>;
 
-// Whether the joint type declares a dedicated kernel (joint_kernel.hpp).
+// Whether the joint type declares a dedicated fast path (joint_fast_path.hpp).
 template <class J, class = void>
-struct has_kernel : std::false_type {};
+struct has_fast_path : std::false_type {};
 template <class J>
-struct has_kernel<J, std::void_t<decltype(&J::kernel)>> : std::true_type {};
+struct has_fast_path<J, std::void_t<decltype(&J::fast_path)>> : std::true_type {};
 }  // namespace detail
 
 template <class S>
@@ -76,29 +76,29 @@ void check_joint(JointModel<S>& j, const std::string& joint_name) {
   std::visit([&](auto& jj) { jj.check(joint_name); }, j);
 }
 
-// The joint's kernel tag; `sign` receives the axis sign of an axis-aligned
+// The joint's fast-path tag; `sign` receives the axis sign of an axis-aligned
 // revolute or prismatic joint (1 otherwise).
 template <class S>
-JointKernel classify_joint(const JointModel<S>& j, S& sign) {
+JointFastPath classify_joint(const JointModel<S>& j, S& sign) {
   sign = S(1);
   return std::visit(
       [&](const auto& jj) {
-        if constexpr (detail::has_kernel<detail::joint_type<decltype(jj)>>::value)
-          return jj.kernel(sign);
+        if constexpr (detail::has_fast_path<detail::joint_type<decltype(jj)>>::value)
+          return jj.fast_path(sign);
         else
-          return JointKernel::general;
+          return JointFastPath::general;
       },
       j);
 }
 
 // The signs of the joint's angles that the sweeps' table holds
 // (sweeps/joint_angles.hpp), one per tabulated coordinate, in order: an
-// axis-aligned revolute joint's one (`kernel` and `sign` from
+// axis-aligned revolute joint's one (`fast_path` and `sign` from
 // classify_joint), a universal joint's two when both its axes are coordinate
 // axes; none for any other joint.
 template <class S>
-std::vector<S> tabulated_angle_signs(const JointModel<S>& j, JointKernel kernel, const S& sign) {
-  if (kernel == JointKernel::revolute_x || kernel == JointKernel::revolute_y || kernel == JointKernel::revolute_z)
+std::vector<S> tabulated_angle_signs(const JointModel<S>& j, JointFastPath path, const S& sign) {
+  if (path == JointFastPath::revolute_x || path == JointFastPath::revolute_y || path == JointFastPath::revolute_z)
     return {sign};
   if (const auto* universal = std::get_if<UniversalJoint<S>>(&j)) {
     S sign1, sign2;

@@ -1,5 +1,5 @@
 // What every joint header builds on: parameter checks that name the joint,
-// the sampler of random configurations, and the kernel tags.
+// the sampler of random configurations, and the fast-path tag.
 //
 // A joint type is one struct (revolute.hpp, ..., translation.hpp) with
 //   name, description            type name ("revolute") and a one-line summary
@@ -16,7 +16,7 @@
 //   fill_subspace(S)             the constant part of S (once, at Data creation)
 //   random(sampler, q)           a random configuration
 //   check(joint_name)            validates and normalises the parameters
-// and optionally kernel(sign), the tag of a dedicated kernel (joint_kernel.hpp).
+// and optionally fast_path(sign), the tag of a dedicated fast path (joint_fast_path.hpp).
 // joint_types.hpp registers it in the JointModel variant; joint.hpp
 // dispatches every operation with std::visit.
 #pragma once
@@ -29,7 +29,7 @@
 #include <string>
 #include <tuple>
 #include <type_traits>
-#include "soadyn/joints/joint_kernel.hpp"
+#include "soadyn/joints/joint_fast_path.hpp"
 #include "soadyn/joints/vector_space.hpp"
 #include "soadyn/spatial/lie.hpp"
 #include "soadyn/core/validation.hpp"

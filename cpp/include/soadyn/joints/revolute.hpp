@@ -66,33 +66,33 @@ struct RevoluteJoint {
   void random(CoordinateSampler& draw, S* q) const { q[0] = S(draw.angle()); }
   void check(const std::string& joint_name) { axis = checked_joint_axis(axis, joint_name, "axis"); }
 
-  // Axis along +-e_k: the kernels below, with `sign` the axis' sign; any
-  // other axis: tree_step.
-  JointKernel kernel(S& sign) const {
+  // Axis along +-e_k: the fast paths below, with `sign` the axis' sign; any
+  // other axis: tree_update.
+  JointFastPath fast_path(S& sign) const {
     const int k = coordinate_axis(axis, sign);
-    return k >= 0 ? kernel_along(JointKernel::revolute_x, k) : JointKernel::revolute_axis;
+    return k >= 0 ? fast_path_along(JointFastPath::revolute_x, k) : JointFastPath::revolute_axis;
   }
   // Tree frame, any axis: pose = base * Rot(axis, angle) (Rodrigues), and
   // H* = [w; t x w] for w = R_base axis (the rotation leaves its axis fixed)
   // through the body origin t.
-  SOADYN_ALWAYS_INLINE void tree_step(const Transform<S>& base, const S& angle, Transform<S>& pose,
+  SOADYN_ALWAYS_INLINE void tree_update(const Transform<S>& base, const S& angle, Transform<S>& pose,
                                       Mat6N<S>& s) const {
     pose.rotation.noalias() = base.rotation * axis_angle_rotation(axis, angle);
     pose.translation = base.translation;
     const Vec3<S> w = base.rotation * axis;
     store_as_pairs(w, Vec3<S>(pose.translation.cross(w)), s.col(0));
   }
-  // Kernels of an axis along sign * e_Axis; `angle` = sign * q. Body frame:
+  // Fast paths of an axis along sign * e_Axis; `angle` = sign * q. Body frame:
   // pose = placement * Rot; the subspace and zero bias stay as Data was built.
   template <int Axis>
   static SOADYN_ALWAYS_INLINE void aligned_pose(const Transform<S>& placement, const S& angle, Transform<S>& pose) {
     rotate_about_coordinate_axis<Axis>(placement, angle, pose);
   }
-  // Tree frame (sweeps/tree_frame_steps.hpp): pose = base * Rot, and
+  // Tree frame (sweeps/tree_frame_updates.hpp): pose = base * Rot, and
   // H* = [w; t x w] for the axis w = sign R e_Axis through the body origin t;
   // the angle's cosine and sine come from the sweep's table (joint_angles.hpp).
   template <int Axis>
-  static SOADYN_ALWAYS_INLINE void aligned_tree_step(const Transform<S>& base, const S& cosine, const S& sine,
+  static SOADYN_ALWAYS_INLINE void aligned_tree_update(const Transform<S>& base, const S& cosine, const S& sine,
                                                      const S& sign, Transform<S>& pose, Mat6N<S>& s) {
     rotate_about_coordinate_axis<Axis>(base, cosine, sine, pose);
     const Vec3<S> w = pose.rotation.col(Axis) * sign;

@@ -81,14 +81,14 @@ struct SphericalJoint {
   }
   void check(const std::string&) {}
 
-  JointKernel kernel(S& sign) const {
+  JointFastPath fast_path(S& sign) const {
     sign = S(1);
-    return JointKernel::spherical;
+    return JointFastPath::spherical;
   }
-  // Tree-frame kernel (sweeps/tree_frame_steps.hpp): R = R_base R(q), and
+  // Tree-frame fast path (sweeps/tree_frame_updates.hpp): R = R_base R(q), and
   // the body-frame subspace [1; 0] carried to the tree frame is
   // H* = [R; t x R] (the body origin t does not move). Zero bias.
-  static SOADYN_ALWAYS_INLINE void tree_step(const Transform<S>& base, const S* q, bool root, Transform<S>& pose,
+  static SOADYN_ALWAYS_INLINE void tree_update(const Transform<S>& base, const S* q, bool root, Transform<S>& pose,
                                              Mat6N<S>& s) {
     pose.rotation.noalias() = base.rotation * quaternion_rotation(q);
     pose.translation = root ? Vec3<S>::Zero() : base.translation;

@@ -45,17 +45,17 @@ struct UniversalJoint {
       throw std::invalid_argument("joint '" + joint_name + "': universal joint axes are parallel");
   }
 
-  JointKernel kernel(S& sign) const {
+  JointFastPath fast_path(S& sign) const {
     sign = S(1);
-    return JointKernel::universal;
+    return JointFastPath::universal;
   }
-  // Tree-frame kernel (sweeps/tree_frame_steps.hpp): rotation R1 about
+  // Tree-frame fast path (sweeps/tree_frame_updates.hpp): rotation R1 about
   // a1, then R2 about a2. In the tree frame the axes are w1 = R_base a1 and
   // w2 = R_base R1 a2 = R a2, both through the body origin t, so
   // H* = [w1 w2; t x w1  t x w2]. The body-frame velocity product
   // (qd1 qd2) (R2' a1) x a2 is, carried by R, (qd1 qd2) w1 x w2 (R2 a2 = a2,
   // R1 a1 = a1): returns that bias [c; t x c] (zero when v is null).
-  Vec6<S> tree_step(const Transform<S>& base, const S* q, const S* v, bool root, Transform<S>& pose,
+  Vec6<S> tree_update(const Transform<S>& base, const S* q, const S* v, bool root, Transform<S>& pose,
                     Mat6N<S>& s) const {
     S sign1, sign2;
     const int k1 = coordinate_axis(axis1, sign1), k2 = coordinate_axis(axis2, sign2);
@@ -71,7 +71,7 @@ struct UniversalJoint {
   // The same for axes along coordinate axes, with the cosines and sines of
   // the two angles (sign times coordinate) from the sweep's table
   // (sweeps/joint_angles.hpp; ModelTpl::angle_slot).
-  Vec6<S> aligned_tree_step(const Transform<S>& base, const S* cosine, const S* sine, const S* v, bool root,
+  Vec6<S> aligned_tree_update(const Transform<S>& base, const S* cosine, const S* sine, const S* v, bool root,
                             Transform<S>& pose, Mat6N<S>& s) const {
     S sign1, sign2;
     const int k1 = coordinate_axis(axis1, sign1), k2 = coordinate_axis(axis2, sign2);

@@ -1,4 +1,4 @@
-// The hinge step's terms of a leaf body whose articulated inertia and
+// The hinge update's terms of a leaf body whose articulated inertia and
 // subspace are both constant in its root's frame (constant_tree_inertia.hxx:
 // a reaction wheel turning about its axis of mass symmetry on a welded
 // body). A leaf's articulated inertia P is its own inertia, so with its one
@@ -7,7 +7,7 @@
 // are constants too: formed once per model, read by the sweeps. So are its
 // subspace and its origin in that frame: the dynamics sweeps form no pose
 // for it unless an external wrench or the hinge forces need its orientation
-// (tree_frame_steps.hpp, tree_velocity_step).
+// (tree_frame_updates.hpp, tree_velocity_update).
 #pragma once
 #include "soadyn/spatial/types.hpp"
 

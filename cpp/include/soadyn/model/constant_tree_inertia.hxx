@@ -4,7 +4,7 @@
 // The forward and hybrid dynamics sweeps and the CRBA express a tree whose
 // root joint has a constant body-frame subspace (free, revolute or
 // prismatic about a coordinate axis, fixed) in the root's body frame
-// (sweeps/tree_frame_steps.hpp), so a rigid body's inertia there is the
+// (sweeps/tree_frame_updates.hpp), so a rigid body's inertia there is the
 // body's own inertia carried by its pose relative to the root. That pose is
 // constant for the root itself and for every rigid body joined to it by
 // fixed joints (welded: a spacecraft's instruments and booms, a robot's
@@ -67,10 +67,10 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
     if (parent[i] >= 0) derived.has_children[static_cast<std::size_t>(parent[i])] |= attachment_node[i] >= 0 ? 3 : 1;
   for (std::size_t i = 0; i < n; ++i) {
     const int p = parent[i];
-    const JointKernel kernel = joint_kernel[i];
+    const JointFastPath path = joint_fast_path[i];
     const int flexible = flexible_index[i];
     if (flexible >= 0 && p >= 0 && attachment_node[i] < 0 && !(derived.has_children[i] & 2) &&
-        joint_is_weld(kernel) && derived.welded_to_root[static_cast<std::size_t>(p)]) {  // a welded appendage
+        joint_is_weld(path) && derived.welded_to_root[static_cast<std::size_t>(p)]) {  // a welded appendage
       derived.appendage_in_root_frame[i] = 1;
       derived.pose_in_root[i] = derived.pose_in_root[static_cast<std::size_t>(p)] * placement[i];
       const std::size_t f = static_cast<std::size_t>(flexible);
@@ -78,14 +78,14 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
     }
     if (flexible >= 0 || attachment_node[i] >= 0) continue;  // rigid bodies on a body frame only
     if (p < 0) {
-      if (!joint_has_constant_body_subspace(kernel)) continue;
+      if (!joint_has_constant_body_subspace(path)) continue;
       derived.welded_to_root[i] = 1;
       derived.pose_in_root[i] = Transform<S>();
     } else {
       const std::size_t pp = static_cast<std::size_t>(p);
       if (!derived.welded_to_root[pp]) continue;
-      const bool welded = joint_is_weld(kernel);
-      const int axis = joint_turning_axis(kernel);
+      const bool welded = joint_is_weld(path);
+      const int axis = joint_turning_axis(path);
       if (!welded && !(axis >= 0 && detail::mass_symmetric_about_axis(axis, com[i], inertia_com[i]))) continue;
       derived.welded_to_root[i] = welded ? 1 : 0;
       derived.pose_in_root[i] = derived.pose_in_root[pp] * placement[i];  // a turning body's at angle 0: the same inertia
@@ -98,13 +98,13 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
 
 // Among those bodies, the leaves that turn: their hinge terms
 // (constant_hinge_terms.hpp), from the subspace [w; t x w] of the revolute
-// tree step (joints/revolute.hpp), constant here, and the leaf's P, its inertia.
+// tree update (joints/revolute.hpp), constant here, and the leaf's P, its inertia.
 template <class S>
 void ModelTpl<S>::refresh_constant_leaf_hinges() {
   const std::size_t n = parent.size();
   for (std::size_t i = 0; i < n; ++i) {  // has_children: refresh_constant_tree_inertia's
-    const JointKernel kernel = joint_kernel[i];
-    const int axis = joint_turning_axis(kernel);
+    const JointFastPath path = joint_fast_path[i];
+    const int axis = joint_turning_axis(path);
     if (!derived.constant_tree_inertia[i] || derived.has_children[i] || parent[i] < 0 || axis < 0) continue;
     const Transform<S>& pose = derived.pose_in_root[i];  // at angle 0; the axis and its point do not move
     const Vec3<S> w = pose.rotation.col(axis) * axis_sign[i];
@@ -114,7 +114,7 @@ void ModelTpl<S>::refresh_constant_leaf_hinges() {
     assign_spatial_inertia(derived.tree_inertia_parameters[i], P);
     const Vec6<S> u = P * subspace;
     const S D = subspace.dot(u);
-    if (!(D > detail::singular_pivot_threshold(P))) continue;  // left to the general step, which names the DOF
+    if (!(D > detail::singular_pivot_threshold(P))) continue;  // left to the general update, which names the DOF
     ConstantHingeTerms<S>& terms = derived.leaf_hinge_terms[i];
     terms.articulated_d = D;
     terms.inverse_d = S(1) / D;

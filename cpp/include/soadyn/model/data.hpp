@@ -11,7 +11,7 @@
 // "Recursive Dynamics Algorithm for Multibody Systems with Prescribed Motion",
 // ASME J. Mechanical Design 115(3), 1993, as written), `tree_` quantities in
 // body i's tree frame (world orientation, origin at its tree's root body
-// origin; sweeps/tree_frame_steps.hpp). Which algorithm fills which is
+// origin; sweeps/tree_frame_updates.hpp). Which algorithm fills which is
 // said per member; the README's architecture section says which sweep runs when.
 #pragma once
 #include <Eigen/Cholesky>
@@ -35,7 +35,7 @@ struct FlexibleBodyData {
   VecX<S> modal_bias_and_children_z;   // modal_bias + sum over bodies on nodes of Psi' z+ (articulated sweeps)
   VecX<S> modal_force;                 // generalized modal force of the Newton-Euler sweeps (RNEA)
   Mat6X<S> coupling;                   // P_Ve: rigid-modal block of the articulated inertia (6 x n_m)
-  Eigen::Matrix<S, 3, Eigen::Dynamic> deformed_angular_coupling;  // M_we(eta) (3 x n_m): appendage_step.hpp, mode counts it has no compiled step for
+  Eigen::Matrix<S, 3, Eigen::Dynamic> deformed_angular_coupling;  // M_we(eta) (3 x n_m): appendage_update.hpp, mode counts it has no compiled update for
   MatX<S> modal_inertia;               // P_ee (n_m x n_m), factored in place (Cholesky L) by the elimination
   MatX<S> gain_transpose;              // P_ee^-1 P_eV (n_m x 6)
   VecX<S> innovation;                  // P_ee^-1 (u_modal - modal rows of z)
@@ -58,12 +58,12 @@ struct SweepData {
   // Per body placed on a node of a flexible parent: the node's deformation
   // motion subspace Psi (6 x n_m of the parent) and the velocity-product part
   // of the node's motion relative to the parent's body frame, both in this
-  // body's frame (flexible_steps.hpp).
+  // body's frame (flexible_updates.hpp).
   aligned_vector<Mat6X<S>> attachment_subspace;
   aligned_vector<Vec6<S>> attachment_bias;
 
   // Tree frames: tree-frame sweeps (tree_frame_sweeps.hxx), the composite-rigid-body mass matrix.
-  aligned_vector<Transform<S>> tree_pose;              // body i in its tree frame; a constant leaf's rotation is left as it was by dynamics sweeps with neither f_ext nor joint wrenches (tree_velocity_step)
+  aligned_vector<Transform<S>> tree_pose;              // body i in its tree frame; a constant leaf's rotation is left as it was by dynamics sweeps with neither f_ext nor joint wrenches (tree_velocity_update)
   aligned_vector<Mat6N<S>> tree_subspace;              // H*(i)
   aligned_vector<Vec6<S>> tree_velocity;               // V(i)
   aligned_vector<Vec6<S>> tree_coriolis;               // a(i)
@@ -84,7 +84,7 @@ struct SweepData {
 
   // Hinge coordinates (no frame).
   aligned_vector<VecN<S>> innovation;                  // nu(i) = D^-1 eps(i) (Eq. 28)
-  // D(i) = H_r P H*_r + armature of the last tip-to-base hinge step, for
+  // D(i) = H_r P H*_r + armature of the last tip-to-base hinge update, for
   // later solves with it: one regular DOF, D itself in (0, 0); more, its
   // Cholesky factor L (D = L L') in the lower triangle of the top-left
   // n_r x n_r block. A regular free root solved outright (free_root_inward):

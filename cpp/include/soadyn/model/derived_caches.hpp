@@ -60,7 +60,7 @@ struct DerivedCachesTpl {
   std::vector<ModalIntegrals<S>> root_frame_integrals;
   // And a leaf among the bodies with a constant inertia there that turns
   // about a coordinate axis (a reaction wheel) has a constant subspace too,
-  // so its regular hinge step's D, G and P+ are constants
+  // so its regular hinge update's D, G and P+ are constants
   // (constant_hinge_terms.hpp). Per body: 1 when they are, and the terms.
   std::vector<std::uint8_t> constant_leaf_hinge;
   aligned_vector<ConstantHingeTerms<S>> leaf_hinge_terms;

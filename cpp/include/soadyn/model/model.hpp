@@ -26,7 +26,7 @@
 #include "soadyn/flex/flexible_body.hpp"
 #include "soadyn/model/force_element.hpp"
 #include "soadyn/joints/joint.hpp"
-#include "soadyn/joints/joint_kernel.hpp"
+#include "soadyn/joints/joint_fast_path.hpp"
 #include "soadyn/model/loop.hpp"
 #include "soadyn/spatial/inertia.hpp"
 #include "soadyn/spatial/placement_axes.hpp"
@@ -87,7 +87,7 @@ struct HingeModes {
 constexpr int kMassMatrixLoopsWorkPerEquation = 300;
 
 enum class DynamicsPath : std::uint8_t {
-  rigid_tree_frames,      // no flexible body: tree frames, rigid steps only
+  rigid_tree_frames,      // no flexible body: tree frames, rigid updates only
   appendage_tree_frames,  // flexible bodies with no body on a node: tree frames
   body_frames,            // some body on a flexible body's node: body frames
 };
@@ -218,9 +218,9 @@ class ModelTpl {
   std::vector<S> mass;
   aligned_vector<Vec3<S>> com;
   aligned_vector<Mat3<S>> inertia_com;     // rotational inertia about the centre of mass, body frame
-  std::vector<JointKernel> joint_kernel;   // joints/joint_kernel.hpp
+  std::vector<JointFastPath> joint_fast_path;   // joints/joint_fast_path.hpp
   std::vector<S> axis_sign;                // +-1: the axis of an axis-aligned revolute or prismatic joint is axis_sign e_k
-  // Rotations about coordinate axes (the revolute_x/y/z kernels, and both
+  // Rotations about coordinate axes (the revolute_x/y/z fast paths, and both
   // rotations of a universal joint whose axes are coordinate axes) have their
   // sines and cosines computed together before each tree-frame sweep
   // (sweeps/joint_angles.hpp): per body, its first slot in that table

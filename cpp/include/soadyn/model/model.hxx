@@ -287,9 +287,9 @@ int ModelTpl<S>::add_resolved(const std::string& name, int parent_body, int node
   com.push_back(c);
   inertia_com.push_back(I);
   S sign;
-  joint_kernel.push_back(classify_joint(joint, sign));
+  joint_fast_path.push_back(classify_joint(joint, sign));
   axis_sign.push_back(sign);
-  const std::vector<S> angle_signs_of_joint = tabulated_angle_signs(joint, joint_kernel.back(), sign);
+  const std::vector<S> angle_signs_of_joint = tabulated_angle_signs(joint, joint_fast_path.back(), sign);
   angle_slot.push_back(angle_signs_of_joint.empty() ? -1 : static_cast<int>(angle_coordinates.size()));
   for (std::size_t k = 0; k < angle_signs_of_joint.size(); ++k) {
     angle_coordinates.push_back(nq + static_cast<int>(k));

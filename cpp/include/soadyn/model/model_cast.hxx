@@ -1,7 +1,7 @@
 // ModelTpl::cast (model.hpp): the same model in another scalar type. Every
 // field is copied, numeric ones converted; nothing is recomputed, so the cast
 // model runs exactly the sweeps the original runs (same dynamics path, joint
-// kernels, prescribed flags and tree-frame reach).
+// fast paths, prescribed flags and tree-frame reach).
 #pragma once
 #include <type_traits>
 #include "soadyn/model/model.hpp"
@@ -87,7 +87,7 @@ ModelTpl<T> ModelTpl<S>::cast() const {
   out.mass = c::scalars<T>(mass);
   for (const auto& x : com) out.com.push_back(x.template cast<T>());
   for (const auto& x : inertia_com) out.inertia_com.push_back(x.template cast<T>());
-  out.joint_kernel = joint_kernel;
+  out.joint_fast_path = joint_fast_path;
   out.axis_sign = c::scalars<T>(axis_sign);
   out.angle_slot = angle_slot;
   out.angle_coordinates = angle_coordinates;

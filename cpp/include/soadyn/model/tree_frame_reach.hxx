@@ -2,7 +2,7 @@
 // ModelTpl::refresh_tree_frame_reach, model.hpp).
 //
 // The rigid sweeps carry every articulated inertia about its tree root's
-// origin (sweeps/tree_frame_steps.hpp). For a body at distance L from
+// origin (sweeps/tree_frame_updates.hpp). For a body at distance L from
 // that origin whose mass lies at an RMS radius r from its own origin, the
 // hinge inertia D = H P H* (Jain & Rodriguez, "Recursive dynamics algorithm
 // for multibody systems with prescribed motion", Eq. 28) of a rotational DOF is

@@ -43,7 +43,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 

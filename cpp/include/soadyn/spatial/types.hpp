@@ -16,7 +16,7 @@
 #endif
 
 // Inlines every call in a function's body that can be (the CRBA's sweep:
-// its joint steps then return no unused bias through memory, and keep the
+// its joint updates then return no unused bias through memory, and keep the
 // pose they just formed in registers for the inertia that reads it).
 #if defined(__GNUC__)
 #define SOADYN_FLATTEN __attribute__((flatten))
@@ -60,7 +60,7 @@ Mat3<S> skew(const Vec3<S>& w) {
 
 // Writes [a; b] into the 6-vector `out` as three 2-vector stores. A 6-vector
 // that the sweeps read back as 2-vectors right after it is written (a hinge
-// subspace, read by the velocity step) is stored so: a 2-vector load cannot
+// subspace, read by the velocity update) is stored so: a 2-vector load cannot
 // forward from two scalar stores, and waits about a dozen cycles instead.
 template <class S, class Out>
 SOADYN_ALWAYS_INLINE void store_as_pairs(const Vec3<S>& a, const Vec3<S>& b, Out&& out) {
@@ -75,7 +75,7 @@ SOADYN_ALWAYS_INLINE void store_as_pairs(const Vec3<S>& a, const Vec3<S>& b, Out
 // just stored through such values keeps GCC from merging neighbouring
 // reads into one 2-vector load across two stores (a load straddling two
 // stores cannot take its data from the store buffer and waits, as in the
-// velocity step's cross product).
+// velocity update's cross product).
 template <class S>
 SOADYN_ALWAYS_INLINE S in_register(S x) {
 #if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && defined(__SSE2__)

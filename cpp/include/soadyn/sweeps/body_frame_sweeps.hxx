@@ -1,18 +1,18 @@
 // The hybrid algorithm's three sweeps in body frames (Jain & Rodriguez 1993,
 // Eqs. 1, 14, 28, 29, Lemma 8, the recursion as written), with the modal DOFs
-// of flexible bodies and the bodies on their nodes (flexible_steps.hpp). This
+// of flexible bodies and the bodies on their nodes (flexible_updates.hpp). This
 // is the path of models with a body on a flexible body's node, and of any
 // model in a call where a body lies beyond its tree-frame reach
 // (tree_frame_reach.hxx); every other call runs tree_frame_sweeps.hxx
 // (dynamics_path.hxx chooses).
 #pragma once
-#include "soadyn/sweeps/flexible_steps.hpp"
-#include "soadyn/sweeps/hinge_steps.hpp"
+#include "soadyn/sweeps/flexible_updates.hpp"
+#include "soadyn/sweeps/hinge_updates.hpp"
 
 namespace soadyn {
 namespace detail {
 
-// Tip-to-base step of a body with an articulated inertia (Eq. 28), body
+// Tip-to-base update of a body with an articulated inertia (Eq. 28), body
 // frames: a flexible body first eliminates its modal DOFs. Returns the DOF
 // of a singular D or modal block, or -1.
 template <ModePolicy Modes, class S>
@@ -39,7 +39,7 @@ inline int body_articulated_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
   return -1;
 }
 
-// Base-to-tip step of a body with an articulated inertia (Eq. 29), body frames.
+// Base-to-tip update of a body with an articulated inertia (Eq. 29), body frames.
 template <ModePolicy Modes, class S>
 inline void body_articulated_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
                                      const Vec6<S>& world_acc, bool want_force) {
@@ -48,7 +48,7 @@ inline void body_articulated_outward(const ModelTpl<S>& m, DataTpl<S>& d, std::s
   if (m.is_flexible(static_cast<int>(i))) modal_accelerations(m, d, i, u, d.body_acceleration[i]);
 }
 
-// The three sweeps. `Modes` (hinge_steps.hpp): model_flags for hybrid
+// The three sweeps. `Modes` (hinge_updates.hpp): model_flags for hybrid
 // dynamics and its impulse form, all_regular for forward dynamics. `u` holds
 // per DOF the torque of a regular DOF or the acceleration of a prescribed
 // one; `v` null means zero velocity; `want_force` also leaves every hinge
@@ -58,8 +58,8 @@ Status body_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
                          const Vec6<S>& world_acc, bool want_force) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, b (Eq. 1); accelerations of all-prescribed regions
-    body_joint_step<true>(m, d, i, q, v);
-    body_motion_step<true>(m, d, i, q, v, f_ext);
+    body_joint_update<true>(m, d, i, q, v);
+    body_motion_update<true>(m, d, i, q, v, f_ext);
     if (needs_articulated_inertia<Modes>(m, i)) {
       init_articulated<true>(m, d, i);
     } else {  // neither flexible nor on a flexible body (those need P): Newton-Euler

@@ -13,8 +13,8 @@ namespace detail {
 // whose every body has an articulated inertia (a regular hinge at each root)
 // runs the variant without the Newton-Euler branches.
 template <ModePolicy Modes, bool Flex, class S>
-Status tree_frame_sweeps_for(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u,
-                             const S* f_ext, const Vec6<S>& world_acc, bool want_force) {
+TreeFrameStatus tree_frame_sweeps_for(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u,
+                                      const S* f_ext, const Vec6<S>& world_acc, bool want_force) {
   if constexpr (Modes == ModePolicy::model_flags) {
     if (!m.has_newton_euler_region)
       return tree_frame_sweeps<ModePolicy::model_flags_articulated, Flex>(m, d, q, v, u, f_ext, world_acc,
@@ -27,23 +27,26 @@ Status tree_frame_sweeps_for(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, co
 // model_flags (hybrid dynamics, impulse form) or all_regular (forward
 // dynamics); arguments as body_frame_sweeps. A tree-frame path that meets a
 // body beyond its reach has changed no output and hands over to body frames.
+// Scalars other than double and float take body frames (runs_tree_frames).
 template <ModePolicy Modes, class S>
 Status dynamics_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u, const S* f_ext,
                        const Vec6<S>& world_acc, bool want_force) {
-  switch (m.dynamics_path) {
-    case DynamicsPath::rigid_tree_frames: {
-      const S* v_unless_at_rest = detail::velocities_unless_at_rest(m, v);
-      const Status s =
-          tree_frame_sweeps_for<Modes, false>(m, d, q, v_unless_at_rest, u, f_ext, world_acc, want_force);
-      if (s.code != StatusCode::beyond_tree_frame_reach) return s;
-      break;
+  if constexpr (runs_tree_frames<S>) {
+    switch (m.dynamics_path) {
+      case DynamicsPath::rigid_tree_frames: {
+        const S* v_unless_at_rest = detail::velocities_unless_at_rest(m, v);
+        const TreeFrameStatus s =
+            tree_frame_sweeps_for<Modes, false>(m, d, q, v_unless_at_rest, u, f_ext, world_acc, want_force);
+        if (!s.beyond_reach) return s.status;
+        break;
+      }
+      case DynamicsPath::appendage_tree_frames: {
+        const TreeFrameStatus s = tree_frame_sweeps_for<Modes, true>(m, d, q, v, u, f_ext, world_acc, want_force);
+        if (!s.beyond_reach) return s.status;
+        break;
+      }
+      case DynamicsPath::body_frames: break;
     }
-    case DynamicsPath::appendage_tree_frames: {
-      const Status s = tree_frame_sweeps_for<Modes, true>(m, d, q, v, u, f_ext, world_acc, want_force);
-      if (s.code != StatusCode::beyond_tree_frame_reach) return s;
-      break;
-    }
-    case DynamicsPath::body_frames: break;
   }
   return body_frame_sweeps<Modes>(m, d, q, v, u, f_ext, world_acc, want_force);
 }

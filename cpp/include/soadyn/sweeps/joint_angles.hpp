@@ -1,8 +1,8 @@
 // The sines and cosines of a model's rotations about coordinate axes (the
 // revolute_x/y/z kernels and axis-aligned universal joints,
 // model.angle_coordinates), all in one pass before a
-// tree-frame outward sweep, for the joint steps to read
-// (tree_frame_steps.hpp). One pass takes four angles at a time: on x86
+// tree-frame outward sweep, for the joint updates to read
+// (tree_frame_updates.hpp). One pass takes four angles at a time: on x86
 // processors with AVX2 and FMA, a polynomial kernel of our own, in registers
 // (joint_angles.cpp); elsewhere glibc's vector math library (libmvec), two
 // angles per call with SSE2. Computed one by one, sincos was a fifth of the

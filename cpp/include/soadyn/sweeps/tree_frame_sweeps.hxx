@@ -1,4 +1,4 @@
-// The hybrid algorithm's three sweeps in tree frames (tree_frame_steps.hpp):
+// The hybrid algorithm's three sweeps in tree frames (tree_frame_updates.hpp):
 // hybrid dynamics and its impulse form (the model's flags) and forward
 // dynamics (every DOF regular: the articulated-body algorithm), for rigid
 // models (Flex = false) and for models whose flexible bodies carry no body
@@ -8,9 +8,9 @@
 // Inverse dynamics stays in body frames (rnea.hxx): without an articulated
 // inertia to carry, body frames need fewer operations.
 #pragma once
-#include "soadyn/sweeps/hinge_steps.hpp"
+#include "soadyn/sweeps/hinge_updates.hpp"
 #include "soadyn/linalg/spd_factor6.hpp"
-#include "soadyn/sweeps/tree_frame_steps.hpp"
+#include "soadyn/sweeps/tree_frame_updates.hpp"
 
 namespace soadyn {
 namespace detail {
@@ -42,7 +42,7 @@ inline int free_root_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, 
   return -1;
 }
 
-// Whether leaf i's hinge step reads its constant terms (RootBodyFrames:
+// Whether leaf i's hinge update reads its constant terms (RootBodyFrames:
 // the tree frame is its root's body frame; ModelTpl::leaf_hinge_terms): its
 // DOF regular, with no armature, which would change D.
 template <ModePolicy Modes, bool RootBodyFrames, class S>
@@ -73,10 +73,10 @@ SOADYN_ALWAYS_INLINE void add_presummed_leaves(const ModelTpl<S>& m, SweepData<S
   w.tree_articulated_inertia[i] += sums[static_cast<std::size_t>(slot)];
 }
 
-// Whether the inward sweep runs leaf i's step with its constant terms: into
+// Whether the inward sweep runs leaf i's update with its constant terms: into
 // a parent that forms a P.
 template <ModePolicy Modes, bool RootBodyFrames, class S>
-SOADYN_ALWAYS_INLINE bool constant_leaf_step(const ModelTpl<S>& m, std::size_t i) {
+SOADYN_ALWAYS_INLINE bool constant_leaf_update(const ModelTpl<S>& m, std::size_t i) {
   // The flag first: false for every body of most models (a leaf has a parent)
   return constant_leaf_hinge<Modes, RootBodyFrames>(m, i) &&
          needs_articulated_inertia<Modes>(m, static_cast<std::size_t>(m.parent[i]));
@@ -131,7 +131,7 @@ inline void hinge_forces_to_body_frames(DataTpl<S>& d) {
 template <ModePolicy Modes, class S>
 inline bool is_regular_free_root(const ModelTpl<S>& m, std::size_t i) {
   return is_free_root(m, static_cast<int>(i)) && regular_hinge<Modes>(m, i) &&
-         !m.modes[i].has_armature;  // armature: D = H P H* + A, the general step
+         !m.modes[i].has_armature;  // armature: D = H P H* + A, the general update
 }
 
 // The acceleration a root's tree frame gives its parent, the world: [0; -g]
@@ -139,11 +139,11 @@ inline bool is_regular_free_root(const ModelTpl<S>& m, std::size_t i) {
 template <bool RootBodyFrames, class S>
 SOADYN_ALWAYS_INLINE const Vec6<S>& root_world_acceleration(const ModelTpl<S>& m, const DataTpl<S>& d, std::size_t i,
                                                             const Vec6<S>& world_acc) {
-  if (RootBodyFrames && joint_has_constant_body_subspace(m.joint_kernel[i])) return d.sweep.tree_world_acceleration[i];
+  if (RootBodyFrames && joint_has_constant_body_subspace(m.joint_fast_path[i])) return d.sweep.tree_world_acceleration[i];
   return world_acc;
 }
 
-// The tree-frame hinge step of body i (Jain & Rodriguez 1993, Eq. 28): P+
+// The tree-frame hinge update of body i (Jain & Rodriguez 1993, Eq. 28): P+
 // added to the parent's P as it is formed when the parent has one (Eq. 14
 // with phi = 1), else not formed at all (`never_formed`).
 template <bool AllRegular, class S>
@@ -159,15 +159,15 @@ SOADYN_ALWAYS_INLINE int tree_hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, 
 
 // The first two sweeps in tree frames: base to tip V, a, M, b (Eq. 1) and
 // the accelerations of all-prescribed regions; tip to base P, z, G, nu
-// (Eq. 28). `v` null means zero velocity. Returns beyond_tree_frame_reach,
+// (Eq. 28). `v` null means zero velocity. Returns TreeFrameStatus::beyond,
 // having changed no output, when a body lies too far from its tree origin
 // for tree frames (the caller then uses body frames). RootBodyFrames: a
 // root's tree frame is its body frame where its joint allows
-// (tree_frame_steps.hpp); `poses_wanted` false: the orientations of
+// (tree_frame_updates.hpp); `poses_wanted` false: the orientations of
 // leaves with constant hinge terms are not needed afterwards
-// (tree_velocity_step), nor their P as a matrix (the hinge force's).
+// (tree_velocity_update), nor their P as a matrix (the hinge force's).
 template <ModePolicy Modes, bool Flex, bool RootBodyFrames = false, class S>
-Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u,
+TreeFrameStatus tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u,
                                 const S* f_ext, const Vec6<S>& world_acc, bool poses_wanted = true) {
   const std::size_t n = static_cast<std::size_t>(m.nbodies());
   SweepData<S>& w = d.sweep;
@@ -178,22 +178,22 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
   tabulate_joint_angles(m, w, q);
   for (std::size_t i = 0; i < n; ++i) {  // base to tip: V, a, M, b (Eq. 1); all-prescribed regions' accelerations
     if (RootBodyFrames && is_body_frame_root(m, static_cast<int>(i)))
-      root_body_frame_step(m, d, i, q, v, world_acc);
+      root_body_frame_update(m, d, i, q, v, world_acc);
     else
-      tree_velocity_step<RootBodyFrames>(m, d, i, q, v, poses_wanted || f_ext);
-    if (beyond_tree_frame_reach(m, d, i)) return Status{StatusCode::beyond_tree_frame_reach, static_cast<int>(i)};
+      tree_velocity_update<RootBodyFrames>(m, d, i, q, v, poses_wanted || f_ext);
+    if (beyond_tree_frame_reach(m, d, i)) return TreeFrameStatus::beyond(static_cast<int>(i));
     if constexpr (Flex) {
       if (m.is_flexible(static_cast<int>(i))) {  // modal DOFs always regular: P^ and z^ at once
-        tree_flexible_body_step<RootBodyFrames>(m, d, i, q, v, u, f_ext);
+        tree_flexible_body_update<RootBodyFrames>(m, d, i, q, v, u, f_ext);
         continue;
       }
     }
     InertiaParameters<S> inertia;
-    tree_rigid_body_step<RootBodyFrames>(m, d, i, v, f_ext, inertia);
+    tree_rigid_body_update<RootBodyFrames>(m, d, i, v, f_ext, inertia);
     // A leaf with constant hinge terms needs its P as a matrix only for its
-    // hinge force (the outward sweep, when wanted); its inward step reads
+    // hinge force (the outward sweep, when wanted); its inward update reads
     // its constant inertia's parameters.
-    if (poses_wanted || !(leaf_terms && constant_leaf_step<Modes, RootBodyFrames>(m, i)))
+    if (poses_wanted || !(leaf_terms && constant_leaf_update<Modes, RootBodyFrames>(m, i)))
       assign_spatial_inertia(inertia, w.tree_articulated_inertia[i]);  // the start of P
     if (leaf_terms) add_presummed_leaves<Modes, RootBodyFrames>(m, w, i);
     if (!needs_articulated_inertia<Modes>(m, i)) {  // Newton-Euler: alpha = alpha+ + H* qdd + a, f = M alpha + b
@@ -225,7 +225,7 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
     }
     const Mat6<S>* P_out = nullptr;
     const bool into_parent = p >= 0 && needs_articulated_inertia<Modes>(m, pp);
-    if (leaf_terms && constant_leaf_step<Modes, RootBodyFrames>(m, i)) {
+    if (leaf_terms && constant_leaf_update<Modes, RootBodyFrames>(m, i)) {
       constant_leaf_inward(m, d, i, u, leaf_plus_presummed<Modes, RootBodyFrames>(m, i), z_plus);
       w.tree_bias_and_children_z[pp] += z_plus;
       continue;
@@ -253,9 +253,9 @@ Status tree_frame_inward_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q,
   return {};
 }
 
-// The third sweep's step for body i (Eq. 29), its parent's acceleration known.
+// The third sweep's update for body i (Eq. 29), its parent's acceleration known.
 template <ModePolicy Modes, bool Flex, bool RootBodyFrames = false, class S>
-SOADYN_ALWAYS_INLINE void tree_outward_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
+SOADYN_ALWAYS_INLINE void tree_outward_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* u,
                                             const Vec6<S>& world_acc, bool want_force) {
   if (!needs_articulated_inertia<Modes>(m, i)) return;
   const int p = m.parent[i];
@@ -281,7 +281,7 @@ template <ModePolicy Modes, bool Flex, bool RootBodyFrames = false, class S>
 Status tree_frame_outward_sweep(const ModelTpl<S>& m, DataTpl<S>& d, const S* u, const Vec6<S>& world_acc,
                                 bool want_force) {
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i)
-    tree_outward_step<Modes, Flex, RootBodyFrames>(m, d, i, u, world_acc, want_force);
+    tree_outward_update<Modes, Flex, RootBodyFrames>(m, d, i, u, world_acc, want_force);
   if (want_force) hinge_forces_to_body_frames(d);
   const Status s = detail::check_finite(d.qdd);
   if constexpr (Modes == ModePolicy::all_regular) return s;  // tau is the given torque
@@ -292,9 +292,9 @@ Status tree_frame_outward_sweep(const ModelTpl<S>& m, DataTpl<S>& d, const S* u,
 // frames where their joints allow: these sweeps' outputs are joint-space (and hinge forces in
 // body frames), so no caller sees the tree frame's orientation.
 template <ModePolicy Modes, bool Flex, class S>
-Status tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u, const S* f_ext,
-                         const Vec6<S>& world_acc, bool want_force) {
-  const Status inward = tree_frame_inward_sweeps<Modes, Flex, true>(m, d, q, v, u, f_ext, world_acc, want_force);
+TreeFrameStatus tree_frame_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u,
+                                  const S* f_ext, const Vec6<S>& world_acc, bool want_force) {
+  const TreeFrameStatus inward = tree_frame_inward_sweeps<Modes, Flex, true>(m, d, q, v, u, f_ext, world_acc, want_force);
   if (!inward.ok()) return inward;
   return tree_frame_outward_sweep<Modes, Flex, true>(m, d, u, world_acc, want_force);
 }

@@ -1,7 +1,7 @@
-// The flexible-appendage step for double and float (appendage_step.hpp), for
+// The flexible-appendage update for double and float (appendage_update.hpp), for
 // each mode count up to max_fixed_appendage_modes and for any count; for
 // double, in two kernels, one chosen on the first call.
-#include "soadyn/sweeps/appendage_step.hpp"
+#include "soadyn/sweeps/appendage_update.hpp"
 
 #include "soadyn/flex/modal_integrals.hxx"
 #include "soadyn/core/processor_features.hpp"
@@ -10,7 +10,7 @@ namespace soadyn {
 
 namespace detail {
 
-// The step for N modes, out of line: one function per mode count, as
+// The update for N modes, out of line: one function per mode count, as
 // appendage_terms's own compiled code (the kernels have external linkage, so
 // that profilers find them by name in the stripped module).
 template <int N, class S>
@@ -36,9 +36,9 @@ template <int N>
 }
 #endif
 
-// Each kernel calls its step for the appendage's mode count.
+// Each kernel calls its update for the appendage's mode count.
 template <class S>
-void baseline_appendage_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi,
+void baseline_appendage_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi,
                              const S* q, const S* v, const S* u, const Vec6<S>* external, const Vec6<S>& V,
                              Mat6<S>& P, Vec6<S>& z) {
   with_mode_count<1, max_fixed_appendage_modes>(mi.n_modes, [&](auto count) {
@@ -47,7 +47,7 @@ void baseline_appendage_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i,
 }
 
 #ifdef SOADYN_HAVE_AVX2_FMA_APPENDAGE
-void avx2_fma_appendage_step(const ModelTpl<double>& m, DataTpl<double>& d, std::size_t i,
+void avx2_fma_appendage_update(const ModelTpl<double>& m, DataTpl<double>& d, std::size_t i,
                              const ModalIntegrals<double>& mi, const double* q, const double* v, const double* u,
                              const Vec6<double>* external, const Vec6<double>& V, Mat6<double>& P, Vec6<double>& z) {
   with_mode_count<1, max_fixed_appendage_modes>(mi.n_modes, [&](auto count) {
@@ -63,9 +63,9 @@ namespace {
 using detail::AppendageKernel;
 
 #ifdef SOADYN_HAVE_AVX2_FMA_APPENDAGE
-constexpr AppendageKernel avx2_fma_kernel{"AVX2 FMA", detail::avx2_fma_appendage_step};
+constexpr AppendageKernel avx2_fma_kernel{"AVX2 FMA", detail::avx2_fma_appendage_update};
 #endif
-constexpr AppendageKernel baseline_kernel{"baseline", detail::baseline_appendage_step<double>};
+constexpr AppendageKernel baseline_kernel{"baseline", detail::baseline_appendage_update<double>};
 
 AppendageKernel choose_kernel() {
 #ifdef SOADYN_HAVE_AVX2_FMA_APPENDAGE
@@ -74,9 +74,9 @@ AppendageKernel choose_kernel() {
   return baseline_kernel;
 }
 
-AppendageStepFunction<double>* chosen_function() { return choose_kernel().run; }
+AppendageUpdateFunction<double>* chosen_function() { return choose_kernel().run; }
 
-using ChosenAppendageStep = FirstCallChoice<AppendageStepFunction<double>, chosen_function>;
+using ChosenAppendageUpdate = FirstCallChoice<AppendageUpdateFunction<double>, chosen_function>;
 
 // The kernel this process runs.
 AppendageKernel running_kernel() {
@@ -85,24 +85,24 @@ AppendageKernel running_kernel() {
       avx2_fma_kernel,
 #endif
       baseline_kernel};
-  return kernel_running(compiled, ChosenAppendageStep::chosen());
+  return kernel_running(compiled, ChosenAppendageUpdate::chosen());
 }
 
 }  // namespace
 
-void detail::compiled_appendage_step(const ModelTpl<double>& m, DataTpl<double>& d, std::size_t i,
+void detail::compiled_appendage_update(const ModelTpl<double>& m, DataTpl<double>& d, std::size_t i,
                                      const ModalIntegrals<double>& mi, const double* q, const double* v,
                                      const double* u, const Vec6<double>* external, const Vec6<double>& V,
                                      Mat6<double>& P, Vec6<double>& z) {
-  ChosenAppendageStep::run(m, d, i, mi, q, v, u, external, V, P, z);
+  ChosenAppendageUpdate::run(m, d, i, mi, q, v, u, external, V, P, z);
 }
 
 #if SOADYN_FLOAT
-void detail::compiled_appendage_step(const ModelTpl<float>& m, DataTpl<float>& d, std::size_t i,
+void detail::compiled_appendage_update(const ModelTpl<float>& m, DataTpl<float>& d, std::size_t i,
                                      const ModalIntegrals<float>& mi, const float* q, const float* v, const float* u,
                                      const Vec6<float>* external, const Vec6<float>& V, Mat6<float>& P,
                                      Vec6<float>& z) {
-  detail::baseline_appendage_step(m, d, i, mi, q, v, u, external, V, P, z);
+  detail::baseline_appendage_update(m, d, i, mi, q, v, u, external, V, P, z);
 }
 #endif
 

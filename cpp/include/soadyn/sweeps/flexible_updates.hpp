@@ -1,5 +1,5 @@
-// Per-body steps for flexible bodies (flex/flexible_body.hpp) in the sweeps
-// of steps.hpp (body frames) and tree_frame_steps.hpp (tree frames). The
+// Per-body updates for flexible bodies (flex/flexible_body.hpp) in the sweeps
+// of body_updates.hpp (body frames) and tree_frame_updates.hpp (tree frames). The
 // algorithms instantiate their sweeps with Flex = false (no flexible body in
 // the model: every function below reduces to its rigid counterpart at
 // compile time, so rigid scenes pay nothing) and Flex = true. Bodies placed on
@@ -23,7 +23,7 @@
 // in the outward sweep eta_ddot = P_ee^-1 (u_modal - z_e) - P_ee^-1 P_eV alpha(k).
 #pragma once
 #include "soadyn/linalg/small_cholesky.hpp"
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 
@@ -45,7 +45,7 @@ inline FlexibleBodyData<S>& flexible_data(const ModelTpl<S>& m, DataTpl<S>& d, s
 // the parent's body frame, sweep.attachment_subspace[i] = Psi (Eq. 10) and,
 // with velocities, sweep.attachment_bias[i] (Eq. 11), both in body i's frame.
 template <class S>
-inline void attachment_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
+inline void attachment_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   const int p = m.parent[i];
   const FlexibleBodyTpl<S>& parent = m.flexible_body(p);
   const auto eta = modal_coordinates(m, p, q);
@@ -60,16 +60,16 @@ inline void attachment_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, 
 }
 
 template <bool Flex, class S>
-inline void body_joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
-  detail::joint_step(m, d, i, q, v);
+inline void body_joint_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
+  detail::joint_update(m, d, i, q, v);
   if constexpr (Flex)
-    if (m.attachment_node[i] >= 0) attachment_step(m, d, i, q, v);
+    if (m.attachment_node[i] >= 0) attachment_update(m, d, i, q, v);
 }
 
 // Velocity and Coriolis term of body i, body frame (Jain & Rodriguez 1993,
 // Eq. 1, with J_c for a body on a node).
 template <bool Flex, class S>
-inline void body_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v) {
+inline void body_velocity_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v) {
   if constexpr (Flex) {
     if (m.attachment_node[i] >= 0) {
       SweepData<S>& w = d.sweep;
@@ -84,12 +84,12 @@ inline void body_velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
       return;
     }
   }
-  detail::velocity_step(m, d, i, v);
+  detail::velocity_update(m, d, i, v);
 }
 
 // M(eta) of flexible body i into its FlexibleBodyData.
 template <class S>
-inline void flexible_inertia_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q) {
+inline void flexible_inertia_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q) {
   m.flexible_body(static_cast<int>(i)).augmented_mass_matrix(modal_coordinates(m, static_cast<int>(i), q), flexible_data(m, d, i).mass);
 }
 
@@ -117,7 +117,7 @@ inline void modal_bias_with_elastic_forces(const FlexibleBodyTpl<S>& body, const
 // velocity; zero velocity (v null) leaves only -f_ext (impulse problems and
 // mass-matrix columns: no elastic impulse).
 template <class S>
-inline void flexible_bias_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
+inline void flexible_bias_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
                                const Vec6<S>& body_velocity, const S* f_ext) {
   const int b = static_cast<int>(i);
   FlexibleBodyData<S>& fd = flexible_data(m, d, i);
@@ -140,27 +140,27 @@ inline void flexible_bias_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t 
   if (f_ext) d.sweep.body_bias_force[i] -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
 }
 
-// Velocity, Coriolis term and bias of body i (motion_step with flexible bodies).
+// Velocity, Coriolis term and bias of body i (motion_update with flexible bodies).
 template <bool Flex, class S>
-inline void body_motion_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
+inline void body_motion_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v,
                              const S* f_ext) {
   if constexpr (Flex) {
     if (m.is_flexible(static_cast<int>(i))) {
       if (v)
-        body_velocity_step<true>(m, d, i, v);
+        body_velocity_update<true>(m, d, i, v);
       else
         d.body_velocity[i].setZero(), d.sweep.body_coriolis[i].setZero();
-      flexible_inertia_step(m, d, i, q);
-      flexible_bias_step(m, d, i, q, v, d.body_velocity[i], f_ext);
+      flexible_inertia_update(m, d, i, q);
+      flexible_bias_update(m, d, i, q, v, d.body_velocity[i], f_ext);
       return;
     }
     if (v) {
-      body_velocity_step<true>(m, d, i, v);
-      detail::bias_force_step(m, d, i, f_ext);
+      body_velocity_update<true>(m, d, i, v);
+      detail::bias_force_update(m, d, i, f_ext);
       return;
     }
   }
-  detail::motion_step(m, d, i, v, f_ext);
+  detail::motion_update(m, d, i, v, f_ext);
 }
 
 // Starts body i's articulated inertia and bias from its own mass and bias, body frame.

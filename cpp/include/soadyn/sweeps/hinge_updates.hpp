@@ -1,12 +1,12 @@
 // The hinge's own part of the hybrid algorithm's sweeps (Jain & Rodriguez
 // 1993, Eqs. 28, 29, Lemma 8), shared by the body-frame sweeps (aba.hxx) and
 // the tree-frame sweeps (tree_frame_sweeps.hxx): `F` names the frames their
-// P, z, alpha and H* are expressed in (steps.hpp, frame_subspace and the
+// P, z, alpha and H* are expressed in (body_updates.hpp, frame_subspace and the
 // like). `AllRegular` treats every DOF as regular whatever the model's flags
-// say (forward dynamics). Both steps are inlined into the sweeps, whatever
+// say (forward dynamics). Both updates are inlined into the sweeps, whatever
 // the mode: a call per body would make mixed masks dearer than all-regular.
 #pragma once
-#include "soadyn/sweeps/steps.hpp"
+#include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
 namespace detail {
@@ -23,7 +23,7 @@ inline bool needs_articulated_inertia(const ModelTpl<S>& m, std::size_t i) {
   return m.modes[i].needs_articulated_inertia;
 }
 
-// Whether body i's hinge has no prescribed DOF: its steps then run the
+// Whether body i's hinge has no prescribed DOF: its updates then run the
 // articulated-body code with the DOF count fixed by the joint (no gather of
 // regular columns, no mode branches), as forward dynamics does.
 template <ModePolicy Modes, class S>
@@ -42,7 +42,7 @@ inline Vec6<S> prescribed_hinge_acceleration(const ModelTpl<S>& m, const Mat6N<S
   return a;
 }
 
-// Tip-to-base step of a hinge with no regular DOF (Eq. 28, Lemma 8):
+// Tip-to-base update of a hinge with no regular DOF (Eq. 28, Lemma 8):
 // z+ = z = z_children + b + P (H* qdd + a) and P+ = P, passed on by pointer
 // (P_out points at body i's articulated inertia). 36 multiplications.
 template <Frames F, class S>
@@ -58,7 +58,7 @@ SOADYN_ALWAYS_INLINE void prescribed_hinge_inward(const ModelTpl<S>& m, const Da
   z_plus.noalias() += frame_articulated_inertia<F>(d)[i] * hinge_acc;
 }
 
-// Base-to-tip step of a hinge with no regular DOF (Eq. 29) once alpha+
+// Base-to-tip update of a hinge with no regular DOF (Eq. 29) once alpha+
 // is known: qdd = the given accelerations, alpha = alpha+ + H* qdd + a,
 // f = P alpha + z and T = H f. 36 + 6 n multiplications (none for a hinge
 // without DOFs unless `want_force`).
@@ -84,9 +84,9 @@ SOADYN_ALWAYS_INLINE void prescribed_hinge_outward(const ModelTpl<S>& m, DataTpl
   detail::add_armature_torques(m, i, d.qdd.data(), d.tau.data());
 }
 
-// Tip-to-base hinge step of a body with an articulated inertia (Eq. 28):
+// Tip-to-base hinge update of a body with an articulated inertia (Eq. 28):
 // z = z_children + b + P (H*_p qdd_p + a); the regular DOFs then give P+ and
-// z+ (articulated_hinge_step) in P_plus (as `Mode` says: with
+// z+ (articulated_hinge_update) in P_plus (as `Mode` says: with
 // PlusMode::add or none, P_out is null on return) and z_plus; a hinge with no
 // regular DOF passes P on (P_out points at body i's articulated inertia) and
 // z in z_plus. Returns the DOF of a singular D, or -1.
@@ -125,14 +125,14 @@ SOADYN_ALWAYS_INLINE int hinge_inward(const ModelTpl<S>& m, DataTpl<S>& d, std::
   if (h.has_armature)
     for (int k = 0; k < n_regular; ++k)
       regular_armature[k] = m.armature[static_cast<std::size_t>(m.v_index[i] + (n_prescribed > 0 ? h.regular[k] : k))];
-  const int bad = detail::articulated_hinge_step<Mode>(P, *Sr, z, torque, h.has_armature ? regular_armature : nullptr,
+  const int bad = detail::articulated_hinge_update<Mode>(P, *Sr, z, torque, h.has_armature ? regular_armature : nullptr,
                                                frame_gain<F>(d)[i], d.sweep.innovation[i], d.sweep.hinge_factor[i],
                                                P_plus, z_plus);
   if (bad < 0) return -1;
   return m.v_index[i] + (n_prescribed > 0 ? h.regular[bad] : bad);
 }
 
-// P+ alpha for body i after its hinge step ran with PlusMode::none, without
+// P+ alpha for body i after its hinge update ran with PlusMode::none, without
 // forming P+: with P+ = P - G S_r' P (Eq. 28; P symmetric),
 // P+ alpha = w - G (S_r' w), w = P alpha.
 template <Frames F, bool AllRegular, class S>
@@ -150,7 +150,7 @@ SOADYN_ALWAYS_INLINE Vec6<S> articulated_plus_times(const ModelTpl<S>& m, const 
   return out;
 }
 
-// Base-to-tip hinge step (Eq. 29) once alpha+ (the parent's acceleration
+// Base-to-tip hinge update (Eq. 29) once alpha+ (the parent's acceleration
 // in this body's frame) is known: regular qdd = nu - G* alpha+, prescribed
 // qdd copied; alpha = alpha+ + H* qdd + a; f = P alpha + z and the prescribed
 // torques T_p = H f. The hinge force f is computed only when a prescribed DOF

@@ -1,11 +1,11 @@
 // Articulated terms of a flexible appendage: a flexible body with no body on
 // its nodes (booms, antennas, solar arrays), for the tree-frame sweeps
-// (tree_frame_steps.hpp). Equation numbers refer to flex/modal_integrals.hpp.
+// (tree_frame_updates.hpp). Equation numbers refer to flex/modal_integrals.hpp.
 //
 // With nothing on its nodes, the modal block of the body's articulated
 // inertia is the constant M_ee, so its modal DOFs (always regular) are
 // eliminated at once, in the body frame (Jain & Rodriguez, JGCD 15(6), 1992;
-// flexible_steps.hpp):
+// flexible_updates.hpp):
 //   G' = M_ee^-1 M_eV,  nu = M_ee^-1 (u_e - b_e),
 //   P^ = M_VV - M_Ve G',  z^ = b_V + M_Ve nu.
 // M(eta) is never assembled. Its blocks have structure that the general
@@ -19,8 +19,8 @@
 //     symmetric, E = E0 + sum_k eta_k (sym A_k + sym D_k), on the packed
 //     symmetric parts the rates are formed as.
 // Every product is a loop over modes of fixed-size 3- and 6-vector and 3x3
-// updates. The step is compiled for each mode count from 1 to
-// max_fixed_appendage_modes (appendage_step.cpp), where those loops unroll
+// updates. The update is compiled for each mode count from 1 to
+// max_fixed_appendage_modes (appendage_update.cpp), where those loops unroll
 // and the flattened invariants' products keep their sums in registers;
 // other counts and non-floating-point scalars take the generic code. For
 // double it is compiled twice, for x86-64's baseline and for AVX2 with FMA,
@@ -28,16 +28,16 @@
 #pragma once
 #include <type_traits>
 #include <vector>
-#include "soadyn/sweeps/flexible_steps.hpp"
+#include "soadyn/sweeps/flexible_updates.hpp"
 
 namespace soadyn {
 
-// Mode counts with a compiled step of their own (above).
+// Mode counts with a compiled update of their own (above).
 constexpr int max_fixed_appendage_modes = 6;
 
 namespace detail {
 
-// appendage_step (below) with n_m = N, or Eigen::Dynamic for any n_m.
+// appendage_update (below) with n_m = N, or Eigen::Dynamic for any n_m.
 template <int N, class S>
 inline void appendage_terms(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi, const S* q,
                      const S* v, const S* u, const Vec6<S>* external, const Vec6<S>& V, Mat6<S>& P, Vec6<S>& z) {
@@ -147,13 +147,13 @@ SOADYN_ALWAYS_INLINE void with_mode_count(int n, F&& f) {
 
 }  // namespace detail
 
-// The step's signature (appendage_step below).
+// The update's signature (appendage_update below).
 template <class S>
-using AppendageStepFunction = void(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi,
+using AppendageUpdateFunction = void(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi,
                                    const S* q, const S* v, const S* u, const Vec6<S>* external, const Vec6<S>& V,
                                    Mat6<S>& P, Vec6<S>& z);
 
-// The double-precision kernel of the appendages' step on this processor:
+// The double-precision kernel of the appendages' update on this processor:
 // "AVX2 FMA" (the same code compiled for AVX2 with fused multiply-adds,
 // where the processor has them: its 4-wide registers hold four modes) or
 // "baseline" (x86-64's SSE2, or any other target). Chosen on the first call,
@@ -163,15 +163,15 @@ using AppendageStepFunction = void(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
 const char* appendage_kernel();
 
 namespace detail {
-// The step for double and float, compiled in appendage_step.cpp (double:
+// The update for double and float, compiled in appendage_update.cpp (double:
 // the chosen kernel).
-AppendageStepFunction<double> compiled_appendage_step;
-AppendageStepFunction<float> compiled_appendage_step;
+AppendageUpdateFunction<double> compiled_appendage_update;
+AppendageUpdateFunction<float> compiled_appendage_update;
 
-// A kernel of the step for double.
+// A kernel of the update for double.
 struct AppendageKernel {
   const char* name;
-  AppendageStepFunction<double>* run;
+  AppendageUpdateFunction<double>* run;
 };
 // Every kernel of this build that this processor can run, the chosen one
 // first (the tests compare them all).
@@ -185,13 +185,13 @@ std::vector<AppendageKernel> available_appendage_kernels();
 // sweep.body_bias_force[i], and G' in gain_transpose and nu in innovation
 // of its FlexibleBodyData (modal_accelerations reads them, with the
 // acceleration in the same frame). `v` null: zero velocity with no elastic
-// force (impulse problems), as flexible_bias_step.
+// force (impulse problems), as flexible_bias_update.
 template <class S>
-inline void appendage_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi,
+inline void appendage_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi,
                            const S* q, const S* v, const S* u, const Vec6<S>* external, const Vec6<S>& V, Mat6<S>& P,
                            Vec6<S>& z) {
   if constexpr (std::is_same_v<S, double> || std::is_same_v<S, float>)
-    detail::compiled_appendage_step(m, d, i, mi, q, v, u, external, V, P, z);
+    detail::compiled_appendage_update(m, d, i, mi, q, v, u, external, V, P, z);
   else
     detail::appendage_terms<Eigen::Dynamic>(m, d, i, mi, q, v, u, external, V, P, z);
 }

@@ -1,11 +1,11 @@
-// Per-body steps shared by the sweeps of every algorithm (Jain & Rodriguez
+// Per-body updates shared by the sweeps of every algorithm (Jain & Rodriguez
 // 1993, Eqs. 1-4, 14, 28, 29). Body i's quantities are in its own frame;
 // `pose_in_parent[i]` carries them to the parent frame (the paper's phi(k+1, k)).
 #pragma once
 #include <Eigen/Cholesky>
 #include <limits>
 #include <cmath>
-#include "soadyn/joints/kernel_steps.hpp"
+#include "soadyn/joints/fast_path_updates.hpp"
 #include "soadyn/linalg/small_cholesky.hpp"
 #include "soadyn/model/data.hpp"
 #include "soadyn/core/status.hpp"
@@ -29,7 +29,7 @@ struct DynamicsOutputs {
   bool hinge_forces = false;
 };
 
-// The steps below are the sweeps' own: internal (namespace detail).
+// The updates below are the sweeps' own: internal (namespace detail).
 namespace detail {
 
 // The two kinds of frame the sweeps work in (data.hpp): body frames and tree frames.
@@ -41,8 +41,8 @@ SOADYN_ALWAYS_INLINE T& by_frame(T& body, T& tree) {
   if constexpr (F == Frames::body) return body; else return tree;
 }
 
-// The sweep quantities in frames F, for the steps both kinds of sweep share
-// (hinge_steps.hpp). `D` is DataTpl<S> or const DataTpl<S>.
+// The sweep quantities in frames F, for the updates both kinds of sweep share
+// (hinge_updates.hpp). `D` is DataTpl<S> or const DataTpl<S>.
 template <Frames F, class D>
 SOADYN_ALWAYS_INLINE auto& frame_subspace(D& d) { return by_frame<F>(d.sweep.body_subspace, d.sweep.tree_subspace); }
 template <Frames F, class D>
@@ -81,7 +81,7 @@ Vec6<S> world_acceleration(const ModelTpl<S>& m) {
 // velocity, kept): nullptr for a rigid model at rest (every entry of v zero),
 // so they skip every velocity term (joint velocity products, Coriolis and
 // gyroscopic forces) with the same result. A flexible model always gets v:
-// its elastic forces are computed with the velocity terms (flexible_steps.hpp).
+// its elastic forces are computed with the velocity terms (flexible_updates.hpp).
 template <class S>
 const S* velocities_unless_at_rest(const ModelTpl<S>& m, const S* v) {
   if (!v || m.has_flexible_bodies()) return v;
@@ -117,15 +117,15 @@ inline void subspace_transpose_times(const Mat6N<S>& s, const Vec6<S>& f, Eigen:
 }
 
 // Joint transform, motion subspace and joint bias of body i. Axis-aligned
-// revolute and prismatic joints and the fixed joint (their kernels:
+// revolute and prismatic joints and the fixed joint (their fast paths:
 // joints/revolute.hpp, prismatic.hpp, fixed.hpp) keep the constant subspace
 // and zero bias Data was built with and only compose the placement with the
 // joint motion; every other joint goes through its own calc.
 template <class S>
-inline void joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
+inline void joint_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* q, const S* v) {
   const int iq = m.q_index[i], iv = m.v_index[i];
   Transform<S>& pose = d.pose_in_parent[i];
-  if (kernel_body_pose(m.joint_kernel[i], m.placement[i], q + iq, m.axis_sign[i], pose)) return;
+  if (fast_path_body_pose(m.joint_fast_path[i], m.placement[i], q + iq, m.axis_sign[i], pose)) return;
   Transform<S> joint_pose;
   joint_calc(m.joints[i], q + iq, v ? v + iv : nullptr, joint_pose, d.sweep.body_subspace[i], d.sweep.body_joint_bias[i]);
   pose = m.placement[i] * joint_pose;
@@ -134,7 +134,7 @@ inline void joint_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const
 // Body velocity V(i) = phi* V(parent) + S v_i and Coriolis term
 // a(i) = dS/dt v_i + V(i) x (S v_i) (Jain & Rodriguez 1993, Eq. 1), body frame.
 template <class S>
-inline void velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v) {
+inline void velocity_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v) {
   const int p = m.parent[i];
   const Vec6<S> joint_velocity = subspace_times(d.sweep.body_subspace[i], v + m.v_index[i]);
   if (p >= 0)
@@ -149,7 +149,7 @@ inline void velocity_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, co
 // (Jain & Rodriguez 1993, Eq. 1), body frame. `f_ext` holds nbodies rows of
 // 6 (body frame, about the body origin, [torque; force]) or is null.
 template <class S>
-inline void bias_force_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* f_ext) {
+inline void bias_force_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* f_ext) {
   const Vec6<S>& V = d.body_velocity[i];
   d.sweep.body_bias_force[i] = force_cross(V, Vec6<S>(m.inertia[i] * V));
   if (f_ext) d.sweep.body_bias_force[i] -= Eigen::Map<const Vec6<S>>(f_ext + 6 * i);
@@ -158,10 +158,10 @@ inline void bias_force_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, 
 // Velocity, Coriolis and bias force of body i; `v` null means zero velocity
 // (impulse problems), where all three reduce to the external wrench.
 template <class S>
-inline void motion_step(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v, const S* f_ext) {
+inline void motion_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const S* v, const S* f_ext) {
   if (v) {
-    velocity_step(m, d, i, v);
-    bias_force_step(m, d, i, f_ext);
+    velocity_update(m, d, i, v);
+    bias_force_update(m, d, i, f_ext);
     return;
   }
   d.body_velocity[i].setZero();
@@ -186,11 +186,11 @@ inline void push_force_to_parent(const ModelTpl<S>& m, DataTpl<S>& d, std::size_
   if (p >= 0) d.hinge_force[static_cast<std::size_t>(p)] += d.pose_in_parent[i].force_to_parent(f);
 }
 
-// How a hinge step delivers P+: stored in `P_plus`; added to it when
+// How a hinge update delivers P+: stored in `P_plus`; added to it when
 // `P_plus` is the parent's articulated inertia in the same frame (tree
 // frames, Eq. 14 with phi = 1): one pass over the parent instead of a
 // copy, an update and an addition; or not at all, when only P+ times a known
-// acceleration is needed (articulated_plus_times, hinge_steps.hpp).
+// acceleration is needed (articulated_plus_times, hinge_updates.hpp).
 enum class PlusMode { store, add, none };
 
 // P_plus = P - G U' (store), P_plus += P - G U' column by column in one
@@ -205,7 +205,7 @@ SOADYN_ALWAYS_INLINE void deliver_p_plus(const Mat6<S>& P, const Gain& G, const 
   }
 }
 
-// The rest of articulated_hinge_step_fixed for two regular DOFs (a universal
+// The rest of articulated_hinge_update_fixed for two regular DOFs (a universal
 // joint), D = [a b; b c] given: G and nu by D = L' diag(a, d1) L'' (L' unit
 // lower triangular, l = b / a, d1 = c - l b), two divisions and no square
 // root on the way to P+ and z+. The Cholesky factor, for later solves, is
@@ -213,7 +213,7 @@ SOADYN_ALWAYS_INLINE void deliver_p_plus(const Mat6<S>& P, const Gain& G, const 
 // tested against `threshold` as there (d1 too, the same pivot rounded
 // otherwise).
 template <PlusMode Mode, class S>
-SOADYN_ALWAYS_INLINE int two_dof_hinge_step(const Mat6<S>& P, const Eigen::Matrix<S, 6, 2>& U,
+SOADYN_ALWAYS_INLINE int two_dof_hinge_update(const Mat6<S>& P, const Eigen::Matrix<S, 6, 2>& U,
                                             const Eigen::Matrix<S, 2, 2>& D, const Eigen::Matrix<S, 2, 1>& e,
                                             Mat6N<S>& G, VecN<S>& nu, Mat6<S>& factor, Mat6<S>& P_plus,
                                             const Vec6<S>& z, Vec6<S>& z_plus, const S& threshold) {
@@ -245,10 +245,10 @@ SOADYN_ALWAYS_INLINE int two_dof_hinge_step(const Mat6<S>& P, const Eigen::Matri
   return -1;
 }
 
-// articulated_hinge_step (below) for a hinge of N regular DOFs, N fixed at
+// articulated_hinge_update (below) for a hinge of N regular DOFs, N fixed at
 // compile time: universal (2), spherical (3) and free (6) joints.
 template <int N, PlusMode Mode, class S>
-inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z,
+inline int articulated_hinge_update_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z,
                                         const VecN<S>& torque, const S* armature, Mat6N<S>& G, VecN<S>& nu,
                                         Mat6<S>& factor, Mat6<S>& P_plus, Vec6<S>& z_plus, const S& threshold) {
   using Mat6n = Eigen::Matrix<S, 6, N>;
@@ -261,7 +261,7 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
   Eigen::Matrix<S, N, N> L = s.transpose() * U;  // D = S' P S (+ armature), factored in place
   if (armature)
     for (int k = 0; k < N; ++k) L(k, k) += armature[k];
-  if constexpr (N == 2) return two_dof_hinge_step<Mode>(P, U, L, e, G, nu, factor, P_plus, z, z_plus, threshold);
+  if constexpr (N == 2) return two_dof_hinge_update<Mode>(P, U, L, e, G, nu, factor, P_plus, z, z_plus, threshold);
   const int bad = cholesky_in_place(L, threshold);
   if (bad >= 0) return bad;
   factor.template topLeftCorner<N, N>() = L;
@@ -290,7 +290,7 @@ inline int articulated_hinge_step_fixed(const Mat6<S>& P, const Mat6N<S>& Sr, co
 // loops' unit-multiplier response). Returns the local column of a singular
 // D, or -1.
 template <PlusMode Mode = PlusMode::store, class S>
-inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z, const VecN<S>& torque,
+inline int articulated_hinge_update(const Mat6<S>& P, const Mat6N<S>& Sr, const Vec6<S>& z, const VecN<S>& torque,
                                   const S* armature, Mat6N<S>& G, VecN<S>& nu, Mat6<S>& factor, Mat6<S>& P_plus,
                                   Vec6<S>& z_plus) {
   const S threshold = singular_pivot_threshold(P);
@@ -310,9 +310,9 @@ inline int articulated_hinge_step(const Mat6<S>& P, const Mat6N<S>& Sr, const Ve
     return -1;
   }
   switch (Sr.cols()) {  // multi-DOF hinges in fixed-size arithmetic
-    case 2: return articulated_hinge_step_fixed<2, Mode>(P, Sr, z, torque, armature, G, nu, factor, P_plus, z_plus, threshold);
-    case 3: return articulated_hinge_step_fixed<3, Mode>(P, Sr, z, torque, armature, G, nu, factor, P_plus, z_plus, threshold);
-    case 6: return articulated_hinge_step_fixed<6, Mode>(P, Sr, z, torque, armature, G, nu, factor, P_plus, z_plus, threshold);
+    case 2: return articulated_hinge_update_fixed<2, Mode>(P, Sr, z, torque, armature, G, nu, factor, P_plus, z_plus, threshold);
+    case 3: return articulated_hinge_update_fixed<3, Mode>(P, Sr, z, torque, armature, G, nu, factor, P_plus, z_plus, threshold);
+    case 6: return articulated_hinge_update_fixed<6, Mode>(P, Sr, z, torque, armature, G, nu, factor, P_plus, z_plus, threshold);
     default: break;
   }
   const Mat6N<S> U = P * Sr;  // 6 x nr
