@@ -36,6 +36,19 @@ void newton_euler_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const 
   }
 }
 
+// Compiled once, in rnea.cpp, for double (and float): inverse dynamics, the
+// all-prescribed hybrid dynamics, the equation terms and the loop solves
+// call that code.
+#define SOADYN_NEWTON_EULER_SWEEPS(FLEX, S)                                                                 \
+  template void newton_euler_sweeps<FLEX, S>(const ModelTpl<S>&, DataTpl<S>&, const S*, const S*, const S*, \
+                                             const S*, const Vec6<S>&);
+extern SOADYN_NEWTON_EULER_SWEEPS(false, double)
+extern SOADYN_NEWTON_EULER_SWEEPS(true, double)
+#if SOADYN_FLOAT
+extern SOADYN_NEWTON_EULER_SWEEPS(false, float)
+extern SOADYN_NEWTON_EULER_SWEEPS(true, float)
+#endif
+
 template <class S>
 void rnea(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* qdd, const S* f_ext) {
   if (m.has_flexible_bodies())

@@ -51,5 +51,18 @@ Status dynamics_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S*
   return body_frame_sweeps<Modes>(m, d, q, v, u, f_ext, world_acc, want_force);
 }
 
+// Compiled once, in sweeps/dynamics_sweeps.cpp, for double (and float):
+// forward dynamics, hybrid dynamics, its impulse form and the loop solves
+// of models without loops call that code.
+#define SOADYN_DYNAMICS_SWEEPS(MODES, S)                                                                      \
+  template Status dynamics_sweeps<MODES, S>(const ModelTpl<S>&, DataTpl<S>&, const S*, const S*, const S*, \
+                                            const S*, const Vec6<S>&, bool);
+extern SOADYN_DYNAMICS_SWEEPS(ModePolicy::all_regular, double)
+extern SOADYN_DYNAMICS_SWEEPS(ModePolicy::model_flags, double)
+#if SOADYN_FLOAT
+extern SOADYN_DYNAMICS_SWEEPS(ModePolicy::all_regular, float)
+extern SOADYN_DYNAMICS_SWEEPS(ModePolicy::model_flags, float)
+#endif
+
 }  // namespace detail
 }  // namespace soadyn
