@@ -2,7 +2,8 @@
 // (analysis/parameter_sensitivity.hpp): the one translation unit that
 // instantiates the model, Data, hybrid_dynamics and constrained_dynamics for
 // a dual-number scalar.
-#include <unsupported/Eigen/AutoDiff>
+
+#include "dual_number.hpp"  // first: the scalar's traits precede every use
 
 // The sweeps' definitions, instantiated here for the dual scalar, flexible
 // bodies included (ModelTpl::cast converts them).
@@ -23,10 +24,10 @@ namespace soadyn {
 
 namespace {
 
-// A value and one directional derivative.
-using Dual = Eigen::AutoDiffScalar<Eigen::Matrix<double, 1, 1>>;
+// A value and one directional derivative (dual_number.hpp).
+using Dual = dual::DualNumber;
 
-Dual seeded(double value, double derivative) { return Dual(value, Eigen::Matrix<double, 1, 1>(derivative)); }
+Dual seeded(double value, double derivative) { return Dual(value, derivative); }
 
 enum class Kind { mass, com, inertia, placement, gravity, spring };
 
@@ -160,13 +161,13 @@ Status ParameterSensitivity::compute(const Model& model, const ParameterTable<do
     status = m.nloops() > 0 && !spanning_tree ? constrained_dynamics<D>(m, dual_->data, dual_->q, dual_->v, dual_->u)
                             : hybrid_dynamics<D>(m, dual_->data, dual_->q, dual_->v, dual_->u);
     for (int r = 0; r < model.nv; ++r) {
-      dqdd(r, j) = dual_->data.qdd[r].derivatives()[0];
-      dtau(r, j) = dual_->data.tau[r].derivatives()[0];
+      dqdd(r, j) = dual_->data.qdd[r].derivative();
+      dtau(r, j) = dual_->data.tau[r].derivative();
     }
     dwrench.col(j).setZero();
     for (int l = 0; l < (spanning_tree ? 0 : m.nloops()); ++l)
       for (int r = 0; r < 6; ++r)
-        dwrench(6 * l + r, j) = dual_->data.loops.wrench[static_cast<std::size_t>(l)][r].derivatives()[0];
+        dwrench(6 * l + r, j) = dual_->data.loops.wrench[static_cast<std::size_t>(l)][r].derivative();
 
     // Back to constants.
     switch (kind) {
@@ -220,8 +221,8 @@ Status ParameterSensitivity::state_derivatives(const Model& model, const ConstVe
       Eigen::Ref<MatX<double>>& qdd_out = x == 0 ? dqdd_dq : x == 1 ? dqdd_dv : dqdd_du;
       Eigen::Ref<MatX<double>>& tau_out = x == 0 ? dtau_dq : x == 1 ? dtau_dv : dtau_du;
       for (int r = 0; r < nv; ++r) {
-        qdd_out(r, k) = dual_->data.qdd[r].derivatives()[0];
-        tau_out(r, k) = dual_->data.tau[r].derivatives()[0];
+        qdd_out(r, k) = dual_->data.qdd[r].derivative();
+        tau_out(r, k) = dual_->data.tau[r].derivative();
       }
     }
   }

@@ -244,7 +244,7 @@ TreeFrameStatus rigid_mass_matrix<double>(const ModelTpl<double>& m, DataTpl<dou
 template <class S>
 Status mass_matrix(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   // Models with flexible bodies, or with a body beyond its tree-frame reach: in body frames.
-  if constexpr (detail::runs_tree_frames<S>) {
+  if constexpr (detail::has_speed_paths<S>) {
     if (!m.has_flexible_bodies()) {
       const detail::TreeFrameStatus status = detail::rigid_mass_matrix(m, d, q);
       if (!status.beyond_reach) return status.status;

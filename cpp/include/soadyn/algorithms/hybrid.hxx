@@ -11,17 +11,19 @@ namespace detail {
 template <class S>
 Status rigid_hybrid_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
                              const ConstVecRef<S>& u, const S* f_ext, DynamicsOutputs outputs) {
-  if (m.n_prescribed == 0 && !outputs.hinge_forces) {  // a regular tree: exactly the articulated-body sweeps
-    const Status s = dynamics_sweeps<ModePolicy::all_regular>(m, d, q.data(), v.data(), u.data(), f_ext,
-                                                              detail::world_acceleration(m), false);
-    d.tau = u;
-    return s;
-  }
-  if (m.n_prescribed == m.nv) {  // every DOF prescribed (so rigid: modal DOFs are regular): exactly RNEA
-    newton_euler_sweeps<false>(m, d, q.data(), detail::velocities_unless_at_rest(m, v), u.data(), f_ext,
-                               detail::world_acceleration(m));
-    d.qdd = u;
-    return detail::check_finite(d.tau);
+  if constexpr (has_speed_paths<S>) {
+    if (m.n_prescribed == 0 && !outputs.hinge_forces) {  // a regular tree: exactly the articulated-body sweeps
+      const Status s = dynamics_sweeps<ModePolicy::all_regular>(m, d, q.data(), v.data(), u.data(), f_ext,
+                                                                detail::world_acceleration(m), false);
+      d.tau = u;
+      return s;
+    }
+    if (m.n_prescribed == m.nv) {  // every DOF prescribed (so rigid: modal DOFs are regular): exactly RNEA
+      newton_euler_sweeps<false>(m, d, q.data(), detail::velocities_unless_at_rest(m, v), u.data(), f_ext,
+                                 detail::world_acceleration(m));
+      d.qdd = u;
+      return detail::check_finite(d.tau);
+    }
   }
   return dynamics_sweeps<ModePolicy::model_flags>(m, d, q.data(), v.data(), u.data(), f_ext, detail::world_acceleration(m),
                                                   outputs.hinge_forces);

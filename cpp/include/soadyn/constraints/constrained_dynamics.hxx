@@ -347,7 +347,7 @@ Status rigid_constrained_dynamics(const ModelTpl<S>& m, DataTpl<S>& d, const Con
                                   DynamicsOutputs outputs) {
   if (m.nloops() == 0) return rigid_hybrid_dynamics(m, d, q, v, u, f_ext, outputs);
   detail::TreeFrameStatus tree = detail::TreeFrameStatus::beyond(-1);  // body frames unless the model's path is tree frames
-  if constexpr (runs_tree_frames<S>)
+  if constexpr (has_speed_paths<S>)
     if (m.dynamics_path == DynamicsPath::rigid_tree_frames)
       tree = m.loops_through_mass_matrix() ? tree_frame_mass_matrix_constrained_dynamics(m, d, q, v, u, f_ext)
                                            : articulated_constrained_dynamics(m, d, q, v, u, f_ext);

@@ -27,11 +27,11 @@ TreeFrameStatus tree_frame_sweeps_for(const ModelTpl<S>& m, DataTpl<S>& d, const
 // model_flags (hybrid dynamics, impulse form) or all_regular (forward
 // dynamics); arguments as body_frame_sweeps. A tree-frame path that meets a
 // body beyond its reach has changed no output and hands over to body frames.
-// Scalars other than double and float take body frames (runs_tree_frames).
+// Scalars other than double and float take body frames (has_speed_paths).
 template <ModePolicy Modes, class S>
 Status dynamics_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v, const S* u, const S* f_ext,
                        const Vec6<S>& world_acc, bool want_force) {
-  if constexpr (runs_tree_frames<S>) {
+  if constexpr (has_speed_paths<S>) {
     switch (m.dynamics_path) {
       case DynamicsPath::rigid_tree_frames: {
         const S* v_unless_at_rest = detail::velocities_unless_at_rest(m, v);
