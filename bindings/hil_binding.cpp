@@ -101,7 +101,7 @@ struct RunningFlag {
   ~RunningFlag() { running.store(false); }
 };
 
-void run(HilSession& s) {
+void run_session(HilSession& s) {
   if (s.running.exchange(true)) throw std::runtime_error("run: the HIL runner is already running");
   const RunningFlag flag{s.running};
   const SimulatorLock simulator_in_use(*s.sim);  // taken with the GIL held (simulator_handle.hpp)
@@ -190,7 +190,7 @@ void bind_hil(py::module_& mod) {
            py::arg("command_limits") = py::none(), py::arg("command_policy") = "clamp",
            py::arg("udp_command_port") = -1, py::arg("max_packets_per_step") = 16, py::arg("floor_periods") = 0,
            py::keep_alive<1, 2>())  // the simulator outlives the runner
-      .def("run", &run, "Run the loop (GIL released); the outcome is in summary(). An exception raised by a "
+      .def("run", &run_session, "Run the loop (GIL released); the outcome is in summary(). An exception raised by a "
                         "Python motion source ends the run: run() raises the DynamicsError naming its DOF, caused by that exception, "
                         "as Simulator.step does; summary() still holds the run.")
       .def("request_stop", [](HilSession& s) { s.runner->request_stop(); }, "Ask a running loop to stop (thread-safe).")
