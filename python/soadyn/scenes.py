@@ -171,3 +171,14 @@ LOOP_SCENE_STARTS = {
     "delta-robot": (delta_robot, lambda: delta_robot_state((0.0, 0.0, -0.6))),
 }
 SCENES.update({name: build for name, (build, _) in LOOP_SCENE_STARTS.items()})
+
+
+def __getattr__(name: str):
+    """scenes.<a name that is not a scene>: AttributeError naming the closest scenes (PEP 562)."""
+    import difflib
+
+    known = sorted(n for n, v in globals().items() if callable(v) and not n.startswith("_")
+                   and getattr(v, "__module__", None) == __name__)
+    close = difflib.get_close_matches(name, known, n=3, cutoff=0.5)
+    hint = f"; did you mean {', '.join(close)}?" if close else f"; the scenes: {', '.join(known)}"
+    raise AttributeError(f"soadyn.scenes has no scene {name!r}{hint}")

@@ -72,3 +72,13 @@ def test_pendulum_chain_small_oscillation_period():
     assert -qdd / theta == pytest.approx(2.0 * 9.81 * 0.4 / I_pivot, rel=1e-9)
     with pytest.raises(ValueError, match="at least one link"):
         scenes.pendulum_chain(0)
+
+
+def test_a_misspelt_scene_names_the_closest_ones():
+    with pytest.raises(AttributeError, match=r"no scene 'casini'; did you mean cassini"):
+        scenes.casini()
+    with pytest.raises(AttributeError, match=r"no scene 'four_bars'; did you mean four_bar\b"):
+        scenes.four_bars()
+    with pytest.raises(AttributeError, match=r"no scene 'zzz'; the scenes: cantilever_beam, cassini, "):
+        scenes.zzz()
+    assert not hasattr(scenes, "stanford_army") and hasattr(scenes, "cassini")

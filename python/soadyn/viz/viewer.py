@@ -24,11 +24,14 @@ Two layers:
   `show(q)`; `play(trajectory)` adds a time slider and a play button.
 
 Decisions: the viewer never runs in a real-time thread; it reads states it is
-given. Visual shapes URDF/MJCF loaders kept with a mesh file that cannot be
-read are drawn as their frame's axes and named once in a warning.
+given. Mesh files are read by trimesh (`read_mesh`: COLLADA through pycollada,
+STL, OBJ), scaled, and coloured by the URDF/MJCF material when the file has
+no colours of its own; a mesh file that cannot be read is drawn as its
+frame's axes and named once in a warning, with the reason.
 """
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
 import threading
@@ -44,8 +47,9 @@ from ..io.model_file import load_model
 from ..io.urdf import load_urdf
 from ..loops import assemble
 from ..model import Model
+from .visuals import Visual
 
-__all__ = ["Viewer", "flexible_shapes", "scene_poses"]
+__all__ = ["MeshError", "Viewer", "flexible_shapes", "read_mesh", "scene_poses"]
 
 
 def _transform(R, p) -> np.ndarray:
@@ -137,6 +141,48 @@ def flexible_shapes(m: Model, q, exaggeration: float = 1.0, blocks=None) -> dict
     return out
 
 
+class MeshError(ValueError):
+    """A visual's mesh file that cannot be drawn; the message names the visual, the file and why."""
+
+
+def read_mesh(v: Visual):
+    """The trimesh.Trimesh of mesh visual `v` (its mesh_file, COLLADA, STL, OBJ or any format trimesh reads),
+    scaled by v.size; a mesh without colours of its own takes the visual's rgba (the URDF material).
+    Raises MeshError naming the visual, the file and the reason."""
+    import trimesh
+
+    where = f"'{v.name}' ({v.mesh_file})"
+    if not os.path.isfile(v.mesh_file):
+        raise MeshError(f"{where}: no such file")
+    if v.mesh_file.lower().endswith(".dae") and importlib.util.find_spec("collada") is None:
+        raise MeshError(f"{where}: COLLADA files need pycollada (pip install 'soadyn[view]')")
+    try:
+        mesh = trimesh.load(v.mesh_file, force="mesh")
+    except Exception as error:  # trimesh's own reason, whatever its type
+        raise MeshError(f"{where}: {type(error).__name__}: {' '.join(str(error).split()) or 'unreadable'}") from None
+    if len(mesh.faces) == 0:
+        raise MeshError(f"{where}: no triangles read{_collada_reason(v.mesh_file)}")
+    mesh.apply_scale(v.size if v.size.size == 3 else 1.0)
+    if mesh.visual.kind is None:
+        mesh.visual.face_colors = np.round(255 * np.clip(v.rgba, 0, 1)).astype(np.uint8)
+    return mesh
+
+
+def _collada_reason(path: str) -> str:
+    """Why trimesh read no triangles from a COLLADA file: the first error pycollada reports ("" if none).
+    A primitive whose material the file references but does not hold is dropped with it."""
+    if not path.lower().endswith(".dae"):
+        return ""
+    import collada
+
+    errors = collada.common
+    try:
+        document = collada.Collada(path, ignore=[errors.DaeError])
+    except Exception as error:
+        return f"; pycollada: {' '.join(str(error).split())}"
+    return f"; pycollada: {' '.join(str(document.errors[0]).split())}" if document.errors else ""
+
+
 def _wxyz(R) -> np.ndarray:
     from viser import transforms
     return transforms.SO3.from_matrix(np.asarray(R)).wxyz
@@ -212,16 +258,17 @@ class Viewer:
             self.handles[f"/frames/{name}"] = scene.add_frame(f"/frames/{name}", show_axes=frames,
                                                               axes_length=0.05, axes_radius=0.002)
         for v in self.model.visuals:
-            handle = self._add_visual(v)
-            if handle is None:
-                unreadable.append(f"'{v.name}' ({v.mesh_file})")
+            try:
+                handle = self._add_visual(v)
+            except MeshError as error:  # drawn as its frame's axes; every such mesh named once, with why
+                unreadable.append(str(error))
                 handle = scene.add_frame(f"/visuals/{v.name}", axes_length=0.05, axes_radius=0.002)
             self.handles[f"/visuals/{v.name}"] = handle
         self._sticks = [(i, p) for i, p in enumerate(self.model.parents)
                         if self.model.body_names[i] not in drawn]
         self.handles["/sticks"] = None
         if unreadable:
-            warnings.warn(f"viewer: meshes that cannot be read are drawn as axes: {', '.join(unreadable)}",
+            warnings.warn("viewer: meshes that cannot be read are drawn as axes: " + "; ".join(unreadable),
                           stacklevel=3)
 
     def _add_visual(self, v):
@@ -244,13 +291,7 @@ class Viewer:
         if v.vertices is not None:
             return scene.add_mesh_simple(path, vertices=v.vertices.astype(np.float32),
                                          faces=v.faces.astype(np.uint32), color=colour)
-        try:
-            import trimesh
-            mesh = trimesh.load(v.mesh_file, force="mesh")
-            mesh.apply_scale(v.size if v.size.size == 3 else 1.0)
-            return scene.add_mesh_trimesh(path, mesh)
-        except Exception:  # a missing or unreadable mesh file: drawn as axes, named once
-            return None
+        return scene.add_mesh_trimesh(path, read_mesh(v))
 
     def show(self, q) -> None:
         """Move every node to its pose at configuration q."""
