@@ -9,6 +9,7 @@ import soadyn
 from soadyn import scenes
 from soadyn.cli import main
 from soadyn.demo import run_demo
+from support.robots import robot, robots_dir
 
 
 def test_demo_cli_prints_report(capsys, tmp_path):
@@ -82,3 +83,22 @@ def test_a_misspelt_scene_names_the_closest_ones():
     with pytest.raises(AttributeError, match=r"no scene 'zzz'; the scenes: cantilever_beam, cassini, "):
         scenes.zzz()
     assert not hasattr(scenes, "stanford_army") and hasattr(scenes, "cassini")
+
+
+def test_soadyn_robots_lists_the_scenes_and_every_example_robot_with_its_path(capsys):
+    assert main(["robots"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == "built-in scenes (soadyn view NAME): cassini, four-bar, slider-crank, delta-robot"
+    assert lines[1].endswith(f"URDF files in {robots_dir()}")
+    listed = [line.split(maxsplit=1) for line in lines[2:]]
+    assert sorted(path for _, path in listed) == sorted(str(p) for p in robots_dir().glob("**/*.urdf"))
+    assert ["ur5_robot", str(robot("ur5")[0])] in listed
+
+
+def test_soadyn_robots_says_how_to_install_the_example_robots(capsys, monkeypatch):
+    import soadyn.apps.cli as cli
+
+    monkeypatch.setattr(cli, "example_robot_files", lambda: [])
+    assert cli.main(["robots"]) == 0
+    assert capsys.readouterr().out.splitlines()[-1] == (
+        "example-robot-data is not installed here: pip install example-robot-data")

@@ -3,8 +3,9 @@ the cmeel prefix it installs into (the package has no Python module)."""
 from __future__ import annotations
 
 import functools
-import sys
 from pathlib import Path
+
+from soadyn.io.example_robots import example_robots_dir
 
 ROBOTS = {  # name: (path below robots/, floating base)
     "ur5": ("ur_description/urdf/ur5_robot.urdf", False),
@@ -16,11 +17,10 @@ ROBOTS = {  # name: (path below robots/, floating base)
 
 
 def robots_dir() -> Path:
-    for entry in sys.path:
-        candidate = Path(entry) / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
-        if candidate.is_dir():
-            return candidate
-    raise FileNotFoundError("example-robot-data is not installed (pip install example-robot-data)")
+    folder = example_robots_dir()
+    if folder is None:
+        raise FileNotFoundError("example-robot-data is not installed (pip install example-robot-data)")
+    return folder
 
 
 def robot(name: str) -> tuple[Path, bool]:

@@ -21,9 +21,10 @@ from .. import campaign, hil, scenes
 from .._soadyn import DynamicsError
 from .._version import __version__
 from ..check.cross_check import cross_check_report, format_report
+from ..io.example_robots import example_robot_files, example_robots_dir, example_robots_version
 from ..output_paths import output_problem
 from ..simulator import STEP_TOLERANCE, Simulator
-from ..viz.viewer import Viewer, load_any, start_state
+from ..viz.viewer import BUILT_IN_SCENES, Viewer, load_any, start_state
 from . import four_bar_demo
 from .boom_vibration import format_response, gimbal_step_response, plot_response
 from .demo import describe_scene, format_result, run_demo
@@ -35,7 +36,7 @@ DEMO_PLOTS = {"cassini": "booms.png", "four-bar": "four_bar.png"}
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="soadyn", description="O(N) hybrid multibody dynamics.")
     parser.add_argument("--version", action="version", version=f"soadyn {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{demo,check,hil,view,campaign}")
+    sub = parser.add_subparsers(dest="command", metavar="{demo,check,hil,view,campaign,robots}")
     demo = sub.add_parser("demo", help="fly a built-in scene for a few seconds and report")
     demo.add_argument("--scene", default="cassini", choices=list(DEMO_PLOTS),
                       help="built-in scene (default cassini); four-bar: the crank-rocker of Saha, Shah & Nandihal 2013")
@@ -68,11 +69,12 @@ def main(argv: list[str] | None = None) -> int:
     view.add_argument("--duration", type=float, default=None,
                       help="serve this many seconds, then exit (default: until Ctrl-C)")
     add_exaggeration_option(view, "--exaggeration")
+    sub.add_parser("robots", help="list the built-in scenes and the example robots installed here, with their paths")
     hil_parser = add_hil_parser(sub)
     campaign_parser = add_campaign_parser(sub)
     args = parser.parse_args(argv)
     if args.command is None:
-        parser.error("a command is required: demo, check, hil, view or campaign (soadyn COMMAND --help for its "
+        parser.error("a command is required: demo, check, hil, view, campaign or robots (soadyn COMMAND --help for its "
                      "options)")
     if args.command == "campaign":
         return run_campaign_command(args, campaign_parser)
@@ -82,7 +84,23 @@ def main(argv: list[str] | None = None) -> int:
         return run_hil_command(args, hil_parser)
     if args.command == "view":
         return run_view(args, view)
+    if args.command == "robots":
+        print(format_robots())
+        return 0
     return run_demo_command(args, demo)
+
+
+def format_robots() -> str:
+    """`soadyn robots`: the built-in scenes, and example-robot-data's URDFs with their full paths."""
+    lines = [f"built-in scenes (soadyn view NAME): {', '.join(BUILT_IN_SCENES)}"]
+    files, version = example_robot_files(), example_robots_version()
+    if not files:
+        lines.append("example-robot-data is not installed here: pip install example-robot-data")
+        return "\n".join(lines)
+    lines.append(f"example-robot-data {version}: {len(files)} URDF files in {example_robots_dir()}")
+    width = max(len(path.stem) for path in files)
+    lines += [f"  {path.stem:<{width}}  {path}" for path in files]
+    return "\n".join(lines)
 
 
 def finite(parser, option: str, value: float, least: float, inclusive: bool = False) -> None:

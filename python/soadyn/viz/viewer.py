@@ -360,10 +360,17 @@ class Viewer:
         self.server.stop()
 
 
+def _scene_builders() -> dict:
+    return {"cassini": scenes.cassini, "four-bar": scenes.four_bar, "slider-crank": scenes.slider_crank,
+            "delta-robot": scenes.delta_robot}
+
+
+BUILT_IN_SCENES = tuple(_scene_builders())  # the scene names `soadyn view` takes
+
+
 def load_any(source: str) -> Model:
     """A model from a built-in scene name, a model file (.json), an MJCF (.xml) or a URDF (.urdf)."""
-    builders = {"cassini": scenes.cassini, "four-bar": scenes.four_bar, "slider-crank": scenes.slider_crank,
-                "delta-robot": scenes.delta_robot}
+    builders = _scene_builders()
     if source in builders:
         return builders[source]()
     extension = os.path.splitext(source)[1].lower()
