@@ -102,6 +102,10 @@ def test_unreadable_meshes_are_named_with_the_reason(tmp_path):
         "missing": (str(tmp_path / "absent.stl"), "no such file"),
         "garbage": (str(garbage), "no triangles read|Error"),
     }
+    with pytest.raises(MeshError, match="needs a Visual with a mesh_file, got 'cube'"):
+        read_mesh(soadyn.Visual("cube", "world", "box", size=[1, 1, 1]))
+    with pytest.raises(MeshError, match="got 'str'"):
+        read_mesh("a path")
     for name, (file, reason) in cases.items():
         with pytest.raises(MeshError, match=reason) as refused:
             read_mesh(soadyn.Visual(name, "world", "mesh", mesh_file=file))

@@ -151,6 +151,8 @@ def read_mesh(v: Visual):
     Raises MeshError naming the visual, the file and the reason."""
     import trimesh
 
+    if not isinstance(v, Visual) or v.mesh_file is None:
+        raise MeshError(f"read_mesh needs a Visual with a mesh_file, got {getattr(v, 'name', type(v).__name__)!r}")
     where = f"'{v.name}' ({v.mesh_file})"
     if not os.path.isfile(v.mesh_file):
         raise MeshError(f"{where}: no such file")
