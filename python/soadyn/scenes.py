@@ -46,14 +46,17 @@ import numpy as np
 from . import _soadyn as _core
 from ._soadyn import FlexibleBody
 from .model import Model
+from .viz.cassini_visuals import cassini_visuals
 
 TURNTABLE_RATE = 3.0 * 2.0 * np.pi / 60.0  # 3 rpm in rad/s
 
 
 def cassini() -> Model:
-    """The default scene."""
+    """The default scene, with its visuals (soadyn.viz.cassini_visuals: the bus, antennas, probe, engine,
+    wheels and slosh masses as primitives)."""
     m = Model()
     m._load_cassini()
+    m.visuals = cassini_visuals()
     return m
 
 

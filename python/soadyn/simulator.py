@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
+import zipfile
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,6 +21,21 @@ STEP_TOLERANCE = 1e-6
 MAX_RUN_STEPS = 10**9
 
 
+def read_arrays(path, names) -> dict[str, np.ndarray]:
+    """{name: float array} of `names` in .npz file `path`; ValueError naming the file and what is wrong."""
+    if os.path.isfile(path) and not zipfile.is_zipfile(path):
+        raise ValueError(f"trajectory file '{path}': not a .npz archive (what numpy.savez and Trajectory.save write)")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            missing = [name for name in names if name not in data.files]
+            if missing:
+                raise KeyError(f"lacks {', '.join(missing)} (has {', '.join(data.files) or 'nothing'})")
+            return {name: np.array(data[name], dtype=float) for name in names}
+    except (OSError, EOFError, ValueError, KeyError, AttributeError, TypeError) as error:
+        message = error.args[0] if isinstance(error, KeyError) else " ".join(str(error).split())
+        raise ValueError(f"trajectory file '{path}': {message}") from None
+
+
 @dataclass
 class Trajectory:
     """Recorded states: t (N+1), q (N+1, nq), v (N+1, nv), and tau (N, nv), the
@@ -28,6 +45,17 @@ class Trajectory:
     q: np.ndarray
     v: np.ndarray
     tau: np.ndarray
+
+    def save(self, path) -> None:
+        """Write t, q, v and tau to a .npz file (what `soadyn view --trajectory` and Trajectory.load read)."""
+        np.savez(path, t=self.t, q=self.q, v=self.v, tau=self.tau)
+
+    @classmethod
+    def load(cls, path) -> "Trajectory":
+        """The Trajectory a save() wrote; ValueError naming the file and what it lacks."""
+        names = ("t", "q", "v", "tau")
+        arrays = read_arrays(path, names)
+        return cls(*(arrays[name] for name in names))
 
 
 class Simulator(_Simulator):

@@ -10,6 +10,8 @@ import sys
 import time
 from pathlib import Path
 
+import imageio.v2 as imageio
+import numpy as np
 import pyarrow.parquet as pq
 import pytest
 
@@ -444,3 +446,22 @@ def test_a_worker_with_another_kernel_stops_the_campaign(kernel, names):
         execute._check_workers(_WorkersReporting(differing), say=lambda line: None)
     agreeing = {"tcp://10.0.0.3:4000": dict(mine)}
     assert execute._check_workers(_WorkersReporting(agreeing), say=lambda line: None) == 1
+
+
+def test_report_makes_a_movie_of_the_run_with_the_largest_metric(tiny, capsys):
+    out, plots = tiny["root"] / "one", tiny["root"] / "movie"
+    metric = "peak_boom_tip_deflection"
+    table = results(out).to_pydict()
+    finished = [(value, run) for value, run, status in zip(table[metric], table["run_id"], table["status"])
+                if status == "ok" and value is not None]
+    value, worst = max(finished)
+    assert cli.main(["campaign", "report", str(out), "--no-plots", "--plots", str(plots), "--movie", metric]) == 0
+    assert f"the run with the largest {metric} (run {worst}, {value:.6g})" in capsys.readouterr().out
+    movie = plots / f"worst_{metric}_run{worst}.mp4"
+    frames = [np.asarray(f) for f in imageio.get_reader(movie)]
+    assert len(frames) == 4  # 0.1 s at 30 frames per second: 0, 1/30, 2/30, 3/30
+    assert all((f.min(axis=2) < 245).mean() >= 0.01 for f in frames)
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main(["campaign", "report", str(out), "--no-plots", "--movie", "peak_tip"])
+    assert exit_info.value.code == 2
+    assert "argument --movie: no metric 'peak_tip' in this campaign" in capsys.readouterr().err

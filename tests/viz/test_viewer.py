@@ -26,6 +26,7 @@ import pytest
 import soadyn
 from soadyn.viewer import Viewer, drawn_frames, flexible_shapes, load_any, scene_poses
 from support.robots import robot_with_oracle
+from support.viewers import quiet_viewer  # noqa: F401 (a fixture)
 
 
 def test_scene_graph_matches_pinocchio_forward_kinematics():
@@ -114,19 +115,6 @@ def test_flexible_shapes_follow_the_body_pose_on_cassini():
             assert np.abs(nodes[j] - (T[:3, :3] @ local + T[:3, 3])).max() <= 1e-12
     with pytest.raises(ValueError, match="exaggeration"):
         flexible_shapes(m, q, -1.0)
-
-
-@pytest.fixture
-def quiet_viewer():
-    viewers = []
-
-    def make(m, **kwargs):
-        v = Viewer(m, port=0, **kwargs)
-        viewers.append(v)
-        return v
-    yield make
-    for v in viewers:
-        v.close()
 
 
 def test_viewer_nodes_sit_at_the_scene_graph_poses(quiet_viewer):

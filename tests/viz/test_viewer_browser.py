@@ -8,103 +8,25 @@ holds both boxes (blue on the world, green on the crank), so the scene reached W
 a second page (a new client) sees the crank's box moved and the world's box not. tests/run_all.sh
 installs the `chromium` package (apt-get) when it is missing.
 
-Chromium is driven over the DevTools protocol: each page is read and captured as soon as it holds
+Chromium is driven over the DevTools protocol (soadyn.viz.headless.HeadlessBrowser): each page is read and captured as soon as it holds
 what the test looks for (polled against a deadline), rather than after a fixed page time per run.
 The scene has no environment map (viser's default lighting, an HDR image that software WebGL spends
 seconds per page filtering): the test looks at where the boxes are, not at their shading.
 """
 from __future__ import annotations
 
-import base64
-import contextlib
-import json
-import os
-import shutil
-import signal
-import subprocess
 import time
 
 import numpy as np
 import pytest
 from PIL import Image
-from websockets.sync.client import connect
 
 import soadyn
 from soadyn.viewer import Viewer
+from soadyn.viz.headless import HeadlessBrowser
 
-BROWSER_TIMEOUT = 120  # seconds for Chromium to start, or for a page to hold what a test waits for
+BROWSER_TIMEOUT = 120  # seconds for a page to hold what a test waits for
 POLL_SECONDS = 0.2
-
-
-def chromium() -> str:
-    path = shutil.which("chromium") or shutil.which("chromium-browser")
-    assert path, "Chromium is needed for the browser test: apt-get install chromium (tests/run_all.sh does it as root)"
-    return path
-
-
-class Browser:
-    """A headless Chromium and its DevTools connection (one websocket, pages attached in flat mode)."""
-
-    def __init__(self, folder):
-        profile, log = folder / "profile", folder / "chromium.log"  # its messages go to a file: no pipe to fill
-        with log.open("w") as messages:
-            self.process = subprocess.Popen(
-                [chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-                 "--enable-unsafe-swiftshader", "--no-first-run", "--disable-dev-shm-usage",
-                 f"--user-data-dir={profile}", "--window-size=1200,900", "--remote-debugging-port=0", "about:blank"],
-                stdout=subprocess.DEVNULL, stderr=messages, start_new_session=True)
-        try:
-            active_port = profile / "DevToolsActivePort"  # Chromium writes its port and path there once listening
-            deadline = time.monotonic() + BROWSER_TIMEOUT
-            while len(active_port.read_text().split() if active_port.exists() else ()) < 2:
-                assert self.process.poll() is None, f"Chromium exited: {log.read_text()[-2000:]}"
-                assert time.monotonic() < deadline, "Chromium did not open its DevTools port"
-                time.sleep(0.05)
-            port, path = active_port.read_text().split()
-            self.socket = connect(f"ws://127.0.0.1:{port}{path}", max_size=None)
-        except BaseException:
-            self.kill()
-            raise
-        self.calls = 0
-
-    def call(self, method: str, session: str | None = None, **params) -> dict:
-        self.calls += 1
-        message = {"id": self.calls, "method": method, "params": params}
-        if session is not None:
-            message["sessionId"] = session
-        self.socket.send(json.dumps(message))
-        while True:  # events of the pages come in between; the reply carries the call's id
-            reply = json.loads(self.socket.recv(timeout=BROWSER_TIMEOUT))
-            if reply.get("id") == self.calls:
-                assert "error" not in reply, f"{method}: {reply['error']}"
-                return reply["result"]
-
-    @contextlib.contextmanager
-    def page(self, url: str):
-        """A new page (a new client of the viewer) on `url`, closed after: its session."""
-        target = self.call("Target.createTarget", url=url)["targetId"]
-        try:
-            yield self.call("Target.attachToTarget", targetId=target, flatten=True)["sessionId"]
-        finally:
-            self.call("Target.closeTarget", targetId=target)
-
-    def dom(self, session: str) -> str:
-        expression = "document.documentElement ? document.documentElement.outerHTML : ''"
-        return self.call("Runtime.evaluate", session, expression=expression, returnByValue=True)["result"].get(
-            "value", "")
-
-    def screenshot(self, session: str, path) -> None:
-        path.write_bytes(base64.b64decode(self.call("Page.captureScreenshot", session, format="png")["data"]))
-
-    def close(self) -> None:
-        self.socket.close()
-        self.kill()
-
-    def kill(self) -> None:
-        """Chromium and the processes it started (GPU, renderers: its own process group)."""
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(self.process.pid, signal.SIGKILL)
-        self.process.wait(BROWSER_TIMEOUT)
 
 
 def poll(read, holds, what: str):
@@ -126,7 +48,7 @@ def served_four_bar():
                  soadyn.Visual("green_block", "crank", "box", size=[0.02, 0.02, 0.02], translation=[0.038, 0.0, 0.0],
                                rgba=[0.0, 1.0, 0.0, 1.0])]
     q, _ = soadyn.scenes.four_bar_state(0.5)
-    viewer = Viewer(m, port=0, q=q, frames=False)
+    viewer = Viewer(m, port=0, q=q, frames=False, links=False)  # the two boxes alone
     viewer.server.initial_camera.position = (0.02, -0.12, 0.15)
     viewer.server.initial_camera.look_at = (0.02, 0.0, -0.01)
     viewer.server.scene.configure_environment_map(hdri=None)
@@ -139,7 +61,7 @@ def served_four_bar():
 @pytest.fixture
 def browser(served_four_bar, tmp_path):
     """A Chromium, closed before the viewer (its open connections would hold the server's shutdown)."""
-    chrome = Browser(tmp_path)
+    chrome = HeadlessBrowser(1200, 900, folder=tmp_path)
     yield chrome
     chrome.close()
 

@@ -11,6 +11,8 @@ one line too, exit code 1.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import json
 import math
 import sys
@@ -20,10 +22,12 @@ from pathlib import Path
 from .. import campaign, hil, scenes
 from .._soadyn import DynamicsError
 from .._version import __version__
+from ..campaign.movie import MovieError
 from ..check.cross_check import cross_check_report, format_report
 from ..io.example_robots import example_robot_files, example_robots_dir, example_robots_version
 from ..output_paths import output_problem
 from ..simulator import STEP_TOLERANCE, Simulator
+from ..viz.headless import MOVIE_EXTENSIONS
 from ..viz.viewer import BUILT_IN_SCENES, Viewer, load_any, start_state
 from . import four_bar_demo
 from .boom_vibration import format_response, gimbal_step_response, plot_response
@@ -69,6 +73,7 @@ def main(argv: list[str] | None = None) -> int:
     view.add_argument("--duration", type=float, default=None,
                       help="serve this many seconds, then exit (default: until Ctrl-C)")
     add_exaggeration_option(view, "--exaggeration")
+    add_picture_options(view)
     sub.add_parser("robots", help="list the built-in scenes and the example robots installed here, with their paths")
     hil_parser = add_hil_parser(sub)
     campaign_parser = add_campaign_parser(sub)
@@ -201,7 +206,7 @@ def add_hil_parser(sub) -> argparse.ArgumentParser:
 CAMPAIGN_USAGE = """soadyn campaign SPEC.toml|EXAMPLE --out DIR [--scheduler ADDRESS | --workers N] [--runs N]
                        [--chunk N] [--no-progress] [--no-dashboard]
        soadyn campaign replay DIR RUN_ID
-       soadyn campaign report DIR [--plots DIR] [--no-plots]"""
+       soadyn campaign report DIR [--plots DIR] [--no-plots] [--movie METRIC]"""
 
 
 def add_campaign_parser(sub) -> argparse.ArgumentParser:
@@ -227,6 +232,8 @@ def add_campaign_parser(sub) -> argparse.ArgumentParser:
     parser.add_argument("--plots", metavar="DIR",
                         help="report: where the PNGs and summary.md go (default DIR/report)")
     parser.add_argument("--no-plots", action="store_true", help="report: the table only")
+    parser.add_argument("--movie", metavar="METRIC",
+                        help="report: also a movie (MP4, headless Chromium) of the run with the largest METRIC")
     return parser
 
 
@@ -244,9 +251,10 @@ def run_campaign_command(args, parser) -> int:
     if len(words) > 1:
         parser.error(f"unrecognized arguments: {' '.join(words[1:])} (a campaign takes one spec; "
                      f"or: replay DIR RUN_ID, report DIR)")
-    if args.plots is not None or args.no_plots:
-        parser.error(f"argument {'--plots' if args.plots is not None else '--no-plots'}: an option of "
-                     f"`campaign report` only")
+    report_only = [name for name, given in (("--plots", args.plots is not None), ("--no-plots", args.no_plots),
+                                            ("--movie", args.movie is not None)) if given]
+    if report_only:
+        parser.error(f"argument {report_only[0]}: an option of `campaign report` only")
     if args.out is None:
         parser.error("argument --out: required: the results directory of the campaign")
     for option, value in (("--workers", args.workers), ("--runs", args.runs), ("--chunk", args.chunk)):
@@ -300,15 +308,20 @@ def run_campaign_report(words, args, parser) -> int:
         elif Path(words[0]).is_dir():  # else the report's own error names DIR
             check_outputs(parser, ("--plots (default DIR/report)", str(Path(words[0]) / "report"), True))
     try:
-        result = campaign.report(words[0], plots_dir=args.plots, plots=not args.no_plots)
+        result = campaign.report(words[0], plots_dir=args.plots, plots=not args.no_plots, movie=args.movie)
+    except MovieError as error:
+        parser.error(f"argument --movie: {one_line(error)}")
     except campaign.CampaignError as error:
         parser.error(f"argument DIR: {one_line(error)}")
-    except OSError as error:
+    except (OSError, RuntimeError, ValueError) as error:
         parser.exit(1, f"soadyn campaign report: error: {one_line(error)}\n")
     print(f"{result.finished} of {result.runs} runs finished, {result.failed} failed")
     print(campaign.format_summary(result.summary))
     if result.plots:
         print(f"{len(result.plots)} plots and the table written to {result.table_path.parent}")
+    if result.movie is not None:
+        path, run_id, value = result.movie
+        print(f"the run with the largest {args.movie} (run {run_id}, {value:.6g}) replayed in {path}")
     return 0
 
 
@@ -317,12 +330,35 @@ def add_exaggeration_option(parser, option: str) -> None:
                         help="draw flexible bodies' deformation this many times larger (default 1; a slider too)")
 
 
-def open_viewer(parser, model, host: str, port: int, q, exaggeration: float, what: str):
+def add_picture_options(view) -> None:
+    """soadyn view's replay and export options (pictures need Chromium: soadyn.viz.headless)."""
+    view.add_argument("--trajectory", metavar="FILE.npz",
+                      help="replay this trajectory (arrays t and q, as Trajectory.save writes) instead of --simulate")
+    view.add_argument("--trail", action="append", default=[], metavar="FRAME",
+                      help="draw the path of this body or frame over the replay (repeat for several)")
+    view.add_argument("--speed", type=float, default=1.0,
+                      help="replay speed: simulated seconds per second (default 1)")
+    view.add_argument("--follow", action="store_true", help="keep the camera on a free-floating base")
+    view.add_argument("--no-axes", dest="axes", action="store_false", help="do not draw body and frame axes")
+    view.add_argument("--screenshot", metavar="OUT.png",
+                      help="write a PNG of the first state, framed on the model, and exit (headless Chromium)")
+    view.add_argument("--movie", metavar="OUT.mp4",
+                      help="write a movie (.mp4 or .gif) of the replay (--trajectory or --simulate) and exit")
+    view.add_argument("--html", metavar="OUT.html",
+                      help="write a standalone page that replays the scene offline (with the replay, if any) and exit")
+    view.add_argument("--width", type=int, default=1280, help="picture width in pixels (default 1280)")
+    view.add_argument("--height", type=int, default=720, help="picture height in pixels (default 720)")
+    view.add_argument("--fps", type=float, default=30.0, help="movie and page frames per second (default 30)")
+
+
+def open_viewer(parser, model, host: str, port: int, q, exaggeration: float, what: str, axes: bool = True,
+                environment: bool = True):
     """A Viewer, or a one-line error: viser missing, a port in use, a bad factor."""
     if not 0 <= port <= 65535:
         parser.error(f"argument {what}: {port} is not a port number (0-65535)")
     try:
-        return Viewer(model, host=host, port=port, q=q, exaggeration=exaggeration)
+        return Viewer(model, host=host, port=port, q=q, exaggeration=exaggeration, frames=axes,
+                      environment=environment)
     except ImportError as exc:
         parser.exit(1, f"soadyn: the viewer needs viser (pip install 'soadyn[view]'): {exc}\n")
     except (OSError, ValueError) as exc:
@@ -468,11 +504,65 @@ def one_line(error: BaseException) -> str:
 
 
 
+def view_replay(args, parser, model, q, v):
+    """The trajectory soadyn view replays: --trajectory's file, a --simulate run, or None."""
+    if args.trajectory is not None:
+        if args.simulate > 0:
+            parser.error("argument --trajectory: give --trajectory or --simulate, not both")
+        return args.trajectory
+    if args.simulate > 0:
+        sim = Simulator(model, dt=1e-3)
+        sim.set_state(q, v)
+        return sim.run(args.simulate)
+    return None
+
+
+def check_exports(args, parser) -> None:
+    """argparse errors, before any work, for what soadyn view cannot write."""
+    if args.movie is not None:
+        if args.trajectory is None and args.simulate <= 0:
+            parser.error("argument --movie: needs a replay (--trajectory FILE.npz or --simulate SECONDS)")
+        if not args.movie.lower().endswith(MOVIE_EXTENSIONS):
+            parser.error(f"argument --movie: write a {' or '.join(MOVIE_EXTENSIONS)} file, not '{args.movie}'")
+    for path in (args.screenshot, args.movie, args.html):
+        problem = output_problem(path) if path is not None else None
+        if problem:
+            parser.error(f"cannot write '{path}': {problem}")
+    for option in ("--width", "--height"):
+        size = getattr(args, option[2:])
+        if not 16 <= size <= 8192:
+            parser.error(f"argument {option}: must be 16 to 8192 pixels, got {size}")
+
+
+def export_view(args, parser, viewer, replay) -> int:
+    """soadyn view --screenshot/--movie/--html: write each, say where, exit (1 with the reason on failure)."""
+    written = []
+    try:
+        if args.screenshot is not None:
+            viewer.save_png(args.screenshot, args.width, args.height)
+            written.append(args.screenshot)
+        if args.movie is not None:
+            frames = viewer.save_movie(args.movie, replay, args.fps, args.width, args.height, args.speed)
+            written.append(f"{args.movie} ({frames} frames)")
+        if args.html is not None:
+            viewer.save_html(args.html, replay, args.fps)
+            written.append(args.html)
+    except (RuntimeError, ValueError, OSError, TimeoutError) as exc:
+        print(f"soadyn view: {args.model}: {one_line(exc)}", file=sys.stderr)
+        return 1
+    print(f"soadyn view: {args.model}: wrote {', '.join(written)}", flush=True)
+    return 0
+
+
 def run_view(args, parser) -> int:
-    """soadyn view: serve the model (and an optional simulated run) until Ctrl-C or --duration."""
+    """soadyn view: serve the model (and an optional replay) until Ctrl-C or --duration, or write pictures."""
     finite(parser, "--simulate", args.simulate, 0.0, inclusive=True)
     if args.duration is not None:
         finite(parser, "--duration", args.duration, 0.0, inclusive=True)
+    for option in ("--speed", "--fps"):
+        finite(parser, option, getattr(args, option[2:]), 0.0, inclusive=False)
+    exporting = any(x is not None for x in (args.screenshot, args.movie, args.html))
+    check_exports(args, parser)
     try:
         model = load_any(args.model)
     except (ValueError, OSError) as exc:
@@ -483,17 +573,27 @@ def run_view(args, parser) -> int:
     except (ValueError, DynamicsError) as exc:
         print(f"soadyn view: {args.model}: cannot start: {exc}", file=sys.stderr)
         return 1
-    viewer = open_viewer(parser, model, args.host, args.port, q, args.exaggeration, "--port")
-    if args.simulate > 0:
-        sim = Simulator(model, dt=1e-3)
-        sim.set_state(q, v)
+    quiet = contextlib.redirect_stdout(io.StringIO()) if exporting else contextlib.nullcontext()
+    with quiet:  # viser's banner says where it serves: nothing to say when only writing files
+        viewer = open_viewer(parser, model, "127.0.0.1" if exporting else args.host, 0 if exporting else args.port,
+                             q, args.exaggeration, "--port", args.axes, environment=not exporting)
+    try:
+        if args.follow and viewer.follow_checkbox is not None:
+            viewer.follow_checkbox.value = True
+        replay = view_replay(args, parser, model, q, v)
+        if replay is not None:
+            viewer.play(replay, speed=args.speed, trails=args.trail)
+    except (DynamicsError, ValueError) as exc:
+        viewer.close()
+        print(f"soadyn view: {args.model}: {one_line(exc)}", file=sys.stderr)
+        return 1
+    if exporting:
         try:
-            viewer.play(sim.run(args.simulate))
-        except DynamicsError as exc:
-            viewer.close()
-            print(f"soadyn view: {args.model}: the simulation failed: {exc}", file=sys.stderr)
-            return 1
-    print(f"soadyn view: {args.model} at {viewer.url} ({model.nbodies} bodies, {len(model.visuals)} visuals)",
+            return export_view(args, parser, viewer, replay)
+        finally:
+            with contextlib.redirect_stdout(io.StringIO()):
+                viewer.close()
+    print(f"soadyn view: {args.model} at {viewer.url} ({model.nbodies} bodies, {len(viewer.visuals)} visuals)",
           flush=True)
     try:
         deadline = math.inf if args.duration is None else time.monotonic() + args.duration

@@ -12,6 +12,7 @@ import numpy as np
 
 from .errors import CampaignError
 from .metrics import METRICS
+from .movie import worst_run, worst_run_movie
 from .replaying import stored_spec
 from .store import read_parts
 
@@ -26,6 +27,7 @@ class Report:
     summary: list              # (column, kind, {statistic: value}) for the metrics, then the dispersed values
     plots: list                # PNG paths written
     table_path: Optional[Path]
+    movie: Optional[tuple] = None  # (path, run id, value) of the worst run's movie, when asked for
 
 
 def summarize(values: np.ndarray, failed: int) -> dict:
@@ -40,9 +42,10 @@ def summarize(values: np.ndarray, failed: int) -> dict:
     return stats
 
 
-def report(out, plots_dir=None, plots: bool = True) -> Report:
+def report(out, plots_dir=None, plots: bool = True, movie: Optional[str] = None) -> Report:
     """Summarize the finished runs in `out`; with `plots`, write the PNGs to `plots_dir`
-    (default DIR/report) and the table to summary.md there."""
+    (default DIR/report) and the table to summary.md there; with `movie` (a metric), also a movie of the
+    run with its largest value there (soadyn.campaign.movie: needs the view extra and Chromium)."""
     spec = stored_spec(out)
     table = read_parts(out, spec, spec.runs)
     if table.num_rows == 0:
@@ -55,15 +58,20 @@ def report(out, plots_dir=None, plots: bool = True) -> Report:
 
     summary = [(m, "metric", summarize(column(m)[ok], failed)) for m in spec.metrics]
     summary += [(c, "dispersed", summarize(column(c), 0)) for c in spec.dispersion_columns]
-    written, table_path = [], None
-    if plots:
-        target = Path(plots_dir) if plots_dir is not None else Path(out) / "report"
+    written, table_path, movie_made = [], None, None
+    target = Path(plots_dir) if plots_dir is not None else Path(out) / "report"
+    if movie is not None:
+        worst_run(spec, table, movie)  # a metric not in the campaign is refused before any work
+    if plots or movie is not None:
         target.mkdir(parents=True, exist_ok=True)
+    if movie is not None:
+        movie_made = worst_run_movie(spec, table, movie, target)
+    if plots:
         written = _plot(spec, column, ok, target)
         table_path = target / "summary.md"
         table_path.write_text(f"# {spec.name}: {table.num_rows} of {spec.runs} runs, {failed} failed\n\n"
                               + format_summary(summary, markdown=True) + "\n", encoding="utf-8")
-    return Report(spec.runs, table.num_rows, failed, summary, written, table_path)
+    return Report(spec.runs, table.num_rows, failed, summary, written, table_path, movie_made)
 
 
 def format_summary(summary: list, markdown: bool = False) -> str:

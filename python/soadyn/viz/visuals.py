@@ -22,7 +22,7 @@ from typing import Optional
 
 import numpy as np
 
-__all__ = ["Visual", "SHAPES"]
+__all__ = ["Visual", "SHAPES", "revolved_mesh", "rotation_z_to"]
 
 SHAPES = ("box", "sphere", "cylinder", "capsule", "ellipsoid", "plane", "mesh")
 
@@ -60,3 +60,29 @@ class Visual:
             raise ValueError(f"visual '{self.name}': non-finite size, placement, colour or vertices")
         if self.shape == "mesh" and self.mesh_file is None and (self.vertices is None or self.faces is None):
             raise ValueError(f"visual '{self.name}': a mesh needs mesh_file or vertices and faces")
+
+
+def revolved_mesh(radii, heights, segments: int = 32) -> tuple[np.ndarray, np.ndarray]:
+    """(vertices, faces) of the surface swept by the profile (radii[k], heights[k]) about the z axis: a dish,
+    a cone or a nozzle as an inline mesh Visual, without a mesh library (scenes build without the view extra).
+    The profile is an open polyline; a radius of 0 closes the surface on the axis."""
+    radii, heights = np.asarray(radii, dtype=float), np.asarray(heights, dtype=float)
+    if radii.ndim != 1 or radii.shape != heights.shape or len(radii) < 2 or segments < 3 or np.any(radii < 0):
+        raise ValueError("revolved_mesh: a profile of at least two (radius >= 0, height) points and 3 segments")
+    angle = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
+    rings = np.stack([np.outer(radii, np.cos(angle)), np.outer(radii, np.sin(angle)),
+                      np.repeat(heights[:, None], segments, axis=1)], axis=-1).reshape(-1, 3)
+    k, j = np.meshgrid(np.arange(len(radii) - 1), np.arange(segments), indexing="ij")
+    a, b = k * segments + j, k * segments + (j + 1) % segments
+    c, d = a + segments, b + segments
+    faces = np.concatenate([np.stack([a, b, d], -1).reshape(-1, 3), np.stack([a, d, c], -1).reshape(-1, 3)])
+    return rings, faces
+
+
+def rotation_z_to(direction) -> np.ndarray:
+    """A rotation taking the z axis onto `direction` (placing a cylinder, whose axis is z, along it)."""
+    d = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(d[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = np.cross(helper, d)
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, np.cross(d, x), d])
