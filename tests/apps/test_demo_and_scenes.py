@@ -89,10 +89,23 @@ def test_soadyn_robots_lists_the_scenes_and_every_example_robot_with_its_path(ca
     assert main(["robots"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0] == "built-in scenes (soadyn view NAME): cassini, four-bar, slider-crank, delta-robot"
-    assert lines[1].endswith(f"URDF files in {robots_dir()}")
+    assert lines[1].endswith(f"URDF files in {robots_dir()} (soadyn view NAME, or its path where two share a name)")
     listed = [line.split(maxsplit=1) for line in lines[2:]]
     assert sorted(path for _, path in listed) == sorted(str(p) for p in robots_dir().glob("**/*.urdf"))
     assert ["ur5_robot", str(robot("ur5")[0])] in listed
+
+
+def test_an_example_robot_loads_by_its_listed_name_and_a_wrong_one_is_answered():
+    from soadyn.io.example_robots import example_robot
+    from soadyn.viewer import load_any
+
+    assert example_robot("ur5_robot") == robot("ur5")[0]
+    assert load_any("talos_reduced").nbodies == soadyn.load_urdf(robot("talos")[0]).nbodies
+    with pytest.raises(ValueError, match=r"no example robot 'ur5'; did you mean ur5_gripper, ur5_joint_limited_robot, "
+                                         r"ur5_robot\?"):
+        load_any("ur5")
+    with pytest.raises(ValueError, match=r"example robot 'anymal' names 2 files; give the path of one: .*anymal_b"):
+        load_any("anymal")
 
 
 def test_soadyn_robots_says_how_to_install_the_example_robots(capsys, monkeypatch):

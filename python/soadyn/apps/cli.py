@@ -65,7 +65,8 @@ def main(argv: list[str] | None = None) -> int:
                        help="largest accepted relative difference (default 1e-9); above it the exit code is 1")
     view = sub.add_parser("view", help="draw a model in the browser (viser): a scene name, a model file (.json), "
                                        "an MJCF (.xml) or a URDF (.urdf)")
-    view.add_argument("model", help="cassini, four-bar, slider-crank, delta-robot, or a .json, .xml or .urdf file")
+    view.add_argument("model", help="cassini, four-bar, slider-crank, delta-robot, a .json, .xml or .urdf file, "
+                                    "or an example robot's name (soadyn robots lists them: ur5_robot, talos_reduced)")
     view.add_argument("--host", default="127.0.0.1", help="address to serve on (default 127.0.0.1)")
     view.add_argument("--port", type=int, default=8080, help="port (default 8080; 0: any free port)")
     view.add_argument("--simulate", type=float, default=0.0, metavar="SECONDS",
@@ -102,7 +103,8 @@ def format_robots() -> str:
     if not files:
         lines.append("example-robot-data is not installed here: pip install example-robot-data")
         return "\n".join(lines)
-    lines.append(f"example-robot-data {version}: {len(files)} URDF files in {example_robots_dir()}")
+    lines.append(f"example-robot-data {version}: {len(files)} URDF files in {example_robots_dir()} "
+                 f"(soadyn view NAME, or its path where two share a name)")
     width = max(len(path.stem) for path in files)
     lines += [f"  {path.stem:<{width}}  {path}" for path in files]
     return "\n".join(lines)

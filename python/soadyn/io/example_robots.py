@@ -11,7 +11,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import Optional
 
-__all__ = ["example_robots_dir", "example_robot_files", "example_robots_version"]
+__all__ = ["example_robot", "example_robots_dir", "example_robot_files", "example_robots_version"]
 
 
 def example_robots_dir() -> Optional[Path]:
@@ -34,3 +34,21 @@ def example_robots_version() -> Optional[str]:
         return metadata.version("example-robot-data")
     except metadata.PackageNotFoundError:
         return None
+
+
+def example_robot(name: str) -> Path:
+    """The example-robot-data URDF named `name` (its file name without .urdf, as `soadyn robots` lists it).
+    ValueError when no file or several files have that name, naming the candidates."""
+    files = example_robot_files()
+    if not files:
+        raise ValueError(f"no example robot {name!r}: example-robot-data is not installed "
+                         f"(pip install example-robot-data)")
+    exact = [f for f in files if f.stem == name]
+    if len(exact) == 1:
+        return exact[0]
+    if exact:
+        raise ValueError(f"example robot {name!r} names {len(exact)} files; give the path of one: "
+                         + ", ".join(map(str, exact)))
+    close = sorted({f.stem for f in files if f.stem.startswith(name) or name in f.stem})
+    hint = f"; did you mean {', '.join(close[:8])}?" if close else "; `soadyn robots` lists them"
+    raise ValueError(f"no example robot {name!r}{hint}")

@@ -48,6 +48,7 @@ import numpy as np
 from .. import scenes
 from .._soadyn import forward_kinematics, frame_pose, neutral_configuration
 from ..io.mjcf import load_mjcf
+from ..io.example_robots import example_robot
 from ..io.model_file import load_model
 from ..io.urdf import load_urdf
 from ..loops import assemble
@@ -509,7 +510,8 @@ BUILT_IN_SCENES = tuple(_scene_builders())  # the scene names `soadyn view` take
 
 
 def load_any(source: str) -> Model:
-    """A model from a built-in scene name, a model file (.json), an MJCF (.xml) or a URDF (.urdf)."""
+    """A model from a built-in scene name, a model file (.json), an MJCF (.xml), a URDF (.urdf), or the name of
+    an example-robot-data URDF (`soadyn robots` lists them: ur5_robot, talos_reduced, ...)."""
     builders = _scene_builders()
     if source in builders:
         return builders[source]()
@@ -520,6 +522,12 @@ def load_any(source: str) -> Model:
         return load_mjcf(source)
     if extension == ".urdf":
         return load_urdf(source)
+    if extension == "" and os.sep not in source:
+        try:
+            return load_urdf(example_robot(source))
+        except ValueError as error:
+            raise ValueError(f"'{source}': not a built-in scene ({', '.join(builders)}) nor a .json, .xml or .urdf "
+                             f"file; {error}") from None
     raise ValueError(f"'{source}': not a built-in scene ({', '.join(builders)}) nor a .json, .xml or .urdf file")
 
 
