@@ -226,3 +226,29 @@ def test_save_html_embeds_the_scene_and_its_replay(quiet_viewer, tmp_path):
     assert replay["durationSeconds"] == pytest.approx(11 / 20)  # 0 to 0.5 s at 20 frames per second
     assert len(replay["messages"]) > len(still["messages"]) + 11
     np.testing.assert_array_equal(viewer.q, q)  # the viewer shows what it showed before
+
+
+def test_soadyn_view_refuses_bad_export_requests_by_name(tmp_path, capsys, monkeypatch):
+    from soadyn.apps import cli
+
+    (tmp_path / "notes.npz").write_text("not an archive")
+    refused = {  # arguments: (exit code, what the message names)
+        ("--trajectory", str(tmp_path / "notes.npz")): (1, "not a .npz archive"),
+        ("--simulate", "0.01", "--trail", "elbow"): (1, "no body or frame named 'elbow'"),
+        ("--movie", str(tmp_path / "m.mp4")): (2, "argument --movie: needs a replay"),
+        ("--simulate", "0.01", "--movie", str(tmp_path / "m.avi")): (2, "write a .mp4 or .gif file"),
+        ("--screenshot", str(tmp_path / "p.png"), "--width", "10"): (2, "argument --width: must be 16 to 8192"),
+        ("--simulate", "0.01", "--movie", str(tmp_path / "m.mp4"), "--fps", "nan"): (2, "argument --fps"),
+        ("--screenshot", str(tmp_path / "missing" / "deeper" / "p.png")): (2, "cannot write"),
+        ("--trajectory", str(tmp_path / "notes.npz"), "--simulate", "1"): (2, "not both"),
+    }
+    for arguments, (code, message) in refused.items():
+        try:
+            result = cli.main(["view", "four-bar", "--port", "0", "--duration", "0", *arguments])
+        except SystemExit as exit_info:
+            result = exit_info.code
+        assert result == code, arguments
+        assert message in capsys.readouterr().err, arguments
+    monkeypatch.setenv("SOADYN_CHROMIUM", str(tmp_path / "no-such-browser"))
+    assert cli.main(["view", "four-bar", "--screenshot", str(tmp_path / "p.png")]) == 1
+    assert "SOADYN_CHROMIUM=" in capsys.readouterr().err and not (tmp_path / "p.png").exists()
