@@ -28,7 +28,8 @@ from ..io.example_robots import example_robot_files, example_robots_dir, example
 from ..output_paths import output_problem
 from ..simulator import STEP_TOLERANCE, Simulator
 from ..viz.headless import MOVIE_EXTENSIONS
-from ..viz.viewer import BUILT_IN_SCENES, Viewer, load_any, start_state
+from ..viz.sources import BUILT_IN_SCENES, load_any, start_state
+from ..viz.viewer import Viewer
 from . import four_bar_demo
 from .boom_vibration import format_response, gimbal_step_response, plot_response
 from .demo import describe_scene, format_result, run_demo

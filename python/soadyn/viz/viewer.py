@@ -1,205 +1,48 @@
 """A 3D viewer on viser (a maintained web viewer: the browser draws, no WebGL of ours).
 
-Two layers:
-- `scene_poses(m, q)`: the scene graph at a state, headless — the world pose
-  (4x4) of every node the viewer draws, keyed by its viser path:
-  ``/bodies/<body>`` (the body frame), ``/frames/<frame>``,
-  ``/visuals/<visual>`` (the shape's frame: its frame's pose times its own
-  placement), and the two ends of every loop (``/loops/<loop>/a``, ``/b``).
-  Bodies come from `forward_kinematics`, frames from `frame_pose`: what is
-  drawn is what the dynamics use.
-  Attachment frames of flexible bodies are not among the frames: a flexible
-  body is drawn by its body frame and its deformed shape (below).
-- `flexible_shapes(m, q, exaggeration)`: the world positions of every
-  flexible body's nodes, deformed by its modal coordinates times
-  `exaggeration` (1: true size; real appendages deflect millimetres, so
-  tens to thousands make a mode visible). The viewer draws each as a
-  polyline through its nodes in node order (a beam's nodes are its stations)
-  with a point per node; a slider sets the exaggeration.
-- `Viewer(m)`: a viser server drawing those nodes — each Visual as its shape
-  (box, sphere, ellipsoid, cylinder, capsule as a cylinder with end spheres,
-  mesh from vertices/faces or a mesh file trimesh can read), body and frame
-  axes sized to the model, rods and joint markers for bodies without visuals
-  (soadyn.viz.figures), every cut joint as a ball on each side joined by a
-  line — moved by `show(q)`. The camera starts framed on the model
-  (soadyn.viz.framing; "reset view" frames it again, "follow" keeps a free
-  base in view). `play(trajectory, speed, trails)` adds a time slider, a
-  play checkbox, a playback-speed slider and the paths of chosen frames.
-  `save_png`, `save_movie` render in a headless Chromium (soadyn.viz.headless);
-  `save_html` writes a standalone page that replays a trajectory offline.
+`Viewer(m)`: a viser server drawing the nodes of the scene graph
+(soadyn.viz.scene_graph) — each Visual as its shape (box, sphere, ellipsoid,
+cylinder, capsule as a cylinder with end spheres, mesh from vertices/faces or
+a mesh file read by soadyn.viz.meshes), body and frame axes sized to the
+model, rods and joint markers for bodies without visuals (soadyn.viz.figures),
+every cut joint as a ball on each side joined by a line, flexible bodies as
+polylines through their deformed nodes — moved by `show(q)`. The camera
+starts framed on the model (soadyn.viz.framing; "reset view" frames it
+again, "follow" keeps a free base in view). `play(trajectory, speed, trails)`
+adds a time slider, a play checkbox, a playback-speed slider and the paths of
+chosen frames. `save_png`, `save_movie` render in a headless Chromium
+(soadyn.viz.headless); `save_html` writes a standalone page that replays a
+trajectory offline.
 
 Decisions: the viewer never runs in a real-time thread; it reads states it is
-given. Mesh files are read by trimesh (`read_mesh`: COLLADA through pycollada,
-STL, OBJ), scaled, and coloured by the URDF/MJCF material when the file has
-no colours of its own; a mesh file that cannot be read is drawn as its
-frame's axes and named once in a warning, with the reason.
+given. A mesh file that cannot be read is drawn as its frame's axes and named
+once in a warning, with the reason.
 """
 from __future__ import annotations
 
-import importlib.util
-import json
-import os
 import threading
 import time
 import warnings
 
 import numpy as np
 
-from .. import scenes
-from .._soadyn import forward_kinematics, frame_pose, neutral_configuration
-from ..io.mjcf import load_mjcf
-from ..io.example_robots import example_robot
-from ..io.model_file import load_model
-from ..io.urdf import load_urdf
-from ..loops import assemble
+from .._soadyn import neutral_configuration
 from ..model import Model
 from .figures import link_radius, link_visuals
 from .framing import ASPECT, framed_camera, up_direction, visual_corners
+from .meshes import MeshError, read_mesh
 from .playback import TRAIL_COLOURS, resample, trail_points, trajectory_arrays
-from .visuals import Visual
+from .scene_graph import drawn_frames, flexible_blocks, flexible_shapes, loop_anchors, scene_poses
+from .sources import BUILT_IN_SCENES, load_any, start_state
 
-__all__ = ["MeshError", "Viewer", "flexible_shapes", "read_mesh", "scene_poses"]
-
+__all__ = ["BUILT_IN_SCENES", "MeshError", "Viewer", "drawn_frames", "flexible_shapes", "load_any", "read_mesh",
+           "scene_poses", "start_state"]
 
 LOOP_COLOUR = (220, 40, 40)
 AXES_PER_ROD = 8.0  # body axes this many link radii long (soadyn.viz.figures.link_radius)
 HEMISPHERE_INTENSITY = 1.5  # about the brightness of the environment map it replaces
 FRAMING_STATES = 24  # states of a trajectory the camera is framed on
 PLAYBACK_PERIOD = 0.03  # seconds between the play loop's advances of the time slider
-
-
-def _transform(R, p) -> np.ndarray:
-    T = np.eye(4)
-    T[:3, :3], T[:3, 3] = R, p
-    return T
-
-
-def _loop_anchors(m: Model) -> list[tuple[str, str, np.ndarray, str, np.ndarray]]:
-    """(loop, frame_a, placement_a, frame_b, placement_b) of every loop, from the model-file view."""
-    data = json.loads(m._to_json()) if m.nloops else {"loops": []}
-    return [(x["name"], x["frame_a"], _transform(x["placement_a"]["rotation"], x["placement_a"]["translation"]),
-             x["frame_b"], _transform(x["placement_b"]["rotation"], x["placement_b"]["translation"]))
-            for x in data["loops"]]
-
-
-class _Poser:
-    """World poses of named bodies and frames at one state (forward kinematics once)."""
-
-    def __init__(self, m: Model, q):
-        self.m, self.q = m, np.asarray(q, dtype=float)
-        self.bodies = forward_kinematics(m, self.q)
-        self.bodies = self.bodies[0] if isinstance(self.bodies, tuple) else self.bodies
-        self.index = {name: i for i, name in enumerate(m.body_names)}
-
-    def __call__(self, name: str) -> np.ndarray:
-        if name in ("world", "", None):
-            return np.eye(4)
-        if name in self.index:
-            return self.bodies[self.index[name]]
-        return frame_pose(self.m, self.q, name)
-
-
-def drawn_frames(m: Model) -> list[str]:
-    """The frames the viewer draws: every frame that is not a body, except attachment frames of flexible
-    bodies (their nodes move with the modal coordinates, which frame_pose does not follow)."""
-    q0, bodies = neutral_configuration(m), set(m.body_names)
-    drawn = []
-    for name in m.frame_names:
-        if name in bodies:
-            continue
-        try:
-            frame_pose(m, q0, name)
-        except ValueError:  # carried by a flexible body
-            continue
-        drawn.append(name)
-    return drawn
-
-
-def scene_poses(m: Model, q, loops=None, frames=None, visuals=None) -> dict[str, np.ndarray]:
-    """World pose (4x4) of every node the viewer draws at configuration q, keyed by viser path
-    (`visuals`: the visuals drawn, m.visuals by default)."""
-    pose = _Poser(m, q)
-    out = {f"/bodies/{name}": pose.bodies[i] for i, name in enumerate(m.body_names)}
-    for name in drawn_frames(m) if frames is None else frames:
-        out[f"/frames/{name}"] = pose(name)
-    for v in m.visuals if visuals is None else visuals:
-        out[f"/visuals/{v.name}"] = pose(v.frame) @ _transform(v.rotation, v.translation)
-    for name, frame_a, Xa, frame_b, Xb in (_loop_anchors(m) if loops is None else loops):
-        out[f"/loops/{name}/a"] = pose(frame_a) @ Xa
-        out[f"/loops/{name}/b"] = pose(frame_b) @ Xb
-    return out
-
-
-def _flexible_blocks(m: Model) -> list[tuple[str, int, object, slice]]:
-    """(name, body index, FlexibleBody, slice of its modal coordinates in q) of every flexible body."""
-    out = []
-    for b, name in enumerate(m.body_names):
-        if m.n_modes[b] == 0:
-            continue
-        end = m.q_index[b + 1] if b + 1 < m.nbodies else m.nq
-        out.append((name, b, m.flexible_body(name), slice(end - m.n_modes[b], end)))
-    return out
-
-
-def flexible_shapes(m: Model, q, exaggeration: float = 1.0, blocks=None) -> dict[str, np.ndarray]:
-    """{body: (N, 3) world positions of its nodes} for every flexible body at q, the modal coordinates
-    scaled by `exaggeration` (the body frame itself stays where q puts it)."""
-    if not (np.isfinite(exaggeration) and exaggeration >= 0):
-        raise ValueError(f"viewer: the exaggeration must be a finite number >= 0, got {exaggeration}")
-    q = np.asarray(q, dtype=float)
-    poses = None
-    out = {}
-    for name, b, body, modal in _flexible_blocks(m) if blocks is None else blocks:
-        if poses is None:
-            poses = _Poser(m, q).bodies
-        eta = exaggeration * q[modal]
-        local = np.array([body.node_pose(j, eta)[:3, 3] for j in range(body.n_nodes)])
-        out[name] = local @ poses[b][:3, :3].T + poses[b][:3, 3]
-    return out
-
-
-class MeshError(ValueError):
-    """A visual's mesh file that cannot be drawn; the message names the visual, the file and why."""
-
-
-def read_mesh(v: Visual):
-    """The trimesh.Trimesh of mesh visual `v` (its mesh_file, COLLADA, STL, OBJ or any format trimesh reads),
-    scaled by v.size; a mesh without colours of its own takes the visual's rgba (the URDF material).
-    Raises MeshError naming the visual, the file and the reason."""
-    import trimesh
-
-    if not isinstance(v, Visual) or v.mesh_file is None:
-        raise MeshError(f"read_mesh needs a Visual with a mesh_file, got {getattr(v, 'name', type(v).__name__)!r}")
-    where = f"'{v.name}' ({v.mesh_file})"
-    if not os.path.isfile(v.mesh_file):
-        raise MeshError(f"{where}: no such file")
-    if v.mesh_file.lower().endswith(".dae") and importlib.util.find_spec("collada") is None:
-        raise MeshError(f"{where}: COLLADA files need pycollada (pip install 'soadyn[view]')")
-    try:
-        mesh = trimesh.load(v.mesh_file, force="mesh")
-    except Exception as error:  # trimesh's own reason, whatever its type
-        raise MeshError(f"{where}: {type(error).__name__}: {' '.join(str(error).split()) or 'unreadable'}") from None
-    if len(mesh.faces) == 0:
-        raise MeshError(f"{where}: no triangles read{_collada_reason(v.mesh_file)}")
-    mesh.apply_scale(v.size if v.size.size == 3 else 1.0)
-    if mesh.visual.kind is None:
-        mesh.visual.face_colors = np.round(255 * np.clip(v.rgba, 0, 1)).astype(np.uint8)
-    return mesh
-
-
-def _collada_reason(path: str) -> str:
-    """Why trimesh read no triangles from a COLLADA file: the first error pycollada reports ("" if none).
-    A primitive whose material the file references but does not hold is dropped with it."""
-    if not path.lower().endswith(".dae"):
-        return ""
-    import collada
-
-    errors = collada.common
-    try:
-        document = collada.Collada(path, ignore=[errors.DaeError])
-    except Exception as error:
-        return f"; pycollada: {' '.join(str(error).split())}"
-    return f"; pycollada: {' '.join(str(document.errors[0]).split())}" if document.errors else ""
 
 
 def _wxyz(R) -> np.ndarray:
@@ -228,8 +71,8 @@ class Viewer:
             raise TypeError(f"Viewer needs a soadyn.Model, got {type(m).__name__}")
         self.model = m
         self.server = viser.ViserServer(host=host, port=port, verbose=False)
-        self._loops = _loop_anchors(m)
-        self._flexible = _flexible_blocks(m)
+        self._loops = loop_anchors(m)
+        self._flexible = flexible_blocks(m)
         flexible_shapes(m, neutral_configuration(m), exaggeration, [])  # checks the factor
         self._exaggeration = float(exaggeration)
         self._lock = threading.Lock()
@@ -499,46 +342,3 @@ class Viewer:
 
     def close(self) -> None:
         self.server.stop()
-
-
-def _scene_builders() -> dict:
-    return {"cassini": scenes.cassini, "four-bar": scenes.four_bar, "slider-crank": scenes.slider_crank,
-            "delta-robot": scenes.delta_robot}
-
-
-BUILT_IN_SCENES = tuple(_scene_builders())  # the scene names `soadyn view` takes
-
-
-def load_any(source: str) -> Model:
-    """A model from a built-in scene name, a model file (.json), an MJCF (.xml), a URDF (.urdf), or the name of
-    an example-robot-data URDF (`soadyn robots` lists them: ur5_robot, talos_reduced, ...)."""
-    builders = _scene_builders()
-    if source in builders:
-        return builders[source]()
-    extension = os.path.splitext(source)[1].lower()
-    if extension == ".json":
-        return load_model(source)
-    if extension == ".xml":
-        return load_mjcf(source)
-    if extension == ".urdf":
-        return load_urdf(source)
-    if extension == "" and os.sep not in source:
-        try:
-            return load_urdf(example_robot(source))
-        except ValueError as error:
-            raise ValueError(f"'{source}': not a built-in scene ({', '.join(builders)}) nor a .json, .xml or .urdf "
-                             f"file; {error}") from None
-    raise ValueError(f"'{source}': not a built-in scene ({', '.join(builders)}) nor a .json, .xml or .urdf file")
-
-
-def start_state(source: str, m: Model) -> tuple[np.ndarray, np.ndarray]:
-    """The state `soadyn view` shows first: the loop scenes closed, every other model at rest in q0."""
-    closed = {"four-bar": lambda: scenes.four_bar_state(0.5), "slider-crank": lambda: scenes.slider_crank_state(0.5),
-              "delta-robot": lambda: scenes.delta_robot_state([0.0, 0.0, -0.6])}
-    if source in closed:
-        q, v = closed[source]()
-        return np.asarray(q, dtype=float), np.asarray(v, dtype=float)
-    q = neutral_configuration(m)
-    if m.nloops:  # any other loop model: closed from q0 by Gauss-Newton
-        q = assemble(m, q)
-    return q, np.zeros(m.nv)
