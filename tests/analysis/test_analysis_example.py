@@ -1,4 +1,4 @@
-"""The README's worked analysis example (examples/python/analysis_worked_example.py) runs and its
+"""The analysis guide's worked example (examples/python/analysis_worked_example.py) runs and its
 numbers hold: the four-bar's equilibrium equals the closed-form reference of
 support/equilibria.py, the adjoint gradient equals the direct sensitivities, the LQR
 loop is stable, and the modes agree with natural_frequencies."""

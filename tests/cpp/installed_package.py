@@ -7,7 +7,7 @@
       configures examples/cpp against that prefix alone, builds it and runs it: the cassini scene paced
       in real time for 10 s, and the four-bar (a closed loop) paced for 4 s.
   ... readme
-      takes the C++ program, its CMakeLists.txt and its build command from the README's "C++" section as
+      takes the C++ program, its CMakeLists.txt and its build command from the manual's C++ guide as
       written, builds it with HOME=D/home (so "$HOME/.local" is the prefix above) and runs it; its results
       must match the closed-form pendulum.
 
@@ -169,12 +169,11 @@ def example(source: Path, scratch: Path) -> None:
 
 
 def readme_blocks(source: Path) -> dict:
-    """The fenced code blocks of the README's "## C++" section, by language."""
-    text = (source / "README.md").read_text()
-    section = re.search(r"^## C\+\+\n(.*?)(?=^## )", text, re.MULTILINE | re.DOTALL)
-    require(section is not None, "a '## C++' section in README.md")
+    """The fenced code blocks of the manual's C++ guide (docs/guides/cpp.md), by language."""
+    page = source / "docs" / "guides" / "cpp.md"
+    require(page.is_file(), "the manual's C++ guide, docs/guides/cpp.md")
     blocks: dict = {}
-    for language, body in re.findall(r"^```(\w+)\n(.*?)^```$", section.group(1), re.MULTILINE | re.DOTALL):
+    for language, body in re.findall(r"^```(\w+)\n(.*?)^```$", page.read_text(), re.MULTILINE | re.DOTALL):
         blocks.setdefault(language, []).append(body)
     return blocks
 
@@ -182,15 +181,15 @@ def readme_blocks(source: Path) -> dict:
 def readme(source: Path, scratch: Path) -> None:
     blocks = readme_blocks(source)
     require(len(blocks.get("cpp", [])) == 1 and len(blocks.get("cmake", [])) == 1 and len(blocks.get("sh", [])) == 2,
-            "in the README's C++ section: one cpp block, one cmake block and two sh blocks (install, then build)")
+            "in the C++ guide: one cpp block, one cmake block and two sh blocks (install, then build)")
     install_commands, build_commands = blocks["sh"]
     require('--prefix "$HOME/.local"' in install_commands and 'CMAKE_PREFIX_PATH="$HOME/.local"' in build_commands,
-            'the README installing into "$HOME/.local" and building the program against it')
+            'the C++ guide installing into "$HOME/.local" and building the program against it')
     project = scratch / "pendulum"
     project.mkdir(parents=True, exist_ok=True)
     (project / "main.cpp").write_text(blocks["cpp"][0])
     (project / "CMakeLists.txt").write_text(blocks["cmake"][0])
-    # The README's commands as written, with $HOME the scratch home that holds the installed package and the
+    # The guide's commands as written, with $HOME the scratch home that holds the installed package and the
     # cmake of the test extra first on PATH.
     env = dict(os.environ, HOME=str(scratch / "home"))
     env["PATH"] = os.pathsep.join([str(Path(find_tool("cmake", "cmake", "CMAKE_BIN_DIR")).parent), env["PATH"]])
@@ -214,7 +213,7 @@ def readme(source: Path, scratch: Path) -> None:
     expected = hinge_inertia * acceleration - gravity_torque
     require(math.isclose(torque, expected, rel_tol=1e-9, abs_tol=1e-12),
             f"torque {torque} equal to the closed form {expected}")
-    print("the README's program: both results equal the closed-form pendulum")
+    print("the C++ guide's program: both results equal the closed-form pendulum")
 
 
 def main() -> int:

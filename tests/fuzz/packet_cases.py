@@ -27,7 +27,7 @@ FLOATS = (np.nan, np.inf, -np.inf, 1e30, -1e308, 5e-324, 0.0, -0.0, 0.5)
 
 
 def classify(packet: bytes, last_sequence):
-    """('malformed' | 'stale' | 'accepted', (sequence, values) or None), from the README's table."""
+    """('malformed' | 'stale' | 'accepted', (sequence, values) or None), from the HIL guide's table (docs/guides/hil.md)."""
     if len(packet) != HEADER.size + 8 * NV:
         return "malformed", None
     magic, version, kind, sequence, count, time_s = HEADER.unpack_from(packet)

@@ -212,7 +212,7 @@ def test_backward_error_sees_a_wrong_model():
 
 
 def test_example_robot_data_count():
-    """The README's count: 69 files, each fixed and floating; 130 loads, 8 refusals (4 files)."""
+    """The URDF guide's count (docs/guides/urdf.md): 69 files, each fixed and floating; 130 loads, 8 refusals (4 files)."""
     loaded, refused = 0, []
     for relative in FILES:
         for floating in (False, True):

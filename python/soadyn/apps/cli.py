@@ -189,7 +189,7 @@ def add_hil_parser(sub) -> argparse.ArgumentParser:
                      help="read at most N datagrams per step, the rest at the next steps (default 16)")
     hil.add_argument("--command-limit", action="append", default=[], metavar="LIMIT|DOF=LIMIT",
                      help="largest |command| of every DOF, or of one DOF (repeatable; default 1000 M_ii per DOF, "
-                          "see the README; inf: no limit)")
+                          "see the HIL guide, docs/guides/hil.md; inf: no limit)")
     hil.add_argument("--floor-periods", type=int, default=None, metavar="N",
                      help="after a paced run, time the machine's floor over N periods (default: as many as the "
                           "run's steps, at most 10000; 0: none)")

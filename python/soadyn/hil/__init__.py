@@ -3,7 +3,7 @@
 `run_hil` steps a Simulator at a fixed wall-clock rate in C++ (a worker
 thread, GIL released) while the main thread shows the progress. Optionally a
 controller in another process drives the regular DOFs over UDP on 127.0.0.1
-(packet format: cpp/include/soadyn/realtime/udp_link.hpp and the README). The
+(packet format: cpp/include/soadyn/realtime/udp_link.hpp and the HIL guide, docs/guides/hil.md). The
 returned HilReport holds the timing statistics, the packet counts, the
 energy and momentum of the model at start and end, the per-step timings and a
 decimated state history. HilRunner is the bare loop, for callers that need

@@ -67,7 +67,7 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
     destination port if given; 0 or no destination: the first valid sender,
     latched); others are counted and ignored. At most `max_packets_per_step`
     datagrams are read per step. `command_limits` (None: a * M_ii at the
-    start, see the README; a number for every DOF; nv numbers; or a dict
+    start, see the HIL guide (docs/guides/hil.md); a number for every DOF; nv numbers; or a dict
     {DOF name: limit} over the defaults; inf: no limit) bound every command
     value, and `command_policy` says what a value beyond its limit does:
     'clamp' (saturate, counted per DOF), 'reject' (keep the previous command)

@@ -5,7 +5,7 @@ by the C++ library (soadyn/model/model_file.hpp: `soadyn::save_model`,
 `soadyn::load_model`), so a model built in Python loads unchanged in a C++
 simulator or a campaign worker. Numbers are written with the 17 significant
 digits that round-trip: a loaded model's dynamics equal the saved model's bit
-for bit. The README ("Model files") describes every key.
+for bit. The model-file guide (docs/guides/model-files.md) describes every key.
 
 What the dynamics do not use travels in the file's "description" object,
 which the C++ reader keeps without reading it:
@@ -140,7 +140,7 @@ def model_from_json(text: str, source: str = "model JSON") -> Model:
 
 
 def save_model(m: Model, path, metadata: Optional[dict] = None) -> None:
-    """Write `m` to `path` in soadyn's model-file format (JSON; see the README's "Model files")."""
+    """Write `m` to `path` in soadyn's model-file format (JSON; see docs/guides/model-files.md)."""
     try:
         text = model_to_json(m, metadata)
     except ModelFileError as exc:

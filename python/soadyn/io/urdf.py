@@ -30,7 +30,7 @@ Decisions:
 - <visual> shapes become model.visuals (urdf_visuals.py; package_dirs
   resolves package:// mesh names); meshes are referenced by path, not read.
 
-Inertia (the README's "URDF inertia policy"): a body of the model is a moving
+Inertia ("URDF inertia policy" in docs/guides/urdf.md): a body of the model is a moving
 link together with every link welded to it through fixed joints; their
 inertias are merged first and the body is checked once, merged. The
 `inertia` argument decides what happens to a body that is not physical:

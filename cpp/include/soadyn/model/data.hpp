@@ -12,7 +12,7 @@
 // ASME J. Mechanical Design 115(3), 1993, as written), `tree_` quantities in
 // body i's tree frame (world orientation, origin at its tree's root body
 // origin; sweeps/tree_frame_updates.hpp). Which algorithm fills which is
-// said per member; the README's architecture section says which sweep runs when.
+// said per member; docs/design/layout.md says which sweep runs when.
 #pragma once
 #include <Eigen/Cholesky>
 #include "soadyn/model/loop_data.hpp"

@@ -3,7 +3,7 @@
 // loader, C++) can be shipped to a C++ simulator or a campaign worker and
 // rebuilt exactly (every double written with the 17 significant digits that
 // round-trip). The format ("format": "soadyn-model", "version": 1) is
-// described key by key in the README ("Model files"); a reader refuses a
+// described key by key in docs/guides/model-files.md; a reader refuses a
 // newer version, an unknown joint type or loop kind, a missing or mistyped
 // key and a non-finite number with a ModelFileError naming the file and the
 // JSON path of the item (e.g. "/bodies/3/mass"). Unknown keys are refused

@@ -22,7 +22,7 @@
 //                    prescribed ones.
 //   sensor payload:  count = nq + nv, q then v.
 //
-// Who may send (the security model; the README has the user's view):
+// Who may send (the security model; docs/guides/hil.md has the user's view):
 //   - the socket is bound to 127.0.0.1, so only processes on this machine
 //     reach it;
 //   - commands are accepted from one sender only: 127.0.0.1 at the

@@ -38,7 +38,7 @@ namespace soadyn {
 
 enum class Integrator {
   // Velocity first, then position with the new velocity. Symplectic only
-  // when the mass matrix does not depend on q (README: its energy drift).
+  // when the mass matrix does not depend on q (docs/guides/simulation.md: its energy drift).
   semi_implicit_euler,
   rk4,                  // classical Runge-Kutta, 4th order, on the joint manifolds
   dopri5,               // Dormand-Prince 5(4) with error control; sub-steps inside each step

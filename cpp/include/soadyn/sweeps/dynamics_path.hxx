@@ -1,7 +1,7 @@
 // The one place that chooses which sweeps forward dynamics, hybrid dynamics
 // and its impulse form run: the model's DynamicsPath (model.hpp), fixed when
 // its structure changes, and per call the tree-frame reach
-// (tree_frame_reach.hxx). The README's architecture section tabulates it.
+// (tree_frame_reach.hxx). docs/design/layout.md tabulates it.
 #pragma once
 #include "soadyn/sweeps/body_frame_sweeps.hxx"
 #include "soadyn/sweeps/tree_frame_sweeps.hxx"
