@@ -3,7 +3,8 @@
 - `mkdocs build --strict` (the command the README gives) builds the site from docs/ with warnings as
   errors: a broken link or anchor, a page left out of the navigation, an API name mkdocstrings cannot
   find fails it. The Python API page documents the public names of `soadyn` (read from the code and the
-  generated stub).
+  generated stub); the command-line page, made from the parsers at build time, every command; the
+  design pages include CONTRIBUTING.md.
 - README.md is at most 250 lines, and every page of the manual it links to exists.
 """
 from __future__ import annotations
@@ -26,8 +27,12 @@ def test_the_manual_builds_with_warnings_as_errors(tmp_path):
     documented = set(re.findall(r'id="soadyn\.(\w+)"', api))
     for name in ("Model", "Simulator", "Viewer", "hybrid_dynamics", "forward_kinematics", "load_urdf", "Trajectory"):
         assert name in documented, f"the API page does not document soadyn.{name}"
-    for page in ("guides/hil", "guides/cpp", "gallery", "design/layout"):
+    for page in ("getting-started", "guides/hil", "guides/cpp", "gallery", "design/layout", "design/contributing"):
         assert (site / page / "index.html").is_file(), page
+    cli = (site / "reference" / "cli" / "index.html").read_text()
+    for command in ("demo", "check", "hil", "view", "campaign", "robots"):
+        assert f"soadyn {command}" in cli and "--screenshot" in cli, command
+    assert "Adding a joint type" in (site / "design" / "contributing" / "index.html").read_text()
 
 
 def test_the_readme_is_short_and_its_manual_links_resolve():

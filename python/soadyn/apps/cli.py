@@ -38,7 +38,9 @@ from .demo import describe_scene, format_result, run_demo
 DEMO_PLOTS = {"cassini": "booms.png", "four-bar": "four_bar.png"}
 
 
-def main(argv: list[str] | None = None) -> int:
+def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.ArgumentParser]]:
+    """The `soadyn` parser and its commands' parsers by name (the CLI reference of the manual is made from
+    them)."""
     parser = argparse.ArgumentParser(prog="soadyn", description="O(N) hybrid multibody dynamics.")
     parser.add_argument("--version", action="version", version=f"soadyn {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="{demo,check,hil,view,campaign,robots}")
@@ -76,25 +78,31 @@ def main(argv: list[str] | None = None) -> int:
                       help="serve this many seconds, then exit (default: until Ctrl-C)")
     add_exaggeration_option(view, "--exaggeration")
     add_picture_options(view)
-    sub.add_parser("robots", help="list the built-in scenes and the example robots installed here, with their paths")
-    hil_parser = add_hil_parser(sub)
-    campaign_parser = add_campaign_parser(sub)
+    robots = sub.add_parser("robots", help="list the built-in scenes and the example robots installed here, with their "
+                                           "paths")
+    commands = {"demo": demo, "check": check, "hil": add_hil_parser(sub), "view": view,
+                "campaign": add_campaign_parser(sub), "robots": robots}
+    return parser, commands
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser, commands = build_parser()
     args = parser.parse_args(argv)
     if args.command is None:
         parser.error("a command is required: demo, check, hil, view, campaign or robots (soadyn COMMAND --help for its "
                      "options)")
     if args.command == "campaign":
-        return run_campaign_command(args, campaign_parser)
+        return run_campaign_command(args, commands["campaign"])
     if args.command == "check":
-        return run_check(args, check)
+        return run_check(args, commands["check"])
     if args.command == "hil":
-        return run_hil_command(args, hil_parser)
+        return run_hil_command(args, commands["hil"])
     if args.command == "view":
-        return run_view(args, view)
+        return run_view(args, commands["view"])
     if args.command == "robots":
         print(format_robots())
         return 0
-    return run_demo_command(args, demo)
+    return run_demo_command(args, commands["demo"])
 
 
 def format_robots() -> str:
