@@ -4,7 +4,8 @@
   errors: a broken link or anchor, a page left out of the navigation, an API name mkdocstrings cannot
   find fails it. The Python API page documents the public names of `soadyn` (read from the code and the
   generated stub); the command-line page, made from the parsers at build time, every command; the
-  design pages include CONTRIBUTING.md.
+  design pages include CONTRIBUTING.md; the examples gallery runs every example (at a reduced size) and
+  shows what each printed, its plot and its source.
 - README.md is at most 250 lines, and every page of the manual it links to exists.
 """
 from __future__ import annotations
@@ -21,7 +22,8 @@ ROOT = Path(__file__).resolve().parents[2]
 def test_the_manual_builds_with_warnings_as_errors(tmp_path):
     site = tmp_path / "site"
     result = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(site)], cwd=ROOT,
-                            capture_output=True, text=True, timeout=600, env=dict(os.environ, NO_MKDOCS_2_WARNING="1"))
+                            capture_output=True, text=True, timeout=600,
+                            env=dict(os.environ, NO_MKDOCS_2_WARNING="1", SOADYN_DOCS_QUICK="1"))
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     api = (site / "reference" / "python" / "index.html").read_text()
     documented = set(re.findall(r'id="soadyn\.(\w+)"', api))
@@ -33,6 +35,11 @@ def test_the_manual_builds_with_warnings_as_errors(tmp_path):
     for command in ("demo", "check", "hil", "view", "campaign", "robots"):
         assert f"soadyn {command}" in cli and "--screenshot" in cli, command
     assert "Adding a joint type" in (site / "design" / "contributing" / "index.html").read_text()
+    for example in ("four-bar", "cassini-lockup", "analysis"):  # run by the build: printed output, plot, source
+        page = (site / "examples" / example / "index.html").read_text()
+        assert "It prints" in page and "The source" in page and "import" in page, example
+        assert (site / "examples" / f"{example}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", example
+    assert "kinetic energy taken by the lock" in (site / "examples" / "cassini-lockup" / "index.html").read_text()
 
 
 def test_the_readme_is_short_and_its_manual_links_resolve():
