@@ -4,7 +4,7 @@
   errors: a broken link or anchor, a page left out of the navigation, an API name mkdocstrings cannot
   find fails it. The Python API page documents the public names of `soadyn` (read from the code and the
   generated stub); the command-line page, made from the parsers at build time, every command; the
-  design pages include CONTRIBUTING.md; the examples gallery runs every example (at a reduced size) and
+  design pages include CONTRIBUTING.md; the C++ page indexes the public headers with their leading comments; the examples gallery runs every example (at a reduced size) and
   shows what each printed, its plot and its source.
 - README.md is at most 250 lines, and every page of the manual it links to exists.
 """
@@ -39,6 +39,8 @@ def test_the_manual_builds_with_warnings_as_errors(tmp_path):
         page = (site / "examples" / example / "index.html").read_text()
         assert "It prints" in page and "The source" in page and "import" in page, example
         assert (site / "examples" / f"{example}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", example
+    headers = (site / "reference" / "cpp" / "index.html").read_text()
+    assert "soadyn/algorithms/hybrid.hpp" in headers and "Jain &amp; Rodriguez" in headers
     assert "kinetic energy taken by the lock" in (site / "examples" / "cassini-lockup" / "index.html").read_text()
 
 
