@@ -15,6 +15,7 @@ import argparse
 
 import numpy as np
 
+from plotting import two_panels
 from soadyn import Simulator, scenes
 
 SLEW_TORQUE = 2.0  # N m on the scan platform's azimuth hinge
@@ -48,20 +49,8 @@ def main(argv=None) -> dict:
     print(f"kinetic energy taken by the lock: {result['energy_lost']:.6f} J")
     print(f"bus angular rate: {1e3 * bus_rate[before]:.4f} -> {1e3 * bus_rate[after]:.4f} mrad/s")
     if args.plot:
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(7, 4))
-        top, bottom = fig.subplots(2, 1, sharex=True)
-        top.plot(run.t, run.v[:, scan])
-        top.set_ylabel("scan azimuth rate (rad/s)")
-        bottom.plot(run.t, 1e3 * bus_rate)
-        bottom.set_ylabel("bus rate (mrad/s)")
-        bottom.set_xlabel("time (s)")
-        for ax in (top, bottom):
-            ax.axvline(args.lock_time, color="grey", linestyle=":")
-        fig.suptitle("cassini: the scan platform's azimuth hinge locks mid-slew")
-        fig.tight_layout()
-        fig.savefig(args.plot, dpi=100)
+        two_panels(run.t, run.v[:, scan], 1e3 * bus_rate, ("time (s)", "scan azimuth rate (rad/s)", "bus rate (mrad/s)"),
+                   "cassini: the scan platform's azimuth hinge locks mid-slew", args.plot, marks=[args.lock_time])
     return result
 
 
