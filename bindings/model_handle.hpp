@@ -1,6 +1,6 @@
 // The Python-side Model: a soadyn::Model with the Data its calls reuse.
 //
-// Threading contract (README "Threads"): a model may be used from any number
+// Threading contract (docs/guides/python-api.md, "Threads"): a model may be used from any number
 // of Python threads. Dynamics calls on one model are serialised by `mutex`
 // (they share `data`); the GIL is released while large models compute.
 // Every change of the model (structure, flags, gravity) holds both the GIL
