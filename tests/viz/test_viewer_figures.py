@@ -252,3 +252,55 @@ def test_soadyn_view_refuses_bad_export_requests_by_name(tmp_path, capsys, monke
     monkeypatch.setenv("SOADYN_CHROMIUM", str(tmp_path / "no-such-browser"))
     assert cli.main(["view", "four-bar", "--screenshot", str(tmp_path / "p.png")]) == 1
     assert "SOADYN_CHROMIUM=" in capsys.readouterr().err and not (tmp_path / "p.png").exists()
+
+
+def test_hostile_replays_and_picture_requests_are_refused_by_name(quiet_viewer, tmp_path):
+    m, trajectory = four_bar_run(0.05)
+    viewer = quiet_viewer(m, q=trajectory.q[0])
+    bad_q = trajectory.q.copy()
+    bad_q[2, 1] = np.nan
+    backwards = trajectory.t[::-1].copy()
+    for t, q, message in ((trajectory.t, bad_q, "non-finite"), (backwards, trajectory.q, "must not decrease"),
+                          (trajectory.t[:0], trajectory.q[:0], "coordinates per sample")):
+        with pytest.raises(ValueError, match=message):
+            viewer.play(type("Replay", (), {"t": t, "q": q})())
+    with pytest.raises(ValueError, match="at most"):  # a frame count no movie or page can hold
+        resample(np.array([0.0, 1e6]), np.zeros((2, m.nq)), 30.0)
+    for size in ((float("nan"), 100), ("wide", 100), (10, 100), (True, 100), (640, 10_000)):
+        with pytest.raises(ValueError, match="picture size must be whole numbers of 16 to 8192 pixels"):
+            viewer.save_png(tmp_path / "p.png", *size)
+    with pytest.raises(OSError):
+        viewer.save_html(tmp_path / "no-such-folder" / "page.html", trajectory)
+    np.testing.assert_array_equal(viewer.q, trajectory.q[0])  # a failed export leaves the shown state
+
+
+def test_a_model_without_bodies_is_drawn_and_framed(quiet_viewer):
+    viewer = quiet_viewer(soadyn.Model())
+    position, look_at, up = viewer.camera_view()
+    assert np.all(np.isfinite(position)) and np.linalg.norm(position - look_at) > 0
+    assert viewer.visuals == [] and viewer.follow_checkbox is None
+
+
+def test_show_from_two_threads_keeps_every_pose_whole(quiet_viewer):
+    import threading
+
+    m, trajectory = four_bar_run(0.2)
+    viewer = quiet_viewer(m, q=trajectory.q[0])
+    errors = []
+
+    def replay(rows):
+        try:
+            for q in rows:
+                viewer.show(q)
+        except Exception as error:  # any failure of a thread is the test's failure
+            errors.append(error)
+
+    threads = [threading.Thread(target=replay, args=(trajectory.q[k::2],)) for k in (0, 1)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors
+    expected = scene_poses(m, viewer.q, visuals=viewer.visuals)  # the last show, whichever thread made it
+    for path in ("/bodies/coupler", "/visuals/rocker/rod0"):
+        np.testing.assert_allclose(viewer.handles[path].position, expected[path][:3, 3], atol=1e-6)

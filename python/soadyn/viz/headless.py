@@ -21,6 +21,7 @@ import base64
 import contextlib
 import json
 import logging
+import numbers
 import os
 import shutil
 import signal
@@ -170,9 +171,11 @@ def rendered_frames(viewer, width: int = 1280, height: int = 720, browser: Headl
     framed as viewer.camera_view() says (on `states` if given, a movie's frames), a `browser` given reused,
     else one started and closed.
     `transport`: "png" (lossless) or "jpeg" (about twice as fast; movies are lossy anyway)."""
+    if not all(isinstance(x, numbers.Integral) and not isinstance(x, bool) and 16 <= x <= 8192
+               for x in (width, height)):
+        raise ValueError(f"viewer: picture size must be whole numbers of 16 to 8192 pixels a side, got {width!r} x "
+                         f"{height!r}")
     width, height = int(width), int(height)
-    if not (16 <= width <= 8192 and 16 <= height <= 8192):
-        raise ValueError(f"viewer: picture size must be 16 to 8192 pixels a side, got {width} x {height}")
     own = browser is None
     browser = HeadlessBrowser(width, height) if own else browser
     handshakes = logging.getLogger("websockets.server")  # Chromium's probes of the port are not errors
