@@ -36,6 +36,11 @@ rods (0.7 m, 0.1 kg, 0.1 m apart) on universal joints, whose far ends are
 ball joints ("point" loops) on a free travelling plate (0.5 kg, balls at
 radius 0.05 m); gravity along -z: 21 DOFs, 6 loops, 3 degrees of freedom.
 
+``stanford_arm`` is Scheinman's Stanford arm from Paul's (1981) parameters, built in Python from its
+Denavit-Hartenberg table (soadyn.stanford_arm, which documents the data and the two readings of the
+table it takes); ``stanford_arm_motion`` gives the cycloidal rest-to-rest motion of Saha, Shah &
+Nandihal (Eqs. 34-35) as one MotionSource per DOF.
+
 The ``*_state`` functions return a closed (q, v) by closed-form position and
 velocity analysis.
 """
@@ -46,6 +51,7 @@ import numpy as np
 from . import _soadyn as _core
 from ._soadyn import FlexibleBody
 from .model import Model
+from .stanford_arm import stanford_arm, stanford_arm_motion  # noqa: F401 (scenes of this module)
 from .viz.cassini_visuals import cassini_visuals
 
 TURNTABLE_RATE = 3.0 * 2.0 * np.pi / 60.0  # 3 rpm in rad/s
@@ -163,7 +169,7 @@ def delta_robot_state(position, velocity=(0.0, 0.0, 0.0)) -> tuple[np.ndarray, n
     return _core._delta_robot_state(position, velocity)
 
 
-SCENES = {"cassini": cassini, "pendulum-chain": pendulum_chain}
+SCENES = {"cassini": cassini, "pendulum-chain": pendulum_chain, "stanford-arm": stanford_arm}
 
 # The loop scenes and the closed state, at rest, a run of them starts from
 # (`soadyn hil --scene four-bar`): a simulator cannot start from the neutral
@@ -181,7 +187,7 @@ def __getattr__(name: str):
     import difflib
 
     known = sorted(n for n, v in globals().items() if callable(v) and not n.startswith("_")
-                   and getattr(v, "__module__", None) == __name__)
+                   and getattr(v, "__module__", None) in (__name__, stanford_arm.__module__))
     close = difflib.get_close_matches(name, known, n=3, cutoff=0.5)
     hint = f"; did you mean {', '.join(close)}?" if close else f"; the scenes: {', '.join(known)}"
     raise AttributeError(f"soadyn.scenes has no scene {name!r}{hint}")

@@ -88,7 +88,7 @@ def test_a_misspelt_scene_names_the_closest_ones():
 def test_soadyn_robots_lists_the_scenes_and_every_example_robot_with_its_path(capsys):
     assert main(["robots"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert lines[0] == "built-in scenes (soadyn view NAME): cassini, four-bar, slider-crank, delta-robot"
+    assert lines[0] == "built-in scenes (soadyn view NAME): cassini, four-bar, slider-crank, delta-robot, stanford-arm"
     assert lines[1].endswith(f"URDF files in {robots_dir()} (soadyn view NAME, or its path where two share a name)")
     listed = [line.split(maxsplit=1) for line in lines[2:]]
     assert sorted(path for _, path in listed) == sorted(str(p) for p in robots_dir().glob("**/*.urdf"))

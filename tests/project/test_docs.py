@@ -35,8 +35,8 @@ def test_the_manual_builds_with_warnings_as_errors(tmp_path):
     for command in ("demo", "check", "hil", "view", "campaign", "robots"):
         assert f"soadyn {command}" in cli and "--screenshot" in cli, command
     assert "Adding a joint type" in (site / "design" / "contributing" / "index.html").read_text()
-    for example in ("four-bar", "cassini-lockup", "slider-crank", "monte-carlo-campaign", "flexible-spacecraft-modes",
-                    "analysis"):  # run by the build: printed output, plot, source
+    for example in ("four-bar", "stanford-arm", "cassini-lockup", "slider-crank", "solar-wing", "monte-carlo-campaign",
+                    "flexible-spacecraft-modes", "analysis"):  # run by the build: printed output, plot, source
         page = (site / "examples" / example / "index.html").read_text()
         assert "It prints" in page and "The source" in page and "import" in page, example
         assert (site / "examples" / f"{example}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", example
@@ -44,6 +44,8 @@ def test_the_manual_builds_with_warnings_as_errors(tmp_path):
     assert "soadyn/algorithms/hybrid.hpp" in headers and "Jain &amp; Rodriguez" in headers
     assert "kinetic energy taken by the lock" in (site / "examples" / "cassini-lockup" / "index.html").read_text()
     assert "6 of 6 runs finished" in (site / "examples" / "monte-carlo-campaign" / "index.html").read_text()
+    assert "peak |force|" in (site / "examples" / "stanford-arm" / "index.html").read_text()
+    assert "the run's spectrum" in (site / "examples" / "solar-wing" / "index.html").read_text()
     assert "rigid-body modes at zero frequency" in (site / "examples" / "flexible-spacecraft-modes" / "index.html").read_text()
 
 

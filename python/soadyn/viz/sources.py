@@ -20,7 +20,7 @@ __all__ = ["BUILT_IN_SCENES", "load_any", "start_state"]
 
 def _scene_builders() -> dict:
     return {"cassini": scenes.cassini, "four-bar": scenes.four_bar, "slider-crank": scenes.slider_crank,
-            "delta-robot": scenes.delta_robot}
+            "delta-robot": scenes.delta_robot, "stanford-arm": scenes.stanford_arm}
 
 
 BUILT_IN_SCENES = tuple(_scene_builders())  # the scene names `soadyn view` takes
