@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "arrays.hpp"
+#include "docstrings.hpp"
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
@@ -68,7 +69,7 @@ void bind_algorithms(py::module_& mod) {
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("tau"), py::arg("f_ext") = py::none(),
       "Accelerations qdd = M^-1 (tau - h + J' f_ext) by the articulated-body algorithm (every DOF regular,\n"
       "whatever the model's flags). f_ext: (nbodies, 6) body-frame wrenches [torque; force] about each body\n"
-      "origin. Returns a fresh array.");
+      "origin. Returns a fresh (nv,) array." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("inverse_dynamics",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext) {
@@ -78,7 +79,8 @@ void bind_algorithms(py::module_& mod) {
         return out;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("qdd"), py::arg("f_ext") = py::none(),
-      "Generalized forces tau = M qdd + h - J' f_ext (recursive Newton-Euler). Returns a fresh array.");
+      "Generalized forces tau = M qdd + h - J' f_ext (recursive Newton-Euler). Returns a fresh (nv,) array."
+      SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("joint_wrenches",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle qdd, py::handle f_ext, py::handle loop_wrenches) {
@@ -109,7 +111,8 @@ void bind_algorithms(py::module_& mod) {
       "through its hinge, in the body frame about the body origin, at the given accelerations. On a model with\n"
       "closed loops the tree is also loaded by the loop forces, so loop_wrenches (nloops, 6) is required: the\n"
       "wrenches constrained_dynamics returns (each acts on frame_a's body about frame_a's origin, its opposite\n"
-      "on frame_b's body with the force at frame_b's origin, frame_a's for a prismatic loop).");
+      "on frame_b's body with the force at frame_b's origin, frame_a's for a prismatic loop)."
+      SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("hybrid_dynamics",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext, bool wrenches) -> py::object {
@@ -127,7 +130,8 @@ void bind_algorithms(py::module_& mod) {
       py::arg("joint_wrenches") = false,
       "Hybrid dynamics (Jain & Rodriguez 1993, Eqs. 14, 28, 29): u holds the torque of each regular DOF and the acceleration of\n"
       "each prescribed DOF (model.prescribed). Returns fresh arrays (qdd, tau) with every DOF's acceleration\n"
-      "and generalized force, plus the (nbodies, 6) joint wrenches when joint_wrenches=True.");
+      "and generalized force, each (nv,), plus the (nbodies, 6) joint wrenches when joint_wrenches=True."
+      SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("constrained_dynamics",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle u, py::handle f_ext, bool joint_wrenches) -> py::object {
@@ -154,7 +158,7 @@ void bind_algorithms(py::module_& mod) {
       "DOFs than the mechanism's mobility (redundant actuation) tau holds the minimum-norm actuator forces: the\n"
       "smallest ||tau_p|| over every set of loop forces consistent with the motion. Closure accelerations that\n"
       "cannot be met (inconsistent prescribed accelerations, a driven mechanism at a dead centre) raise\n"
-      "DynamicsError naming the loop. Equals hybrid_dynamics without loops.");
+      "DynamicsError naming the loop. Equals hybrid_dynamics without loops." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("loop_residual",
       [](ModelHandle& h, py::handle q, py::handle v) -> py::object {
@@ -181,7 +185,9 @@ void bind_algorithms(py::module_& mod) {
         return std::move(position);
       },
       py::arg("model"), py::arg("q"), py::arg("v") = py::none(),
-      "Loop-closure residual Psi(q) (nloop_equations,), and with v the tuple (Psi(q), C(q) v).");
+      "Loop-closure residual Psi(q) (nloop_equations,), and with v the tuple (Psi(q), C(q) v): per loop, the\n"
+      "cut joint's constrained relative displacements (m, rad) and velocities (m/s, rad/s)."
+      SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("loop_jacobian",
       [](ModelHandle& h, py::handle q) {
@@ -198,7 +204,8 @@ void bind_algorithms(py::module_& mod) {
         return out;
       },
       py::arg("model"), py::arg("q"),
-      "Loop constraint Jacobian C(q), (nloop_equations, nv): C v is the cut joints' relative velocity.");
+      "Loop constraint Jacobian C(q), (nloop_equations, nv): C v is the cut joints' relative velocity."
+      SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("loop_rank",
       [](ModelHandle& h, py::handle q) {
@@ -208,7 +215,7 @@ void bind_algorithms(py::module_& mod) {
       },
       py::arg("model"), py::arg("q"),
       "Rank of the loop constraint Jacobian C(q) (column-pivoted QR; pivots below 1e3 machine epsilons times\n"
-      "the largest count as zero).");
+      "the largest count as zero)." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("mass_matrix",
       [](ModelHandle& h, py::handle q) {
@@ -224,7 +231,8 @@ void bind_algorithms(py::module_& mod) {
         raise_on(status, h.model, "mass_matrix");
         return out;
       },
-      py::arg("model"), py::arg("q"), "Joint-space mass matrix M(q), (nv, nv) (composite-rigid-body algorithm).");
+      py::arg("model"), py::arg("q"), "Joint-space mass matrix M(q), (nv, nv) (composite-rigid-body algorithm), in kg,\n"
+      "kg m and kg m^2 by the DOFs' kinds." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("bias_forces",
       [](ModelHandle& h, py::handle q, py::handle v) {
@@ -240,7 +248,8 @@ void bind_algorithms(py::module_& mod) {
         raise_on(status, h.model, "bias_forces");
         return out;
       },
-      py::arg("model"), py::arg("q"), py::arg("v"), "h(q, v): Coriolis, centrifugal and gravity generalized forces.");
+      py::arg("model"), py::arg("q"), py::arg("v"), "h(q, v), (nv,): Coriolis, centrifugal and gravity generalized forces (N, N m)."
+      SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("kinetic_energy",
       [](ModelHandle& h, py::handle q, py::handle v) {
@@ -253,7 +262,7 @@ void bind_algorithms(py::module_& mod) {
         });
         return e;
       },
-      py::arg("model"), py::arg("q"), py::arg("v"), "Kinetic energy 1/2 v' M v.");
+      py::arg("model"), py::arg("q"), py::arg("v"), "Kinetic energy 1/2 v' M v, in J." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("potential_energy",
       [](ModelHandle& h, py::handle q) {
@@ -266,7 +275,8 @@ void bind_algorithms(py::module_& mod) {
           return e;
         });
       },
-      py::arg("model"), py::arg("q"), "Gravitational potential energy -sum m g.c (zero at the world origin).");
+      py::arg("model"), py::arg("q"), "Potential energy in J: gravity's, -sum m g.c (zero at the world\n"
+      "origin), plus the flexible bodies' strain energy and the springs' (force_element_potential)." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("momentum",
       [](ModelHandle& h, py::handle q, py::handle v) {
@@ -280,7 +290,8 @@ void bind_algorithms(py::module_& mod) {
         return Eigen::VectorXd(p);
       },
       py::arg("model"), py::arg("q"), py::arg("v"),
-      "Spatial momentum [angular about the world origin; linear] in the world frame.");
+      "Spatial momentum (6,) [angular about the world origin, N m s; linear, N s] in world axes."
+      SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("center_of_mass",
       [](ModelHandle& h, py::handle q) {
@@ -290,7 +301,8 @@ void bind_algorithms(py::module_& mod) {
           return c;
         });
       },
-      py::arg("model"), py::arg("q"), "Centre of mass of the whole tree in the world frame.");
+      py::arg("model"), py::arg("q"), "Centre of mass (3,) of the whole tree in the world frame, in m."
+      SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("forward_kinematics",
       [](ModelHandle& h, py::handle q, py::handle v) -> py::object {
@@ -319,7 +331,8 @@ void bind_algorithms(py::module_& mod) {
       },
       py::arg("model"), py::arg("q"), py::arg("v") = py::none(),
       "(poses, velocities): (nbodies, 4, 4) homogeneous body poses in the world and, with v, (nbodies, 6)\n"
-      "body-frame spatial velocities [angular; linear].");
+      "body-frame spatial velocities [angular rad/s; linear m/s of the body origin]." SOADYN_DOC_STATE
+      SOADYN_DOC_RAISES);
 
   mod.def("integrate",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle dt_arg) {
@@ -335,7 +348,8 @@ void bind_algorithms(py::module_& mod) {
         return out;
       },
       py::arg("model"), py::arg("q"), py::arg("v"), py::arg("dt"),
-      "q (+) v dt, each joint on its manifold (quaternions by the exponential map; free joints on SE(3)).");
+      "q (+) v dt, (nq,): each joint on its manifold (quaternions by the exponential map; free joints on\n"
+      "SE(3)); dt in s." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("neutral_configuration",
       [](const ModelHandle& h) {
@@ -343,7 +357,7 @@ void bind_algorithms(py::module_& mod) {
         soadyn::neutral_configuration<double>(h.model, q);
         return q;
       },
-      py::arg("model"), "Zero coordinates with identity quaternions.");
+      py::arg("model"), "The neutral configuration (nq,): zero coordinates with identity quaternions.");
 
   mod.def("random_configuration",
       [](const ModelHandle& h, py::handle seed) {
@@ -353,7 +367,8 @@ void bind_algorithms(py::module_& mod) {
         return q;
       },
       py::arg("model"), py::arg("seed") = 0,
-      "Random configuration: angles in [-pi, pi], offsets in [-1, 1], uniform unit quaternions.");
+      "A random configuration (nq,) from the integer seed: angles in [-pi, pi] rad, offsets in [-1, 1] m,\n"
+      "uniform unit quaternions.");
 }
 
 }  // namespace soadyn_py

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "arrays.hpp"
+#include "docstrings.hpp"
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
@@ -66,7 +67,8 @@ void bind_equation_terms(py::module_& mod) {
       },
       py::arg("model"), py::arg("q"),
       "g(q), (nv,): the generalized gravity forces, h(q, 0) (bias_forces at rest). On a model with flexible\n"
-      "bodies, gravity only (their elastic forces are not part of it).");
+      "bodies, gravity only (their elastic forces are not part of it). In N and N m by the DOFs' kinds."
+      SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("external_forces_to_generalized",
       [](ModelHandle& h, py::handle q, py::handle f_ext) {
@@ -81,21 +83,23 @@ void bind_equation_terms(py::module_& mod) {
       },
       py::arg("model"), py::arg("q"), py::arg("f_ext"),
       "J(q)' f_ext, (nv,): the generalized forces of (nbodies, 6) body-frame wrenches [torque; force] about each\n"
-      "body origin (the f_ext of forward_dynamics: M qdd + h = tau + J' f_ext).");
+      "body origin (the f_ext of forward_dynamics: M qdd + h = tau + J' f_ext); f_ext of another shape raises\n"
+      "ValueError naming it." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("coriolis_matrix",
       [](ModelHandle& h, py::handle q, py::handle v) { return coriolis_or_mass_rate(h, q, v, false, "coriolis_matrix"); },
       py::arg("model"), py::arg("q"), py::arg("v"),
       "C(q, v), (nv, nv): C v = h(q, v) - g(q) and dM/dt - 2 C is skew-symmetric (Echeandia & Wensing 2021);\n"
       "C(q, v) = sum_k christoffel_symbols(m, q)[:, :, k] v[k]. Rigid bodies only (ValueError naming a\n"
-      "flexible body).");
+      "flexible body)." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("mass_matrix_derivative",
       [](ModelHandle& h, py::handle q, py::handle v) {
         return coriolis_or_mass_rate(h, q, v, true, "mass_matrix_derivative");
       },
       py::arg("model"), py::arg("q"), py::arg("v"),
-      "dM/dt = C + C', (nv, nv): the rate of the mass matrix along the velocity v. Rigid bodies only.");
+      "dM/dt = C + C', (nv, nv): the rate of the mass matrix along the velocity v. Rigid bodies only (ValueError\n"
+      "naming a flexible body)." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("christoffel_symbols",
       [](ModelHandle& h, py::handle q) {
@@ -120,8 +124,8 @@ void bind_equation_terms(py::module_& mod) {
       "Gamma, (nv, nv, nv), with C(q, v)[i, j] = sum_k Gamma[i, j, k] v[k]. For DOFs whose coordinates\n"
       "integrate their velocities, Gamma[i, j, k] = 1/2 (dM[i,j]/dq_k + dM[i,k]/dq_j - dM[j,k]/dq_i) (symmetric in\n"
       "j, k); for spherical, planar and free joints (body-frame velocities) the derivatives are along\n"
-      "q (+) eps e_k and Gamma adds the Lie-bracket terms of that moving frame (README, \"Equations term by\n"
-      "term\"). Rigid bodies only.");
+      "q (+) eps e_k and Gamma adds the Lie-bracket terms of that moving frame (the analysis guide, \"Equations\n"
+      "term by term\"). Rigid bodies only (ValueError naming a flexible body)." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 }
 
 }  // namespace soadyn_py

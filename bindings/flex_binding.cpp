@@ -157,7 +157,11 @@ void bind_flexible_body(py::module_& mod) {
            py::arg("attachments") = std::map<std::string, int>{},
            "positions (N, 3) undeformed node positions in the body frame; masses (N,); rotary_inertias\n"
            "(N, 3, 3) about each node; mode_shapes (N, 6, n_modes); stiffness and damping (n_modes,\n"
-           "n_modes), symmetric positive semidefinite (damping None: zero); attachments {name: node}.")
+           "n_modes), symmetric positive semidefinite (damping None: zero); attachments {name: node}.\n"
+           "Units: m, kg, kg m^2; mode shapes per unit modal coordinate (rad and m); stiffness in the modal\n"
+           "coordinates' units (N m / rad^2 for a unit-rad mode), damping likewise per s. A wrong shape, a non-finite\n"
+           "or negative mass, an asymmetric or indefinite matrix or an attachment to a missing node raises\n"
+           "ValueError naming the node or the matrix.")
       .def_static("cantilever_beam",
                   [](py::handle length, py::handle EI, py::handle mass_per_length, py::handle n_modes,
                      py::handle n_nodes) {

@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include "arrays.hpp"
+#include "docstrings.hpp"
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
@@ -66,7 +67,9 @@ void bind_force_elements(py::module_& mod) {
         for (const auto& s : h.model.force_elements.point_springs) out.append(point_spring_dict(h.model, s));
         return out;
       },
-      py::arg("model"), "The model's force elements as dicts (joint springs first, then point springs).");
+      py::arg("model"),
+      "The model's force elements as a list of dicts (joint springs first, then point springs): name, kind, the\n"
+      "DOF or the two frames and points, stiffness (N/m or N m/rad), damping (N s/m or N m s/rad), rest value.");
   mod.def("force_element_potential",
       [](ModelHandle& h, py::handle q) {
         return at_configuration(h, q, [](const soadyn::Model& m, soadyn::Data& d, const Map& qm) {
@@ -76,7 +79,8 @@ void bind_force_elements(py::module_& mod) {
         });
       },
       py::arg("model"), py::arg("q"),
-      "Potential energy of the springs alone (also included in potential_energy).");
+      "Potential energy of the springs alone, in J (also included in potential_energy)." SOADYN_DOC_STATE
+      SOADYN_DOC_RAISES);
   mod.def("dissipated_power",
       [](ModelHandle& h, py::handle q, py::handle v) {
         const std::uint64_t version = h.model.version;
@@ -90,7 +94,7 @@ void bind_force_elements(py::module_& mod) {
       },
       py::arg("model"), py::arg("q"), py::arg("v"),
       "Power the dampers dissipate at (q, v), >= 0: the rate at which kinetic plus potential energy falls when "
-      "no actuator or external force acts.");
+      "no actuator or external force acts; in W." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 }
 
 }  // namespace soadyn_py

@@ -4,6 +4,7 @@
 #include <pybind11/eigen.h>
 
 #include "arrays.hpp"
+#include "docstrings.hpp"
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
@@ -76,7 +77,8 @@ Eigen::VectorXd checked_vector6(const char* what, const soadyn::Vec6<double>& x)
 #define SOADYN_FRAME_REFERENCES                                                                                  \
     "reference: 'world' (world axes, about the world origin), 'local' (frame axes, about the frame origin) or\n" \
     "'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links\n" \
-    "included) or a body index."
+    "included) or a body index; an unknown frame or reference raises ValueError naming it. Angular parts in\n"    \
+    "rad/s (rad/s^2), linear parts in m/s (m/s^2)." SOADYN_DOC_STATE SOADYN_DOC_RAISES
 
 }  // namespace
 
@@ -94,8 +96,9 @@ void bind_frames(py::module_& mod) {
         return T;
       },
       py::arg("model"), py::arg("q"), py::arg("frame"),
-      "4x4 homogeneous pose of the frame in the world at q. frame: a body name, a frame name (welded links\n"
-      "included) or a body index.");
+      "4x4 homogeneous pose of the frame in the world at q (rotation, translation in m). frame: a body name, a\n"
+      "frame name (welded links included) or a body index; an unknown frame raises ValueError naming it."
+      SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 
   mod.def("frame_velocity",
       [](ModelHandle& h, py::handle q, py::handle v, py::handle frame, py::handle reference) {
@@ -168,7 +171,8 @@ void bind_frames(py::module_& mod) {
         return checked_columns("center_of_mass_jacobian", h, J);
       },
       py::arg("model"), py::arg("q"),
-      "Jacobian (3 x nv) of the centre of mass in the world frame: J v is its velocity.");
+      "Jacobian (3 x nv) of the centre of mass in the world frame: J v is its velocity (m/s)."
+      SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 }
 
 }  // namespace soadyn_py

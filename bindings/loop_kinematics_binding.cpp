@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "arrays.hpp"
+#include "docstrings.hpp"
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "interrupts.hpp"
@@ -88,7 +89,7 @@ void bind_loop_kinematics(py::module_& mod) {
       py::arg("model"), py::arg("q"),
       "Names of the independent DOFs at q by coordinate partitioning: the DOFs whose columns of the loop\n"
       "constraint Jacobian C(q) carry the largest pivots of a fully pivoted LU factorisation are dependent,\n"
-      "the others (nv - rank C of them, in DOF order) independent.");
+      "the others (nv - rank C of them, in DOF order) independent." SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 }
 
 }  // namespace soadyn_py

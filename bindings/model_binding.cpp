@@ -99,7 +99,13 @@ void set_for_dofs(ModelHandle& h, const std::vector<int>& dofs, double value,
 }  // namespace
 
 void bind_model(py::module_& mod) {
-  py::class_<JointSpec> joint(mod, "Joint", "A joint type; build one with the static constructors.");
+  py::class_<JointSpec> joint(
+      mod, "Joint",
+      "A joint type; build one with the static constructors and give it to Model.add_body.\n\n"
+      "Axes are 3-vectors in the joint frame, normalised when the body is added; a zero or non-finite axis is\n"
+      "refused by Model.add_body with a ValueError naming the joint. Coordinates: rad for rotations, m for\n"
+      "translations (a helical joint's pitch in m per rad). DOF names are the joint's name, or '<name>:<part>'\n"
+      "for joints of several DOFs (':1', ':2' of a universal joint, ':angle', ':offset' of a cylindrical one).");
   def_joint_factories(joint, static_cast<JointModel*>(nullptr));
   joint
       .def_property_readonly("type", [](const JointSpec& j) { return std::string(soadyn::joint_type_name(j.joint)); })
@@ -249,26 +255,34 @@ void bind_model(py::module_& mod) {
         const auto lock = h.lock_for_change();
         h.replace_model(std::move(copy));
       })
-      .def_property_readonly("nq", [](const ModelHandle& h) { return h.model.nq; })
-      .def_property_readonly("nv", [](const ModelHandle& h) { return h.model.nv; })
-      .def_property_readonly("nbodies", [](const ModelHandle& h) { return h.model.nbodies(); })
-      .def_property_readonly("body_names", [](const ModelHandle& h) { return h.model.body_names; })
-      .def_property_readonly("joint_names", [](const ModelHandle& h) { return h.model.joint_names; })
+      .def_property_readonly("nq", [](const ModelHandle& h) { return h.model.nq; }, "Number of coordinates (len q).")
+      .def_property_readonly("nv", [](const ModelHandle& h) { return h.model.nv; }, "Number of DOFs (len v).")
+      .def_property_readonly("nbodies", [](const ModelHandle& h) { return h.model.nbodies(); },
+                             "Number of bodies (welded ones merged into their parents are frames).")
+      .def_property_readonly("body_names", [](const ModelHandle& h) { return h.model.body_names; },
+                             "Body names in tree order (parent before child).")
+      .def_property_readonly("joint_names", [](const ModelHandle& h) { return h.model.joint_names; },
+                             "Each body's joint name, in body order.")
       .def_property_readonly("joint_types", [](const ModelHandle& h) {
         std::vector<std::string> t;
         for (const auto& j : h.model.joints) t.emplace_back(soadyn::joint_type_name(j));
         return t;
-      })
-      .def_property_readonly("dof_names", [](const ModelHandle& h) { return h.model.dof_names; })
-      .def_property_readonly("coordinate_names", [](const ModelHandle& h) { return h.model.coordinate_names; })
+      }, "Each body's joint type ('revolute', 'free', ...), in body order.")
+      .def_property_readonly("dof_names", [](const ModelHandle& h) { return h.model.dof_names; },
+                             "DOF names in velocity order (entries of v, tau, u).")
+      .def_property_readonly("coordinate_names", [](const ModelHandle& h) { return h.model.coordinate_names; },
+                             "Coordinate names in q order (a quaternion's four entries named each).")
       .def_property_readonly("frame_names", [](const ModelHandle& h) {
         std::vector<std::string> names;
         for (const auto& f : h.model.frames) names.push_back(f.name);
         return names;
-      })
-      .def_property_readonly("parents", [](const ModelHandle& h) { return h.model.parent; })
-      .def_property_readonly("q_index", [](const ModelHandle& h) { return h.model.q_index; })
-      .def_property_readonly("v_index", [](const ModelHandle& h) { return h.model.v_index; })
+      }, "Names of the frames welded to bodies (fixed-joint links, flexible bodies' attachment nodes).")
+      .def_property_readonly("parents", [](const ModelHandle& h) { return h.model.parent; },
+                             "Each body's parent body index (-1: the world).")
+      .def_property_readonly("q_index", [](const ModelHandle& h) { return h.model.q_index; },
+                             "Each body's first coordinate's index in q.")
+      .def_property_readonly("v_index", [](const ModelHandle& h) { return h.model.v_index; },
+                             "Each body's first DOF's index in v.")
       .def_property_readonly(
           "constant_tree_inertia", [](const ModelHandle& h) { return as_bools(h.model.derived.constant_tree_inertia); },
           "Per body: whether the dynamics read its inertia formed once (constant in its free root's frame: "
@@ -304,7 +318,8 @@ void bind_model(py::module_& mod) {
           },
           "Per body: (under the prescribed flags, with every DOF regular), whether it is a leaf whose constant "
           "P+ (or, prescribed, its constant P) its parent's articulated inertia starts with, summed once.")
-      .def_property_readonly("masses", [](const ModelHandle& h) { return h.model.mass; })
+      .def_property_readonly("masses", [](const ModelHandle& h) { return h.model.mass; },
+                             "Each body's mass in kg, welded parts included.")
       .def_property_readonly("n_modes", [](const ModelHandle& h) { return h.model.n_modes; },
                              "Modal coordinates per body (0 for a rigid body).")
       .def_property_readonly("modal", [](const ModelHandle& h) { return modal_mask(h.model); },

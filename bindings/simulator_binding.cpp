@@ -279,14 +279,19 @@ void bind_simulator(py::module_& mod) {
              raise_on(st, s); },
            "Advance one step; on failure raises DynamicsError and leaves the state as before the step.")
       .def("_run", &run, py::arg("steps"))
-      .def_property_readonly("q", [](Sim& s) { return locked_read(s, [&] { return Eigen::VectorXd(s.q()); }); })
-      .def_property_readonly("v", [](Sim& s) { return locked_read(s, [&] { return Eigen::VectorXd(s.v()); }); })
-      .def_property_readonly("inputs", [](Sim& s) { return locked_read(s, [&] { return Eigen::VectorXd(s.inputs()); }); })
+      .def_property_readonly("q", [](Sim& s) { return locked_read(s, [&] { return Eigen::VectorXd(s.q()); }); },
+                             "The coordinates now, (nq,), a fresh array.")
+      .def_property_readonly("v", [](Sim& s) { return locked_read(s, [&] { return Eigen::VectorXd(s.v()); }); },
+                             "The velocities now, (nv,), a fresh array.")
+      .def_property_readonly("inputs", [](Sim& s) { return locked_read(s, [&] { return Eigen::VectorXd(s.inputs()); }); },
+                             "The torques (N m) or forces (N) applied to the regular DOFs, (nv,).")
       .def_property_readonly("forces", [](Sim& s) { return locked_read(s, [&] { return Eigen::VectorXd(s.forces()); }); },
                              "Generalized forces at the start of the last step (drive torques on prescribed DOFs).")
-      .def_property_readonly("time", [](Sim& s) { return locked_read(s, [&] { return s.time(); }); })
-      .def_property_readonly("dt", &Sim::dt)
-      .def_property_readonly("integrator", [](const Sim& s) { return std::string(integrator_name(s.integrator())); })
+      .def_property_readonly("time", [](Sim& s) { return locked_read(s, [&] { return s.time(); }); },
+                             "Simulation time now, in s.")
+      .def_property_readonly("dt", &Sim::dt, "The step, in s.")
+      .def_property_readonly("integrator", [](const Sim& s) { return std::string(integrator_name(s.integrator())); },
+                             "'euler', 'rk4' or 'dopri5'.")
       .def_property_readonly("energy_lost", [](Sim& s) { return locked_read(s, [&] { return s.energy_lost(); }); },
                              "Kinetic energy removed by lock impulses so far.")
       .def_property_readonly("steps_taken", [](Sim& s) { return locked_read(s, [&] { return s.steps_taken(); }); },
@@ -309,7 +314,8 @@ void bind_simulator(py::module_& mod) {
             locked_setup(s, [&] { s.set_velocity_limits(values); });
           },
           "Per-DOF |v| limits the divergence guard enforces (nv values; inf: none, the default).")
-      .def_property_readonly("pending_events", [](Sim& s) { return locked_read(s, [&] { return s.pending_events(); }); })
+      .def_property_readonly("pending_events", [](Sim& s) { return locked_read(s, [&] { return s.pending_events(); }); },
+                             "Scheduled events not yet applied.")
       .def_property_readonly("event_capacity", &Sim::event_capacity, "Most events that can be pending at once.")
       .def_property_readonly("last_substeps", [](Sim& s) { return locked_read(s, [&] { return s.last_substeps(); }); },
                              "dopri5: sub-step attempts of the last step.")
@@ -318,16 +324,18 @@ void bind_simulator(py::module_& mod) {
           py::array_t<bool> mask(s.model().nv);
           for (int k = 0; k < s.model().nv; ++k) mask.mutable_at(k) = s.model().is_prescribed(k);
           return mask;
-        }); })
+        }); }, "Bool array (nv,): True where the DOF is prescribed now (locks and prescribe events included).")
       .def_property_readonly("_dof_names", [](const Sim& s) { return s.model().dof_names; })
       .def_property("rtol", [](Sim& s) { return locked_read(s, [&] { return s.rtol; }); },
           [](Sim& s, double x) {
             if (!(finite(x, "rtol") >= 0)) throw py::value_error("rtol must be >= 0");
-            locked_read(s, [&] { s.rtol = x; }); })
+            locked_read(s, [&] { s.rtol = x; }); },
+          "dopri5: relative error tolerance of a sub-step (>= 0; ValueError otherwise).")
       .def_property("atol", [](Sim& s) { return locked_read(s, [&] { return s.atol; }); },
           [](Sim& s, double x) {
             if (!(finite(x, "atol") > 0)) throw py::value_error("atol must be > 0");
-            locked_read(s, [&] { s.atol = x; }); })
+            locked_read(s, [&] { s.atol = x; }); },
+          "dopri5: absolute error tolerance of a sub-step, in the state's units (> 0; ValueError otherwise).")
       .def_property("max_substeps", [](Sim& s) { return locked_read(s, [&] { return s.max_substeps; }); },
           [](Sim& s, int n) {
             if (n < 1) throw py::value_error("max_substeps must be >= 1");

@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include "arrays.hpp"
+#include "docstrings.hpp"
 #include "dynamics_calls.hpp"
 #include "errors.hpp"
 #include "model_handle.hpp"
@@ -72,7 +73,9 @@ void bind_statics(py::module_& mod) {
       },
       py::arg("model"), py::arg("q"), py::arg("nu"),
       "d(C(q)' nu)/dq at fixed multipliers nu (nv, nv), tangent-space columns (column k: d/de at\n"
-      "integrate(q, e e_k)): the stiffness of the cut-joint reactions C' nu, analytic.");
+      "integrate(q, e e_k)): the stiffness of the cut-joint reactions C' nu, analytic. nu: (nloop_equations,)\n"
+      "loop-force multipliers (N, N m), as constrained_dynamics solves them; another shape raises ValueError."
+      SOADYN_DOC_STATE SOADYN_DOC_RAISES);
 }
 
 }  // namespace soadyn_py

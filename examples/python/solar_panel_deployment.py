@@ -80,7 +80,8 @@ def main(argv=None) -> dict:
     hinge_v = [m.dof_index(h) for h in HINGES]
     hinge_q = [m.coordinate_names.index(h) for h in HINGES]
     deploying = run.t[:-1] < args.deploy
-    print(f"deployment over {args.deploy:g} s at constant rates; latched at {args.deploy:g} s, then {args.ring:g} s free")
+    print(f"deployment over {args.deploy:g} s at constant rates; latched at {args.deploy:g} s, "
+          f"then {args.ring:g} s free")
     for hinge, k in zip(HINGES, hinge_v):
         print(f"{hinge} rate controller: peak |torque| {np.max(np.abs(run.tau[deploying, k])):.3f} N m")
     bus_w = run.q[-1, 3:7]  # quaternion x y z w

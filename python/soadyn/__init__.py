@@ -9,8 +9,8 @@ import sys as _sys
 from importlib import import_module as _import_module
 from importlib.util import spec_from_loader as _spec_from_loader
 
+from . import error_classes  # noqa: F401 (the exception classes' docstrings)
 from ._soadyn import (
-    QUATERNION_TOLERANCE,
     DynamicsError,
     FlexibleBody,
     Joint,
@@ -42,6 +42,12 @@ from ._soadyn import (
     potential_energy,
     random_configuration,
 )
+from ._soadyn import ParameterError, loop_force_stiffness
+from ._soadyn import QUATERNION_TOLERANCE as _QUATERNION_TOLERANCE
+
+QUATERNION_TOLERANCE: float = _QUATERNION_TOLERANCE
+"""How far from 1 (1e-6) the norm of a quaternion in q may be: within it, the quaternion is used normalised;
+further, the call is refused with a ValueError naming the joint, never silently normalised."""
 from ._soadyn import (  # the equations of motion term by term
     christoffel_symbols,
     coriolis_matrix,
@@ -53,9 +59,8 @@ from ._soadyn import dissipated_power, force_element_potential, force_elements  
 from .analysis.derivatives import dynamics_derivatives, inverse_dynamics_derivatives
 from .analysis.linearize import linearize
 from .analysis.modes import Modes, modes, natural_frequencies, stiffness_matrix
-from .analysis.parameters import ParameterError, parameter_sensitivity
-from .analysis.statics import (StaticEquilibrium, equilibrium_sensitivities, loop_force_stiffness, objective_gradient,
-                               static_equilibrium)
+from .analysis.parameters import parameter_sensitivity
+from .analysis.statics import StaticEquilibrium, equilibrium_sensitivities, objective_gradient, static_equilibrium
 from .io.mjcf import MjcfError, MjcfIgnoredWarning, load_mjcf
 from .io.model_file import ModelFileError, load_model, save_model
 from .io.urdf import UrdfError, load_urdf

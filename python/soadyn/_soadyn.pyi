@@ -26,6 +26,10 @@ class FlexibleBody:
         positions (N, 3) undeformed node positions in the body frame; masses (N,); rotary_inertias
         (N, 3, 3) about each node; mode_shapes (N, 6, n_modes); stiffness and damping (n_modes,
         n_modes), symmetric positive semidefinite (damping None: zero); attachments {name: node}.
+        Units: m, kg, kg m^2; mode shapes per unit modal coordinate (rad and m); stiffness in the modal
+        coordinates' units (N m / rad^2 for a unit-rad mode), damping likewise per s. A wrong shape, a non-finite
+        or negative mass, an asymmetric or indefinite matrix or an attachment to a missing node raises
+        ValueError naming the node or the matrix.
         """
     def __repr__(self) -> str:
         ...
@@ -87,7 +91,12 @@ class FlexibleBody:
         ...
 class Joint:
     """
-    A joint type; build one with the static constructors.
+    A joint type; build one with the static constructors and give it to Model.add_body.
+    
+    Axes are 3-vectors in the joint frame, normalised when the body is added; a zero or non-finite axis is
+    refused by Model.add_body with a ValueError naming the joint. Coordinates: rad for rotations, m for
+    translations (a helical joint's pitch in m per rad). DOF names are the joint's name, or '<name>:<part>'
+    for joints of several DOFs (':1', ':2' of a universal joint, ':angle', ':offset' of a cylindrical one).
     """
     @staticmethod
     def cylindrical(axis: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '') -> Joint:
@@ -226,7 +235,9 @@ class _Model:
         """
     @property
     def body_names(self) -> list[str]:
-        ...
+        """
+        Body names in tree order (parent before child).
+        """
     @property
     def constant_leaf_hinge(self) -> list[bool]:
         """
@@ -239,10 +250,14 @@ class _Model:
         """
     @property
     def coordinate_names(self) -> list[str]:
-        ...
+        """
+        Coordinate names in q order (a quaternion's four entries named each).
+        """
     @property
     def dof_names(self) -> list[str]:
-        ...
+        """
+        DOF names in velocity order (entries of v, tau, u).
+        """
     @property
     def effort_limits(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
@@ -251,7 +266,9 @@ class _Model:
         """
     @property
     def frame_names(self) -> list[str]:
-        ...
+        """
+        Names of the frames welded to bodies (fixed-joint links, flexible bodies' attachment nodes).
+        """
     @property
     def gravity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
@@ -262,10 +279,14 @@ class _Model:
         ...
     @property
     def joint_names(self) -> list[str]:
-        ...
+        """
+        Each body's joint name, in body order.
+        """
     @property
     def joint_types(self) -> list[str]:
-        ...
+        """
+        Each body's joint type ('revolute', 'free', ...), in body order.
+        """
     @property
     def leaf_terms_presummed(self) -> list[tuple[bool, bool]]:
         """
@@ -283,7 +304,9 @@ class _Model:
         """
     @property
     def masses(self) -> list[float]:
-        ...
+        """
+        Each body's mass in kg, welded parts included.
+        """
     @property
     def modal(self) -> numpy.typing.NDArray[numpy.bool]:
         """
@@ -296,7 +319,9 @@ class _Model:
         """
     @property
     def nbodies(self) -> int:
-        ...
+        """
+        Number of bodies (welded ones merged into their parents are frames).
+        """
     @property
     def nloop_equations(self) -> int:
         """
@@ -309,13 +334,19 @@ class _Model:
         """
     @property
     def nq(self) -> int:
-        ...
+        """
+        Number of coordinates (len q).
+        """
     @property
     def nv(self) -> int:
-        ...
+        """
+        Number of DOFs (len v).
+        """
     @property
     def parents(self) -> list[int]:
-        ...
+        """
+        Each body's parent body index (-1: the world).
+        """
     @property
     def placement_axes(self) -> list[str]:
         """
@@ -328,18 +359,30 @@ class _Model:
         """
     @property
     def q_index(self) -> list[int]:
-        ...
+        """
+        Each body's first coordinate's index in q.
+        """
     @property
     def v_index(self) -> list[int]:
-        ...
+        """
+        Each body's first DOF's index in v.
+        """
 class NonphysicalInertiaError(ValueError):
-    pass
+    """
+    A body's mass properties are not those of a physical body (a ValueError): a negative mass, an inertia that is not positive semi-definite or breaks the triangle inequality, a spatial inertia that is not finite. The message names the body; Model.add_body(accept_nonphysical_inertia=True) opts out of the physical tests (never of the finite one).
+    """
 class LoopError(ValueError):
-    pass
+    """
+    A closed loop is ill-formed or cannot be satisfied (a ValueError): an unknown frame or kind, a loop between frames of the same body, a configuration assemble() cannot close. The message names the loop.
+    """
 class ModelFileError(ValueError):
-    pass
+    """
+    A model file cannot be read or written (a ValueError): invalid JSON, a newer version, a missing, mistyped, non-finite or unknown value, a file over the size or nesting limit. The message names the file and the JSON path of the item (/bodies/3/mass).
+    """
 class DynamicsError(ArithmeticError):
-    pass
+    """
+    A dynamics call or a simulation step could not produce finite results (an ArithmeticError): a singular articulated-body inertia (its message names the body or DOF), a non-finite state or result, a motion source that failed or returned a non-finite value (the DOF named, chained to the cause), a loop that could not be closed, or dopri5's sub-step limit. Simulator.run attaches the steps done as `trajectory`.
+    """
 class MotionSource:
     """
     Position, velocity and acceleration of one DOF as functions of time.
@@ -406,7 +449,9 @@ class _Simulator(_SimulatorCore):
         ...
     @property
     def atol(self) -> float:
-        ...
+        """
+        dopri5: absolute error tolerance of a sub-step, in the state's units (> 0; ValueError otherwise).
+        """
     @atol.setter
     def atol(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
@@ -422,7 +467,9 @@ class _Simulator(_SimulatorCore):
         ...
     @property
     def dt(self) -> float:
-        ...
+        """
+        The step, in s.
+        """
     @property
     def energy_lost(self) -> float:
         """
@@ -440,10 +487,14 @@ class _Simulator(_SimulatorCore):
         """
     @property
     def inputs(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
-        ...
+        """
+        The torques (N m) or forces (N) applied to the regular DOFs, (nv,).
+        """
     @property
     def integrator(self) -> str:
-        ...
+        """
+        'euler', 'rk4' or 'dopri5'.
+        """
     @property
     def last_substeps(self) -> int:
         """
@@ -486,16 +537,24 @@ class _Simulator(_SimulatorCore):
         ...
     @property
     def pending_events(self) -> int:
-        ...
+        """
+        Scheduled events not yet applied.
+        """
     @property
     def prescribed(self) -> numpy.typing.NDArray[numpy.bool]:
-        ...
+        """
+        Bool array (nv,): True where the DOF is prescribed now (locks and prescribe events included).
+        """
     @property
     def q(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
-        ...
+        """
+        The coordinates now, (nq,), a fresh array.
+        """
     @property
     def rtol(self) -> float:
-        ...
+        """
+        dopri5: relative error tolerance of a sub-step (>= 0; ValueError otherwise).
+        """
     @rtol.setter
     def rtol(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
@@ -506,10 +565,14 @@ class _Simulator(_SimulatorCore):
         """
     @property
     def time(self) -> float:
-        ...
+        """
+        Simulation time now, in s.
+        """
     @property
     def v(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
-        ...
+        """
+        The velocities now, (nv,), a fresh array.
+        """
     @property
     def velocity_limits(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
@@ -708,7 +771,9 @@ class HilRunner:
     def udp_port(self) -> typing.Any:
         ...
 class ParameterError(ValueError):
-    pass
+    """
+    A model parameter's name or value is refused (a ValueError): an unknown name (the closest names are suggested), a value of the wrong shape, or one that would make the model non-physical. The message names the parameter.
+    """
 def _add_joint_spring(arg0: _Model, arg1: str, arg2: typing.SupportsInt | typing.SupportsIndex, arg3: typing.SupportsFloat | typing.SupportsIndex, arg4: typing.SupportsFloat | typing.SupportsIndex, arg5: typing.SupportsFloat | typing.SupportsIndex) -> int:
     ...
 def _add_point_spring(arg0: _Model, arg1: str, arg2: str, arg3: str, arg4: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg5: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], arg6: typing.SupportsFloat | typing.SupportsIndex, arg7: typing.SupportsFloat | typing.SupportsIndex, arg8: typing.SupportsFloat | typing.SupportsIndex | None, arg9: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], arg10: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex]) -> int:
@@ -802,23 +867,39 @@ def _tree_inverse_dynamics_derivatives(model: _Model, q: typing.Any, v: typing.A
     ...
 def bias_forces(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
-    h(q, v): Coriolis, centrifugal and gravity generalized forces.
+    h(q, v), (nv,): Coriolis, centrifugal and gravity generalized forces (N, N m).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def center_of_mass(model: _Model, q: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
     """
-    Centre of mass of the whole tree in the world frame.
+    Centre of mass (3,) of the whole tree in the world frame, in m.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def center_of_mass_jacobian(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
-    Jacobian (3 x nv) of the centre of mass in the world frame: J v is its velocity.
+    Jacobian (3 x nv) of the centre of mass in the world frame: J v is its velocity (m/s).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def christoffel_symbols(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
     Gamma, (nv, nv, nv), with C(q, v)[i, j] = sum_k Gamma[i, j, k] v[k]. For DOFs whose coordinates
     integrate their velocities, Gamma[i, j, k] = 1/2 (dM[i,j]/dq_k + dM[i,k]/dq_j - dM[j,k]/dq_i) (symmetric in
     j, k); for spherical, planar and free joints (body-frame velocities) the derivatives are along
-    q (+) eps e_k and Gamma adds the Lie-bracket terms of that moving frame (README, "Equations term by
-    term"). Rigid bodies only.
+    q (+) eps e_k and Gamma adds the Lie-bracket terms of that moving frame (the analysis guide, "Equations
+    term by term"). Rigid bodies only (ValueError naming a flexible body).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def constrained_dynamics(model, q, v, u, f_ext = None, joint_wrenches = False):
     """
@@ -831,40 +912,70 @@ def constrained_dynamics(model, q, v, u, f_ext = None, joint_wrenches = False):
     smallest ||tau_p|| over every set of loop forces consistent with the motion. Closure accelerations that
     cannot be met (inconsistent prescribed accelerations, a driven mechanism at a dead centre) raise
     DynamicsError naming the loop. Equals hybrid_dynamics without loops.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def coriolis_matrix(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
     C(q, v), (nv, nv): C v = h(q, v) - g(q) and dM/dt - 2 C is skew-symmetric (Echeandia & Wensing 2021);
     C(q, v) = sum_k christoffel_symbols(m, q)[:, :, k] v[k]. Rigid bodies only (ValueError naming a
     flexible body).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def dissipated_power(model: _Model, q: typing.Any, v: typing.Any) -> float:
     """
-    Power the dampers dissipate at (q, v), >= 0: the rate at which kinetic plus potential energy falls when no actuator or external force acts.
+    Power the dampers dissipate at (q, v), >= 0: the rate at which kinetic plus potential energy falls when no actuator or external force acts; in W.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def external_forces_to_generalized(model: _Model, q: typing.Any, f_ext: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
     J(q)' f_ext, (nv,): the generalized forces of (nbodies, 6) body-frame wrenches [torque; force] about each
-    body origin (the f_ext of forward_dynamics: M qdd + h = tau + J' f_ext).
+    body origin (the f_ext of forward_dynamics: M qdd + h = tau + J' f_ext); f_ext of another shape raises
+    ValueError naming it.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def force_element_potential(model: _Model, q: typing.Any) -> float:
     """
-    Potential energy of the springs alone (also included in potential_energy).
+    Potential energy of the springs alone, in J (also included in potential_energy).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def force_elements(model: _Model) -> list:
     """
-    The model's force elements as dicts (joint springs first, then point springs).
+    The model's force elements as a list of dicts (joint springs first, then point springs): name, kind, the
+    DOF or the two frames and points, stiffness (N/m or N m/rad), damping (N s/m or N m s/rad), rest value.
     """
 def forward_dynamics(model, q, v, tau, f_ext = None):
     """
     Accelerations qdd = M^-1 (tau - h + J' f_ext) by the articulated-body algorithm (every DOF regular,
     whatever the model's flags). f_ext: (nbodies, 6) body-frame wrenches [torque; force] about each body
-    origin. Returns a fresh array.
+    origin. Returns a fresh (nv,) array.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def forward_kinematics(model: _Model, q: typing.Any, v: typing.Any = None) -> typing.Any:
     """
     (poses, velocities): (nbodies, 4, 4) homogeneous body poses in the world and, with v, (nbodies, 6)
-    body-frame spatial velocities [angular; linear].
+    body-frame spatial velocities [angular rad/s; linear m/s of the body origin].
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def frame_acceleration(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any, frame: typing.Any, reference: typing.Any = 'local', classical: typing.Any = False) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
@@ -872,14 +983,24 @@ def frame_acceleration(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.
     not. classical=True: linear rows w x v + (spatial linear), the classical acceleration.
     reference: 'world' (world axes, about the world origin), 'local' (frame axes, about the frame origin) or
     'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links
-    included) or a body index.
+    included) or a body index; an unknown frame or reference raises ValueError naming it. Angular parts in
+    rad/s (rad/s^2), linear parts in m/s (m/s^2).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def frame_jacobian(model: _Model, q: typing.Any, frame: typing.Any, reference: typing.Any = 'local') -> numpy.typing.NDArray[numpy.float64]:
     """
     Frame Jacobian (6 x nv, rows [angular; linear]): J v is frame_velocity.
     reference: 'world' (world axes, about the world origin), 'local' (frame axes, about the frame origin) or
     'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links
-    included) or a body index.
+    included) or a body index; an unknown frame or reference raises ValueError naming it. Angular parts in
+    rad/s (rad/s^2), linear parts in m/s (m/s^2).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def frame_jacobian_time_variation(model: _Model, q: typing.Any, v: typing.Any, frame: typing.Any, reference: typing.Any = 'local') -> numpy.typing.NDArray[numpy.float64]:
     """
@@ -887,44 +1008,79 @@ def frame_jacobian_time_variation(model: _Model, q: typing.Any, v: typing.Any, f
     local), or its classical form (local_world_aligned).
     reference: 'world' (world axes, about the world origin), 'local' (frame axes, about the frame origin) or
     'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links
-    included) or a body index.
+    included) or a body index; an unknown frame or reference raises ValueError naming it. Angular parts in
+    rad/s (rad/s^2), linear parts in m/s (m/s^2).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def frame_pose(model: _Model, q: typing.Any, frame: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 4]"]:
     """
-    4x4 homogeneous pose of the frame in the world at q. frame: a body name, a frame name (welded links
-    included) or a body index.
+    4x4 homogeneous pose of the frame in the world at q (rotation, translation in m). frame: a body name, a
+    frame name (welded links included) or a body index; an unknown frame raises ValueError naming it.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def frame_velocity(model: _Model, q: typing.Any, v: typing.Any, frame: typing.Any, reference: typing.Any = 'local') -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
     Spatial velocity [angular; linear] of the frame.
     reference: 'world' (world axes, about the world origin), 'local' (frame axes, about the frame origin) or
     'local_world_aligned' (world axes, about the frame origin). frame: a body name, a frame name (welded links
-    included) or a body index.
+    included) or a body index; an unknown frame or reference raises ValueError naming it. Angular parts in
+    rad/s (rad/s^2), linear parts in m/s (m/s^2).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def gravity_forces(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
     g(q), (nv,): the generalized gravity forces, h(q, 0) (bias_forces at rest). On a model with flexible
-    bodies, gravity only (their elastic forces are not part of it).
+    bodies, gravity only (their elastic forces are not part of it). In N and N m by the DOFs' kinds.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def hybrid_dynamics(model, q, v, u, f_ext = None, joint_wrenches = False):
     """
     Hybrid dynamics (Jain & Rodriguez 1993, Eqs. 14, 28, 29): u holds the torque of each regular DOF and the acceleration of
     each prescribed DOF (model.prescribed). Returns fresh arrays (qdd, tau) with every DOF's acceleration
-    and generalized force, plus the (nbodies, 6) joint wrenches when joint_wrenches=True.
+    and generalized force, each (nv,), plus the (nbodies, 6) joint wrenches when joint_wrenches=True.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def independent_coordinates(model: _Model, q: typing.Any) -> list[str]:
     """
     Names of the independent DOFs at q by coordinate partitioning: the DOFs whose columns of the loop
     constraint Jacobian C(q) carry the largest pivots of a fully pivoted LU factorisation are dependent,
     the others (nv - rank C of them, in DOF order) independent.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def integrate(model: _Model, q: typing.Any, v: typing.Any, dt: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
-    q (+) v dt, each joint on its manifold (quaternions by the exponential map; free joints on SE(3)).
+    q (+) v dt, (nq,): each joint on its manifold (quaternions by the exponential map; free joints on
+    SE(3)); dt in s.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def inverse_dynamics(model, q, v, qdd, f_ext = None):
     """
-    Generalized forces tau = M qdd + h - J' f_ext (recursive Newton-Euler). Returns a fresh array.
+    Generalized forces tau = M qdd + h - J' f_ext (recursive Newton-Euler). Returns a fresh (nv,) array.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def joint_wrenches(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any, f_ext: typing.Any = None, loop_wrenches: typing.Any = None) -> numpy.typing.NDArray[numpy.float64]:
     """
@@ -933,52 +1089,98 @@ def joint_wrenches(model: _Model, q: typing.Any, v: typing.Any, qdd: typing.Any,
     closed loops the tree is also loaded by the loop forces, so loop_wrenches (nloops, 6) is required: the
     wrenches constrained_dynamics returns (each acts on frame_a's body about frame_a's origin, its opposite
     on frame_b's body with the force at frame_b's origin, frame_a's for a prismatic loop).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def kinetic_energy(model: _Model, q: typing.Any, v: typing.Any) -> float:
     """
-    Kinetic energy 1/2 v' M v.
+    Kinetic energy 1/2 v' M v, in J.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def loop_force_stiffness(model: _Model, q: typing.Any, nu: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
     d(C(q)' nu)/dq at fixed multipliers nu (nv, nv), tangent-space columns (column k: d/de at
-    integrate(q, e e_k)): the stiffness of the cut-joint reactions C' nu, analytic.
+    integrate(q, e e_k)): the stiffness of the cut-joint reactions C' nu, analytic. nu: (nloop_equations,)
+    loop-force multipliers (N, N m), as constrained_dynamics solves them; another shape raises ValueError.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def loop_jacobian(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
     Loop constraint Jacobian C(q), (nloop_equations, nv): C v is the cut joints' relative velocity.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def loop_rank(model: _Model, q: typing.Any) -> int:
     """
     Rank of the loop constraint Jacobian C(q) (column-pivoted QR; pivots below 1e3 machine epsilons times
     the largest count as zero).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def loop_residual(model: _Model, q: typing.Any, v: typing.Any = None) -> typing.Any:
     """
-    Loop-closure residual Psi(q) (nloop_equations,), and with v the tuple (Psi(q), C(q) v).
+    Loop-closure residual Psi(q) (nloop_equations,), and with v the tuple (Psi(q), C(q) v): per loop, the
+    cut joint's constrained relative displacements (m, rad) and velocities (m/s, rad/s).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def mass_matrix(model: _Model, q: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
-    Joint-space mass matrix M(q), (nv, nv) (composite-rigid-body algorithm).
+    Joint-space mass matrix M(q), (nv, nv) (composite-rigid-body algorithm), in kg,
+    kg m and kg m^2 by the DOFs' kinds.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def mass_matrix_derivative(model: _Model, q: typing.Any, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     """
-    dM/dt = C + C', (nv, nv): the rate of the mass matrix along the velocity v. Rigid bodies only.
+    dM/dt = C + C', (nv, nv): the rate of the mass matrix along the velocity v. Rigid bodies only (ValueError
+    naming a flexible body).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def momentum(model: _Model, q: typing.Any, v: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
-    Spatial momentum [angular about the world origin; linear] in the world frame.
+    Spatial momentum (6,) [angular about the world origin, N m s; linear, N s] in world axes.
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def neutral_configuration(model: _Model) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
-    Zero coordinates with identity quaternions.
+    The neutral configuration (nq,): zero coordinates with identity quaternions.
     """
 def potential_energy(model: _Model, q: typing.Any) -> float:
     """
-    Gravitational potential energy -sum m g.c (zero at the world origin).
+    Potential energy in J: gravity's, -sum m g.c (zero at the world
+    origin), plus the flexible bodies' strain energy and the springs' (force_element_potential).
+    
+    q: (nq,) coordinates (m, rad; a quaternion as x y z w), v: (nv,) velocities (m/s, rad/s; body-frame for spherical, planar and free joints), accelerations (nv,) likewise per s; generalized forces (nv,) in N for translations and N m for rotations; f_ext: None or (nbodies, 6) body-frame wrenches [torque N m; force N] about each body origin. Units are SI throughout.
+    
+    Raises TypeError for an argument that is not an array of real numbers; ValueError naming the argument and the coordinate or DOF for a wrong shape, a NaN or infinite entry or a quaternion off unit norm (soadyn.QUATERNION_TOLERANCE); DynamicsError naming the body or DOF when the result is not finite (a singular articulated inertia, an input too large for floating point).
     """
 def random_configuration(model: _Model, seed: typing.Any = 0) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
-    Random configuration: angles in [-pi, pi], offsets in [-1, 1], uniform unit quaternions.
+    A random configuration (nq,) from the integer seed: angles in [-pi, pi] rad, offsets in [-1, 1] m,
+    uniform unit quaternions.
     """
 QUATERNION_TOLERANCE: float = 1e-06
 _pybind11_version: str = '3.1.0'

@@ -87,33 +87,58 @@ def _state_batch(m, Q, V, X, x_name: str):
 
 def forward_dynamics(m, Q, V, TAU, f_ext=None, threads=None) -> np.ndarray:
     """QDD (n, nv): forward dynamics (every DOF regular) of n states. Q (n, nq), V and TAU (n, nv),
-    f_ext None or (n, nbodies, 6) body-frame wrenches [torque; force] about the body origins."""
+    f_ext None or (n, nbodies, 6) body-frame wrenches [torque; force] about the body origins.
+
+    Units and frames as the single call's. Raises TypeError for an array that is not of real numbers, ValueError
+    naming the array, the row and the coordinate or DOF for a wrong shape or a non-finite entry, and
+    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS raises ValueError.
+    """
     q, v, tau, n = _state_batch(m, Q, V, TAU, "TAU")
     return _soadyn._batch_forward_dynamics(m, q, v, tau, _wrenches(m, f_ext, n), n, _threads(threads))
 
 
 def inverse_dynamics(m, Q, V, QDD, f_ext=None, threads=None) -> np.ndarray:
-    """TAU (n, nv): inverse dynamics of n states and accelerations."""
+    """TAU (n, nv): inverse dynamics of n states and accelerations.
+
+    Units and frames as the single call's. Raises TypeError for an array that is not of real numbers, ValueError
+    naming the array, the row and the coordinate or DOF for a wrong shape or a non-finite entry, and
+    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS raises ValueError.
+    """
     q, v, qdd, n = _state_batch(m, Q, V, QDD, "QDD")
     return _soadyn._batch_inverse_dynamics(m, q, v, qdd, _wrenches(m, f_ext, n), n, _threads(threads))
 
 
 def hybrid_dynamics(m, Q, V, U, f_ext=None, threads=None) -> tuple[np.ndarray, np.ndarray]:
     """(QDD, TAU), each (n, nv): hybrid dynamics under the model's prescribed flags (U: torques of
-    regular DOFs, accelerations of prescribed ones)."""
+    regular DOFs, accelerations of prescribed ones).
+
+    Units and frames as the single call's. Raises TypeError for an array that is not of real numbers, ValueError
+    naming the array, the row and the coordinate or DOF for a wrong shape or a non-finite entry, and
+    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS raises ValueError.
+    """
     q, v, u, n = _state_batch(m, Q, V, U, "U")
     return _soadyn._batch_hybrid_dynamics(m, q, v, u, _wrenches(m, f_ext, n), n, _threads(threads))
 
 
 def mass_matrix(m, Q, threads=None) -> np.ndarray:
-    """M (n, nv, nv) at n configurations."""
+    """M (n, nv, nv) at n configurations.
+
+    Units and frames as the single call's. Raises TypeError for an array that is not of real numbers, ValueError
+    naming the array, the row and the coordinate or DOF for a wrong shape or a non-finite entry, and
+    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS raises ValueError.
+    """
     q = _rows("Q", Q, m.nq)
     return _soadyn._batch_mass_matrix(m, q, q.shape[0], _threads(threads))
 
 
 def dynamics_derivatives(m, Q, V, U, f_ext=None, threads=None) -> tuple[np.ndarray, ...]:
     """(dqdd_dq, dqdd_dv, dqdd_du, dtau_dq, dtau_dv, dtau_du), each (n, nv, nv): soadyn.dynamics_derivatives
-    of n states (q-derivatives in the tangent space), by the same algorithm the single call chooses."""
+    of n states (q-derivatives in the tangent space), by the same algorithm the single call chooses.
+
+    Units and frames as the single call's. Raises TypeError for an array that is not of real numbers, ValueError
+    naming the array, the row and the coordinate or DOF for a wrong shape or a non-finite entry, and
+    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS raises ValueError.
+    """
     q, v, u, n = _state_batch(m, Q, V, U, "U")
     return _soadyn._batch_dynamics_derivatives(m, q, v, u, _wrenches(m, f_ext, n), n, _threads(threads))
 
@@ -215,6 +240,11 @@ def rollout(m, x0s, controls_or_sources=None, dt: float = 1e-3, steps: int = 100
     GIL). parameters: {parameter name: (runs, *shape) values} set on each run's copy of the model.
     events: [(kind, DOF, times)] with kind 'lock' or 'release' and one time per run (or one for all).
     Samples every `record_every` steps (which must divide `steps`), the start included.
+
+    dt in s; torques in N or N m, states as the single calls'. Raises TypeError or ValueError naming the
+    argument (and the run, row or DOF) for a wrong type, shape, a non-finite entry, an unknown DOF or parameter,
+    a dt that is not finite and positive, or a record_every that does not divide steps. A run whose dynamics
+    fail is not raised: RolloutResult reports it (ok, failed_step, messages) and its later samples are NaN.
     """
     x0 = _rows("x0s", x0s, m.nq + m.nv)
     runs = x0.shape[0]

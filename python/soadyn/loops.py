@@ -38,5 +38,9 @@ def project_velocity(model, q, v, hold=None) -> np.ndarray:
 
     When the held DOFs' velocities make closure impossible the result is the
     least-squares one (check soadyn.loop_residual(m, q, v)). Returns a fresh array.
+
+    q (nq,) and v (nv,) as in the state calls; hold names unknown DOFs in a ValueError. Raises TypeError or
+    ValueError naming an argument of the wrong type or shape or a non-finite entry, and DynamicsError naming the
+    body or DOF when the dynamics fail, as the state calls do (soadyn.forward_dynamics).
     """
     return _project_velocity(model, q, v, _free(model, hold))

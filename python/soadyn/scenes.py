@@ -54,34 +54,75 @@ from .model import Model
 from .stanford_arm import stanford_arm, stanford_arm_motion  # noqa: F401 (scenes of this module)
 from .viz.cassini_visuals import cassini_visuals
 
-TURNTABLE_RATE = 3.0 * 2.0 * np.pi / 60.0  # 3 rpm in rad/s
+__all__ = ["cassini", "drive_cassini", "pendulum_chain", "cantilever_beam", "four_bar", "slider_crank", "delta_robot",
+           "four_bar_state", "slider_crank_state", "delta_robot_state", "stanford_arm", "stanford_arm_motion",
+           "SCENES", "LOOP_SCENE_STARTS", "TURNTABLE_RATE", "PLANAR_CUTS", "CASSINI_DRIVEN_DOFS"]
+
+TURNTABLE_RATE = 3.0 * 2.0 * np.pi / 60.0
+"""The cassini turntable's prescribed rate: 3 rpm, in rad/s (Jain & Rodriguez's application example)."""
 
 
 def cassini() -> Model:
     """The default scene, with its visuals (soadyn.viz.cassini_visuals: the bus, antennas, probe, engine,
-    wheels and slosh masses as primitives)."""
+    wheels and slosh masses as primitives).
+
+    A free-flying tree without gravity: the bus on a free joint (q starts with its position in m and its
+    quaternion x y z w), hinges in rad, two flexible booms' modal DOFs; the turntable and the engine gimbal's
+    two axes are prescribed. Bodies, masses (kg) and sizes (m) are tabled in the scenes guide."""
     m = Model()
     m._load_cassini()
     m.visuals = cassini_visuals()
     return m
 
 
+CASSINI_DRIVEN_DOFS = ("turntable", "gimbal_pitch", "gimbal_yaw")
+"""The DOFs drive_cassini prescribes."""
+
+
 def drive_cassini(sim) -> None:
     """Drive a cassini Simulator as in the paper: the turntable at 3 rpm and the
-    engine gimbal under velocity control (0.5 deg/s sinusoidal rate commands, period 20 s)."""
+    engine gimbal under velocity control (0.5 deg/s sinusoidal rate commands, period 20 s).
+
+    TypeError for an argument that is not a soadyn.Simulator; ValueError naming the DOF a simulator of
+    another model lacks."""
+    from .simulator import Simulator
+
+    if not isinstance(sim, Simulator):
+        raise TypeError(f"drive_cassini needs a soadyn.Simulator, got {type(sim).__name__}")
+    dofs = sim._model.dof_names
+    missing = [name for name in CASSINI_DRIVEN_DOFS if name not in dofs]
+    if missing:
+        raise ValueError(f"drive_cassini: the simulator's model has no DOF '{missing[0]}' (it drives a cassini model)")
     sim._drive_cassini()
 
 
+def _positive(value, what: str, scene: str) -> float:
+    """`value` as a float when it is a real number, finite and > 0; TypeError or ValueError naming it otherwise."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{scene}: {what} must be a real number, got {type(value).__name__} ({value!r})")
+    if not np.isfinite(value) or value <= 0:
+        raise ValueError(f"{scene}: {what} must be a finite number > 0, got {value!r}")
+    return float(value)
+
+
 def pendulum_chain(n: int = 10, length: float = 0.5, mass: float = 1.0) -> Model:
-    """n identical links swinging about parallel x axes, hanging along -z."""
+    """n identical uniform rods of `length` m and `mass` kg, each hinged to the previous one's tip about
+    parallel x axes (the first to the world at the origin), hanging along -z under gravity 9.81 m/s^2.
+    DOFs link_1 ... link_n (rad). TypeError or ValueError names an argument that is not a whole number of
+    links >= 1 or a finite length and mass > 0."""
+    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)):
+        raise TypeError(f"pendulum_chain: n must be a whole number of links, got {type(n).__name__} ({n!r})")
+    length, mass = _positive(length, "length", "pendulum_chain"), _positive(mass, "mass", "pendulum_chain")
     m = Model()
-    m._load_pendulum_chain(int(n), float(length), float(mass))
+    m._load_pendulum_chain(int(n), length, mass)
     return m
 
 
 def cantilever_beam(length: float, EI: float, mass_per_length: float, n_modes: int,
                     n_nodes: int = 60) -> Model:
-    """One flexible beam 'beam' along x, clamped to the world at the origin, without gravity.
+    """One flexible beam 'beam' along x, clamped to the world at the origin, without gravity: `length` in m,
+    `EI` (bending stiffness) in N m^2, `mass_per_length` in kg/m; ValueError names one that is not finite and
+    positive, or a count below 1.
 
     n_modes clamped-free bending modes in each of the x-y and x-z planes
     (FlexibleBody.cantilever_beam: 2 n_modes modal DOFs, 'beam:mode1', ...),
@@ -94,6 +135,7 @@ def cantilever_beam(length: float, EI: float, mass_per_length: float, n_modes: i
 
 
 PLANAR_CUTS = ("revolute", "point")
+"""The cut-joint kinds four_bar and slider_crank accept as `closure`."""
 
 
 def _planar_cut(closure: str, scene: str) -> str:
@@ -111,14 +153,16 @@ def four_bar(closure: str = "revolute") -> Model:
 
 
 def slider_crank(closure: str = "revolute") -> Model:
-    """The offset slider-crank, closed at the wrist pin by a "revolute" (default) or a "point" cut."""
+    """The offset slider-crank, closed at the wrist pin by a "revolute" (default) or a "point" cut (ValueError
+    for another `closure`); lengths, masses and DOFs in this module's docstring."""
     m = Model()
     m._load_slider_crank(_planar_cut(closure, "slider_crank"))
     return m
 
 
 def delta_robot() -> Model:
-    """The Delta parallel robot: arms "arm_1..3", forearm rods "rod_1a" ... "rod_3b", plate "plate"."""
+    """The Delta parallel robot: arms "arm_1..3", forearm rods "rod_1a" ... "rod_3b", plate "plate"; lengths
+    and masses in this module's docstring, gravity 9.81 m/s^2 along -z."""
     m = Model()
     m._load_delta_robot()
     return m
@@ -170,6 +214,8 @@ def delta_robot_state(position, velocity=(0.0, 0.0, 0.0)) -> tuple[np.ndarray, n
 
 
 SCENES = {"cassini": cassini, "pendulum-chain": pendulum_chain, "stanford-arm": stanford_arm}
+"""{name: builder} of the scenes the command line runs by name (`soadyn hil --scene NAME`, campaigns), the loop
+scenes included."""
 
 # The loop scenes and the closed state, at rest, a run of them starts from
 # (`soadyn hil --scene four-bar`): a simulator cannot start from the neutral
@@ -179,6 +225,9 @@ LOOP_SCENE_STARTS = {
     "slider-crank": (slider_crank, lambda: slider_crank_state(0.5)),
     "delta-robot": (delta_robot, lambda: delta_robot_state((0.0, 0.0, -0.6))),
 }
+"""{name: (builder, closed-state function)} of the loop scenes: a run of one starts from the closed state at
+rest the function returns (a simulator cannot start from the neutral configuration, which leaves the loops
+open)."""
 SCENES.update({name: build for name, (build, _) in LOOP_SCENE_STARTS.items()})
 
 

@@ -86,6 +86,9 @@ class Simulator(_Simulator):
         return dofs[0]
 
     def set_state(self, q, v, t: float = 0.0) -> None:
+        """Set the state: q (nq,), v (nv,) and the time t in s. Raises TypeError or ValueError naming the
+        argument and the coordinate or DOF for a wrong type or shape, a non-finite entry or a quaternion off
+        unit norm; the state is unchanged then."""
         self._set_state(q, v, t)
 
     def set_input(self, dof, torque: float) -> None:
@@ -107,6 +110,8 @@ class Simulator(_Simulator):
             self._lock(k)
 
     def release(self, dof) -> None:
+        """Make the DOF(s) regular again from now on (after a lock or a prescription), keeping their velocity.
+        `dof`: a DOF or joint name or a velocity index; ValueError names an unknown one or a modal DOF."""
         for k in self._drivable(dof):
             self._release(k)
 

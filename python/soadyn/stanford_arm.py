@@ -30,9 +30,11 @@ from ._soadyn import MotionSource
 from .io.denavit_hartenberg import DHLink, dh_model
 from .model import Model
 
+__all__ = ["stanford_arm", "stanford_arm_motion", "STANFORD_ARM_LINKS", "MOTION_DURATION", "MOTION_START", "MOTION_END"]
+
 CM = 0.01  # m
 
-STANFORD_ARM_LINKS = (
+STANFORD_ARM_LINKS = (  # the DH rows: a, d in m, alpha, theta in rad, mass in kg, com in m, inertia in kg m^2
     DHLink("joint_1", "revolute", d=0.412, alpha=-np.pi / 2, mass=9.29,
            com=(0.0, 0.0175, -0.1105), inertia=(0.276, 0.255, 0.071)),
     DHLink("joint_2", "revolute", d=0.154, alpha=np.pi / 2, mass=5.01,
@@ -46,10 +48,14 @@ STANFORD_ARM_LINKS = (
     DHLink("wrist_3", "revolute", d=0.263, mass=0.51,
            com=(0.0, 0.0, 1.554 * CM), inertia=(0.013, 0.013, 0.0003)),
 )
+"""The arm's six standard DH rows with Paul's mass properties (the readings of the module's docstring)."""
 
-MOTION_DURATION = 10.0  # s, T of Saha, Shah & Nandihal's Eqs. 34-35
-MOTION_START = np.array([0.0, np.pi / 2, 0.5, 0.0, np.pi / 4, 0.0])  # rad, and m for the boom (third)
+MOTION_DURATION = 10.0
+"""T of Saha, Shah & Nandihal's Eqs. 34-35, in s."""
+MOTION_START = np.array([0.0, np.pi / 2, 0.5, 0.0, np.pi / 4, 0.0])
+"""q at the motion's start (rad; m for the boom, third): the boom level and half out."""
 MOTION_END = np.array([np.pi / 2, np.pi / 4, 0.9, np.pi / 2, np.pi / 2, np.pi / 2])
+"""q at the motion's end, t = MOTION_DURATION (rad; m for the boom)."""
 
 
 def stanford_arm() -> Model:

@@ -75,6 +75,27 @@ def test_pendulum_chain_small_oscillation_period():
         scenes.pendulum_chain(0)
 
 
+@pytest.mark.parametrize("arguments, error, message", [
+    ((2.5,), TypeError, r"n must be a whole number of links, got float \(2.5\)"),
+    (("3",), TypeError, "n must be a whole number of links, got str"),
+    ((True,), TypeError, "n must be a whole number of links, got bool"),
+    ((2, -0.5), ValueError, "length must be a finite number > 0, got -0.5"),
+    ((2, float("nan")), ValueError, "length must be a finite number > 0, got nan"),
+    ((2, 0.5, 0.0), ValueError, "mass must be a finite number > 0, got 0.0"),
+    ((2, 0.5, "1"), TypeError, "mass must be a real number, got str"),
+])
+def test_pendulum_chain_names_a_bad_argument(arguments, error, message):
+    with pytest.raises(error, match=f"pendulum_chain: {message}"):
+        scenes.pendulum_chain(*arguments)
+
+
+def test_drive_cassini_refuses_what_is_not_a_cassini_simulator():
+    with pytest.raises(ValueError, match="drive_cassini: the simulator's model has no DOF 'turntable'"):
+        scenes.drive_cassini(soadyn.Simulator(scenes.pendulum_chain(2), dt=0.01))
+    with pytest.raises(TypeError, match="drive_cassini needs a soadyn.Simulator, got Model"):
+        scenes.drive_cassini(scenes.cassini())
+
+
 def test_a_misspelt_scene_names_the_closest_ones():
     with pytest.raises(AttributeError, match=r"no scene 'casini'; did you mean cassini"):
         scenes.casini()

@@ -384,3 +384,11 @@ def test_a_results_directory_that_cannot_be_written_is_refused_before_any_run(ou
         run(spec_dict(), out=out.replace("<TMP>", str(tmp_path)), progress=False, verbose=False)
     assert fragment in str(error.value)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
+
+
+def test_run_one_takes_a_spec_by_name_and_refuses_a_run_id_out_of_range():
+    assert run_one("cassini-example", 0).row["status"] == "ok"
+    spec = load_spec("cassini-example", runs=3)
+    for run_id in (3, -1, 1.0, True):
+        with pytest.raises(ValueError, match=r"run id must be an integer in 0\.\.2"):
+            run_one(spec, run_id)

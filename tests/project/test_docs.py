@@ -3,17 +3,21 @@
 - `mkdocs build --strict` (the command the README gives) builds the site from docs/ with warnings as
   errors: a broken link or anchor, a page left out of the navigation, an API name mkdocstrings cannot
   find fails it. The Python API page documents the public names of `soadyn` (read from the code and the
-  generated stub); the command-line page, made from the parsers at build time, every command; the
-  design pages include CONTRIBUTING.md; the C++ page indexes the public headers with their leading comments; the examples gallery runs every example (at a reduced size) and
-  shows what each printed, its plot and its source.
+  generated stub), and each module page of the reference every name of its module's __all__ (mkdocstrings
+  leaves out a name without a docstring, so this fails on an undocumented public name); the command-line
+  page, made from the parsers at build time, every command; the design pages include CONTRIBUTING.md;
+  the C++ page indexes the public headers with their leading comments; the examples gallery runs every
+  example (at a reduced size) and shows what each printed, its plot and its source.
 - README.md is at most 250 lines, and every page of the manual it links to exists.
 """
 from __future__ import annotations
 
+import importlib
 import os
 import re
 import subprocess
 import sys
+import types
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -31,6 +35,15 @@ def test_the_manual_builds_with_warnings_as_errors(tmp_path):
         assert name in documented, f"the API page does not document soadyn.{name}"
     for page in ("getting-started", "guides/hil", "guides/cpp", "gallery", "design/layout", "design/contributing"):
         assert (site / page / "index.html").is_file(), page
+    undocumented = []
+    for page in sorted((ROOT / "docs" / "reference").glob("*.md")):
+        shown = set(re.findall(r'id="(soadyn[\w.]*)"', (site / "reference" / page.stem / "index.html").read_text()))
+        for module_name in re.findall(r"^::: ([\w.]+)", page.read_text(), re.M):
+            module = importlib.import_module(module_name)
+            undocumented += [f"{module_name}.{name}" for name in module.__all__
+                             if not isinstance(getattr(module, name), types.ModuleType)
+                             and f"{module_name}.{name}" not in shown]
+    assert not undocumented, f"public names without a docstring on their reference page: {undocumented}"
     cli = (site / "reference" / "cli" / "index.html").read_text()
     for command in ("demo", "check", "hil", "view", "campaign", "robots"):
         assert f"soadyn {command}" in cli and "--screenshot" in cli, command

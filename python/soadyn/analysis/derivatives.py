@@ -40,6 +40,10 @@ def inverse_dynamics_derivatives(model, q, v, qdd, f_ext=None):
     dtau_dqdd is the mass matrix M(q). f_ext: (nbodies, 6) body-frame wrenches, which
     turn with their bodies when q changes. On a loop model these are the spanning
     tree's (the loop forces are not part of inverse_dynamics).
+
+    Raises TypeError or ValueError naming an argument of the wrong type or shape or a non-finite entry, and
+    DynamicsError naming the body or DOF when the dynamics fail, as the state calls do
+    (soadyn.forward_dynamics).
     """
     if any(model.n_modes):
         # Modal DOFs are always regular, so differentiate forward dynamics at tau = ID(q, v, qdd):
@@ -70,6 +74,10 @@ def dynamics_derivatives(model, q, v, u, f_ext=None):
     Loop models: the derivatives of constrained_dynamics (the same outputs and inputs), by
     forward-mode automatic differentiation of its sweeps (one dual-number evaluation per column,
     exact to rounding; soadyn/analysis/parameter_sensitivity.hpp).
+
+    Raises TypeError or ValueError naming an argument of the wrong type or shape or a non-finite entry, and
+    DynamicsError naming the body or DOF when the dynamics fail, as the state calls do
+    (soadyn.forward_dynamics).
     """
     if by_dual_numbers(model):
         return _soadyn._dual_dynamics_derivatives(model, q, v, u, f_ext)

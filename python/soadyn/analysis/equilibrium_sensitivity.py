@@ -40,7 +40,13 @@ def _free(model, equilibrium) -> list:
 
 def equilibrium_sensitivities(model, equilibrium, params) -> dict:
     """{name: {"q": dq*/dp (nv tangent, *dirs; zero on held DOFs), "multipliers": dnu/dp,
-    "holding_forces": {held DOF name: dH/dp}}} by the direct method (module docstring)."""
+    "holding_forces": {held DOF name: dH/dp}}} by the direct method (module docstring).
+
+    equilibrium: a StaticEquilibrium of static_equilibrium on this model; params: a parameter name or names
+    (Model.parameter_names; *dirs are the parameter's direction axes, as in parameter_sensitivity).
+    ParameterError names an unknown parameter; ValueError one whose change moves a loop's closure (a body's
+    placement on a loop model).
+    """
     raw = _soadyn._equilibrium_sensitivities(model, equilibrium.q, equilibrium.multipliers,
                                              _free(model, equilibrium), parameter_name_list(params))
     held = [model.dof_names[k] for k in equilibrium.held]
@@ -51,6 +57,13 @@ def equilibrium_sensitivities(model, equilibrium, params) -> dict:
 def objective_gradient(model, equilibrium, params, dphi_dq, dphi_dnu=None) -> dict:
     """{name: dphi/dp (*dirs)} of a scalar objective phi(q*, nu*) at the equilibrium, by the adjoint
     method (one solve for every parameter). dphi_dq: (nv,) gradient with respect to q in the tangent
-    space (held DOFs' entries are ignored: they do not move); dphi_dnu: (nloop_equations,) or None."""
+    space (held DOFs' entries are ignored: they do not move); dphi_dnu: (nloop_equations,) or None.
+
+    equilibrium: a StaticEquilibrium of static_equilibrium on this model; params: a parameter name or names
+    (Model.parameter_names; *dirs are the parameter's direction axes, as in parameter_sensitivity).
+    ParameterError names an unknown parameter; ValueError one whose change moves a loop's closure (a body's
+    placement on a loop model). A dphi_dq or dphi_dnu of another shape raises ValueError
+    naming it.
+    """
     return _soadyn._objective_gradient(model, equilibrium.q, equilibrium.multipliers, _free(model, equilibrium),
                                        parameter_name_list(params), dphi_dq, dphi_dnu)

@@ -17,5 +17,9 @@ def linearize(model, q, v, u, dt=None, integrator: str = "rk4", f_ext=None):
     - dt > 0: (e', v') after one step of `integrator` ("rk4" or "euler", as soadyn.Simulator
       steps, inputs held over the step), e' in the tangent space at the step's end. "dopri5"
       adapts its sub-steps and has no fixed step map: refused with a ValueError.
+
+    Raises TypeError or ValueError naming an argument of the wrong type or shape or a non-finite entry, and
+    DynamicsError naming the body or DOF when the dynamics fail, as the state calls do
+    (soadyn.forward_dynamics).
     """
     return _soadyn._linearize(model, q, v, u, dt, integrator, f_ext)

@@ -30,7 +30,12 @@ def _at_rest_derivatives(model, q):
 
 def stiffness_matrix(model, q) -> np.ndarray:
     """K = d h(q, 0) / dq (nv x nv) in the tangent space of soadyn.integrate, exact
-    (inverse_dynamics_derivatives at rest)."""
+    (inverse_dynamics_derivatives at rest).
+
+    Raises TypeError or ValueError naming an argument of the wrong type or shape or a non-finite entry, and
+    DynamicsError naming the body or DOF when the dynamics fail, as the state calls do
+    (soadyn.forward_dynamics).
+    """
     return _at_rest_derivatives(model, q)[0]
 
 
@@ -44,6 +49,10 @@ def natural_frequencies(model, q) -> np.ndarray:
     a pendulum linearised upside down). If q is not an equilibrium, the
     result describes the linearised restoring forces about q all the same.
     Damping is left out (see `modes` for damped modes).
+
+    Raises TypeError or ValueError naming an argument of the wrong type or shape or a non-finite entry, and
+    DynamicsError naming the body or DOF when the dynamics fail, as the state calls do
+    (soadyn.forward_dynamics).
     """
     regular = ~np.asarray(model.prescribed, dtype=bool)
     K, _, M = _at_rest_derivatives(model, q)
@@ -90,7 +99,12 @@ def modes(model, q) -> Modes:
     """Frequencies (Hz and rad/s), damping ratios and DOF-labelled mode shapes of the
     model linearised about q at rest (see Modes; C++: soadyn/analysis/modes.hpp).
     Prescribed DOFs are held. Models with flexible bodies or point springs: from the dual-number
-    derivatives (soadyn.inverse_dynamics_derivatives) through the same eigen-analysis."""
+    derivatives (soadyn.inverse_dynamics_derivatives) through the same eigen-analysis.
+
+    Raises TypeError or ValueError naming an argument of the wrong type or shape or a non-finite entry, and
+    DynamicsError naming the body or DOF when the dynamics fail, as the state calls do
+    (soadyn.forward_dynamics).
+    """
     if by_dual_numbers(model) and not model.nloops:
         K, D, M = _at_rest_derivatives(model, q)
         dofs, w, zeta, roots, shapes = _soadyn._modes_of(model, M, K, D)

@@ -24,6 +24,10 @@ def parameter_sensitivity(model, q, v, u, params) -> dict:
     change (E_ab + E_ba)/2 (so d = sum_ab dI[a, b] * deriv[..., a, b] for a symmetric dI);
     placement: (6,), (dtheta, dp) moving (R, p) to (R expm([dtheta]x), p + dp): dtheta in the joint frame,
     dp in the parent body's frame. Flexible bodies included (their placements are their parameters).
+
+    ParameterError names an unknown parameter (with the closest names). Raises TypeError or ValueError naming an
+    argument of the wrong type or shape or a non-finite entry, and DynamicsError naming the body or DOF when the
+    dynamics fail, as the state calls do (soadyn.forward_dynamics).
     """
     return _soadyn._parameter_sensitivity(model, q, v, u, parameter_name_list(params))
 

@@ -9,11 +9,11 @@ as batches finish (store.py): an interrupted campaign resumes without redoing fi
 execute.py runs the batches on a Dask cluster; reporting.py summarizes and plots a results directory.
 """
 from .errors import CampaignError, ResultsDirectoryError, SpecError
-from .execute import CampaignResult, run
+from .execute import CampaignResult, run, run_one
 from .metrics import METRICS, metric
 from .replaying import Replay, format_replay, replay
 from .reporting import Report, format_summary, report
-from .simulate import RunOutcome, run_one
+from .simulate import RunOutcome
 from .spec import EXAMPLES, Spec, load_spec
 
 __all__ = ["run", "load_spec", "replay", "report", "run_one", "Spec", "CampaignResult", "RunOutcome", "Replay",

@@ -22,7 +22,8 @@ from typing import Callable, Optional
 
 from ..progress import PlainProgress, progress_bar
 from .errors import CampaignError
-from .simulate import failed_outcome, run_chunk
+from .simulate import RunOutcome, failed_outcome, run_chunk
+from .simulate import run_one as _run_checked_one
 from .spec import load_spec
 from .store import DirectoryStore, MemoryStore, software
 
@@ -31,8 +32,25 @@ TASKS_PER_WORKER = 8  # aim: this many tasks per worker (load balance, progress)
 CONNECT_TIMEOUT = 30  # s to reach a scheduler
 
 
+def run_one(spec, run_id: int) -> RunOutcome:
+    """Run `run_id` of `spec` (a Spec, or what load_spec takes) here, without a cluster: its row of the
+    results table and its decimated trajectory.
+
+    Raises SpecError naming the item for a spec that does not check, and ValueError for a run_id that is
+    not an integer in 0..runs-1. A run whose dynamics fail is a row with status "failed" and its message,
+    not an exception.
+    """
+    spec = load_spec(spec)
+    if isinstance(run_id, bool) or not isinstance(run_id, int) or not 0 <= run_id < spec.runs:
+        raise ValueError(f"run id must be an integer in 0..{spec.runs - 1}, got {run_id!r}")
+    return _run_checked_one(spec, run_id)
+
+
 @dataclass
 class CampaignResult:
+    """What campaign.run returns: the table of every run of the spec (a pyarrow.Table sorted by run_id: the
+    dispersed values, the metrics, status and message), where it was written, and how the call went."""
+
     table: object                 # pyarrow.Table: every run of the spec, sorted by run_id
     out: Optional[Path]           # the results directory (None: nothing written)
     runs: int

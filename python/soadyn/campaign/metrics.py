@@ -32,11 +32,16 @@ class Metric:
 
 
 METRICS: dict[str, Metric] = {}
+"""{name: Metric} of the metrics a campaign spec may ask for (filled by the @metric registrations below)."""
 
 
 def metric(name: str, unit: str, description: str, check: Optional[Callable] = None,
            argument: Optional[str] = None):
-    """Register the decorated function as metric `name` (a family `name:<argument>` if `argument`)."""
+    """Register the decorated function as metric `name` (a family `name:<argument>` if `argument`).
+
+    unit: the value's unit as the report prints it (e.g. 'm', 'rad', 'J'); description: one line for the report.
+    A name registered again replaces the earlier metric.
+    """
     def register(fn):
         METRICS[name] = Metric(name, unit, description, fn, check, argument)
         return fn

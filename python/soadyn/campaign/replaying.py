@@ -15,6 +15,9 @@ from .store import read_parts, read_stored, read_trajectory, trajectory_table
 
 @dataclass
 class Replay:
+    """What campaign.replay returns for one run: each stored column beside its recomputed value and whether
+    the two are bit-identical, the same for the kept trajectory, and `equal` when everything is."""
+
     run_id: int
     values: list                   # (column, stored or None, recomputed, bit-identical)
     stored: bool                   # the run was found in the results
@@ -66,6 +69,7 @@ def _same(a, b) -> bool:
 
 
 def format_replay(r: Replay) -> str:
+    """A Replay as the text table `soadyn campaign replay` prints: column, stored, recomputed, bit-identical."""
     def show(x):
         return "-" if x is None else repr(x) if isinstance(x, float) else str(x)
 

@@ -21,6 +21,9 @@ STATISTICS = ("count", "failed", "mean", "std", "min", "p5", "p50", "p95", "max"
 
 @dataclass
 class Report:
+    """What campaign.report returns: run counts, the summary statistics of each metric and dispersed value,
+    the plots and the table it wrote, and the worst run's movie when one was asked for."""
+
     runs: int                  # runs of the spec
     finished: int              # runs in the results
     failed: int
@@ -45,7 +48,12 @@ def summarize(values: np.ndarray, failed: int) -> dict:
 def report(out, plots_dir=None, plots: bool = True, movie: Optional[str] = None) -> Report:
     """Summarize the finished runs in `out`; with `plots`, write the PNGs to `plots_dir`
     (default DIR/report) and the table to summary.md there; with `movie` (a metric), also a movie of the
-    run with its largest value there (soadyn.campaign.movie: needs the view extra and Chromium)."""
+    run with its largest value there (soadyn.campaign.movie: needs the view extra and Chromium).
+
+    Raises CampaignError naming `out` when it holds no campaign (no spec.json) or no finished run yet, and
+    MovieError saying what is wrong (an unknown metric, the view extra or Chromium missing) when the movie
+    cannot be made.
+    """
     spec = stored_spec(out)
     table = read_parts(out, spec, spec.runs)
     if table.num_rows == 0:
@@ -75,6 +83,8 @@ def report(out, plots_dir=None, plots: bool = True, movie: Optional[str] = None)
 
 
 def format_summary(summary: list, markdown: bool = False) -> str:
+    """Report.summary as an aligned text table (or a Markdown table): one row per column, one column per
+    statistic (count, failed, mean, std, min, p5, p50, p95, max)."""
     header = ["", *STATISTICS]
     rows = [[name, *(_number(stats[s]) for s in STATISTICS)] for name, _, stats in summary]
     if markdown:

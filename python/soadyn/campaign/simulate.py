@@ -26,6 +26,8 @@ _MODELS: dict = {}  # model_sha256 -> Model: the campaign's model, read once per
 
 @dataclass
 class RunOutcome:
+    """One run's result as a worker returns it: its table row and, when kept, its decimated trajectory."""
+
     row: dict                      # run_id, the dispersed values (by column), the metrics, status, message
     trajectory: Optional[dict]     # {"t": (n,), "q": (n, nq), "v": (n, nv)} every trajectory_every steps
 
@@ -72,7 +74,8 @@ def prepare(spec, values) -> Simulator:
 
 
 def run_one(spec, run_id: int) -> RunOutcome:
-    """Run `run_id` of `spec`: its row of the results table and its decimated trajectory."""
+    """Run `run_id` of the checked Spec `spec`: its row of the results table and its decimated trajectory
+    (soadyn.campaign.run_one checks its arguments first)."""
     values = draw(spec, run_id)
     row = {"run_id": run_id, **dict(zip(spec.dispersion_columns, values))}
     trajectory = None

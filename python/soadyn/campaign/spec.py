@@ -50,6 +50,7 @@ FORMAT = "soadyn-campaign"
 FORMAT_VERSION = 1
 EXAMPLES_DIR = Path(__file__).parent / "examples"
 EXAMPLES = {"cassini-example": EXAMPLES_DIR / "cassini.toml"}
+"""{name: path} of the bundled campaign specs, which `soadyn campaign run NAME` takes by name."""
 
 
 @dataclass(frozen=True)

@@ -8,6 +8,9 @@ from dataclasses import dataclass
 
 @dataclass
 class HilEvent:
+    """A lock or release of a DOF (or of every DOF of a joint) at a simulation time in s, as `soadyn hil
+    --event "lock scan_az at 2.5"` gives it (parse_event)."""
+
     kind: str  # 'lock' or 'release'
     target: str  # DOF or joint name
     time: float
@@ -20,7 +23,11 @@ _EVENT = re.compile(r"^\s*(lock|release)\s+(\S+)\s+at\s+(\S+)\s*$")
 
 
 def parse_event(text: str) -> HilEvent:
-    """'lock <dof-or-joint> at <seconds>' or 'release <dof-or-joint> at <seconds>'."""
+    """'lock <dof-or-joint> at <seconds>' or 'release <dof-or-joint> at <seconds>'.
+
+    Returns a HilEvent; ValueError quoting the text when it is not of that form or its time is not a finite
+    number >= 0.
+    """
     match = _EVENT.match(text)
     if not match:
         raise ValueError(f"bad event {text!r}: expected 'lock <dof-or-joint> at <seconds>' "

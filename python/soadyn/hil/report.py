@@ -99,7 +99,12 @@ def format_scheduling(s: dict) -> str:
 
 
 def format_table(r: HilReport) -> str:
-    """The timing table printed by `soadyn hil`."""
+    """The timing table printed by `soadyn hil`.
+
+    The steps and deadline misses, the scheduling granted, the step's compute time and the lateness (p50, p99,
+    p99.9, max in microseconds), the machine's floor when it was timed, packet and command counts, the energy
+    (J) and the momentum's change; the HIL guide explains how to read it.
+    """
     c, lat, p, cmd = r.compute_us, r.lateness_us, r.packets, r.commands
     mode = "real time" if r.realtime else "as fast as possible"
     e0, e1, h0, h1 = r.energy["start"], r.energy["end"], r.momentum["start"], r.momentum["end"]
@@ -148,7 +153,11 @@ def require_matplotlib():
 
 def plot_report(r: HilReport, path, model=None, max_dofs: int = 6) -> None:
     """A PNG with the compute-time and lateness histograms, the velocities of
-    the `max_dofs` DOFs that moved most, and (given the model) the energy."""
+    the `max_dofs` DOFs that moved most, and (given the model) the energy.
+
+    Times in microseconds, velocities in the DOFs' units (rad/s, m/s), energy in J. Raises ImportError saying
+    how to install matplotlib when it is missing, and OSError naming the path when the PNG cannot be written.
+    """
     matplotlib = require_matplotlib()
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -106,6 +106,11 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
     the run goes on.
     Another thread's calls on `sim` wait until the run ends (the runner
     holds the simulator's lock).
+
+    rate in steps per s, duration in simulated s, spin_us in microseconds, ports 0..65535. Raises ValueError
+    naming the argument for a rate, duration, port, priority, CPU or limit out of range and for an unknown DOF
+    in command_limits or command_policy, and RuntimeError naming the address when the UDP port cannot be bound
+    (already in use).
     """
     if not (math.isfinite(rate) and rate > 0):
         raise ValueError(f"rate must be a finite positive number of steps per second, got {rate}")

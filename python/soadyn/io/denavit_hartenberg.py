@@ -26,15 +26,19 @@ import numpy as np
 from .._soadyn import Joint
 from ..model import Model
 
+__all__ = ["DHLink", "dh_model", "dh_transform", "JOINT_KINDS"]
+
 JOINT_KINDS = ("revolute", "prismatic")
+"""The joint kinds a DH row may have."""
 
 
 @dataclass(frozen=True)
 class DHLink:
     """One row of a standard Denavit-Hartenberg table, with the link's mass properties.
 
-    kind: "revolute" (theta_i = theta + q) or "prismatic" (d_i = d + q). a, d in m; alpha, theta in rad. mass in kg; com (m) and inertia (kg m^2,
-    about the centre of mass: 3 principal moments or a 3x3 matrix) in the link's DH frame.
+    kind: "revolute" (theta_i = theta + q) or "prismatic" (d_i = d + q). a, d in m; alpha, theta in rad.
+    mass in kg; com (m) and inertia (kg m^2, about the centre of mass: 3 principal moments or a 3x3 matrix)
+    in the link's DH frame.
     """
 
     name: str

@@ -30,6 +30,7 @@ def example_robot_files() -> list[Path]:
 
 
 def example_robots_version() -> Optional[str]:
+    """The installed example-robot-data package's version, or None when it is not installed."""
     try:
         return metadata.version("example-robot-data")
     except metadata.PackageNotFoundError:

@@ -560,7 +560,10 @@ class _Loader:
 
 
 def load_mjcf_with_map(path_or_xml, floating_base=None) -> MjcfModel:
-    """load_mjcf, returning the MjcfModel (the model, the MjModel and the state maps)."""
+    """load_mjcf, returning the MjcfModel (the model, the MjModel and the state maps).
+
+    Raises as load_mjcf does (MjcfError naming the file and the element).
+    """
     if floating_base not in (None, True, False):
         raise TypeError(f"floating_base must be None, True or False, got {floating_base!r}")
     mj, label = _compile(path_or_xml)

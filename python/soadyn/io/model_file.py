@@ -140,7 +140,12 @@ def model_from_json(text: str, source: str = "model JSON") -> Model:
 
 
 def save_model(m: Model, path, metadata: Optional[dict] = None) -> None:
-    """Write `m` to `path` in soadyn's model-file format (JSON; see docs/guides/model-files.md)."""
+    """Write `m` to `path` in soadyn's model-file format (JSON; the model-file reference page describes it).
+
+    metadata: a JSON-serialisable dict kept in the file's description (None: the loaded model's). Raises
+    TypeError for a non-Model, ModelFileError naming the path for metadata that is not JSON or too deeply nested
+    and for a path that cannot be written (a missing directory, no permission), with the reason.
+    """
     try:
         text = model_to_json(m, metadata)
     except ModelFileError as exc:
@@ -149,7 +154,12 @@ def save_model(m: Model, path, metadata: Optional[dict] = None) -> None:
 
 
 def load_model(path) -> Model:
-    """The model stored at `path` by save_model (or by soadyn::save_model in C++)."""
+    """The model stored at `path` by save_model (or by soadyn::save_model in C++).
+
+    Raises ModelFileError naming the path and the JSON path of the item at fault (/bodies/3/mass) for a missing
+    or unreadable file, invalid JSON, a newer version, a missing, mistyped, non-finite or unknown value, and a
+    file over the size or nesting limit (the model-file reference page).
+    """
     path = os.fspath(path)
     return model_from_json(read_text(path, path, ModelFileError, "model file"), path)
 

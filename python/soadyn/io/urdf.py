@@ -61,6 +61,8 @@ from .urdf_visuals import read_visuals
 __all__ = ["load_urdf", "UrdfError", "UrdfRepairWarning", "UrdfIgnoredWarning", "INERTIA_POLICIES"]
 
 INERTIA_POLICIES = ("strict", "repair", "accept")
+"""load_urdf's `inertia` choices for a link whose inertia is not physical: refuse it, repair it (with a
+UrdfRepairWarning naming the link), or accept it as written."""
 
 
 class UrdfRepairWarning(UserWarning):

@@ -205,7 +205,13 @@ def urdf_text(m: Model, robot_name: str = "soadyn_model") -> str:
 
 
 def save_urdf(m: Model, path, robot_name: str = "soadyn_model") -> None:
-    """Write the URDF of the rigid part of `m` to `path` (see the module's documentation)."""
+    """Write the URDF of the rigid part of `m` to `path` (the module's docstring lists what is exported).
+
+    Lengths in m, masses in kg, inertias in kg m^2 about the centre of mass. What URDF cannot hold (loops,
+    springs, armature, prescribed flags) is dropped with one UrdfExportWarning naming it. Raises TypeError for
+    a non-Model, and UrdfError naming the path and the item for what URDF cannot describe (a flexible body, a
+    joint kind without a URDF counterpart, a name XML cannot hold) and for a path that cannot be written.
+    """
     try:
         text = urdf_text(m, robot_name)
     except UrdfError as exc:

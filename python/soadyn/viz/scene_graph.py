@@ -60,7 +60,10 @@ class _Poser:
 
 def drawn_frames(m: Model) -> list[str]:
     """The frames the viewer draws: every frame that is not a body, except attachment frames of flexible
-    bodies (their nodes move with the modal coordinates, which frame_pose does not follow)."""
+    bodies (their nodes move with the modal coordinates, which frame_pose does not follow).
+
+    Returns the frame names, in the model's order.
+    """
     q0, bodies = neutral_configuration(m), set(m.body_names)
     drawn = []
     for name in m.frame_names:

@@ -23,12 +23,18 @@ def _scene_builders() -> dict:
             "delta-robot": scenes.delta_robot, "stanford-arm": scenes.stanford_arm}
 
 
-BUILT_IN_SCENES = tuple(_scene_builders())  # the scene names `soadyn view` takes
+BUILT_IN_SCENES = tuple(_scene_builders())
+"""The scene names `soadyn view` and Viewer sources take."""
 
 
 def load_any(source: str) -> Model:
     """A model from a built-in scene name, a model file (.json), an MJCF (.xml), a URDF (.urdf), or the name of
-    an example-robot-data URDF (`soadyn robots` lists them: ur5_robot, talos_reduced, ...)."""
+    an example-robot-data URDF (`soadyn robots` lists them: ur5_robot, talos_reduced, ...).
+
+    Raises ValueError naming the source when it is none of these (with the closest example robots), and the
+    reader's error (ModelFileError, MjcfError, UrdfError) naming the file and the item for a file it cannot
+    read.
+    """
     builders = _scene_builders()
     if source in builders:
         return builders[source]()
@@ -49,7 +55,10 @@ def load_any(source: str) -> Model:
 
 
 def start_state(source: str, m: Model) -> tuple[np.ndarray, np.ndarray]:
-    """The state `soadyn view` shows first: the loop scenes closed, every other model at rest in q0."""
+    """The state `soadyn view` shows first: the loop scenes closed, every other model at rest in q0.
+
+    Returns fresh (q (nq,), v (nv,)) arrays; DynamicsError names a loop that cannot be closed from q0.
+    """
     closed = {"four-bar": lambda: scenes.four_bar_state(0.5), "slider-crank": lambda: scenes.slider_crank_state(0.5),
               "delta-robot": lambda: scenes.delta_robot_state([0.0, 0.0, -0.6])}
     if source in closed:

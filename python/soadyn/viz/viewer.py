@@ -123,6 +123,7 @@ class Viewer:
 
     @property
     def url(self) -> str:
+        """The address a browser opens to see the viewer (http://host:port)."""
         return f"http://{self.server.get_host()}:{self.server.get_port()}"
 
     def _add_nodes(self, frames: bool) -> None:
@@ -341,4 +342,5 @@ class Viewer:
         return render_movie(self, trajectory, path, fps, width, height, speed)
 
     def close(self) -> None:
+        """Stop the viewer's server: its page goes blank and the port is free again."""
         self.server.stop()

@@ -25,6 +25,7 @@ import numpy as np
 __all__ = ["Visual", "SHAPES", "revolved_mesh", "rotation_z_to"]
 
 SHAPES = ("box", "sphere", "cylinder", "capsule", "ellipsoid", "plane", "mesh")
+"""The shapes a Visual may have."""
 
 
 @dataclass
