@@ -177,16 +177,17 @@ void bind_flexible_body(py::module_& mod) {
                   "Uniform Euler-Bernoulli cantilever along x, clamped at the body origin: n_nodes lumped\n"
                   "segments plus a massless 'tip' node; n_modes clamped-free bending modes per plane in the\n"
                   "x-y and x-z planes, interleaved (2 * n_modes modes in all).")
-      .def_property_readonly("n_modes", &FlexibleBody::n_modes)
-      .def_property_readonly("n_nodes", &FlexibleBody::n_nodes)
+      .def_property_readonly("n_modes", &FlexibleBody::n_modes, "Number of modes (modal DOFs).")
+      .def_property_readonly("n_nodes", &FlexibleBody::n_nodes, "Number of nodes N.")
       .def_property_readonly("nodes", &node_positions, "(N, 3) undeformed node positions, body frame.")
-      .def_property_readonly("masses", &node_masses)
-      .def_property_readonly("rotary_inertias", &node_rotary_inertias)
+      .def_property_readonly("masses", &node_masses, "(N,) node masses, kg.")
+      .def_property_readonly("rotary_inertias", &node_rotary_inertias, "(N, 3, 3) node rotary inertias, kg m^2.")
       .def_property_readonly("mode_shapes", &node_mode_shapes, "(N, 6, n_modes): rows [rotation; translation].")
-      .def_property_readonly("stiffness", &FlexibleBody::stiffness)
-      .def_property_readonly("damping", &FlexibleBody::damping)
-      .def_property_readonly("modal_mass", &FlexibleBody::modal_mass)
-      .def_property_readonly("attachments", &FlexibleBody::attachments)
+      .def_property_readonly("stiffness", &FlexibleBody::stiffness, "(n_modes, n_modes) modal stiffness K.")
+      .def_property_readonly("damping", &FlexibleBody::damping, "(n_modes, n_modes) modal damping D.")
+      .def_property_readonly("modal_mass", &FlexibleBody::modal_mass,
+                             "(n_modes, n_modes) modal mass: sum over nodes of the mode shapes' mass-weighted products.")
+      .def_property_readonly("attachments", &FlexibleBody::attachments, "{name: node index} of the attachment nodes.")
       .def("augmented_mass_matrix",
            [](const FlexibleBody& b, py::handle eta) {
              const Eigen::VectorXd e = eta_arg(b, eta);

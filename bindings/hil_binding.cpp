@@ -208,9 +208,12 @@ void bind_hil(py::module_& mod) {
                throw py::value_error(e.what());
              } },
            "Per-DOF limits of the command values (default a * M_ii at the start; inf: none).")
-      .def_property_readonly("commands_saturated", [](const HilSession& s) { return s.runner->commands_saturated(); })
-      .def_property_readonly("commands_rejected", [](const HilSession& s) { return s.runner->commands_rejected(); })
-      .def_property_readonly("steps_done", [](const HilSession& s) { return s.runner->steps_done(); })
+      .def_property_readonly("commands_saturated", [](const HilSession& s) { return s.runner->commands_saturated(); },
+                             "Command values clamped to their limit so far (policy 'clamp').")
+      .def_property_readonly("commands_rejected", [](const HilSession& s) { return s.runner->commands_rejected(); },
+                             "Commands refused for a value beyond its limit so far (policy 'reject').")
+      .def_property_readonly("steps_done", [](const HilSession& s) { return s.runner->steps_done(); },
+                             "Steps completed so far (thread-safe during run()).")
       .def("latest_state", [](const HilSession& s) -> py::object {
              const soadyn::StateSnapshot& snapshot = s.runner->latest_state();
              std::int64_t step = 0;
@@ -220,20 +223,28 @@ void bind_hil(py::module_& mod) {
              return py::make_tuple(step, time, q, v); },
            "(step, t, q, v) the loop published last, read without disturbing it (thread-safe; any time during "
            "or after run()), or None before the first run.")
-      .def_property_readonly("deadline_misses", [](const HilSession& s) { return s.runner->deadline_misses(); })
+      .def_property_readonly("deadline_misses", [](const HilSession& s) { return s.runner->deadline_misses(); },
+                             "Steps that ended after their period's deadline so far.")
       .def_property_readonly("packets_received", [](const HilSession& s) {
-             return s.link ? s.link->packets_received() : std::uint64_t{0}; })
+             return s.link ? s.link->packets_received() : std::uint64_t{0}; },
+           "Valid commands received so far (0 without UDP).")
       .def_property_readonly("udp_port", [](const HilSession& s) {
-             return s.link ? py::object(py::int_(s.link->port())) : py::object(py::none()); })
+             return s.link ? py::object(py::int_(s.link->port())) : py::object(py::none()); },
+           "The bound UDP port (an ephemeral one when 0 was asked), or None without UDP.")
       .def("summary", [](const HilSession& s) {
              s.check_idle("summary");
-             return s.summary(); })
+             return s.summary(); },
+           "The run's counts and timing percentiles (what soadyn.hil.HilReport is made from); RuntimeError while\n"
+           "run() is running.")
       .def_property_readonly("compute_ns", [](const HilSession& s) {
              s.check_idle("compute_ns");
-             return to_numpy(s.runner->compute_ns(), s.runner->steps_done()); })
+             return to_numpy(s.runner->compute_ns(), s.runner->steps_done()); },
+           "Per-step compute times in ns (steps_done,); RuntimeError while run() is running.")
       .def_property_readonly("lateness_ns", [](const HilSession& s) {
              s.check_idle("lateness_ns");
-             return to_numpy(s.runner->lateness_ns(), s.runner->steps_done()); })
+             return to_numpy(s.runner->lateness_ns(), s.runner->steps_done()); },
+           "Per-step lateness of the wake-up past its deadline in ns (steps_done,); RuntimeError while run() is\n"
+           "running.")
       .def_property_readonly("floor_ns", [](const HilSession& s) {
              s.check_idle("floor_ns");
              return to_numpy(s.runner->floor_ns(), s.runner->floor_done()); },

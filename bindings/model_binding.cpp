@@ -108,10 +108,11 @@ void bind_model(py::module_& mod) {
       "for joints of several DOFs (':1', ':2' of a universal joint, ':angle', ':offset' of a cylindrical one).");
   def_joint_factories(joint, static_cast<JointModel*>(nullptr));
   joint
-      .def_property_readonly("type", [](const JointSpec& j) { return std::string(soadyn::joint_type_name(j.joint)); })
-      .def_property_readonly("nq", [](const JointSpec& j) { return soadyn::joint_nq(j.joint); })
-      .def_property_readonly("nv", [](const JointSpec& j) { return soadyn::joint_nv(j.joint); })
-      .def_readonly("name", &JointSpec::name)
+      .def_property_readonly("type", [](const JointSpec& j) { return std::string(soadyn::joint_type_name(j.joint)); },
+                             "The joint type's name ('revolute', 'free', ...).")
+      .def_property_readonly("nq", [](const JointSpec& j) { return soadyn::joint_nq(j.joint); }, "Its number of coordinates.")
+      .def_property_readonly("nv", [](const JointSpec& j) { return soadyn::joint_nv(j.joint); }, "Its number of DOFs.")
+      .def_readonly("name", &JointSpec::name, "Its name ('': the body's name).")
       .def("__repr__", [](const JointSpec& j) {
         return std::string("Joint.") + soadyn::joint_type_name(j.joint) + "(" + (j.name.empty() ? "" : "name='" + j.name + "'") + ")";
       });

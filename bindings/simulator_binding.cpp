@@ -184,10 +184,13 @@ void bind_sources(py::module_& mod) {
   py::class_<Source>(mod, "MotionSource", "Position, velocity and acceleration of one DOF as functions of time.")
       .def_static("constant_acceleration", [](double a, double v0, double q0, double t0) {
             return Source{soadyn::ConstantAcceleration<double>{finite(t0, "t0"), finite(q0, "q0"), finite(v0, "v0"), finite(a, "a")}}; },
-          py::arg("acceleration"), py::arg("v0") = 0.0, py::arg("q0") = 0.0, py::arg("t0") = 0.0)
+          py::arg("acceleration"), py::arg("v0") = 0.0, py::arg("q0") = 0.0, py::arg("t0") = 0.0,
+          "q(t) = q0 + v0 (t - t0) + acceleration (t - t0)^2 / 2 (rad or m, s); ValueError naming a non-finite\n"
+          "argument.")
       .def_static("constant_velocity", [](double v, double q0, double t0) {
             return Source{soadyn::ConstantAcceleration<double>{finite(t0, "t0"), finite(q0, "q0"), finite(v, "velocity"), 0.0}}; },
-          py::arg("velocity"), py::arg("q0") = 0.0, py::arg("t0") = 0.0)
+          py::arg("velocity"), py::arg("q0") = 0.0, py::arg("t0") = 0.0,
+          "q(t) = q0 + velocity (t - t0) (rad or m, s); ValueError naming a non-finite argument.")
       .def_static("polynomial", [](const std::vector<double>& c, double t0) {
             if (c.empty() || c.size() > soadyn::Polynomial<double>::max_degree + 1)
               throw py::value_error("polynomial needs 1 to 8 coefficients (constant term first)");

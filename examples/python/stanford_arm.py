@@ -51,14 +51,15 @@ def main(argv=None) -> dict:
     args = parser.parse_args(argv)
     m, driven = drive(args.duration)
     names = m.dof_names
-    print(f"cycloidal rest-to-rest motion over {args.duration:g} s, every DOF prescribed (N m; the boom in N)")
+    print(f"cycloidal rest-to-rest motion over {args.duration:g} s, every DOF prescribed")
+    print("drive forces in N m (the boom's in N):")
     print(f"{'DOF':<8} {'at rest, t = 0':>15} {'peak |force|':>13}")
     for k, name in enumerate(names):
         print(f"{name:<8} {driven.tau[0, k]:>+15.4f} {np.max(np.abs(driven.tau[:, k])):>13.4f}")
     m_fall, falling = fall(args.fall)
     energy = [kinetic_energy(m_fall, q, v) + potential_energy(m_fall, q) for q, v in zip(falling.q, falling.v)]
-    print(f"free fall from the same start, {args.fall:g} s: q = "
-          + ", ".join(f"{name} {value:+.4f}" for name, value in zip(names, falling.q[-1])))
+    print(f"free fall from the same start, {args.fall:g} s; q at the end (rad, the boom in m):")
+    print("  " + ", ".join(f"{name} {value:+.4f}" for name, value in zip(names, falling.q[-1])))
     print(f"energy drift over the fall: {max(energy) - min(energy):.2e} J (RK4, dt = {DT:g} s)")
     if args.plot:
         revolute = [k for k, name in enumerate(names) if name != "boom"]

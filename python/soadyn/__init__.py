@@ -43,9 +43,9 @@ from ._soadyn import (
     random_configuration,
 )
 from ._soadyn import ParameterError, loop_force_stiffness
-from ._soadyn import QUATERNION_TOLERANCE as _QUATERNION_TOLERANCE
+from . import _soadyn as _core
 
-QUATERNION_TOLERANCE: float = _QUATERNION_TOLERANCE
+QUATERNION_TOLERANCE: float = _core.QUATERNION_TOLERANCE
 """How far from 1 (1e-6) the norm of a quaternion in q may be: within it, the quaternion is used normalised;
 further, the call is refused with a ValueError naming the joint, never silently normalised."""
 from ._soadyn import (  # the equations of motion term by term

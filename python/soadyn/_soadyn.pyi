@@ -57,16 +57,24 @@ class FlexibleBody:
         """
     @property
     def attachments(self) -> dict[str, int]:
-        ...
+        """
+        {name: node index} of the attachment nodes.
+        """
     @property
     def damping(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
-        ...
+        """
+        (n_modes, n_modes) modal damping D.
+        """
     @property
     def masses(self) -> numpy.typing.NDArray[numpy.float64]:
-        ...
+        """
+        (N,) node masses, kg.
+        """
     @property
     def modal_mass(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
-        ...
+        """
+        (n_modes, n_modes) modal mass: sum over nodes of the mode shapes' mass-weighted products.
+        """
     @property
     def mode_shapes(self) -> numpy.typing.NDArray[numpy.float64]:
         """
@@ -74,10 +82,14 @@ class FlexibleBody:
         """
     @property
     def n_modes(self) -> int:
-        ...
+        """
+        Number of modes (modal DOFs).
+        """
     @property
     def n_nodes(self) -> int:
-        ...
+        """
+        Number of nodes N.
+        """
     @property
     def nodes(self) -> numpy.typing.NDArray[numpy.float64]:
         """
@@ -85,10 +97,14 @@ class FlexibleBody:
         """
     @property
     def rotary_inertias(self) -> numpy.typing.NDArray[numpy.float64]:
-        ...
+        """
+        (N, 3, 3) node rotary inertias, kg m^2.
+        """
     @property
     def stiffness(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
-        ...
+        """
+        (n_modes, n_modes) modal stiffness K.
+        """
 class Joint:
     """
     A joint type; build one with the static constructors and give it to Model.add_body.
@@ -152,16 +168,24 @@ class Joint:
         ...
     @property
     def name(self) -> str:
-        ...
+        """
+        Its name ('': the body's name).
+        """
     @property
     def nq(self) -> int:
-        ...
+        """
+        Its number of coordinates.
+        """
     @property
     def nv(self) -> int:
-        ...
+        """
+        Its number of DOFs.
+        """
     @property
     def type(self) -> str:
-        ...
+        """
+        The joint type's name ('revolute', 'free', ...).
+        """
 class _Model:
     def __init__(self) -> None:
         ...
@@ -389,10 +413,15 @@ class MotionSource:
     """
     @staticmethod
     def constant_acceleration(acceleration: typing.SupportsFloat | typing.SupportsIndex, v0: typing.SupportsFloat | typing.SupportsIndex = 0.0, q0: typing.SupportsFloat | typing.SupportsIndex = 0.0, t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> MotionSource:
-        ...
+        """
+        q(t) = q0 + v0 (t - t0) + acceleration (t - t0)^2 / 2 (rad or m, s); ValueError naming a non-finite
+        argument.
+        """
     @staticmethod
     def constant_velocity(velocity: typing.SupportsFloat | typing.SupportsIndex, q0: typing.SupportsFloat | typing.SupportsIndex = 0.0, t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> MotionSource:
-        ...
+        """
+        q(t) = q0 + velocity (t - t0) (rad or m, s); ValueError naming a non-finite argument.
+        """
     @staticmethod
     def cycloidal(q0: typing.SupportsFloat | typing.SupportsIndex, q1: typing.SupportsFloat | typing.SupportsIndex, t0: typing.SupportsFloat | typing.SupportsIndex, duration: typing.SupportsFloat | typing.SupportsIndex) -> MotionSource:
         """
@@ -728,7 +757,10 @@ class HilRunner:
         Run the loop (GIL released); the outcome is in summary(). An exception raised by a Python motion source ends the run: run() raises the DynamicsError naming its DOF, caused by that exception, as Simulator.step does; summary() still holds the run.
         """
     def summary(self) -> _HilSummary:
-        ...
+        """
+        The run's counts and timing percentiles (what soadyn.hil.HilReport is made from); RuntimeError while
+        run() is running.
+        """
     def trajectory(self) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
         """
         Recorded (t, q, v): the start and every record_every steps.
@@ -743,16 +775,24 @@ class HilRunner:
         ...
     @property
     def commands_rejected(self) -> int:
-        ...
+        """
+        Commands refused for a value beyond its limit so far (policy 'reject').
+        """
     @property
     def commands_saturated(self) -> int:
-        ...
+        """
+        Command values clamped to their limit so far (policy 'clamp').
+        """
     @property
     def compute_ns(self) -> numpy.typing.NDArray[numpy.int64]:
-        ...
+        """
+        Per-step compute times in ns (steps_done,); RuntimeError while run() is running.
+        """
     @property
     def deadline_misses(self) -> int:
-        ...
+        """
+        Steps that ended after their period's deadline so far.
+        """
     @property
     def floor_ns(self) -> numpy.typing.NDArray[numpy.int64]:
         """
@@ -760,16 +800,25 @@ class HilRunner:
         """
     @property
     def lateness_ns(self) -> numpy.typing.NDArray[numpy.int64]:
-        ...
+        """
+        Per-step lateness of the wake-up past its deadline in ns (steps_done,); RuntimeError while run() is
+        running.
+        """
     @property
     def packets_received(self) -> int:
-        ...
+        """
+        Valid commands received so far (0 without UDP).
+        """
     @property
     def steps_done(self) -> int:
-        ...
+        """
+        Steps completed so far (thread-safe during run()).
+        """
     @property
     def udp_port(self) -> typing.Any:
-        ...
+        """
+        The bound UDP port (an ephemeral one when 0 was asked), or None without UDP.
+        """
 class ParameterError(ValueError):
     """
     A model parameter's name or value is refused (a ValueError): an unknown name (the closest names are suggested), a value of the wrong shape, or one that would make the model non-physical. The message names the parameter.

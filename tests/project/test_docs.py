@@ -62,6 +62,34 @@ def test_the_manual_builds_with_warnings_as_errors(tmp_path):
     assert "rigid-body modes at zero frequency" in (site / "examples" / "flexible-spacecraft-modes" / "index.html").read_text()
 
 
+def reference_modules() -> list[str]:
+    """The modules the reference pages render (their `::: module` lines)."""
+    return [name for page in sorted((ROOT / "docs" / "reference").glob("*.md"))
+            for name in re.findall(r"^::: ([\w.]+)", page.read_text(), re.M)]
+
+
+def test_every_member_of_a_documented_class_has_a_docstring():
+    """Properties and methods of the public classes the reference pages show, compiled ones included (a
+    pybind11 method without its own text has only its signature as docstring)."""
+    missing, seen = [], set()
+    for module_name in reference_modules():
+        module = importlib.import_module(module_name)
+        for name in module.__all__:
+            cls = getattr(module, name)
+            if not isinstance(cls, type) or cls in seen:
+                continue
+            seen.add(cls)
+            for member, value in vars(cls).items():
+                value = value.__func__ if isinstance(value, (staticmethod, classmethod)) else value
+                if member.startswith("_") or not (isinstance(value, property) or callable(value)):
+                    continue
+                doc = (getattr(value, "__doc__", None) or "").strip()
+                first, _, rest = doc.partition("\n")
+                if not doc or (first.startswith(f"{member}(") and "->" in first and not rest.strip()):
+                    missing.append(f"{module_name}.{name}.{member}")
+    assert not missing, f"members without a docstring: {missing}"
+
+
 def test_the_readme_is_short_and_its_manual_links_resolve():
     text = (ROOT / "README.md").read_text()
     assert len(text.splitlines()) <= 250

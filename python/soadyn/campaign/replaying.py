@@ -26,6 +26,8 @@ class Replay:
 
     @property
     def equal(self) -> bool:
+        """Whether the run was stored and every recomputed value (and the trajectory, when kept) equals it bit for
+        bit."""
         return self.stored and all(same for *_, same in self.values) and self.trajectory_equal is not False
 
 

@@ -80,10 +80,12 @@ class Spec:
 
     @property
     def dispersion_columns(self) -> list:
+        """The results table's column of each dispersion, in the spec's order."""
         return [d.column for d in self.dispersions]
 
     @property
     def columns(self) -> list:
+        """Every column of the results table: run_id, the dispersions', the metrics', status, message."""
         return ["run_id", *self.dispersion_columns, *self.metrics, "status", "message"]
 
     def identity(self) -> dict:
@@ -95,6 +97,7 @@ class Spec:
         return ident
 
     def with_runs(self, runs: int) -> "Spec":
+        """This spec with `runs` runs (run i's draws do not depend on it); SpecError for a count out of range."""
         runs = runs_in_range(runs, "runs (override)", self.source)
         return dataclasses.replace(self, runs=runs, normalized={**self.normalized, "runs": runs})
 

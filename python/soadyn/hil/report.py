@@ -60,6 +60,7 @@ class HilReport:
 
     @property
     def ok(self) -> bool:
+        """Whether the run ended as asked (status "ok": every step done, not stopped or failed)."""
         return self.status == "ok"
 
     def to_dict(self) -> dict:

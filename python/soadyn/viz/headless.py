@@ -115,6 +115,7 @@ class HeadlessBrowser:
             self.call("Target.closeTarget", targetId=target)
 
     def dom(self, session: str) -> str:
+        """The page's HTML as the browser holds it now, in the tab of `session` ('' before a document)."""
         expression = "document.documentElement ? document.documentElement.outerHTML : ''"
         return self.call("Runtime.evaluate", session, expression=expression, returnByValue=True)["result"].get(
             "value", "")
@@ -124,6 +125,7 @@ class HeadlessBrowser:
         Path(path).write_bytes(base64.b64decode(self.call("Page.captureScreenshot", session, format="png")["data"]))
 
     def close(self) -> None:
+        """Close the DevTools connection and end the browser process (safe to call twice)."""
         with contextlib.suppress(Exception):
             self.socket.close()
         self.kill()
