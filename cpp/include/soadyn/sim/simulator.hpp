@@ -62,6 +62,21 @@ struct SimulationError : std::runtime_error {
   Status status;
 };
 
+// What a step reads and writes, saved and restored whole (a co-simulation master's rollback: the C API's
+// and the FMU's saved states): time, state, inputs, each DOF's drive and its input source. Made by
+// SimulatorTpl::make_snapshot (allocates); save and restore copy into and out of it without allocating.
+// Not part of it: the motion sources given by prescribe() and the pending events (restore keeps the
+// simulator's), the divergence guard's reference (restarted from the restored state).
+template <class S>
+struct SimulatorSnapshot {
+  S time = S(0), energy_lost = S(0), adaptive_h = S(0);
+  std::int64_t steps = 0;
+  VecX<S> q, v, inputs, forces, source_offset, held_position;
+  std::vector<std::uint8_t> drive;
+  std::vector<int> source_of;
+  std::vector<ConstantAcceleration<S>> input_motion;  // each DOF's input source (zero for a DOF without one)
+};
+
 template <class S>
 class SimulatorTpl {
  public:
@@ -101,6 +116,31 @@ class SimulatorTpl {
   Status lock(int dof);
   Status release(int dof);
   Status step();
+
+  // Real-time inputs of driven DOFs: the C API's and the FMU's input u of a prescribed DOF (its
+  // acceleration, as in hybrid_dynamics) and their "prescribe" switch. Every DOF with a scalar coordinate
+  // (not a modal one) has an input source, made at construction, that moves it at a constant acceleration
+  // from where it is: q = q0 + v0 (t - t0) + a (t - t0)^2 / 2 with (t0, q0, v0) the time, position and
+  // velocity when the acceleration was set. drive_by_input makes a DOF follow it from now on (positions
+  // and velocities continuous: no impulse); set_driven_acceleration gives the input source of a DOF that
+  // follows it a new acceleration from now on. Both equal prescribe(dof, ConstantAcceleration{time(),
+  // q, v, a}) bit for bit, without allocating or throwing: invalid_dof for a DOF without an input source
+  // (planar, spherical, free joints; modal DOFs) or, for set_driven_acceleration, one that does not follow
+  // it; non_finite_source for an acceleration that is not finite.
+  Status drive_by_input(int dof, S acceleration);
+  Status set_driven_acceleration(int dof, S acceleration);
+  // Whether the DOF follows its input source (after drive_by_input, until a lock, release or prescribe).
+  bool driven_by_input(int dof) const;
+
+  // The accelerations and generalized forces at the present time, state and inputs (what the next step's
+  // first stage evaluates); qdd and tau must have nv entries. Real-time; changes nothing a step reads.
+  Status evaluate_now(VecX<S>& qdd, VecX<S>& tau);
+
+  // Saved states (see SimulatorSnapshot). restore fails (invalid_dof) for a snapshot of another model's
+  // size and changes nothing then.
+  SimulatorSnapshot<S> make_snapshot() const;
+  void save(SimulatorSnapshot<S>& snapshot) const;
+  Status restore(const SimulatorSnapshot<S>& snapshot);
 
   // A Status as a sentence naming the DOF and the time (allocates; not real-time).
   std::string describe(const Status& s) const;
@@ -175,6 +215,7 @@ class SimulatorTpl {
   void check_dof(int dof) const;
   void check_drivable(int dof) const;  // check_dof, and not a modal DOF
   void check_sourceable(int dof) const;  // check_drivable, and a scalar coordinate (coordinate_of_ >= 0)
+  void rebase_input_source(int dof, S acceleration);
 
   ModelTpl<S> model_;
   DataTpl<S> data_;
@@ -211,6 +252,7 @@ class SimulatorTpl {
     MotionSample<S> at(S t);
   };
   std::vector<SampledSource> sources_;
+  std::vector<int> input_source_;  // each DOF's input source (index into sources_), -1 without one
   std::vector<Event<S>> events_;  // binary heap, earliest (time, sequence) first; capacity reserved
   std::size_t event_capacity_;
   std::int64_t events_scheduled_ = 0;

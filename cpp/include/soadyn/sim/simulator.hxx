@@ -83,6 +83,12 @@ SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integra
   }
   for (int dof = 0; dof < nv; ++dof)
     if (model_.is_prescribed(dof)) drive_[static_cast<std::size_t>(dof)] = Drive::held;
+  input_source_.assign(static_cast<std::size_t>(nv), -1);
+  for (int dof = 0; dof < nv; ++dof) {  // the input sources (drive_by_input), made once
+    if (coordinate_of_[static_cast<std::size_t>(dof)] < 0 || model_.is_modal(dof)) continue;
+    input_source_[static_cast<std::size_t>(dof)] = static_cast<int>(sources_.size());
+    sources_.push_back({ConstantAcceleration<S>{}});
+  }
   events_.reserve(static_cast<std::size_t>(event_capacity));
   event_capacity_ = static_cast<std::size_t>(event_capacity);
 }
@@ -245,6 +251,122 @@ std::int64_t SimulatorTpl<S>::schedule_prescribe(S time, int dof, MotionSource<S
   events_.push_back(e);
   std::push_heap(events_.begin(), events_.end(), detail::fires_after<S>);
   return e.sequence;
+}
+
+template <class S>
+void SimulatorTpl<S>::rebase_input_source(int dof, S acceleration) {
+  const std::size_t d = static_cast<std::size_t>(dof);
+  SampledSource& slot = sources_[static_cast<std::size_t>(input_source_[d])];
+  slot.source = ConstantAcceleration<S>{time_, q_[coordinate_of_[d]], v_[dof], acceleration};
+  slot.sampled = false;
+}
+
+template <class S>
+bool SimulatorTpl<S>::driven_by_input(int dof) const {
+  if (dof < 0 || dof >= model_.nv) return false;
+  const std::size_t d = static_cast<std::size_t>(dof);
+  return input_source_[d] >= 0 && drive_[d] == Drive::sourced && source_of_[d] == input_source_[d];
+}
+
+template <class S>
+Status SimulatorTpl<S>::drive_by_input(int dof, S acceleration) {
+  if (dof < 0 || dof >= model_.nv || input_source_[static_cast<std::size_t>(dof)] < 0)
+    return Status{StatusCode::invalid_dof, dof};
+  if (!detail::finite(acceleration)) return Status{StatusCode::non_finite_source, dof};
+  SampledSource& slot = sources_[static_cast<std::size_t>(input_source_[static_cast<std::size_t>(dof)])];
+  const ConstantAcceleration<S> previous = std::get<ConstantAcceleration<S>>(slot.source);
+  rebase_input_source(dof, acceleration);
+  const Status s = switch_mode(dof, Drive::sourced, input_source_[static_cast<std::size_t>(dof)], true);
+  if (!s.ok()) {  // all or nothing
+    slot.source = previous;
+    slot.sampled = false;
+  }
+  return s;
+}
+
+// As prescribe(dof, ConstantAcceleration{time_, q, v, a}) does through switch_mode: the new source's
+// position and velocity now are the DOF's, so its offset is zero and there is no impulse.
+template <class S>
+Status SimulatorTpl<S>::set_driven_acceleration(int dof, S acceleration) {
+  if (!driven_by_input(dof)) return Status{StatusCode::invalid_dof, dof};
+  if (!detail::finite(acceleration)) return Status{StatusCode::non_finite_source, dof};
+  rebase_input_source(dof, acceleration);
+  source_offset_[dof] = S(0);
+  restart_divergence_guard();
+  return Status{};
+}
+
+template <class S>
+Status SimulatorTpl<S>::evaluate_now(VecX<S>& qdd, VecX<S>& tau) {
+  const Status s = evaluate(time_, q_, v_, qdd);
+  if (s.ok()) tau = data_.tau;
+  return s;
+}
+
+template <class S>
+SimulatorSnapshot<S> SimulatorTpl<S>::make_snapshot() const {
+  SimulatorSnapshot<S> snapshot;
+  snapshot.q.resize(model_.nq);
+  for (VecX<S>* x : {&snapshot.v, &snapshot.inputs, &snapshot.forces, &snapshot.source_offset, &snapshot.held_position})
+    x->resize(model_.nv);
+  snapshot.drive.resize(static_cast<std::size_t>(model_.nv));
+  snapshot.source_of.resize(static_cast<std::size_t>(model_.nv));
+  snapshot.input_motion.resize(static_cast<std::size_t>(model_.nv));
+  save(snapshot);
+  return snapshot;
+}
+
+template <class S>
+void SimulatorTpl<S>::save(SimulatorSnapshot<S>& snapshot) const {
+  snapshot.time = time_;
+  snapshot.energy_lost = energy_lost_;
+  snapshot.adaptive_h = adaptive_h_;
+  snapshot.steps = steps_;
+  snapshot.q = q_;
+  snapshot.v = v_;
+  snapshot.inputs = inputs_;
+  snapshot.forces = forces_;
+  snapshot.source_offset = source_offset_;
+  snapshot.held_position = held_position_;
+  for (std::size_t d = 0; d < drive_.size(); ++d) {
+    snapshot.drive[d] = static_cast<std::uint8_t>(drive_[d]);
+    snapshot.source_of[d] = source_of_[d];
+    snapshot.input_motion[d] = input_source_[d] < 0 ? ConstantAcceleration<S>{}
+                                                    : std::get<ConstantAcceleration<S>>(
+                                                          sources_[static_cast<std::size_t>(input_source_[d])].source);
+  }
+}
+
+template <class S>
+Status SimulatorTpl<S>::restore(const SimulatorSnapshot<S>& snapshot) {
+  const std::size_t nv = static_cast<std::size_t>(model_.nv);
+  if (snapshot.q.size() != model_.nq || snapshot.v.size() != model_.nv || snapshot.drive.size() != nv ||
+      snapshot.source_of.size() != nv || snapshot.input_motion.size() != nv)
+    return Status{StatusCode::invalid_dof, -1};
+  for (std::size_t d = 0; d < nv; ++d)  // a source index this simulator does not have: another simulator's
+    if (snapshot.source_of[d] >= static_cast<int>(sources_.size())) return Status{StatusCode::invalid_dof, static_cast<int>(d)};
+  time_ = snapshot.time;
+  energy_lost_ = snapshot.energy_lost;
+  adaptive_h_ = snapshot.adaptive_h;
+  steps_ = snapshot.steps;
+  q_ = snapshot.q;
+  v_ = snapshot.v;
+  inputs_ = snapshot.inputs;
+  forces_ = snapshot.forces;
+  source_offset_ = snapshot.source_offset;
+  held_position_ = snapshot.held_position;
+  for (std::size_t d = 0; d < nv; ++d) {
+    drive_[d] = static_cast<Drive>(snapshot.drive[d]);
+    source_of_[d] = snapshot.source_of[d];
+    model_.set_prescribed(static_cast<int>(d), drive_[d] != Drive::regular);
+    if (input_source_[d] < 0) continue;
+    SampledSource& slot = sources_[static_cast<std::size_t>(input_source_[d])];
+    slot.source = snapshot.input_motion[d];
+    slot.sampled = false;
+  }
+  for (SampledSource& source : sources_) source.sampled = false;
+  restart_divergence_guard();
+  return Status{};
 }
 
 template <class S>

@@ -1,0 +1,79 @@
+// One instance of a soadyn FMU, independent of the FMI version: its model and settings read from the FMU's
+// resources, a Plant driven by the variables of variables.hpp, and the FMI calls' behaviour (the fmi2 and
+// fmi3 entry points translate their arguments and status codes only).
+//
+// resources/model.json: the model file; resources/soadyn_fmu.txt: the settings written at export, one
+// per line: "soadyn-fmu 1", "token <instantiation token>", "step <s>", "substeps <n>", "integrator <rk4|euler|dopri5>", "q0 <nq numbers>",
+// "v0 <nv numbers>". The FMU's internal step is step / substeps; a DoStep of h runs h / (step / substeps)
+// steps (h must be a whole number of them).
+//
+// Real time: do_step, get and set allocate nothing and never throw; errors are logged with the item named
+// (the message is built then) and put the instance in its error state, where only reads, reset and
+// freeing are accepted (FMI's rule after an error).
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "../embed/plant.hpp"
+#include "variables.hpp"
+
+namespace soadyn::fmu {
+
+struct Settings {
+  std::string token;   // the instantiation token (FMI 2: guid) of the modelDescription.xml
+  double step = 1e-3;  // the export's communication step, s
+  int substeps = 1;
+  std::string integrator = "rk4";
+  std::vector<double> q0, v0;
+};
+
+// Reads resources/soadyn_fmu.txt; throws std::invalid_argument naming the file and line at fault.
+Settings read_settings(const std::string& path, int nq, int nv);
+std::string settings_text(const Settings& settings);
+
+class Instance {
+ public:
+  // error: true for an error, false for information; category as FMI's ("logError", "logInfo").
+  using Log = std::function<void(bool error, const char* category, const std::string& message)>;
+
+  // Throws std::invalid_argument naming the resource at fault.
+  Instance(const std::string& resources, Log log);
+
+  const std::vector<Variable>& variables() const { return variables_; }
+  const Settings& settings() const { return settings_; }
+
+  bool enter_initialization(double start_time);
+  bool exit_initialization();
+  bool reset();
+  bool do_step(double current_time, double step);
+
+  bool set_float64(unsigned vr, double value);
+  bool get_float64(unsigned vr, double& value);
+  bool set_boolean(unsigned vr, bool value);
+  bool get_boolean(unsigned vr, bool& value);
+
+  std::size_t state_size() const { return plant_->state_size() + sizeof(double) + 1; }
+  void save_state(unsigned char* out) const;
+  bool load_state(const unsigned char* in, std::size_t size);
+
+  bool failed() const { return failed_; }
+
+ private:
+  bool fail(const std::string& message);
+  bool update_outputs();
+  const Variable* variable(unsigned vr, const char* call);
+  bool start();  // the start state at start_time_, the inputs applied, the outputs computed
+
+  std::string resources_;
+  Log log_;
+  Model model_;
+  Settings settings_;
+  std::vector<Variable> variables_;
+  std::unique_ptr<embed::Plant> plant_;
+  double start_time_ = 0.0, kinetic_ = 0.0, potential_ = 0.0;
+  bool failed_ = false, initialized_ = false;
+};
+
+}  // namespace soadyn::fmu

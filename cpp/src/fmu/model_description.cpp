@@ -1,0 +1,150 @@
+#include "model_description.hpp"
+
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace soadyn::fmu {
+
+namespace {
+
+std::string escaped(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string number(double x) {
+  std::ostringstream out;
+  out.precision(17);
+  out << x;
+  return out.str();
+}
+
+// The SI base units of each unit the variables use (FMI's BaseUnit exponents).
+const char* base_unit(const std::string& unit) {
+  if (unit == "s") return "s=\"1\"";
+  if (unit == "m") return "m=\"1\"";
+  if (unit == "rad") return "rad=\"1\"";
+  if (unit == "m/s") return "m=\"1\" s=\"-1\"";
+  if (unit == "rad/s") return "rad=\"1\" s=\"-1\"";
+  if (unit == "m/s2") return "m=\"1\" s=\"-2\"";
+  if (unit == "rad/s2") return "rad=\"1\" s=\"-2\"";
+  if (unit == "N") return "kg=\"1\" m=\"1\" s=\"-2\"";
+  if (unit == "N.m" || unit == "J") return "kg=\"1\" m=\"2\" s=\"-2\"";
+  throw std::logic_error("no base unit for '" + unit + "'");
+}
+
+bool is_output(const Variable& v) {
+  return v.quantity != Quantity::time && v.quantity != Quantity::input && v.quantity != Quantity::locked &&
+         v.quantity != Quantity::prescribed;
+}
+
+const char* causality(const Variable& v) {
+  if (v.quantity == Quantity::time) return "independent";
+  return is_output(v) ? "output" : "input";
+}
+
+std::string attributes(const Variable& v, std::size_t vr) {
+  std::string a = "name=\"" + escaped(v.name) + "\" valueReference=\"" + std::to_string(vr) + "\" causality=\"" +
+                  causality(v) + "\" variability=\"" + (v.boolean ? "discrete" : "continuous") + "\"";
+  if (!v.description.empty()) a += " description=\"" + escaped(v.description) + "\"";
+  return a;
+}
+
+std::string unit_definitions(const std::vector<Variable>& variables) {
+  std::set<std::string> units;
+  for (const Variable& v : variables)
+    if (!v.unit.empty()) units.insert(v.unit);
+  std::string out = "  <UnitDefinitions>\n";
+  for (const std::string& u : units)
+    out += "    <Unit name=\"" + u + "\"><BaseUnit " + base_unit(u) + "/></Unit>\n";
+  return out + "  </UnitDefinitions>\n";
+}
+
+std::string fmi3(const Model& model, const Settings& settings, const Identity& id) {
+  const std::vector<Variable> vars = variables(model);
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+    << "<fmiModelDescription fmiVersion=\"3.0\" modelName=\"" << escaped(id.model_name) << "\" instantiationToken=\""
+    << escaped(id.token) << "\" description=\"" << escaped(id.description) << "\" generationTool=\""
+    << escaped(id.generation_tool) << "\" generationDateAndTime=\"" << escaped(id.generation_time)
+    << "\" variableNamingConvention=\"flat\">\n"
+    << "  <CoSimulation modelIdentifier=\"" << escaped(id.model_identifier)
+    << "\" canHandleVariableCommunicationStepSize=\"true\" canGetAndSetFMUState=\"true\" "
+       "canSerializeFMUState=\"true\" fixedInternalStepSize=\""
+    << number(settings.step / settings.substeps) << "\" hasEventMode=\"false\"/>\n"
+    << unit_definitions(vars) << "  <DefaultExperiment startTime=\"0\" stepSize=\"" << number(settings.step)
+    << "\"/>\n  <ModelVariables>\n";
+  for (std::size_t vr = 0; vr < vars.size(); ++vr) {
+    const Variable& v = vars[vr];
+    x << "    <" << (v.boolean ? "Boolean " : "Float64 ") << attributes(v, vr);
+    if (!v.unit.empty()) x << " unit=\"" << v.unit << "\"";
+    if (v.quantity == Quantity::input) x << " start=\"0\"";
+    if (v.boolean) x << " start=\"" << (v.start_true ? "true" : "false") << "\"";
+    x << "/>\n";
+  }
+  x << "  </ModelVariables>\n  <ModelStructure>\n";
+  for (std::size_t vr = 0; vr < vars.size(); ++vr)
+    if (is_output(vars[vr])) x << "    <Output valueReference=\"" << vr << "\"/>\n";
+  for (std::size_t vr = 0; vr < vars.size(); ++vr)
+    if (is_output(vars[vr])) x << "    <InitialUnknown valueReference=\"" << vr << "\"/>\n";
+  x << "  </ModelStructure>\n</fmiModelDescription>\n";
+  return x.str();
+}
+
+std::string fmi2(const Model& model, const Settings& settings, const Identity& id) {
+  const std::vector<Variable> vars = variables(model);
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+    << "<fmiModelDescription fmiVersion=\"2.0\" modelName=\"" << escaped(id.model_name) << "\" guid=\""
+    << escaped(id.token) << "\" description=\"" << escaped(id.description) << "\" generationTool=\""
+    << escaped(id.generation_tool) << "\" generationDateAndTime=\"" << escaped(id.generation_time)
+    << "\" variableNamingConvention=\"flat\" numberOfEventIndicators=\"0\">\n"
+    << "  <CoSimulation modelIdentifier=\"" << escaped(id.model_identifier)
+    << "\" canHandleVariableCommunicationStepSize=\"true\" canGetAndSetFMUstate=\"true\" "
+       "canSerializeFMUstate=\"true\"/>\n"
+    << unit_definitions(vars) << "  <DefaultExperiment startTime=\"0\" stepSize=\"" << number(settings.step)
+    << "\"/>\n  <ModelVariables>\n";
+  for (std::size_t vr = 0; vr < vars.size(); ++vr) {
+    const Variable& v = vars[vr];
+    x << "    <ScalarVariable " << attributes(v, vr) << ">";
+    if (v.boolean) {
+      x << "<Boolean start=\"" << (v.start_true ? "true" : "false") << "\"/>";
+    } else {
+      x << "<Real";
+      if (!v.unit.empty()) x << " unit=\"" << v.unit << "\"";
+      if (v.quantity == Quantity::input) x << " start=\"0\"";
+      x << "/>";
+    }
+    x << "</ScalarVariable>\n";
+  }
+  x << "  </ModelVariables>\n  <ModelStructure>\n    <Outputs>\n";
+  for (std::size_t vr = 0; vr < vars.size(); ++vr)  // index: the 1-based position in ModelVariables
+    if (is_output(vars[vr])) x << "      <Unknown index=\"" << vr + 1 << "\"/>\n";
+  x << "    </Outputs>\n    <InitialUnknowns>\n";
+  for (std::size_t vr = 0; vr < vars.size(); ++vr)
+    if (is_output(vars[vr])) x << "      <Unknown index=\"" << vr + 1 << "\"/>\n";
+  x << "    </InitialUnknowns>\n  </ModelStructure>\n</fmiModelDescription>\n";
+  return x.str();
+}
+
+}  // namespace
+
+std::string model_description(const Model& model, const Settings& settings, const Identity& identity,
+                              int fmi_version) {
+  if (fmi_version == 3) return fmi3(model, settings, identity);
+  if (fmi_version == 2) return fmi2(model, settings, identity);
+  throw std::invalid_argument("FMI version must be 2 or 3, got " + std::to_string(fmi_version));
+}
+
+}  // namespace soadyn::fmu

@@ -1,0 +1,104 @@
+#include "variables.hpp"
+
+#include <cstring>
+
+#include "../embed/plant.hpp"
+
+namespace soadyn::fmu {
+
+namespace {
+
+const DofUnits kRotation{"rad", "rad/s", "rad/s2", "N.m"};
+const DofUnits kTranslation{"m", "m/s", "m/s2", "N"};
+const DofUnits kModal{"", "", "", ""};
+
+// The body whose joint or modal coordinates hold `dof`, and the DOF's place among its joint's DOFs (-1: modal).
+int body_of_dof(const Model& m, int dof, int& place) {
+  for (int b = 0; b < m.nbodies(); ++b) {
+    const std::size_t bi = static_cast<std::size_t>(b);
+    const int first = m.v_index[bi];
+    if (dof >= first && dof < first + m.nv_body[bi]) {
+      place = dof - first;
+      return b;
+    }
+    if (dof >= m.modal_v_index(b) && dof < m.modal_v_index(b) + m.n_modes[bi]) {
+      place = -1;
+      return b;
+    }
+  }
+  place = -1;
+  return -1;
+}
+
+}  // namespace
+
+DofUnits dof_units(const Model& m, int dof) {
+  int place = -1;
+  const int body = body_of_dof(m, dof, place);
+  if (body < 0 || place < 0) return kModal;
+  const char* type = joint_type_name(m.joints[static_cast<std::size_t>(body)]);
+  if (!std::strcmp(type, "prismatic") || !std::strcmp(type, "translation")) return kTranslation;
+  if (!std::strcmp(type, "cylindrical")) return place == 0 ? kRotation : kTranslation;
+  if (!std::strcmp(type, "planar")) return place < 2 ? kTranslation : kRotation;
+  if (!std::strcmp(type, "free")) return place < 3 ? kRotation : kTranslation;  // v: angular, then linear
+  return kRotation;  // revolute, helical, universal, spherical
+}
+
+std::string coordinate_unit(const Model& m, int coordinate) {
+  for (int b = 0; b < m.nbodies(); ++b) {
+    const std::size_t bi = static_cast<std::size_t>(b);
+    const int first = m.q_index[bi];
+    if (coordinate < first || coordinate >= first + m.nq_body[bi]) continue;
+    const int place = coordinate - first;
+    const char* type = joint_type_name(m.joints[bi]);
+    if (!std::strcmp(type, "free")) return place < 3 ? "m" : "";  // position, then the quaternion
+    if (!std::strcmp(type, "spherical")) return "";               // the quaternion
+    return dof_units(m, m.v_index[bi] + place).position;  // scalar coordinates; planar: x, y, theta
+  }
+  return "";  // a modal coordinate
+}
+
+std::vector<Variable> variables(const Model& m) {
+  std::vector<Variable> out;
+  out.push_back({"time", Quantity::time, -1, false, false, "s", "simulation time"});
+  for (int dof = 0; dof < m.nv; ++dof) {
+    const DofUnits units = dof_units(m, dof);
+    const std::string& name = m.dof_names[static_cast<std::size_t>(dof)];
+    out.push_back({"u." + name, Quantity::input, dof, false, false, "",
+                   "torque or force of DOF " + name + " when regular (" + (units.force.empty() ? "modal force"
+                                                                                               : units.force) +
+                       "); its acceleration when prescribed (" + (units.acceleration.empty() ? "1/s2"
+                                                                                             : units.acceleration) +
+                       ")"});
+  }
+  for (int dof = 0; dof < m.nv; ++dof)
+    if (embed::lockable_dof(m, dof))
+      out.push_back({"locked." + m.dof_names[static_cast<std::size_t>(dof)], Quantity::locked, dof, true, false, "",
+                     "true: the DOF is locked (stopped by an impulse, then held)"});
+  for (int dof = 0; dof < m.nv; ++dof)
+    if (embed::sourceable_dof(m, dof))
+      out.push_back({"prescribed." + m.dof_names[static_cast<std::size_t>(dof)], Quantity::prescribed, dof, true,
+                     m.is_prescribed(dof), "", "true: the DOF follows its input u as an acceleration"});
+  for (int k = 0; k < m.nq; ++k)
+    out.push_back({"q." + m.coordinate_names[static_cast<std::size_t>(k)], Quantity::position, k, false, false,
+                   coordinate_unit(m, k), "coordinate"});
+  const struct {
+    const char* prefix;
+    Quantity quantity;
+    std::string DofUnits::*unit;
+    const char* description;
+  } per_dof[] = {{"v.", Quantity::velocity, &DofUnits::velocity, "velocity"},
+                 {"qdd.", Quantity::acceleration, &DofUnits::acceleration, "acceleration at the communication point"},
+                 {"tau.", Quantity::force, &DofUnits::force,
+                  "generalized force at the communication point (the drive torque of a prescribed or locked DOF)"}};
+  for (const auto& kind : per_dof)
+    for (int dof = 0; dof < m.nv; ++dof)
+      out.push_back({kind.prefix + m.dof_names[static_cast<std::size_t>(dof)], kind.quantity, dof, false, false,
+                     dof_units(m, dof).*kind.unit, kind.description});
+  out.push_back({"energy.kinetic", Quantity::kinetic_energy, -1, false, false, "J", "kinetic energy"});
+  out.push_back({"energy.potential", Quantity::potential_energy, -1, false, false, "J",
+                 "potential energy (gravity, springs, strain)"});
+  return out;
+}
+
+}  // namespace soadyn::fmu
