@@ -50,7 +50,7 @@ HIL = ["hil", "--no-progress", "--duration", "0.01"]
     (["demo", "--boom-duration", "nan"], "argument --boom-duration: must be a finite number >= 0, got nan"),
     (["check", "robot.urdf", "--states", "0"], "argument --states: must be >= 1, got 0"),
     (["check", "robot.urdf", "--tolerance", "nan"], "argument --tolerance: must be a finite number >= 0, got nan"),
-    ([], "a command is required: demo, check, hil, view, campaign or robots"),
+    ([], "a command is required: demo, check, hil, view, campaign, robots or fmu"),
 ])
 def test_bad_arguments_get_one_line_naming_them(argv, line, capsys):
     assert line in refused(argv, capsys)
@@ -120,7 +120,8 @@ def test_version_and_bare_command():
     bare = run_cli()
     assert bare.returncode == 2 and "Traceback" not in bare.stderr
     assert bare.stderr.strip().splitlines()[-1].endswith("a command is required: demo, check, hil, view, "
-                                                          "campaign or robots (soadyn COMMAND --help for its options)")
+                                                          "campaign, robots or fmu (soadyn COMMAND --help for its "
+                                                          "options)")
 
 
 def test_udp_0_announces_the_port_it_bound(tmp_path):

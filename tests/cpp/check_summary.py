@@ -284,6 +284,19 @@ def check_small_solves(output: str) -> None:
     require(bool(lines(r"^PASS: 0 failures$", output)), "no failure")
 
 
+def check_c_api(output: str) -> None:
+    """The C API from a C program: every check line ok, and the PASS line."""
+    require(len(lines(r"^ok: ", output)) >= 20 and not lines(r"^FAILED: ", output), "every check of the C program")
+    require(bool(lines(r"^test_c_api: PASS: 0 checks failed$", output)), "the PASS line")
+
+
+def check_c_api_no_allocation(output: str) -> None:
+    """10^4 steps of cassini through the C API with inputs, mode switches, reads and saved states."""
+    require(bool(lines(r"^c api \(cassini\): 10000 steps, 0 allocations, 0 frees, 0 failed calls$", output)),
+            "10^4 allocation-free steps through the C API")
+    require(bool(lines(r"^test_c_api_no_allocation: PASS$", output)), "the PASS line")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
@@ -304,6 +317,8 @@ CHECKS = {
     "test_appendage_kernels": check_appendage_kernels,
     "test_small_solves": check_small_solves,
     "test_batch": check_batch,
+    "test_c_api": check_c_api,
+    "test_c_api_no_allocation": check_c_api_no_allocation,
 }
 
 

@@ -10,6 +10,10 @@
       takes the C++ program, its CMakeLists.txt and its build command from the manual's C++ guide as
       written, builds it with HOME=D/home (so "$HOME/.local" is the prefix above) and runs it; its results
       must match the closed-form pendulum.
+  ... c_api
+      builds the C API guide's C program with its CMakeLists.txt (docs/guides/c-api.md) against the prefix,
+      linking soadyn::c_api, and runs it on examples/models/double_pendulum.json: its result must match the
+      closed form.
 
 No CMAKE_PREFIX_PATH names Eigen: soadynConfig.cmake must find it by itself. The library is not compiled
 again: the prefix is installed from the build tree that `pip install` made.
@@ -95,6 +99,9 @@ def install(build: Path, source: Path, scratch: Path) -> None:
     require((libraries / "libsoadyn.a").is_file() and (libraries / "libsoadyn_realtime.a").is_file(),
             "libsoadyn.a (soadyn::core) and libsoadyn_realtime.a (soadyn::realtime)")
     require((prefix / "include" / "soadyn" / "soadyn.hpp").is_file(), "the headers")
+    require((libraries / "libsoadyn_c_api.so").is_file() and
+            (prefix / "include" / "soadyn" / "embed" / "c_api.h").is_file(),
+            "the C API (libsoadyn_c_api.so, soadyn/embed/c_api.h)")
     require((libraries / "libsoadyn_scenes.a").is_file() and
             (prefix / "include" / "soadyn_scenes" / "scenes.hpp").is_file(),
             "the built-in scenes beside the core (libsoadyn_scenes.a, soadyn_scenes/scenes.hpp)")
@@ -216,18 +223,50 @@ def readme(source: Path, scratch: Path) -> None:
     print("the C++ guide's program: both results equal the closed-form pendulum")
 
 
+def c_api(source: Path, scratch: Path) -> None:
+    """The C API guide's program (docs/guides/c-api.md), its C and CMake blocks as written, built against the
+    installed package and run on examples/models/double_pendulum.json: the locked double pendulum's
+    acceleration equals the closed form of one 1 m, 2 kg rod."""
+    page = source / "docs" / "guides" / "c-api.md"
+    require(page.is_file(), "the manual's C API guide, docs/guides/c-api.md")
+    blocks: dict = {}
+    for language, body in re.findall(r"^```(\w+)\n(.*?)^```$", page.read_text(), re.MULTILINE | re.DOTALL):
+        blocks.setdefault(language, []).append(body)
+    require(len(blocks.get("c", [])) == 1 and len(blocks.get("cmake", [])) == 1,
+            "in the C API guide: one c block and one cmake block")
+    project = scratch / "pendulum_c"
+    project.mkdir(parents=True, exist_ok=True)
+    (project / "main.c").write_text(blocks["c"][0])
+    (project / "CMakeLists.txt").write_text(blocks["cmake"][0])
+    cmake = find_tool("cmake", "cmake", "CMAKE_BIN_DIR")
+    run([cmake, "-S", str(project), "-B", str(project / "build"), *configure_args(),
+         f"-DCMAKE_PREFIX_PATH={prefix_of(scratch)}"])
+    run([cmake, "--build", str(project / "build")])
+    output = run([str(project / "build" / "pendulum"), str(source / "examples" / "models" / "double_pendulum.json")])
+    found = re.search(r"^elbow locked at 0.3 rad: shoulder acceleration (\S+) rad/s\^2$", output, re.MULTILINE)
+    require(found is not None, "the shoulder's acceleration")
+    expected = -9.81 * math.sin(0.3) / (2.0 / 3.0)
+    require(math.isclose(float(found.group(1)), expected, rel_tol=1e-9),
+            f"acceleration {found.group(1)} equal to the closed form {expected}")
+    require(re.search(r"^after 1 s: shoulder \S+ rad, elbow 0.000000 rad$", output, re.MULTILINE) is not None,
+            "the locked elbow held at 0")
+    print("the C API guide's program: the locked pendulum's acceleration equals the closed form")
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build-dir", type=Path, required=True)
     parser.add_argument("--source-dir", type=Path, required=True)
     parser.add_argument("--scratch", type=Path, required=True)
-    parser.add_argument("step", choices=["install", "example", "readme"])
+    parser.add_argument("step", choices=["install", "example", "readme", "c_api"])
     args = parser.parse_args()
     try:
         if args.step == "install":
             install(args.build_dir, args.source_dir, args.scratch)
         elif args.step == "example":
             example(args.source_dir, args.scratch)
+        elif args.step == "c_api":
+            c_api(args.source_dir, args.scratch)
         else:
             readme(args.source_dir, args.scratch)
     except CheckFailed as failed:

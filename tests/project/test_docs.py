@@ -45,7 +45,7 @@ def test_the_manual_builds_with_warnings_as_errors(tmp_path):
                              and f"{module_name}.{name}" not in shown]
     assert not undocumented, f"public names without a docstring on their reference page: {undocumented}"
     cli = (site / "reference" / "cli" / "index.html").read_text()
-    for command in ("demo", "check", "hil", "view", "campaign", "robots"):
+    for command in ("demo", "check", "hil", "view", "campaign", "robots", "fmu"):
         assert f"soadyn {command}" in cli and "--screenshot" in cli, command
     assert "Adding a joint type" in (site / "design" / "contributing" / "index.html").read_text()
     for example in ("four-bar", "stanford-arm", "cassini-lockup", "slider-crank", "solar-wing", "monte-carlo-campaign",

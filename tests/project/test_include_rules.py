@@ -28,6 +28,8 @@ LAYERS = {
     "analysis": 9,     # derivatives, statics, sensitivity, modes, linearization (of a Simulator step)
     "realtime": 10,    # the HIL runner, UDP link, scheduling, state snapshot
     "parallel": 10,    # thread pool, batched dynamics, rollouts
+    "embed": 11,       # Plant and the C API: a simulator driven by an embedding host
+    "fmu": 12,         # the FMU binary's parts (variables, instance, model description, saved states)
 }
 UMBRELLA = "soadyn.hpp"  # the one header at the root: includes the public entry points
 INCLUDE_LINE = re.compile(r'^\s*#\s*include\s*[<"]([^">]+)[">]', re.MULTILINE)

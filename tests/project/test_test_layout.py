@@ -18,6 +18,7 @@ CONCERNS = {
     "analysis": "soadyn.analysis: derivatives, linearization, modes, statics, sensitivities",
     "sim": "the Simulator: integrators, sources, events, threads",
     "batch": "soadyn.batch: batched calls and rollouts",
+    "fmu": "soadyn.fmu: FMUs exported, validated and run by fmpy and libcosim; the C API",
     "io": "soadyn.io: URDF, MJCF, model files and export",
     "check": "soadyn.check: the oracle adapters and `soadyn check`",
     "viz": "soadyn.viz: the viewer",

@@ -1,14 +1,14 @@
-// The C API (soadyn/c_api.h) over embed::Plant. Setup calls catch every C++ exception at the boundary and
+// The C API (soadyn/embed/c_api.h) over embed::Plant. Setup calls catch every C++ exception at the boundary and
 // turn it into SOADYN_ERROR with the message in the thread's last error; the calls after soadyn_sim_create
 // do not throw (Plant's contract) and allocate only an error's message.
-#include "soadyn/c_api.h"
+#include "soadyn/embed/c_api.h"
 
 #include <exception>
 #include <memory>
 #include <new>
 #include <string>
 
-#include "plant.hpp"
+#include "soadyn/embed/plant.hpp"
 #include "soadyn/model/model_file.hpp"
 
 struct soadyn_model {
@@ -175,6 +175,10 @@ int soadyn_sim_prescribe(soadyn_sim* sim, int dof) {
 int soadyn_sim_step(soadyn_sim* sim, int steps) {
   if (sim == nullptr) return fail("soadyn_sim_step: the simulator is NULL");
   if (steps < 0) return fail("soadyn_sim_step: a negative number of steps");
+  const int bad = sim->plant.non_finite_input();
+  if (bad >= 0)
+    return fail("soadyn_sim_step: the input of DOF '" + sim->plant.model().dof_names[static_cast<std::size_t>(bad)] +
+                "' is not finite");
   return result(sim, sim->plant.advance(steps));
 }
 

@@ -1,4 +1,4 @@
-#include "plant.hpp"
+#include "soadyn/embed/plant.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -100,6 +100,12 @@ Status Plant::apply_inputs() {
     if (!s.ok()) return s;
   }
   return Status{};
+}
+
+int Plant::non_finite_input() const {
+  for (std::size_t d = 0; d < u_.size(); ++d)
+    if (!std::isfinite(u_[d])) return static_cast<int>(d);
+  return -1;
 }
 
 Status Plant::advance(int steps) {

@@ -5,9 +5,9 @@
 #include <exception>
 #include <string>
 
-#include "../embed/plant.hpp"
-#include "model_description.hpp"
-#include "soadyn/c_api.h"
+#include "soadyn/embed/plant.hpp"
+#include "soadyn/fmu/model_description.hpp"
+#include "soadyn/embed/c_api.h"
 #include "soadyn/model/model_file.hpp"
 
 namespace {

@@ -6,8 +6,8 @@
 #include <string>
 
 #include "fmi2Functions.h"
-#include "instance.hpp"
-#include "saved_states.hpp"
+#include "soadyn/fmu/instance.hpp"
+#include "soadyn/fmu/saved_states.hpp"
 
 namespace {
 
@@ -18,10 +18,14 @@ struct Component {
   double start_time = 0.0;
   std::unique_ptr<soadyn::fmu::Instance> instance;
 
+  // The message is FMI 2's format string (no arguments): '%' doubled, so that loggers that format and loggers
+  // that do not both show it as written.
   void log(bool error, const char* category, const std::string& message) const {
-    if (callbacks.logger && (error || logging))
-      callbacks.logger(callbacks.componentEnvironment, name.c_str(), error ? fmi2Error : fmi2OK, category, "%s",
-                       message.c_str());
+    if (!callbacks.logger || !(error || logging)) return;
+    std::string format;
+    for (const char c : message) format += c == '%' ? std::string("%%") : std::string(1, c);
+    callbacks.logger(callbacks.componentEnvironment, name.c_str(), error ? fmi2Error : fmi2OK, category,
+                     format.c_str());
   }
 };
 

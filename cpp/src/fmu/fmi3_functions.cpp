@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "fmi3Functions.h"
-#include "instance.hpp"
-#include "saved_states.hpp"
+#include "soadyn/fmu/instance.hpp"
+#include "soadyn/fmu/saved_states.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "instance.hpp"
+#include "soadyn/fmu/instance.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -73,7 +73,8 @@ Settings read_settings(const std::string& path, int nq, int nv) {
 std::string settings_text(const Settings& s) {
   std::ostringstream out;
   out.precision(17);
-  out << kSettingsHeader << "\ntoken " << s.token << "\nstep " << s.step << "\nsubsteps " << s.substeps << "\nintegrator " << s.integrator;
+  out << kSettingsHeader << "\ntoken " << s.token << "\nstep " << s.step << "\nsubsteps " << s.substeps
+      << "\nintegrator " << s.integrator;
   out << "\nq0";
   for (double x : s.q0) out << ' ' << x;
   out << "\nv0";

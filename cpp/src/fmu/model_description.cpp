@@ -1,6 +1,7 @@
-#include "model_description.hpp"
+#include "soadyn/fmu/model_description.hpp"
 
 #include <set>
+#include <vector>
 #include <sstream>
 #include <stdexcept>
 
@@ -115,8 +116,14 @@ std::string fmi2(const Model& model, const Settings& settings, const Identity& i
        "canSerializeFMUstate=\"true\"/>\n"
     << unit_definitions(vars) << "  <DefaultExperiment startTime=\"0\" stepSize=\"" << number(settings.step)
     << "\"/>\n  <ModelVariables>\n";
+  // FMI 2.0 needs no independent variable, and readers disagree on its start: time is left out, and
+  // value reference 0 unused. ModelStructure's indices count the variables written, from 1.
+  std::vector<std::size_t> position(vars.size(), 0);
+  std::size_t written = 0;
   for (std::size_t vr = 0; vr < vars.size(); ++vr) {
     const Variable& v = vars[vr];
+    if (v.quantity == Quantity::time) continue;
+    position[vr] = ++written;
     x << "    <ScalarVariable " << attributes(v, vr) << ">";
     if (v.boolean) {
       x << "<Boolean start=\"" << (v.start_true ? "true" : "false") << "\"/>";
@@ -129,11 +136,11 @@ std::string fmi2(const Model& model, const Settings& settings, const Identity& i
     x << "</ScalarVariable>\n";
   }
   x << "  </ModelVariables>\n  <ModelStructure>\n    <Outputs>\n";
-  for (std::size_t vr = 0; vr < vars.size(); ++vr)  // index: the 1-based position in ModelVariables
-    if (is_output(vars[vr])) x << "      <Unknown index=\"" << vr + 1 << "\"/>\n";
+  for (std::size_t vr = 0; vr < vars.size(); ++vr)
+    if (is_output(vars[vr])) x << "      <Unknown index=\"" << position[vr] << "\"/>\n";
   x << "    </Outputs>\n    <InitialUnknowns>\n";
   for (std::size_t vr = 0; vr < vars.size(); ++vr)
-    if (is_output(vars[vr])) x << "      <Unknown index=\"" << vr + 1 << "\"/>\n";
+    if (is_output(vars[vr])) x << "      <Unknown index=\"" << position[vr] << "\"/>\n";
   x << "    </InitialUnknowns>\n  </ModelStructure>\n</fmiModelDescription>\n";
   return x.str();
 }

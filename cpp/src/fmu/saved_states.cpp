@@ -1,4 +1,4 @@
-#include "saved_states.hpp"
+#include "soadyn/fmu/saved_states.hpp"
 
 #include <cstring>
 #include <stdexcept>

@@ -1,8 +1,8 @@
-#include "variables.hpp"
+#include "soadyn/fmu/variables.hpp"
 
 #include <cstring>
 
-#include "../embed/plant.hpp"
+#include "soadyn/embed/plant.hpp"
 
 namespace soadyn::fmu {
 

@@ -33,6 +33,7 @@ from ..viz.viewer import Viewer
 from . import four_bar_demo
 from .boom_vibration import format_response, gimbal_step_response, plot_response
 from .demo import describe_scene, format_result, run_demo
+from .fmu_command import add_fmu_parser, run_fmu_command
 
 # Scenes of `soadyn demo` and the file a bare --plot writes.
 DEMO_PLOTS = {"cassini": "booms.png", "four-bar": "four_bar.png"}
@@ -43,7 +44,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     them)."""
     parser = argparse.ArgumentParser(prog="soadyn", description="O(N) hybrid multibody dynamics.")
     parser.add_argument("--version", action="version", version=f"soadyn {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="{demo,check,hil,view,campaign,robots}")
+    sub = parser.add_subparsers(dest="command", metavar="{demo,check,hil,view,campaign,robots,fmu}")
     demo = sub.add_parser("demo", help="fly a built-in scene for a few seconds and report")
     demo.add_argument("--scene", default="cassini", choices=list(DEMO_PLOTS),
                       help="built-in scene (default cassini); four-bar: the crank-rocker of Saha, Shah & Nandihal 2013")
@@ -81,7 +82,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     robots = sub.add_parser("robots", help="list the built-in scenes and the example robots installed here, with their "
                                            "paths")
     commands = {"demo": demo, "check": check, "hil": add_hil_parser(sub), "view": view,
-                "campaign": add_campaign_parser(sub), "robots": robots}
+                "campaign": add_campaign_parser(sub), "robots": robots, "fmu": add_fmu_parser(sub)}
     return parser, commands
 
 
@@ -89,8 +90,8 @@ def main(argv: list[str] | None = None) -> int:
     parser, commands = build_parser()
     args = parser.parse_args(argv)
     if args.command is None:
-        parser.error("a command is required: demo, check, hil, view, campaign or robots (soadyn COMMAND --help for its "
-                     "options)")
+        parser.error("a command is required: demo, check, hil, view, campaign, robots or fmu (soadyn COMMAND --help for "
+                     "its options)")
     if args.command == "campaign":
         return run_campaign_command(args, commands["campaign"])
     if args.command == "check":
@@ -102,6 +103,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "robots":
         print(format_robots())
         return 0
+    if args.command == "fmu":
+        return run_fmu_command(args, commands["fmu"])
     return run_demo_command(args, commands["demo"])
 
 

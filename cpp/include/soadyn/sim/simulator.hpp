@@ -90,7 +90,9 @@ class SimulatorTpl {
   // either way the simulator is unchanged.
   // set_state: q, v and time finite, every quaternion of unit norm within
   // quaternion_tolerance() (kept as given, not renormalised), every
-  // source's sample at `time` finite.
+  // source's sample at `time` finite. A DOF driven by its input source
+  // (drive_by_input) keeps the given position and velocity: its source
+  // starts again from them with the same acceleration.
   void set_state(const ConstVecRef<S>& q, const ConstVecRef<S>& v, S time = S(0));
   void set_input(int dof, S torque);  // torque of a regular DOF (kept until changed)
   // Prescribes the DOF's motion from now on. The source's position is taken

@@ -152,6 +152,11 @@ void SimulatorTpl<S>::set_state(const ConstVecRef<S>& q, const ConstVecRef<S>& v
   for (int dof = 0; dof < model_.nv; ++dof) {  // every source at the new time, before anything changes
     const std::size_t d = static_cast<std::size_t>(dof);
     if (drive_[d] != Drive::sourced) continue;
+    if (driven_by_input(dof)) {  // an input source starts again from the given state (rebased below)
+      sampled_position_[dof] = q[coordinate_of_[d]];
+      sampled_velocity_[dof] = v[dof];
+      continue;
+    }
     const MotionSample<S> s = sources_[static_cast<std::size_t>(source_of_[d])].at(time);
     if (!detail::finite(s)) {
       const Status status{StatusCode::non_finite_source, dof};
@@ -172,6 +177,8 @@ void SimulatorTpl<S>::set_state(const ConstVecRef<S>& q, const ConstVecRef<S>& v
     } else if (drive_[d] == Drive::sourced) {
       source_offset_[dof] = q_[coordinate_of_[d]] - sampled_position_[dof];
       v_[dof] = sampled_velocity_[dof];
+      if (driven_by_input(dof))
+        rebase_input_source(dof, std::get<ConstantAcceleration<S>>(sources_[static_cast<std::size_t>(source_of_[d])].source).a);
     }
   }
   restart_divergence_guard();

@@ -38,6 +38,8 @@ class Plant {
   void set_prescribed(int dof, bool on) { prescribed_[static_cast<std::size_t>(dof)] = on; }
   bool locked(int dof) const { return locked_[static_cast<std::size_t>(dof)] != 0; }
   bool prescribed(int dof) const { return prescribed_[static_cast<std::size_t>(dof)] != 0; }
+  // The first DOF whose input is not finite, or -1 (the C API names it before stepping).
+  int non_finite_input() const;
   bool lockable(int dof) const { return lockable_dof(model(), dof); }
   bool sourceable(int dof) const { return sourceable_dof(model(), dof); }
 

@@ -3,7 +3,7 @@
 #pragma once
 #include <string>
 
-#include "instance.hpp"
+#include "soadyn/fmu/instance.hpp"
 
 namespace soadyn::fmu {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "instance.hpp"
+#include "soadyn/fmu/instance.hpp"
 
 namespace soadyn::fmu {
 

@@ -3,9 +3,9 @@
 // fmi3 entry points translate their arguments and status codes only).
 //
 // resources/model.json: the model file; resources/soadyn_fmu.txt: the settings written at export, one
-// per line: "soadyn-fmu 1", "token <instantiation token>", "step <s>", "substeps <n>", "integrator <rk4|euler|dopri5>", "q0 <nq numbers>",
-// "v0 <nv numbers>". The FMU's internal step is step / substeps; a DoStep of h runs h / (step / substeps)
-// steps (h must be a whole number of them).
+// per line: "soadyn-fmu 1", "token <instantiation token>", "step <s>", "substeps <n>",
+// "integrator <rk4|euler|dopri5>", "q0 <nq numbers>", "v0 <nv numbers>". The FMU's internal step is
+// step / substeps; a DoStep of h runs h / (step / substeps) steps (h must be a whole number of them).
 //
 // Real time: do_step, get and set allocate nothing and never throw; errors are logged with the item named
 // (the message is built then) and put the instance in its error state, where only reads, reset and
@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "../embed/plant.hpp"
-#include "variables.hpp"
+#include "soadyn/embed/plant.hpp"
+#include "soadyn/fmu/variables.hpp"
 
 namespace soadyn::fmu {
 
