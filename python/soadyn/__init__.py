@@ -65,6 +65,7 @@ from .io.mjcf import MjcfError, MjcfIgnoredWarning, load_mjcf
 from .io.model_file import ModelFileError, load_model, save_model
 from .io.urdf import UrdfError, load_urdf
 from .io.urdf_export import UrdfExportWarning, save_urdf
+from .fmu import FmuError, export_fmu
 from .loops import assemble, project_velocity
 from .model import Model
 from .simulator import MotionSource, Simulator, Trajectory
@@ -97,6 +98,7 @@ __all__ += ["equilibrium_sensitivities", "objective_gradient"]
 __all__ += ["Visual", "load_mjcf", "MjcfError", "MjcfIgnoredWarning"]
 __all__ += ["save_model", "load_model", "ModelFileError"]
 __all__ += ["save_urdf", "UrdfExportWarning"]
+__all__ += ["export_fmu", "FmuError"]
 __all__ += ["Viewer"]
 
 # The package was flat before it had subpackages: its old module paths keep working, as the very modules at

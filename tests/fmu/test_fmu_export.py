@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from fmpy import read_model_description
 from fmpy.validation import validate_fmu
 
 import soadyn
 from soadyn.fmu import export_fmu
-from support.fmu_runs import Step, run_fmu, run_reference
+from support.fmu_runs import FmuSession, Step, run_fmu, run_reference
 
 MJCF = """<mujoco model="arm">
   <worldbody>
@@ -118,3 +119,29 @@ def test_a_dof_prescribed_through_its_boolean_input_follows_its_acceleration(tmp
     prescribed.set_prescribed(["link_1"])
     _, tau = soadyn.hybrid_dynamics(prescribed, fmu.q[10], fmu.v[10], np.array([0.5, 0.0]))
     np.testing.assert_allclose(fmu.tau[9], tau, rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("fmi", [3, 2])
+def test_model_parameters_set_before_the_initialization_change_the_run_as_set_parameter_does(fmi, tmp_path):
+    m = soadyn.scenes.pendulum_chain(2)
+    q0 = np.array([0.4, -0.3])
+    path = export_fmu(m, tmp_path / "p.fmu", fmi=fmi, step=0.01, q0=q0)
+    session_names = {v.name for v in read_model_description(str(path)).modelVariables}
+    assert {"link_1.mass", "link_2.com[2]", "link_1.inertia[0,1]", "link_2.placement[2,3]",
+            "gravity[2]"} <= session_names
+    changes = {"link_2.mass": 2.5, "link_2.com[2]": -0.3, "gravity[2]": -3.7}
+    session = FmuSession(path, parameters=changes)
+    q = []
+    for _ in range(50):
+        session.step(0.01)
+        q.append(session.reals(["q.link_1", "q.link_2"]))
+    assert session.reals(["link_2.mass"])[0] == 2.5
+    session.close()
+    changed = m.copy()
+    changed.set_parameter("link_2.mass", 2.5)
+    changed.set_parameter("link_2.com", [0.0, 0.0, -0.3])
+    changed.gravity = [0.0, 0.0, -3.7]
+    sim = soadyn.Simulator(changed, dt=0.01)
+    sim.set_state(q0, np.zeros(2))
+    run = sim.run(0.5)
+    assert np.array_equal(np.array(q), run.q[1:])

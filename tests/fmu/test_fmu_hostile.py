@@ -157,3 +157,16 @@ def test_export_refuses_a_start_state_the_simulator_refuses_and_an_unwritable_pa
     with pytest.raises(TypeError, match="needs a soadyn.Model"):
         export_fmu(42, tmp_path / "n.fmu")
     shutil.rmtree(tmp_path)
+
+
+def test_a_parameter_out_of_range_or_set_after_the_initialization_is_refused(pendulum_fmu):
+    _, path = pendulum_fmu
+    messages = []
+    with pytest.raises(FMICallException):
+        FmuSession(path, logger=messages.append, parameters={"link_2.mass": -1.0})
+    assert any("link_2" in m and "mass" in m for m in messages), messages
+    session = FmuSession(path, logger=messages.append)
+    with pytest.raises(FMICallException):
+        session.set_real("link_2.mass", 3.0)
+    assert "the parameter 'link_2.mass' is fixed" in messages[-1]
+    session.close()

@@ -39,9 +39,11 @@ class FmuRun:
 
 class FmuSession:
     """One instance of an FMU in fmpy, its variables by name; `logger(message: str)` receives what the FMU
-    logs (errors, and everything with logging on)."""
+    logs (errors, and everything with logging on); `parameters` {name: value} are set before the
+    initialization."""
 
-    def __init__(self, path, instance_name: str = "plant", start_time: float = 0.0, logger=None):
+    def __init__(self, path, instance_name: str = "plant", start_time: float = 0.0, logger=None,
+                 parameters: dict | None = None):
         self.directory = extract(str(path))
         self.description = read_model_description(self.directory)
         self.version = int(self.description.fmiVersion[0])
@@ -63,6 +65,8 @@ class FmuSession:
             self._callback.allocateMemory = fmi2.fmi2CallbackAllocateMemoryTYPE(fmi2.calloc)
             self._callback.freeMemory = fmi2.fmi2CallbackFreeMemoryTYPE(fmi2.free)
             self.fmu.instantiate(callbacks=self._callback)
+        for name, value in (parameters or {}).items():  # fixed parameters: before the initialization
+            self.set_real(name, value)
         if self.version == 3:
             self.fmu.enterInitializationMode(startTime=start_time)
         else:

@@ -87,6 +87,8 @@ Instance::Instance(const std::string& resources, Log log) : resources_(resources
   model_ = load_model(resources_ + "/model.json");
   settings_ = read_settings(resources_ + "/soadyn_fmu.txt", model_.nq, model_.nv);
   variables_ = fmu::variables(model_);
+  parameters_ = std::make_unique<ParameterTable<double>>(model_);
+  parameter_scratch_.assign(16, 0.0);
   plant_ = std::make_unique<embed::Plant>(model_, settings_.step / settings_.substeps,
                                           embed::integrator_from_name(settings_.integrator));
 }
@@ -129,6 +131,11 @@ bool Instance::enter_initialization(double start_time) {
 
 bool Instance::exit_initialization() {
   if (failed_) return fail("exit initialization after an error");
+  if (parameters_changed_) {  // setup, not a step: the new model's Plant is made here
+    plant_ = std::make_unique<embed::Plant>(model_, settings_.step / settings_.substeps,
+                                            embed::integrator_from_name(settings_.integrator));
+    parameters_changed_ = false;
+  }
   initialized_ = true;
   return start();  // the inputs set during initialization, from the start state
 }
@@ -136,6 +143,13 @@ bool Instance::exit_initialization() {
 bool Instance::reset() {
   failed_ = false;
   initialized_ = false;
+  parameters_changed_ = false;
+  try {  // the parameters' start values: the model as exported (setup: it allocates)
+    model_ = load_model(resources_ + "/model.json");
+    parameters_ = std::make_unique<ParameterTable<double>>(model_);
+  } catch (const std::exception& e) {
+    return fail(std::string("Reset: ") + e.what());
+  }
   plant_ = std::make_unique<embed::Plant>(model_, settings_.step / settings_.substeps,
                                           embed::integrator_from_name(settings_.integrator));
   start_time_ = 0.0;
@@ -149,6 +163,7 @@ bool Instance::update_outputs() {
   kinetic_ = kinetic_energy<double>(sim.model(), sim.data(), sim.q(), sim.v());
   potential_ = potential_energy<double>(sim.model(), sim.data(), sim.q());
   if (!std::isfinite(kinetic_) || !std::isfinite(potential_)) return fail("the energy is not finite");
+  outputs_current_ = true;
   return true;
 }
 
@@ -166,14 +181,27 @@ bool Instance::do_step(double current_time, double step) {
   if (steps < 1 || std::abs(exact - steps) > 1e-6 || steps > std::numeric_limits<int>::max())
     return fail("DoStep: the step size " + std::to_string(step) + " s is not a whole number of the FMU's internal step " +
                 std::to_string(dt) + " s (its step / substeps)");
+  outputs_current_ = false;
   const Status s = plant_->advance(static_cast<int>(steps));
   if (!s.ok()) return fail("DoStep: " + plant_->describe(s));
-  return update_outputs();
+  return true;
 }
 
 bool Instance::set_float64(unsigned vr, double value) {
   const Variable* v = variable(vr, "SetFloat64");
   if (!v) return false;
+  if (v->quantity == Quantity::parameter) {
+    if (initialized_) return fail("SetFloat64: the parameter '" + v->name + "' is fixed: set it before the "
+                                  "initialization ends");
+    if (!std::isfinite(value)) return fail("SetFloat64: the value of '" + v->name + "' is not finite");
+    try {
+      set_parameter_element(*parameters_, model_, *v, value, parameter_scratch_);
+    } catch (const std::exception& e) {
+      return fail(std::string("SetFloat64: ") + e.what());
+    }
+    parameters_changed_ = true;
+    return true;
+  }
   if (v->quantity != Quantity::input) return fail("SetFloat64: '" + v->name + "' is not a Float64 input");
   if (!std::isfinite(value)) return fail("SetFloat64: the value of '" + v->name + "' is not finite");
   plant_->set_u(v->index, value);
@@ -184,6 +212,9 @@ bool Instance::get_float64(unsigned vr, double& value) {
   const Variable* v = variable(vr, "GetFloat64");
   if (!v) return false;
   const Simulator& sim = plant_->simulator();
+  const bool evaluated = v->quantity == Quantity::acceleration || v->quantity == Quantity::force ||
+                         v->quantity == Quantity::kinetic_energy || v->quantity == Quantity::potential_energy;
+  if (evaluated && !outputs_current_ && !update_outputs()) return false;
   switch (v->quantity) {
     case Quantity::time: value = sim.time(); return true;
     case Quantity::input: value = plant_->u(v->index); return true;
@@ -193,6 +224,7 @@ bool Instance::get_float64(unsigned vr, double& value) {
     case Quantity::force: value = plant_->tau()[v->index]; return true;
     case Quantity::kinetic_energy: value = kinetic_; return true;
     case Quantity::potential_energy: value = potential_; return true;
+    case Quantity::parameter: value = parameter_element(*parameters_, model_, *v, parameter_scratch_); return true;
     default: return fail("GetFloat64: '" + v->name + "' is a Boolean");
   }
 }
@@ -228,7 +260,8 @@ bool Instance::load_state(const unsigned char* in, std::size_t size) {
   std::memcpy(&start_time_, in + plant_->state_size(), sizeof(double));
   initialized_ = in[plant_->state_size() + sizeof(double)] != 0;
   failed_ = false;
-  return update_outputs();
+  outputs_current_ = false;
+  return true;
 }
 
 }  // namespace soadyn::fmu

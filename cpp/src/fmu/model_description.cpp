@@ -42,22 +42,40 @@ const char* base_unit(const std::string& unit) {
   if (unit == "rad/s2") return "rad=\"1\" s=\"-2\"";
   if (unit == "N") return "kg=\"1\" m=\"1\" s=\"-2\"";
   if (unit == "N.m" || unit == "J") return "kg=\"1\" m=\"2\" s=\"-2\"";
+  if (unit == "kg") return "kg=\"1\"";
+  if (unit == "kg.m2") return "kg=\"1\" m=\"2\"";
   throw std::logic_error("no base unit for '" + unit + "'");
 }
 
 bool is_output(const Variable& v) {
   return v.quantity != Quantity::time && v.quantity != Quantity::input && v.quantity != Quantity::locked &&
-         v.quantity != Quantity::prescribed;
+         v.quantity != Quantity::prescribed && v.quantity != Quantity::parameter;
 }
 
 const char* causality(const Variable& v) {
   if (v.quantity == Quantity::time) return "independent";
+  if (v.quantity == Quantity::parameter) return "parameter";
   return is_output(v) ? "output" : "input";
+}
+
+const char* variability(const Variable& v) {
+  if (v.quantity == Quantity::parameter) return "fixed";
+  return v.boolean ? "discrete" : "continuous";
+}
+
+// The start attribute of an input or parameter ("" for the others, whose values are computed).
+std::string start(const Model& model, const Variable& v) {
+  if (v.boolean) return std::string(" start=\"") + (v.start_true ? "true" : "false") + "\"";
+  if (v.quantity == Quantity::input) return " start=\"0\"";
+  if (v.quantity != Quantity::parameter) return "";
+  const ParameterTable<double> table(model);
+  std::vector<double> scratch(16);
+  return " start=\"" + number(parameter_element(table, model, v, scratch)) + "\"";
 }
 
 std::string attributes(const Variable& v, std::size_t vr) {
   std::string a = "name=\"" + escaped(v.name) + "\" valueReference=\"" + std::to_string(vr) + "\" causality=\"" +
-                  causality(v) + "\" variability=\"" + (v.boolean ? "discrete" : "continuous") + "\"";
+                  causality(v) + "\" variability=\"" + variability(v) + "\"";
   if (!v.description.empty()) a += " description=\"" + escaped(v.description) + "\"";
   return a;
 }
@@ -90,9 +108,7 @@ std::string fmi3(const Model& model, const Settings& settings, const Identity& i
     const Variable& v = vars[vr];
     x << "    <" << (v.boolean ? "Boolean " : "Float64 ") << attributes(v, vr);
     if (!v.unit.empty()) x << " unit=\"" << v.unit << "\"";
-    if (v.quantity == Quantity::input) x << " start=\"0\"";
-    if (v.boolean) x << " start=\"" << (v.start_true ? "true" : "false") << "\"";
-    x << "/>\n";
+    x << start(model, v) << "/>\n";
   }
   x << "  </ModelVariables>\n  <ModelStructure>\n";
   for (std::size_t vr = 0; vr < vars.size(); ++vr)
@@ -126,12 +142,11 @@ std::string fmi2(const Model& model, const Settings& settings, const Identity& i
     position[vr] = ++written;
     x << "    <ScalarVariable " << attributes(v, vr) << ">";
     if (v.boolean) {
-      x << "<Boolean start=\"" << (v.start_true ? "true" : "false") << "\"/>";
+      x << "<Boolean" << start(model, v) << "/>";
     } else {
       x << "<Real";
       if (!v.unit.empty()) x << " unit=\"" << v.unit << "\"";
-      if (v.quantity == Quantity::input) x << " start=\"0\"";
-      x << "/>";
+      x << start(model, v) << "/>";
     }
     x << "</ScalarVariable>\n";
   }

@@ -30,6 +30,42 @@ int body_of_dof(const Model& m, int dof, int& place) {
   return -1;
 }
 
+// A parameter's unit, from the last part of its name.
+std::string parameter_unit(const std::string& name) {
+  const std::string kind = name.substr(name.rfind('.') + 1);
+  if (kind == "mass") return "kg";
+  if (kind == "com") return "m";
+  if (kind == "inertia") return "kg.m2";
+  if (kind == "placement") return "m";
+  if (name == "gravity") return "m/s2";
+  return "";
+}
+
+// The parameters element by element: scalars whole, vectors by [i], 3 x 3 inertias by their upper
+// triangle [r,c], 4 x 4 placements by their translation [i,3]; other shapes by every [r,c].
+void append_parameters(const Model& m, std::vector<Variable>& out) {
+  const ParameterTable<double> table(m);
+  for (int k = 0; k < table.size(); ++k) {
+    const ParameterEntry<double>& e = table.entry(k);
+    const std::string unit = parameter_unit(e.name), description = "model parameter (fixed)";
+    if (e.size() == 1) {
+      out.push_back({e.name, Quantity::parameter, k, false, false, unit, description});
+      continue;
+    }
+    for (int r = 0; r < e.rows; ++r)
+      for (int c = 0; c < e.cols; ++c) {
+        if (e.rows == 3 && e.cols == 3 && c < r) continue;
+        if (e.rows == 4 && e.cols == 4 && (c != 3 || r == 3)) continue;
+        Variable v{e.cols == 1 ? e.name + "[" + std::to_string(r) + "]"
+                               : e.name + "[" + std::to_string(r) + "," + std::to_string(c) + "]",
+                   Quantity::parameter, k, false, false, unit, description};
+        v.row = r;
+        v.col = c;
+        out.push_back(v);
+      }
+  }
+}
+
 }  // namespace
 
 DofUnits dof_units(const Model& m, int dof) {
@@ -98,7 +134,24 @@ std::vector<Variable> variables(const Model& m) {
   out.push_back({"energy.kinetic", Quantity::kinetic_energy, -1, false, false, "J", "kinetic energy"});
   out.push_back({"energy.potential", Quantity::potential_energy, -1, false, false, "J",
                  "potential energy (gravity, springs, strain)"});
+  append_parameters(m, out);
   return out;
+}
+
+double parameter_element(const ParameterTable<double>& table, const Model& model, const Variable& v,
+                         std::vector<double>& scratch) {
+  const ParameterEntry<double>& entry = table.entry(v.index);
+  table.get(model, v.index, scratch.data());
+  return scratch[static_cast<std::size_t>(v.col * entry.rows + v.row)];  // column-major
+}
+
+void set_parameter_element(const ParameterTable<double>& table, Model& model, const Variable& v, double value,
+                           std::vector<double>& scratch) {
+  const ParameterEntry<double>& entry = table.entry(v.index);
+  table.get(model, v.index, scratch.data());
+  scratch[static_cast<std::size_t>(v.col * entry.rows + v.row)] = value;
+  if (entry.rows == 3 && entry.cols == 3) scratch[static_cast<std::size_t>(v.row * entry.rows + v.col)] = value;
+  table.set(model, v.index, scratch.data());
 }
 
 }  // namespace soadyn::fmu

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
+from .._version import __version__
 from .._soadyn import neutral_configuration
 from ..io.model_file import model_to_json
 from ..loops import assemble

@@ -7,7 +7,8 @@
 // "integrator <rk4|euler|dopri5>", "q0 <nq numbers>", "v0 <nv numbers>". The FMU's internal step is
 // step / substeps; a DoStep of h runs h / (step / substeps) steps (h must be a whole number of them).
 //
-// Real time: do_step, get and set allocate nothing and never throw; errors are logged with the item named
+// Real time: do_step, get and set allocate nothing and never throw (qdd, tau and the energies are
+// evaluated when first read after a step); errors are logged with the item named
 // (the message is built then) and put the instance in its error state, where only reads, reset and
 // freeing are accepted (FMI's rule after an error).
 #pragma once
@@ -72,8 +73,14 @@ class Instance {
   Settings settings_;
   std::vector<Variable> variables_;
   std::unique_ptr<embed::Plant> plant_;
+  std::unique_ptr<ParameterTable<double>> parameters_;
+  std::vector<double> parameter_scratch_;
+  bool parameters_changed_ = false;  // the Plant is rebuilt from model_ when the initialization ends
   double start_time_ = 0.0, kinetic_ = 0.0, potential_ = 0.0;
   bool failed_ = false, initialized_ = false;
+  // qdd, tau and the energies are evaluated when first read after a step, not by every DoStep: a master
+  // that reads q and v only pays for the steps.
+  bool outputs_current_ = false;
 };
 
 }  // namespace soadyn::fmu

@@ -2,12 +2,16 @@
 // value reference) and its modelDescription.xml (written by the same binary at export) read, so the two
 // cannot disagree. Names are fixed (the FMU guide lists them): time; inputs u.<dof>, locked.<dof>,
 // prescribed.<dof>; outputs q.<coordinate>, v.<dof>, qdd.<dof>, tau.<dof>, energy.kinetic,
-// energy.potential. Value references count from 0 (time) in that order.
+// energy.potential; then the model's parameters (Model.parameter_names) element by element, named as a
+// campaign names them: link_2.mass, link_2.com[2], link_2.inertia[0,1] (upper triangle: setting it sets
+// its mirror), link_2.placement[1,3] (translations only), gravity[2]. Value references count from 0
+// (time) in that order.
 #pragma once
 #include <string>
 #include <vector>
 
 #include "soadyn/model/model.hpp"
+#include "soadyn/model/parameters.hpp"
 
 namespace soadyn::fmu {
 
@@ -22,16 +26,18 @@ enum class Quantity {
   force,        // tau.<dof>
   kinetic_energy,
   potential_energy,
+  parameter,    // one element of a model parameter (fixed: set before the initialization ends)
 };
 
 struct Variable {
   std::string name;
   Quantity quantity;
-  int index = -1;  // the DOF or coordinate
+  int index = -1;  // the DOF or coordinate; a parameter's entry in the model's ParameterTable
   bool boolean = false;
   bool start_true = false;  // a Boolean input's start value
   std::string unit;         // "" for none
   std::string description;
+  int row = 0, col = 0;  // a parameter's element
 };
 
 // The units of a DOF's coordinate, velocity, acceleration and generalized force: rotations in rad, rad/s,
@@ -43,5 +49,13 @@ DofUnits dof_units(const Model& model, int dof);
 std::string coordinate_unit(const Model& model, int coordinate);
 
 std::vector<Variable> variables(const Model& model);
+
+// A parameter element's value, and setting it (its symmetric mirror too): the entry's whole value is
+// read into `scratch` (16 doubles), changed and set through the table, which validates it (ParameterError
+// naming the parameter, nothing changed).
+double parameter_element(const ParameterTable<double>& table, const Model& model, const Variable& v,
+                         std::vector<double>& scratch);
+void set_parameter_element(const ParameterTable<double>& table, Model& model, const Variable& v, double value,
+                           std::vector<double>& scratch);
 
 }  // namespace soadyn::fmu
