@@ -297,6 +297,15 @@ def check_c_api_no_allocation(output: str) -> None:
     require(bool(lines(r"^test_c_api_no_allocation: PASS$", output)), "the PASS line")
 
 
+def check_fmu_no_allocation(output: str) -> None:
+    """10^4 DoSteps of the FMU binary on cassini with inputs, mode switches, every output and saved states."""
+    require(bool(lines(r"^fmu \(cassini, frame scan_el\): 10000 DoSteps, [1-9]\d* outputs read each, 0 allocations, "
+                       r"0 frees, 0 failed calls$", output)), "10^4 allocation-free DoSteps")
+    require(bool(lines(r"^a new FMU state inside the binary: [1-9]\d* allocations seen$", output)),
+            "the counter seeing the binary's own allocations")
+    require(bool(lines(r"^test_fmu_no_allocation: PASS$", output)), "the PASS line")
+
+
 CHECKS = {
     "test_no_allocation": check_no_allocation,
     "test_float_vs_double": check_float_vs_double,
@@ -319,6 +328,7 @@ CHECKS = {
     "test_batch": check_batch,
     "test_c_api": check_c_api,
     "test_c_api_no_allocation": check_c_api_no_allocation,
+    "test_fmu_no_allocation": check_fmu_no_allocation,
 }
 
 

@@ -145,3 +145,38 @@ def test_model_parameters_set_before_the_initialization_change_the_run_as_set_pa
     sim.set_state(q0, np.zeros(2))
     run = sim.run(0.5)
     assert np.array_equal(np.array(q), run.q[1:])
+
+
+@pytest.mark.parametrize("fmi", [3, 2])
+def test_frame_outputs_are_the_frames_pose_velocities_and_acceleration(fmi, tmp_path):
+    m = soadyn.scenes.stanford_arm()
+    q0 = soadyn.stanford_arm.MOTION_START
+    path = export_fmu(m, tmp_path / "arm.fmu", fmi=fmi, step=0.01, q0=q0, outputs=["frame.tool"])
+    assert validate_fmu(str(path)) == []
+    session = FmuSession(path)
+    session.set_real("u.joint_1", 1.5)
+    for _ in range(20):
+        session.step(0.01)
+    q = session.reals([f"q.{c}" for c in m.coordinate_names])
+    v = session.reals([f"v.{d}" for d in m.dof_names])
+    qdd = session.reals([f"qdd.{d}" for d in m.dof_names])
+    out = dict(zip(["x", "y", "z", "qx", "qy", "qz", "qw", "wx", "wy", "wz", "vx", "vy", "vz", "ax", "ay", "az"],
+                   session.reals([f"frame.tool.{k}" for k in ("x", "y", "z", "qx", "qy", "qz", "qw", "wx", "wy", "wz",
+                                                              "vx", "vy", "vz", "ax", "ay", "az")])))
+    session.close()
+    pose = soadyn.frame_pose(m, q, "tool")
+    np.testing.assert_allclose([out["x"], out["y"], out["z"]], pose[:3, 3], rtol=0, atol=1e-12)
+    x, y, z, w = out["qx"], out["qy"], out["qz"], out["qw"]
+    rotation = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    np.testing.assert_allclose(rotation, pose[:3, :3], rtol=0, atol=1e-12)
+    velocity = soadyn.frame_velocity(m, q, v, "tool", "local")
+    np.testing.assert_allclose([out[k] for k in ("wx", "wy", "wz", "vx", "vy", "vz")], velocity, rtol=0, atol=1e-12)
+    acceleration = soadyn.frame_acceleration(m, q, v, qdd, "tool", "local", classical=True)
+    np.testing.assert_allclose([out[k] for k in ("ax", "ay", "az")], acceleration[3:], rtol=0, atol=1e-11)
+    assert np.linalg.norm(velocity) > 0.1  # the arm moves
+    with pytest.raises(soadyn.FmuError, match="'frame.nowhere'|nowhere"):
+        export_fmu(m, tmp_path / "bad.fmu", outputs=["frame.nowhere"])
+    with pytest.raises(soadyn.FmuError, match="is not 'frame.<name>'"):
+        export_fmu(m, tmp_path / "bad.fmu", outputs=["tool"])

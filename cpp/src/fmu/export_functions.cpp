@@ -3,11 +3,13 @@
 // instance.hpp), so an FMU's description and its binary always agree. Called through ctypes; results and
 // errors are kept per thread until the next call.
 #include <exception>
+#include <sstream>
 #include <string>
 
 #include "soadyn/embed/plant.hpp"
 #include "soadyn/fmu/model_description.hpp"
 #include "soadyn/embed/c_api.h"
+#include "soadyn/algorithms/frames.hpp"
 #include "soadyn/model/model_file.hpp"
 
 namespace {
@@ -18,7 +20,7 @@ extern "C" {
 
 SOADYN_C_EXPORT int soadyn_fmu_describe(const char* model_json, int fmi_version, double step, int substeps,
                                         const char* integrator, const double* q0, const double* v0,
-                                        const char* model_name, const char* model_identifier, const char* token,
+                                        const char* frames, const char* model_name, const char* model_identifier, const char* token,
                                         const char* description, const char* generation_tool,
                                         const char* generation_time) {
   try {
@@ -30,6 +32,11 @@ SOADYN_C_EXPORT int soadyn_fmu_describe(const char* model_json, int fmi_version,
     s.integrator = integrator;
     s.q0.assign(q0, q0 + model.nq);
     s.v0.assign(v0, v0 + model.nv);
+    std::istringstream names(frames);
+    for (std::string name; names >> name;) {
+      soadyn::locate_frame<double>(model, name);  // an unknown frame or one on a flexible body: named
+      s.frames.push_back(name);
+    }
     if (!(step > 0) || substeps < 1) throw std::invalid_argument("the step must be > 0 and substeps >= 1");
     // The start state is checked by the code that will use it: a Plant at it.
     soadyn::embed::Plant plant(model, step / substeps, soadyn::embed::integrator_from_name(integrator));

@@ -62,6 +62,8 @@ Settings read_settings(const std::string& path, int nq, int nv) {
       s.q0 = numbers(line, static_cast<std::size_t>(nq), where);
     } else if (key == "v0") {
       s.v0 = numbers(line, static_cast<std::size_t>(nv), where);
+    } else if (key == "frames") {
+      for (std::string name; line >> name;) s.frames.push_back(name);
     } else {
       throw std::invalid_argument(where + ": unknown setting '" + key + "'");
     }
@@ -79,6 +81,8 @@ std::string settings_text(const Settings& s) {
   for (double x : s.q0) out << ' ' << x;
   out << "\nv0";
   for (double x : s.v0) out << ' ' << x;
+  out << "\nframes";
+  for (const std::string& name : s.frames) out << ' ' << name;
   out << '\n';
   return out.str();
 }
@@ -86,7 +90,9 @@ std::string settings_text(const Settings& s) {
 Instance::Instance(const std::string& resources, Log log) : resources_(resources), log_(std::move(log)) {
   model_ = load_model(resources_ + "/model.json");
   settings_ = read_settings(resources_ + "/soadyn_fmu.txt", model_.nq, model_.nv);
-  variables_ = fmu::variables(model_);
+  variables_ = fmu::variables(model_, settings_.frames);
+  for (const std::string& name : settings_.frames) frames_.push_back(locate_frame<double>(model_, name));
+  frame_values_.assign(16 * frames_.size(), 0.0);
   parameters_ = std::make_unique<ParameterTable<double>>(model_);
   parameter_scratch_.assign(16, 0.0);
   plant_ = std::make_unique<embed::Plant>(model_, settings_.step / settings_.substeps,
@@ -163,6 +169,24 @@ bool Instance::update_outputs() {
   kinetic_ = kinetic_energy<double>(sim.model(), sim.data(), sim.q(), sim.v());
   potential_ = potential_energy<double>(sim.model(), sim.data(), sim.q());
   if (!std::isfinite(kinetic_) || !std::isfinite(potential_)) return fail("the energy is not finite");
+  for (std::size_t k = 0; k < frames_.size(); ++k) {
+    const Transform<double> pose = frame_pose<double>(sim.model(), sim.data(), sim.q(), frames_[k]);
+    const Vec6<double> velocity =
+        frame_velocity<double>(sim.model(), sim.data(), sim.q(), sim.v(), frames_[k], Reference::local);
+    const Vec6<double> acceleration = frame_acceleration<double>(sim.model(), sim.data(), sim.q(), sim.v(),
+                                                                 plant_->qdd(), frames_[k], Reference::local, true);
+    const Eigen::Quaterniond orientation(pose.rotation);
+    double* out = frame_values_.data() + 16 * k;
+    for (int i = 0; i < 3; ++i) {
+      out[i] = pose.translation[i];
+      out[7 + i] = velocity[i];
+      out[10 + i] = velocity[3 + i];
+      out[13 + i] = acceleration[3 + i];
+    }
+    out[3] = orientation.x(), out[4] = orientation.y(), out[5] = orientation.z(), out[6] = orientation.w();
+    for (int i = 0; i < 16; ++i)
+      if (!std::isfinite(out[i])) return fail("the outputs of frame '" + settings_.frames[k] + "' are not finite");
+  }
   outputs_current_ = true;
   return true;
 }
@@ -213,7 +237,8 @@ bool Instance::get_float64(unsigned vr, double& value) {
   if (!v) return false;
   const Simulator& sim = plant_->simulator();
   const bool evaluated = v->quantity == Quantity::acceleration || v->quantity == Quantity::force ||
-                         v->quantity == Quantity::kinetic_energy || v->quantity == Quantity::potential_energy;
+                         v->quantity == Quantity::kinetic_energy || v->quantity == Quantity::potential_energy ||
+                         v->quantity == Quantity::frame;
   if (evaluated && !outputs_current_ && !update_outputs()) return false;
   switch (v->quantity) {
     case Quantity::time: value = sim.time(); return true;
@@ -224,6 +249,7 @@ bool Instance::get_float64(unsigned vr, double& value) {
     case Quantity::force: value = plant_->tau()[v->index]; return true;
     case Quantity::kinetic_energy: value = kinetic_; return true;
     case Quantity::potential_energy: value = potential_; return true;
+    case Quantity::frame: value = frame_values_[static_cast<std::size_t>(16 * v->index + v->row)]; return true;
     case Quantity::parameter: value = parameter_element(*parameters_, model_, *v, parameter_scratch_); return true;
     default: return fail("GetFloat64: '" + v->name + "' is a Boolean");
   }

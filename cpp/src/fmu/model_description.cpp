@@ -91,7 +91,7 @@ std::string unit_definitions(const std::vector<Variable>& variables) {
 }
 
 std::string fmi3(const Model& model, const Settings& settings, const Identity& id) {
-  const std::vector<Variable> vars = variables(model);
+  const std::vector<Variable> vars = variables(model, settings.frames);
   std::ostringstream x;
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
     << "<fmiModelDescription fmiVersion=\"3.0\" modelName=\"" << escaped(id.model_name) << "\" instantiationToken=\""
@@ -120,7 +120,7 @@ std::string fmi3(const Model& model, const Settings& settings, const Identity& i
 }
 
 std::string fmi2(const Model& model, const Settings& settings, const Identity& id) {
-  const std::vector<Variable> vars = variables(model);
+  const std::vector<Variable> vars = variables(model, settings.frames);
   std::ostringstream x;
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
     << "<fmiModelDescription fmiVersion=\"2.0\" modelName=\"" << escaped(id.model_name) << "\" guid=\""

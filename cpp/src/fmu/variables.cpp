@@ -94,7 +94,7 @@ std::string coordinate_unit(const Model& m, int coordinate) {
   return "";  // a modal coordinate
 }
 
-std::vector<Variable> variables(const Model& m) {
+std::vector<Variable> variables(const Model& m, const std::vector<std::string>& frames) {
   std::vector<Variable> out;
   out.push_back({"time", Quantity::time, -1, false, false, "s", "simulation time"});
   for (int dof = 0; dof < m.nv; ++dof) {
@@ -134,6 +134,15 @@ std::vector<Variable> variables(const Model& m) {
   out.push_back({"energy.kinetic", Quantity::kinetic_energy, -1, false, false, "J", "kinetic energy"});
   out.push_back({"energy.potential", Quantity::potential_energy, -1, false, false, "J",
                  "potential energy (gravity, springs, strain)"});
+  static const char* const units[16] = {"m", "m", "m", "", "", "", "", "rad/s", "rad/s", "rad/s",
+                                        "m/s", "m/s", "m/s", "m/s2", "m/s2", "m/s2"};
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    for (int row = 0; row < 16; ++row) {
+      Variable v{"frame." + frames[k] + "." + kFrameOutputs[row], Quantity::frame, static_cast<int>(k), false, false,
+                 units[row], "frame output (the FMU guide lists them)"};
+      v.row = row;
+      out.push_back(v);
+    }
   append_parameters(m, out);
   return out;
 }

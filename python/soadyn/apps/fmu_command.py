@@ -19,6 +19,8 @@ def add_fmu_parser(sub) -> argparse.ArgumentParser:
     fmu.add_argument("--substeps", type=int, default=1,
                      help="internal steps per communication step (default 1): the FMU integrates at step / substeps")
     fmu.add_argument("--integrator", default="rk4", choices=INTEGRATORS, help="(default rk4)")
+    fmu.add_argument("--outputs", nargs="+", default=[], metavar="frame.NAME",
+                     help="extra outputs: a body's or frame's pose, velocities and acceleration (frame.tool ...)")
     fmu.add_argument("--name", default=None, help="the FMU's modelName (default the model's file or scene name)")
     return fmu
 
@@ -26,7 +28,7 @@ def add_fmu_parser(sub) -> argparse.ArgumentParser:
 def run_fmu_command(args, parser: argparse.ArgumentParser) -> int:
     try:
         path = export_fmu(args.model, args.out, fmi=args.fmi, step=args.step, substeps=args.substeps,
-                          integrator=args.integrator, name=args.name)
+                          integrator=args.integrator, outputs=args.outputs, name=args.name)
     except (FmuError, ValueError, OSError) as error:
         parser.error(str(error))
     print(f"wrote {path}: FMI {args.fmi}.0 co-simulation, internal step {args.step / args.substeps:g} s "

@@ -62,8 +62,21 @@ def _start(model: Model, q0, v0) -> tuple[np.ndarray, np.ndarray]:
     return _state(model, q0, model.nq, "q0"), _state(model, v0, model.nv, "v0")
 
 
+def _frames(model: Model, outputs) -> list[str]:
+    """The frame names of `outputs` ("frame.<name>" each); FmuError for anything else."""
+    if isinstance(outputs, str):
+        outputs = [outputs]
+    frames = []
+    for item in outputs:
+        if not isinstance(item, str) or not item.startswith("frame.") or len(item) == 6 or " " in item:
+            raise FmuError(f"outputs: {item!r} is not 'frame.<name>' (a body or frame name without spaces; the "
+                           f"model's: {', '.join(model.body_names + model.frame_names)})")
+        frames.append(item[len("frame."):])
+    return frames
+
+
 def export_fmu(model, path, fmi: int = 3, step: float = 1e-3, substeps: int = 1, integrator: str = "rk4",
-               q0=None, v0=None, name: str | None = None, description: str = "") -> Path:
+               q0=None, v0=None, outputs=(), name: str | None = None, description: str = "") -> Path:
     """Write `model` as a co-simulation FMU at `path` (.fmu) and return the path.
 
     model: a soadyn.Model, or what `soadyn view` takes by name (a built-in scene, a model file, an MJCF or
@@ -71,7 +84,9 @@ def export_fmu(model, path, fmi: int = 3, step: float = 1e-3, substeps: int = 1,
     gives, in s; the FMU integrates with `integrator` ("rk4", "euler", "dopri5") at step / substeps, and a
     DoStep of h runs h / (step / substeps) steps (h must be a whole number of them). q0, v0: the start
     state ((nq,), (nv,); default the neutral configuration at rest, closed first on a loop model).
-    name: the modelName (default the scene's name or "soadyn_model").
+    outputs: the extra outputs, "frame.<name>" for a body or frame: its world position, world quaternion,
+    angular and linear velocity and classical acceleration in its own axes (frame.<name>.x ... .az; the
+    FMU guide lists them). name: the modelName (default the scene's name or "soadyn_model").
 
     The FMU's variables (fixed names): inputs u.<dof> (torque or force of a regular DOF, acceleration of a
     prescribed one, held over each communication step), locked.<dof> and prescribed.<dof> (Booleans:
@@ -101,6 +116,7 @@ def export_fmu(model, path, fmi: int = 3, step: float = 1e-3, substeps: int = 1,
         raise OSError(f"the FMU '{os.fspath(path)}': {problem}")
     path = Path(path)
     q0, v0 = _start(model, q0, v0)
+    frames = _frames(model, outputs)
     name = name or "soadyn_model"
     identifier = _identifier(name)
     token = "{" + str(uuid.uuid4()) + "}"
@@ -110,13 +126,13 @@ def export_fmu(model, path, fmi: int = 3, step: float = 1e-3, substeps: int = 1,
     describe.restype = ctypes.c_int
     double_array = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
     describe.argtypes = [ctypes.c_char_p, ctypes.c_int, ctypes.c_double, ctypes.c_int, ctypes.c_char_p, double_array,
-                         double_array] + [ctypes.c_char_p] * 6
+                         double_array] + [ctypes.c_char_p] * 7
     for getter in ("soadyn_fmu_description_xml", "soadyn_fmu_settings_text", "soadyn_fmu_error"):
         getattr(library, getter).restype = ctypes.c_char_p
     model_json = model_to_json(model)
     now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat().replace("+00:00", "Z")
     texts = [model_json, name, identifier, token, description, f"soadyn {__version__}", now]
-    if describe(texts[0].encode(), fmi, float(step), substeps, integrator.encode(), q0, v0,
+    if describe(texts[0].encode(), fmi, float(step), substeps, integrator.encode(), q0, v0, " ".join(frames).encode(),
                 *(t.encode() for t in texts[1:])) != 0:
         raise FmuError(f"cannot export the FMU: {library.soadyn_fmu_error().decode()}")
     xml = library.soadyn_fmu_description_xml().decode()

@@ -4,8 +4,8 @@
 //
 // resources/model.json: the model file; resources/soadyn_fmu.txt: the settings written at export, one
 // per line: "soadyn-fmu 1", "token <instantiation token>", "step <s>", "substeps <n>",
-// "integrator <rk4|euler|dopri5>", "q0 <nq numbers>", "v0 <nv numbers>". The FMU's internal step is
-// step / substeps; a DoStep of h runs h / (step / substeps) steps (h must be a whole number of them).
+// "integrator <rk4|euler|dopri5>", "q0 <nq numbers>", "v0 <nv numbers>", "frames <names>". The FMU's
+// internal step is step / substeps; a DoStep of h runs h / (step / substeps) steps (h must be a whole number of them).
 //
 // Real time: do_step, get and set allocate nothing and never throw (qdd, tau and the energies are
 // evaluated when first read after a step); errors are logged with the item named
@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "soadyn/algorithms/frames.hpp"
 #include "soadyn/embed/plant.hpp"
 #include "soadyn/fmu/variables.hpp"
 
@@ -28,6 +29,7 @@ struct Settings {
   int substeps = 1;
   std::string integrator = "rk4";
   std::vector<double> q0, v0;
+  std::vector<std::string> frames;  // the named frames with outputs
 };
 
 // Reads resources/soadyn_fmu.txt; throws std::invalid_argument naming the file and line at fault.
@@ -81,6 +83,8 @@ class Instance {
   // qdd, tau and the energies are evaluated when first read after a step, not by every DoStep: a master
   // that reads q and v only pays for the steps.
   bool outputs_current_ = false;
+  std::vector<FrameLocation<double>> frames_;  // the frames with outputs, located once
+  std::vector<double> frame_values_;           // 16 per frame (kFrameOutputs), with the other outputs
 };
 
 }  // namespace soadyn::fmu

@@ -27,7 +27,15 @@ enum class Quantity {
   kinetic_energy,
   potential_energy,
   parameter,    // one element of a model parameter (fixed: set before the initialization ends)
+  frame,        // one of a named frame's outputs (index: the frame's place in the export's list, row: which)
 };
+
+// A frame's outputs, in this order (row of Quantity::frame): its origin in the world (m), its orientation as a
+// world quaternion (x y z w), its angular velocity and its origin's linear velocity in the frame's own axes
+// (rad/s, m/s: what a gyroscope and an odometer mounted there read), and its origin's classical acceleration
+// in its own axes without gravity (m/s2; an accelerometer reads this minus gravity in those axes).
+inline constexpr const char* kFrameOutputs[16] = {"x",  "y",  "z",  "qx", "qy", "qz", "qw", "wx",
+                                                  "wy", "wz", "vx", "vy", "vz", "ax", "ay", "az"};
 
 struct Variable {
   std::string name;
@@ -48,7 +56,8 @@ struct DofUnits {
 DofUnits dof_units(const Model& model, int dof);
 std::string coordinate_unit(const Model& model, int coordinate);
 
-std::vector<Variable> variables(const Model& model);
+// `frames`: the named frames whose outputs the export asked for (frame.<name>.<output>).
+std::vector<Variable> variables(const Model& model, const std::vector<std::string>& frames);
 
 // A parameter element's value, and setting it (its symmetric mirror too): the entry's whole value is
 // read into `scratch` (16 doubles), changed and set through the table, which validates it (ParameterError
