@@ -147,6 +147,14 @@ def test_model_parameters_set_before_the_initialization_change_the_run_as_set_pa
     assert np.array_equal(np.array(q), run.q[1:])
 
 
+def driven_state(session: FmuSession, m: soadyn.Model, dof: str, u: float, steps: int, h: float):
+    """(q, v) of the FMU after `steps` steps of `h` with input u.<dof> = u."""
+    session.set_real(f"u.{dof}", u)
+    for _ in range(steps):
+        session.step(h)
+    return session.reals([f"q.{c}" for c in m.coordinate_names]), session.reals([f"v.{d}" for d in m.dof_names])
+
+
 @pytest.mark.parametrize("fmi", [3, 2])
 def test_frame_outputs_are_the_frames_pose_velocities_and_acceleration(fmi, tmp_path):
     m = soadyn.scenes.stanford_arm()
@@ -154,11 +162,7 @@ def test_frame_outputs_are_the_frames_pose_velocities_and_acceleration(fmi, tmp_
     path = export_fmu(m, tmp_path / "arm.fmu", fmi=fmi, step=0.01, q0=q0, outputs=["frame.tool"])
     assert validate_fmu(str(path)) == []
     session = FmuSession(path)
-    session.set_real("u.joint_1", 1.5)
-    for _ in range(20):
-        session.step(0.01)
-    q = session.reals([f"q.{c}" for c in m.coordinate_names])
-    v = session.reals([f"v.{d}" for d in m.dof_names])
+    q, v = driven_state(session, m, "joint_1", 1.5, 20, 0.01)
     qdd = session.reals([f"qdd.{d}" for d in m.dof_names])
     out = dict(zip(["x", "y", "z", "qx", "qy", "qz", "qw", "wx", "wy", "wz", "vx", "vy", "vz", "ax", "ay", "az"],
                    session.reals([f"frame.tool.{k}" for k in ("x", "y", "z", "qx", "qy", "qz", "qw", "wx", "wy", "wz",
@@ -180,3 +184,16 @@ def test_frame_outputs_are_the_frames_pose_velocities_and_acceleration(fmi, tmp_
         export_fmu(m, tmp_path / "bad.fmu", outputs=["frame.nowhere"])
     with pytest.raises(soadyn.FmuError, match="is not 'frame.<name>'"):
         export_fmu(m, tmp_path / "bad.fmu", outputs=["tool"])
+
+
+def test_loop_wrench_outputs_are_constrained_dynamics_loop_wrenches(tmp_path):
+    m = soadyn.scenes.four_bar()
+    q0, v0 = soadyn.scenes.four_bar_state(0.7, 1.0)
+    path = export_fmu(m, tmp_path / "fb.fmu", step=0.005, q0=q0, v0=v0)
+    session = FmuSession(path)
+    q, v = driven_state(session, m, "crank", 0.5, 40, 0.005)
+    wrench = session.reals([f"loop.coupler_rocker.{k}" for k in ("tx", "ty", "tz", "fx", "fy", "fz")])
+    session.close()
+    _, _, expected = soadyn.constrained_dynamics(m, q, v, np.array([0.5, 0.0, 0.0]))
+    np.testing.assert_allclose(wrench, expected[0], rtol=1e-10, atol=1e-10 * np.abs(expected).max())
+    assert np.abs(expected[0][3:]).max() > 1.0  # the pin carries the links' weight

@@ -93,6 +93,7 @@ Instance::Instance(const std::string& resources, Log log) : resources_(resources
   variables_ = fmu::variables(model_, settings_.frames);
   for (const std::string& name : settings_.frames) frames_.push_back(locate_frame<double>(model_, name));
   frame_values_.assign(16 * frames_.size(), 0.0);
+  loop_values_.assign(6 * static_cast<std::size_t>(model_.nloops()), 0.0);
   parameters_ = std::make_unique<ParameterTable<double>>(model_);
   parameter_scratch_.assign(16, 0.0);
   plant_ = std::make_unique<embed::Plant>(model_, settings_.step / settings_.substeps,
@@ -166,6 +167,9 @@ bool Instance::update_outputs() {
   const Status s = plant_->evaluate_outputs();
   if (!s.ok()) return fail(plant_->describe(s));
   Simulator& sim = plant_->simulator();
+  for (int loop = 0; loop < sim.model().nloops(); ++loop)  // before the energies and frames reuse the data
+    for (int row = 0; row < 6; ++row)
+      loop_values_[static_cast<std::size_t>(6 * loop + row)] = sim.data().loops.wrench[static_cast<std::size_t>(loop)][row];
   kinetic_ = kinetic_energy<double>(sim.model(), sim.data(), sim.q(), sim.v());
   potential_ = potential_energy<double>(sim.model(), sim.data(), sim.q());
   if (!std::isfinite(kinetic_) || !std::isfinite(potential_)) return fail("the energy is not finite");
@@ -238,7 +242,7 @@ bool Instance::get_float64(unsigned vr, double& value) {
   const Simulator& sim = plant_->simulator();
   const bool evaluated = v->quantity == Quantity::acceleration || v->quantity == Quantity::force ||
                          v->quantity == Quantity::kinetic_energy || v->quantity == Quantity::potential_energy ||
-                         v->quantity == Quantity::frame;
+                         v->quantity == Quantity::frame || v->quantity == Quantity::loop_wrench;
   if (evaluated && !outputs_current_ && !update_outputs()) return false;
   switch (v->quantity) {
     case Quantity::time: value = sim.time(); return true;
@@ -250,6 +254,7 @@ bool Instance::get_float64(unsigned vr, double& value) {
     case Quantity::kinetic_energy: value = kinetic_; return true;
     case Quantity::potential_energy: value = potential_; return true;
     case Quantity::frame: value = frame_values_[static_cast<std::size_t>(16 * v->index + v->row)]; return true;
+    case Quantity::loop_wrench: value = loop_values_[static_cast<std::size_t>(6 * v->index + v->row)]; return true;
     case Quantity::parameter: value = parameter_element(*parameters_, model_, *v, parameter_scratch_); return true;
     default: return fail("GetFloat64: '" + v->name + "' is a Boolean");
   }

@@ -134,6 +134,16 @@ std::vector<Variable> variables(const Model& m, const std::vector<std::string>& 
   out.push_back({"energy.kinetic", Quantity::kinetic_energy, -1, false, false, "J", "kinetic energy"});
   out.push_back({"energy.potential", Quantity::potential_energy, -1, false, false, "J",
                  "potential energy (gravity, springs, strain)"});
+  static const char* const wrench[6] = {"tx", "ty", "tz", "fx", "fy", "fz"};
+  for (int loop = 0; loop < m.nloops(); ++loop)
+    for (int row = 0; row < 6; ++row) {
+      Variable v{"loop." + m.loops[static_cast<std::size_t>(loop)].name + "." + wrench[row], Quantity::loop_wrench,
+                 loop, false, false, row < 3 ? "N.m" : "N",
+                 "the loop's wrench at the communication point: [torque; force] of frame_b's side on frame_a's "
+                 "side, world axes, about frame_a's origin (constrained_dynamics)"};
+      v.row = row;
+      out.push_back(v);
+    }
   static const char* const units[16] = {"m", "m", "m", "", "", "", "", "rad/s", "rad/s", "rad/s",
                                         "m/s", "m/s", "m/s", "m/s2", "m/s2", "m/s2"};
   for (std::size_t k = 0; k < frames.size(); ++k)

@@ -85,6 +85,7 @@ class Instance {
   bool outputs_current_ = false;
   std::vector<FrameLocation<double>> frames_;  // the frames with outputs, located once
   std::vector<double> frame_values_;           // 16 per frame (kFrameOutputs), with the other outputs
+  std::vector<double> loop_values_;            // 6 per loop: the loop wrenches of the outputs' evaluation
 };
 
 }  // namespace soadyn::fmu

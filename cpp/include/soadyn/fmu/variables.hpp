@@ -2,7 +2,7 @@
 // value reference) and its modelDescription.xml (written by the same binary at export) read, so the two
 // cannot disagree. Names are fixed (the FMU guide lists them): time; inputs u.<dof>, locked.<dof>,
 // prescribed.<dof>; outputs q.<coordinate>, v.<dof>, qdd.<dof>, tau.<dof>, energy.kinetic,
-// energy.potential; then the model's parameters (Model.parameter_names) element by element, named as a
+// energy.potential, loop.<loop>.tx ... .fz (each loop's wrench); then the model's parameters (Model.parameter_names) element by element, named as a
 // campaign names them: link_2.mass, link_2.com[2], link_2.inertia[0,1] (upper triangle: setting it sets
 // its mirror), link_2.placement[1,3] (translations only), gravity[2]. Value references count from 0
 // (time) in that order.
@@ -28,6 +28,7 @@ enum class Quantity {
   potential_energy,
   parameter,    // one element of a model parameter (fixed: set before the initialization ends)
   frame,        // one of a named frame's outputs (index: the frame's place in the export's list, row: which)
+  loop_wrench,  // one of a loop's wrench components (index: the loop, row: tx ty tz fx fy fz)
 };
 
 // A frame's outputs, in this order (row of Quantity::frame): its origin in the world (m), its orientation as a
