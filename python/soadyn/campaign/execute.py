@@ -152,6 +152,9 @@ def _connected(client, workers, dashboard):
         made = Client(cluster)
         try:
             yield made, made.dashboard_link if serve else None
+        except KeyboardInterrupt:
+            _silence_distributed_logs()  # for the rest of the process: the interrupted command is ending
+            raise
         finally:
             with _quiet_distributed_logs():
                 made.close()
@@ -160,17 +163,32 @@ def _connected(client, workers, dashboard):
             cluster.close()
 
 
+def _distributed_loggers() -> list:
+    """distributed's logger and every child logger it has made (a child with its own level ignores its parent's)."""
+    names = [name for name in logging.root.manager.loggerDict if name.startswith("distributed.")]
+    return [logging.getLogger("distributed"), *(logging.getLogger(name) for name in names)]
+
+
+def _silence_distributed_logs() -> None:
+    for logger in _distributed_loggers():
+        logger.setLevel(logging.CRITICAL + 1)
+
+
 @contextlib.contextmanager
 def _quiet_distributed_logs():
-    """distributed's loggers at CRITICAL while our own cluster shuts down: after a Ctrl-C its scheduler may
-    log the comms it could not finish (with a traceback), which is its teardown, not a campaign error."""
-    logger = logging.getLogger("distributed")
-    level = logger.level
-    logger.setLevel(logging.CRITICAL)
+    """distributed's loggers silenced while our own cluster shuts down: after a Ctrl-C its scheduler may log
+    the comms it could not finish (with a traceback), which is its teardown, not a campaign error. Their
+    levels come back afterwards, unless an interrupt silenced them for good."""
+    loggers = _distributed_loggers()
+    levels = [logger.level for logger in loggers]
+    for logger in loggers:
+        logger.setLevel(logging.CRITICAL + 1)
     try:
         yield
     finally:
-        logger.setLevel(level)
+        for logger, level in zip(loggers, levels):
+            if level <= logging.CRITICAL:
+                logger.setLevel(level)
 
 
 def _cores() -> int:
