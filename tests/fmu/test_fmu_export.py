@@ -197,3 +197,19 @@ def test_loop_wrench_outputs_are_constrained_dynamics_loop_wrenches(tmp_path):
     _, _, expected = soadyn.constrained_dynamics(m, q, v, np.array([0.5, 0.0, 0.0]))
     np.testing.assert_allclose(wrench, expected[0], rtol=1e-10, atol=1e-10 * np.abs(expected).max())
     assert np.abs(expected[0][3:]).max() > 1.0  # the pin carries the links' weight
+
+
+def test_inputs_set_before_the_initialization_survive_a_parameter_change(tmp_path):
+    m = soadyn.scenes.pendulum_chain(2)
+    path = export_fmu(m, tmp_path / "p.fmu", step=0.01)
+    session = FmuSession(path, parameters={"link_1.mass": 1.5, "u.link_1": 0.8})
+    for _ in range(30):
+        session.step(0.01)
+    q = session.reals(["q.link_1", "q.link_2"])
+    session.close()
+    changed = m.copy()
+    changed.set_parameter("link_1.mass", 1.5)
+    sim = soadyn.Simulator(changed, dt=0.01)
+    sim.set_input("link_1", 0.8)
+    sim.run(0.3)
+    assert np.array_equal(q, sim.q) and abs(q[0]) > 1e-3

@@ -138,9 +138,15 @@ bool Instance::enter_initialization(double start_time) {
 
 bool Instance::exit_initialization() {
   if (failed_) return fail("exit initialization after an error");
-  if (parameters_changed_) {  // setup, not a step: the new model's Plant is made here
-    plant_ = std::make_unique<embed::Plant>(model_, settings_.step / settings_.substeps,
-                                            embed::integrator_from_name(settings_.integrator));
+  if (parameters_changed_) {  // setup, not a step: the new model's Plant is made here, with the inputs set so far
+    auto changed = std::make_unique<embed::Plant>(model_, settings_.step / settings_.substeps,
+                                                  embed::integrator_from_name(settings_.integrator));
+    for (int dof = 0; dof < model_.nv; ++dof) {
+      changed->set_u(dof, plant_->u(dof));
+      changed->set_locked(dof, plant_->locked(dof));
+      changed->set_prescribed(dof, plant_->prescribed(dof));
+    }
+    plant_ = std::move(changed);
     parameters_changed_ = false;
   }
   initialized_ = true;
