@@ -170,3 +170,31 @@ def test_a_parameter_out_of_range_or_set_after_the_initialization_is_refused(pen
         session.set_real("link_2.mass", 3.0)
     assert "the parameter 'link_2.mass' is fixed" in messages[-1]
     session.close()
+
+
+def test_instances_stepped_from_two_threads_at_once_equal_their_runs_alone(pendulum_fmu):
+    """fmpy's calls release the GIL: two instances of one FMU step concurrently, each from its own thread, and
+    each ends where it ends when run alone (instances share nothing; errors are per instance)."""
+    import threading
+
+    _, path = pendulum_fmu
+
+    def run(torque: float, out: dict) -> None:
+        session = FmuSession(path, instance_name=f"t{torque}")
+        session.set_real("u.link_1", torque)
+        for _ in range(300):
+            session.step(0.01)
+        out[torque] = session.reals(["q.link_1", "q.link_2", "v.link_1", "v.link_2"])
+        session.close()
+
+    alone, together = {}, {}
+    for torque in (0.3, -0.7):
+        run(torque, alone)
+    threads = [threading.Thread(target=run, args=(torque, together)) for torque in (0.3, -0.7)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    for torque in (0.3, -0.7):
+        assert np.array_equal(together[torque], alone[torque])
+    assert not np.array_equal(alone[0.3], alone[-0.7])

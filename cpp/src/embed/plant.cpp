@@ -60,14 +60,20 @@ Plant::Plant(const Model& model, double dt, Integrator integrator)
       u_(static_cast<std::size_t>(model.nv), 0.0),
       locked_(static_cast<std::size_t>(model.nv), 0),
       prescribed_(static_cast<std::size_t>(model.nv), 0),
+      lockable_(static_cast<std::size_t>(model.nv), 0),
+      sourceable_(static_cast<std::size_t>(model.nv), 0),
       qdd_(VecX<double>::Zero(model.nv)),
       tau_(VecX<double>::Zero(model.nv)),
       snapshot_(sim_.make_snapshot()),
       loaded_u_(u_),
       loaded_locked_(locked_),
       loaded_prescribed_(prescribed_) {
-  for (int dof = 0; dof < model.nv; ++dof)
-    prescribed_[static_cast<std::size_t>(dof)] = model.is_prescribed(dof) && sourceable(dof);
+  for (int dof = 0; dof < model.nv; ++dof) {
+    const std::size_t d = static_cast<std::size_t>(dof);
+    lockable_[d] = lockable_dof(model, dof);
+    sourceable_[d] = sourceable_dof(model, dof);
+    prescribed_[d] = model.is_prescribed(dof) && sourceable_[d];
+  }
   const Status s = apply_inputs();  // the model's prescribed DOFs follow their inputs (0) from the start
   if (!s.ok()) throw std::invalid_argument(sim_.describe(s));
 }

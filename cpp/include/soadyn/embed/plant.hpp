@@ -40,8 +40,8 @@ class Plant {
   bool prescribed(int dof) const { return prescribed_[static_cast<std::size_t>(dof)] != 0; }
   // The first DOF whose input is not finite, or -1 (the C API names it before stepping).
   int non_finite_input() const;
-  bool lockable(int dof) const { return lockable_dof(model(), dof); }
-  bool sourceable(int dof) const { return sourceable_dof(model(), dof); }
+  bool lockable(int dof) const { return dof >= 0 && dof < nv() && lockable_[static_cast<std::size_t>(dof)]; }
+  bool sourceable(int dof) const { return dof >= 0 && dof < nv() && sourceable_[static_cast<std::size_t>(dof)]; }
 
   // Mode switches first (locked wins over prescribed; a DOF neither is regular), then the inputs: torques
   // of the regular DOFs, accelerations of the DOFs that follow their inputs (rebased here).
@@ -65,6 +65,7 @@ class Plant {
   Simulator sim_;
   std::vector<double> u_;
   std::vector<std::uint8_t> locked_, prescribed_;
+  std::vector<std::uint8_t> lockable_, sourceable_;  // per DOF, found once (lockable_dof, sourceable_dof)
   VecX<double> qdd_, tau_;
   // Scratch of save_state and load_state: a state is read whole before anything changes.
   mutable SimulatorSnapshot<double> snapshot_;
