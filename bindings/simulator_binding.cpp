@@ -256,6 +256,15 @@ void bind_simulator(py::module_& mod) {
       .def("_set_input", [](Sim& s, int dof, double tau) {
              finite(tau, "input");
              locked_setup(s, [&] { s.set_input(dof, tau); }); })
+      .def("_set_external_wrench", [](Sim& s, int body, py::handle wrench) {
+             static const std::vector<std::string> components{"tx", "ty", "tz", "fx", "fy", "fz"};
+             const Array w = checked_vector(wrench, "wrench", components);
+             locked_setup(s, [&] { s.set_external_wrench(body, Eigen::Map<const soadyn::Vec6<double>>(w.data())); }); })
+      .def_property_readonly("external_wrenches", [](Sim& s) {
+             return locked_read(s, [&] {
+               return Eigen::MatrixXd(Eigen::Map<const Eigen::MatrixXd>(s.external_wrenches().data(), 6,
+                                                                      s.model().nbodies()).transpose()); }); },
+             "Each body's external wrench, (nbodies, 6): [torque; force] in its frame about its origin.")
       .def("_prescribe", [](Sim& s, int dof, const Source& src) { locked_setup(s, [&] { s.prescribe(dof, src.source); }); })
       .def("_schedule", [](Sim& s, double t, const std::string& kind, int dof) {
              finite(t, "time");

@@ -465,6 +465,8 @@ class _Simulator(_SimulatorCore):
         ...
     def _schedule_prescribe(self, arg0: typing.SupportsFloat | typing.SupportsIndex, arg1: typing.SupportsInt | typing.SupportsIndex, arg2: MotionSource) -> int:
         ...
+    def _set_external_wrench(self, arg0: typing.SupportsInt | typing.SupportsIndex, arg1: typing.Any) -> None:
+        ...
     def _set_input(self, arg0: typing.SupportsInt | typing.SupportsIndex, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def _set_state(self, arg0: typing.Any, arg1: typing.Any, arg2: typing.SupportsFloat | typing.SupportsIndex) -> None:
@@ -508,6 +510,11 @@ class _Simulator(_SimulatorCore):
     def event_capacity(self) -> int:
         """
         Most events that can be pending at once.
+        """
+    @property
+    def external_wrenches(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Each body's external wrench, (nbodies, 6): [torque; force] in its frame about its origin.
         """
     @property
     def forces(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:

@@ -95,6 +95,15 @@ class Simulator(_Simulator):
         """Torque (or force) applied to a regular DOF from now on."""
         self._set_input(self._one_dof(dof), torque)
 
+    def set_external_wrench(self, body, wrench) -> None:
+        """External wrench on a body from now on, held until changed: (6,) [torque; force] in the body's frame
+        about its origin (N m, N), as f_ext of forward_dynamics. `body`: a body name or index; ValueError
+        names an unknown body or a wrong, non-finite wrench entry."""
+        index = self._model.body_index(body) if isinstance(body, str) else body
+        if isinstance(index, bool) or not isinstance(index, numbers.Integral) or not 0 <= index < self._model.nbodies:
+            raise ValueError(f"body {body!r} is not a body of the model (names: {', '.join(self._model.body_names)})")
+        self._set_external_wrench(int(index), wrench)
+
     def prescribe(self, dof, source: MotionSource) -> None:
         """Drive the DOF by `source` from now on (positions continuous; a velocity jump is an impulse)."""
         self._prescribe(self._one_dof(dof), source)

@@ -1,5 +1,5 @@
 /* The C API from C (soadyn/embed/c_api.h): a two-link pendulum loaded from its model file's text, stepped,
- * driven (a torque, a lock, a prescribed acceleration), rolled back through a saved state, and refused with a
+ * driven (a torque, a lock, a prescribed acceleration, velocity and position, a wrench), rolled back through a saved state, and refused with a
  * message where the arguments are wrong. Compiled as C99; prints one line per check and a PASS line that
  * tests/cpp/check_summary.py requires. */
 #include <math.h>
@@ -78,7 +78,51 @@ int main(void) {
   double qdd[2], tau[2];
   check(soadyn_sim_get_qdd_tau(sim, qdd, tau, 2) == SOADYN_OK && qdd[0] == 2.0 && isfinite(tau[0]),
         "qdd and tau at the present state (the drive torque of the prescribed DOF)");
+
+  /* Velocity and position inputs reach their values at the end of the soadyn_sim_step call. */
+  check(soadyn_sim_set_input_kind(sim, 0, "velocity") == SOADYN_OK, "link_1 follows a velocity input");
+  soadyn_sim_set_input(sim, 0, -0.7);
+  soadyn_sim_step(sim, 40);
+  soadyn_sim_get_v(sim, v, 2);
+  check(fabs(v[0] + 0.7) < 1e-12, "a velocity input is reached at the end of the call");
+  check(soadyn_sim_set_input_kind(sim, 0, "position") == SOADYN_OK, "link_1 follows a position input");
+  soadyn_sim_set_input(sim, 0, 0.25);
+  soadyn_sim_step(sim, 30);
+  soadyn_sim_get_q(sim, q_end, 2);
+  check(fabs(q_end[0] - 0.25) < 1e-12, "a position input is reached at the end of the call");
+  check(soadyn_sim_set_input_kind(sim, 0, "jerk") == SOADYN_ERROR && strstr(soadyn_last_error(), "jerk") != NULL,
+        "an unknown input kind is named");
   check(soadyn_sim_release(sim, 0) == SOADYN_OK, "release link_1");
+
+  /* A pure torque about x on link_2 is the generalized force (tau, tau) (hinges about parallel x axes). */
+  soadyn_sim* through_wrench = soadyn_sim_create(model, 1e-3, "rk4");
+  soadyn_sim* through_torques = soadyn_sim_create(model, 1e-3, "rk4");
+  const int wrench = soadyn_sim_add_wrench_input(through_wrench, "link_2");
+  const double torque_x[6] = {0.8, 0.0, 0.0, 0.0, 0.0, 0.0};
+  check(wrench == 0 && soadyn_sim_set_wrench(through_wrench, wrench, torque_x) == SOADYN_OK, "a wrench input");
+  soadyn_sim_set_state(through_wrench, q0, 2, v0, 2, 0.0);
+  soadyn_sim_set_state(through_torques, q0, 2, v0, 2, 0.0);
+  soadyn_sim_set_input(through_torques, 0, 0.8);
+  soadyn_sim_set_input(through_torques, 1, 0.8);
+  soadyn_sim_step(through_wrench, 300);
+  soadyn_sim_step(through_torques, 300);
+  double q_wrench[2], q_torques[2];
+  soadyn_sim_get_q(through_wrench, q_wrench, 2);
+  soadyn_sim_get_q(through_torques, q_torques, 2);
+  check(fabs(q_wrench[0] - q_torques[0]) < 1e-12 && fabs(q_wrench[1] - q_torques[1]) < 1e-12 &&
+            fabs(q_wrench[0] - q0[0]) > 1e-3,
+        "a torque wrench equals the joint torques it implies");
+  check(soadyn_sim_add_wrench_input(through_wrench, "nowhere") == -1 && strstr(soadyn_last_error(), "nowhere") != NULL,
+        "an unknown wrench frame is named");
+  check(soadyn_sim_set_wrench(through_wrench, 3, torque_x) == SOADYN_ERROR &&
+            strstr(soadyn_last_error(), "wrench input 3") != NULL,
+        "a wrench input out of range is named");
+  const double bad[6] = {0.0, NAN, 0.0, 0.0, 0.0, 0.0};
+  soadyn_sim_set_wrench(through_wrench, wrench, bad);
+  check(soadyn_sim_step(through_wrench, 1) == SOADYN_ERROR && strstr(soadyn_last_error(), "wrench input 0") != NULL,
+        "a NaN wrench fails the step, naming the input");
+  soadyn_sim_free(through_wrench);
+  soadyn_sim_free(through_torques);
 
   /* Errors: SOADYN_ERROR with the reason, nothing changed. */
   check(soadyn_sim_set_input(sim, 7, 1.0) == SOADYN_ERROR && strstr(soadyn_last_error(), "DOF index 7") != NULL,

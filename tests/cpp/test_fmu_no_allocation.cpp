@@ -1,8 +1,10 @@
 // The FMU's per-step calls never touch the heap: the FMU binary (soadyn_fmu.so, loaded with dlopen as an
-// importer loads it) instantiated on cassini with a frame's outputs, then 10^4 fmi3DoStep calls with every
-// input set before each (torques, the turntable's acceleration), the scan platform locked, prescribed and
-// released through its Boolean inputs, every output read (q, v, qdd, tau, energies, the frame's 16), and
-// the state saved into and restored from an existing FMU state; every allocation of the process counted
+// importer loads it) instantiated on cassini with a frame's outputs and a wrench input, the scan platform's
+// input a velocity and the engine gimbal's a position, then 10^4 fmi3DoStep calls with every input set
+// before each (torques, the turntable's acceleration, the gimbal's position, the wrench), the scan platform
+// locked, prescribed and released through its Boolean inputs, a tunable parameter changed now and then,
+// every output read (q, v, qdd, tau, energies, the frame's 16), and the state saved into and restored from
+// an existing FMU state; every allocation of the process counted
 // (allocation_counter.cpp: the C family too, which the binary's own C++ runtime calls).
 #include <dlfcn.h>
 
@@ -39,7 +41,8 @@ int main(int argc, char**) {
   std::filesystem::create_directories(resources);
   std::ofstream(resources / "model.json") << soadyn::model_to_json(model);
   std::ofstream(resources / "soadyn_fmu.txt") << "soadyn-fmu 1\ntoken {test}\nstep 0.001\nsubsteps 1\n"
-                                                 "integrator rk4\nframes scan_el\n";
+                                                 "integrator rk4\nframes scan_el\nwrenches scan_el\n"
+                                                 "inputs scan_az=velocity gimbal_pitch=position\n";
   void* library = dlopen(SOADYN_FMU_BINARY, RTLD_NOW | RTLD_LOCAL);
   if (!library) {
     std::printf("cannot load %s: %s\n", SOADYN_FMU_BINARY, dlerror());
@@ -63,17 +66,24 @@ int main(int argc, char**) {
     return 1;
   }
   // Value references from the same table the binary serves.
-  const std::vector<soadyn::fmu::Variable> variables = soadyn::fmu::variables(model, {"scan_el"});
+  soadyn::fmu::Settings settings;
+  settings.frames = settings.wrenches = {"scan_el"};
+  settings.inputs = {{"scan_az", "velocity"}, {"gimbal_pitch", "position"}};
+  const std::vector<soadyn::fmu::Variable> variables = soadyn::fmu::variables(model, settings);
   std::vector<fmi3ValueReference> inputs, outputs;
-  fmi3ValueReference locked = 0, prescribed = 0;
+  fmi3ValueReference locked = 0, prescribed = 0, tunable = 0;
+  double tunable_start = 0.0;
   for (std::size_t vr = 0; vr < variables.size(); ++vr) {
     const soadyn::fmu::Variable& v = variables[vr];
-    if (v.quantity == soadyn::fmu::Quantity::input) inputs.push_back(static_cast<fmi3ValueReference>(vr));
-    else if (v.name == "locked.scan_az") locked = static_cast<fmi3ValueReference>(vr);
-    else if (v.name == "prescribed.scan_az") prescribed = static_cast<fmi3ValueReference>(vr);
-    else if (!v.boolean && v.quantity != soadyn::fmu::Quantity::parameter)
-      outputs.push_back(static_cast<fmi3ValueReference>(vr));
+    const auto ref = static_cast<fmi3ValueReference>(vr);
+    if (v.quantity == soadyn::fmu::Quantity::input || v.quantity == soadyn::fmu::Quantity::wrench) inputs.push_back(ref);
+    else if (v.name == "locked.scan_az") locked = ref;
+    else if (v.name == "prescribed.scan_az") prescribed = ref;
+    else if (v.quantity == soadyn::fmu::Quantity::parameter && v.tunable && tunable == 0) tunable = ref;
+    else if (v.type == soadyn::fmu::ValueType::float64 && v.quantity != soadyn::fmu::Quantity::parameter)
+      outputs.push_back(ref);
   }
+  if (tunable == 0 || get_float(fmu, &tunable, 1, &tunable_start, 1) != fmi3OK) return 1;
   std::vector<double> input_values(inputs.size()), output_values(outputs.size());
   fmi3FMUState state = nullptr;
   if (get_state(fmu, &state) != fmi3OK) return 1;  // made before counting; later captures reuse it
@@ -89,6 +99,10 @@ int main(int argc, char**) {
     const fmi3Boolean lock = k % 600 >= 100 && k % 600 < 200, drive = k % 600 >= 300 && k % 600 < 400;
     failed += set_bool(fmu, &locked, 1, &lock, 1) != fmi3OK;
     failed += set_bool(fmu, &prescribed, 1, &drive, 1) != fmi3OK;
+    if (k % 250 == 0) {  // a tunable parameter, alternately 10 % above its start value and back
+      const double value = tunable_start * (k % 500 == 0 ? 1.1 : 1.0);
+      failed += set_float(fmu, &tunable, 1, &value, 1) != fmi3OK;
+    }
     failed += do_step(fmu, t, 1e-3, fmi3True, &event, &terminate, &early, &last) != fmi3OK;
     t += 1e-3;
     failed += get_float(fmu, outputs.data(), outputs.size(), output_values.data(), outputs.size()) != fmi3OK;

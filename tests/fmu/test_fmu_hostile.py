@@ -167,8 +167,8 @@ def test_a_parameter_out_of_range_or_set_after_the_initialization_is_refused(pen
     assert any("link_2" in m and "mass" in m for m in messages), messages
     session = FmuSession(path, logger=messages.append)
     with pytest.raises(FMICallException):
-        session.set_real("link_2.mass", 3.0)
-    assert "the parameter 'link_2.mass' is fixed" in messages[-1]
+        session.set_real("link_2.placement[1,3]", 0.3)  # masses are tunable, placements fixed
+    assert "the parameter 'link_2.placement[1,3]' is fixed" in messages[-1]
     session.close()
 
 

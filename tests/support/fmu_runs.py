@@ -1,12 +1,15 @@
 """Runs of exported FMUs in fmpy (an importer nobody here wrote), step by step with inputs, and the same
 scenario on soadyn's own Simulator, for bit-for-bit comparisons.
 
-A scenario is a list of communication steps, each (h, inputs, locked, prescribed): the step size, {DOF: u}
-(torque of a regular DOF, acceleration of a prescribed one, held over the step), and the sets of DOFs
-locked and prescribed during it. The reference applies what the FMU does at each communication point
-(embed::Plant::apply_inputs): locks first (Simulator.lock), then each prescribed DOF follows a constant
-acceleration u from where it is (Simulator.prescribe with MotionSource.constant_acceleration(u, v, q, t)),
-then releases and torques (Simulator.release, set_input), then Simulator.run(h).
+A scenario is a list of communication steps, each (h, inputs, locked, prescribed, wrenches): the step size,
+{DOF: u} (torque of a regular DOF; acceleration, velocity or position of a prescribed one, per the export's
+input_kinds; held over the step), the sets of DOFs locked and prescribed during it, and {body: wrench} (the
+external wrench on a body's own frame). The reference applies what the FMU does at each communication
+point (embed::Plant::apply_inputs): locks first (Simulator.lock), then each prescribed DOF follows the
+motion its input gives over the step from where it is (Simulator.prescribe with
+MotionSource.constant_acceleration, or for a position input the cubic MotionSource.polynomial), then
+releases and torques (Simulator.release, set_input), the wrenches (Simulator.set_external_wrench), then
+Simulator.run(h).
 """
 from __future__ import annotations
 
@@ -27,6 +30,7 @@ class Step:
     inputs: dict = field(default_factory=dict)
     locked: frozenset = frozenset()
     prescribed: frozenset | None = None  # None: the model's prescribed DOFs
+    wrenches: dict = field(default_factory=dict)  # {body name: (6,) [torque; force]}
 
 
 @dataclass
@@ -43,7 +47,7 @@ class FmuSession:
     initialization."""
 
     def __init__(self, path, instance_name: str = "plant", start_time: float = 0.0, logger=None,
-                 parameters: dict | None = None):
+                 parameters: dict | None = None, integers: dict | None = None):
         self.directory = extract(str(path))
         self.description = read_model_description(self.directory)
         self.version = int(self.description.fmiVersion[0])
@@ -67,6 +71,8 @@ class FmuSession:
             self.fmu.instantiate(callbacks=self._callback)
         for name, value in (parameters or {}).items():  # fixed parameters: before the initialization
             self.set_real(name, value)
+        for name, value in (integers or {}).items():
+            self.set_integer(name, value)
         if self.version == 3:
             self.fmu.enterInitializationMode(startTime=start_time)
         else:
@@ -77,6 +83,15 @@ class FmuSession:
 
     def set_real(self, name: str, value: float) -> None:
         (self.fmu.setFloat64 if self.version == 3 else self.fmu.setReal)([self.vr[name]], [float(value)])
+
+    def set_integer(self, name: str, value: int) -> None:
+        """An Int32 (substeps) or Enumeration (integrator) parameter."""
+        if self.version == 2:
+            self.fmu.setInteger([self.vr[name]], [int(value)])
+        elif name == "integrator":
+            self.fmu.setInt64([self.vr[name]], [int(value)])
+        else:
+            self.fmu.setInt32([self.vr[name]], [int(value)])
 
     def set_bool(self, name: str, value: bool) -> None:
         self.fmu.setBoolean([self.vr[name]], [bool(value)])
@@ -112,6 +127,9 @@ def run_fmu(path, m: soadyn.Model, steps: list[Step]) -> FmuRun:
             session.set_bool(f"locked.{dof}", dof in step.locked)
         for dof in sourceable:
             session.set_bool(f"prescribed.{dof}", dof in prescribed)
+        for body, wrench in step.wrenches.items():
+            for name, value in zip(WRENCH_COMPONENTS, wrench):
+                session.set_real(f"wrench.{body}.{name}", value)
         session.step(step.h)
         t.append(session.time)
         q.append(session.reals(q_names))
@@ -121,11 +139,28 @@ def run_fmu(path, m: soadyn.Model, steps: list[Step]) -> FmuRun:
     return FmuRun(np.array(t), np.array(q), np.array(v), np.array(tau))
 
 
-def run_reference(m: soadyn.Model, dt: float, q0, v0, steps: list[Step]) -> FmuRun:
-    """The same scenario on soadyn.Simulator (integrator rk4, internal step dt)."""
+WRENCH_COMPONENTS = ("tx", "ty", "tz", "fx", "fy", "fz")
+
+
+def input_source(kind: str, u: float, q: float, v: float, t: float, horizon: float) -> soadyn.MotionSource:
+    """The motion a prescribed DOF at (q, v) follows over `horizon` from its input u of `kind` (embed::Plant)."""
+    if kind == "acceleration":
+        return soadyn.MotionSource.constant_acceleration(u, v, q, t)
+    if kind == "velocity":
+        return soadyn.MotionSource.constant_acceleration((u - v) / horizon, v, q, t)
+    mean_rate = (u - q) / horizon  # position: the cubic Hermite to (u, mean_rate)
+    a, jerk = 4.0 * (mean_rate - v) / horizon, 6.0 * (v - mean_rate) / (horizon * horizon)
+    if jerk == 0.0:
+        return soadyn.MotionSource.constant_acceleration(a, v, q, t)
+    return soadyn.MotionSource.polynomial([q, v, a / 2.0, jerk / 6.0], t)
+
+
+def run_reference(m: soadyn.Model, dt: float, q0, v0, steps: list[Step], integrator: str = "rk4",
+                  input_kinds: dict | None = None) -> FmuRun:
+    """The same scenario on soadyn.Simulator (`integrator`, internal step dt)."""
     regular = m.copy()
     regular.set_prescribed([False] * m.nv)
-    sim = soadyn.Simulator(regular, dt=dt)
+    sim = soadyn.Simulator(regular, dt=dt, integrator=integrator)
     sim.set_state(np.asarray(q0, float), np.asarray(v0, float))
     model_prescribed = {d for d, p in zip(m.dof_names, m.prescribed) if p}
     coordinate = {d: m.coordinate_names.index(d) for d in m.dof_names if d in m.coordinate_names}
@@ -141,13 +176,16 @@ def run_reference(m: soadyn.Model, dt: float, q0, v0, steps: list[Step]) -> FmuR
                     locked_now.add(dof)
             elif dof in prescribed and dof in coordinate:
                 locked_now.discard(dof)
-                sim.prescribe(dof, soadyn.MotionSource.constant_acceleration(u, sim.v[k], sim.q[coordinate[dof]],
-                                                                             sim.time))
+                horizon = round(step.h / dt) * dt
+                kind = (input_kinds or {}).get(dof, "acceleration")
+                sim.prescribe(dof, input_source(kind, u, sim.q[coordinate[dof]], sim.v[k], sim.time, horizon))
             else:
                 if sim.prescribed[k]:
                     sim.release(dof)
                 locked_now.discard(dof)
                 sim.set_input(dof, u)
+        for body, wrench in step.wrenches.items():
+            sim.set_external_wrench(body, wrench)
         sim.run(step.h)
         t.append(sim.time)
         q.append(sim.q)

@@ -172,6 +172,38 @@ int soadyn_sim_prescribe(soadyn_sim* sim, int dof) {
   return result(sim, sim->plant.apply_inputs());
 }
 
+int soadyn_sim_set_input_kind(soadyn_sim* sim, int dof, const char* kind) {
+  if (!valid_dof(sim, dof, "soadyn_sim_set_input_kind")) return SOADYN_ERROR;
+  if (kind == nullptr) return fail("soadyn_sim_set_input_kind: the kind is NULL");
+  try {
+    sim->plant.set_input_kind(dof, soadyn::embed::input_kind_from_name(kind));
+  } catch (const std::exception& e) {
+    return fail(std::string("soadyn_sim_set_input_kind: ") + e.what());
+  }
+  return ok();
+}
+
+int soadyn_sim_add_wrench_input(soadyn_sim* sim, const char* frame) {
+  if (sim == nullptr || frame == nullptr) return fail("soadyn_sim_add_wrench_input: a NULL argument"), -1;
+  try {
+    const int index = sim->plant.add_wrench_input(frame);
+    ok();
+    return index;
+  } catch (const std::exception& e) {
+    fail(std::string("soadyn_sim_add_wrench_input: ") + e.what());
+  }
+  return -1;
+}
+
+int soadyn_sim_set_wrench(soadyn_sim* sim, int wrench, const double values[6]) {
+  if (sim == nullptr || values == nullptr) return fail("soadyn_sim_set_wrench: a NULL argument");
+  if (wrench < 0 || wrench >= sim->plant.wrench_inputs())
+    return fail("soadyn_sim_set_wrench: wrench input " + std::to_string(wrench) + " does not exist (the simulator has " +
+                std::to_string(sim->plant.wrench_inputs()) + ")");
+  for (int k = 0; k < 6; ++k) sim->plant.set_wrench(wrench, k, values[k]);
+  return ok();
+}
+
 int soadyn_sim_step(soadyn_sim* sim, int steps) {
   if (sim == nullptr) return fail("soadyn_sim_step: the simulator is NULL");
   if (steps < 0) return fail("soadyn_sim_step: a negative number of steps");
@@ -179,6 +211,9 @@ int soadyn_sim_step(soadyn_sim* sim, int steps) {
   if (bad >= 0)
     return fail("soadyn_sim_step: the input of DOF '" + sim->plant.model().dof_names[static_cast<std::size_t>(bad)] +
                 "' is not finite");
+  const int bad_wrench = sim->plant.non_finite_wrench();
+  if (bad_wrench >= 0)
+    return fail("soadyn_sim_step: wrench input " + std::to_string(bad_wrench) + " is not finite");
   return result(sim, sim->plant.advance(steps));
 }
 

@@ -20,7 +20,8 @@ extern "C" {
 
 SOADYN_C_EXPORT int soadyn_fmu_describe(const char* model_json, int fmi_version, double step, int substeps,
                                         const char* integrator, const double* q0, const double* v0,
-                                        const char* frames, const char* model_name, const char* model_identifier, const char* token,
+                                        const char* frames, const char* wrenches, const char* inputs,
+                                        const char* model_name, const char* model_identifier, const char* token,
                                         const char* description, const char* generation_tool,
                                         const char* generation_time) {
   try {
@@ -37,9 +38,15 @@ SOADYN_C_EXPORT int soadyn_fmu_describe(const char* model_json, int fmi_version,
       soadyn::locate_frame<double>(model, name);  // an unknown frame or one on a flexible body: named
       s.frames.push_back(name);
     }
+    std::istringstream wrench_names(wrenches);
+    for (std::string name; wrench_names >> name;) s.wrenches.push_back(name);
+    std::istringstream input_items(inputs);  // <dof>=<kind> ...
+    for (std::string item; input_items >> item;) s.inputs.push_back(soadyn::fmu::input_item(item));
+    soadyn::fmu::input_kinds(model, s);  // an unknown DOF, or one that cannot follow its input: named
     if (!(step > 0) || substeps < 1) throw std::invalid_argument("the step must be > 0 and substeps >= 1");
     // The start state is checked by the code that will use it: a Plant at it.
     soadyn::embed::Plant plant(model, step / substeps, soadyn::embed::integrator_from_name(integrator));
+    for (const std::string& name : s.wrenches) plant.add_wrench_input(name);  // an unknown frame: named
     plant.simulator().set_state(Eigen::Map<const Eigen::VectorXd>(q0, model.nq),
                                 Eigen::Map<const Eigen::VectorXd>(v0, model.nv), 0.0);
     const soadyn::fmu::Identity id{model_name, model_identifier, token, description, generation_tool, generation_time};

@@ -158,6 +158,24 @@ fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t
                         });
 }
 
+// Integer: the substeps (Integer) and integrator (Enumeration) parameters.
+fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]) {
+  return for_each_value(c, "fmi2GetInteger", vr, nvr, value,
+                        [](soadyn::fmu::Instance& i, fmi2ValueReference r, fmi2Integer& x) {
+                          long long v = 0;
+                          const bool ok = i.get_integer(r, v, std::nullopt);
+                          x = static_cast<fmi2Integer>(v);
+                          return ok;
+                        });
+}
+
+fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[]) {
+  return for_each_value(c, "fmi2SetInteger", vr, nvr, value,
+                        [](soadyn::fmu::Instance& i, fmi2ValueReference r, const fmi2Integer& x) {
+                          return i.set_integer(r, x, std::nullopt);
+                        });
+}
+
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2Real communicationStepSize,
                       fmi2Boolean) {
   return guarded(c, "fmi2DoStep", [&](Component& comp) {
@@ -232,8 +250,6 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serialized[],
   });
 }
 
-SOADYN_FMI2_UNSUPPORTED(fmi2GetInteger, const fmi2ValueReference[], size_t, fmi2Integer[])
-SOADYN_FMI2_UNSUPPORTED(fmi2SetInteger, const fmi2ValueReference[], size_t, const fmi2Integer[])
 SOADYN_FMI2_UNSUPPORTED(fmi2GetString, const fmi2ValueReference[], size_t, fmi2String[])
 SOADYN_FMI2_UNSUPPORTED(fmi2SetString, const fmi2ValueReference[], size_t, const fmi2String[])
 SOADYN_FMI2_UNSUPPORTED(fmi2GetIntegerStatus, const fmi2StatusKind, fmi2Integer*)

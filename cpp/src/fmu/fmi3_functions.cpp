@@ -65,6 +65,28 @@ fmi3Status for_each_value(fmi3Instance instance, const char* function, const fmi
   });
 }
 
+// The Int32 and Int64 calls: the integer parameters (Instance::get_integer, set_integer).
+template <class Integer>
+fmi3Status get_integers(fmi3Instance instance, const char* call, const fmi3ValueReference vrs[], size_t n,
+                        Integer values[], size_t nValues, soadyn::fmu::ValueType type) {
+  return for_each_value(instance, call, vrs, n, values, nValues,
+                        [type](soadyn::fmu::Instance& i, fmi3ValueReference vr, Integer& x) {
+                          long long value = 0;
+                          const bool ok = i.get_integer(vr, value, type);
+                          x = static_cast<Integer>(value);
+                          return ok;
+                        });
+}
+
+template <class Integer>
+fmi3Status set_integers(fmi3Instance instance, const char* call, const fmi3ValueReference vrs[], size_t n,
+                        const Integer values[], size_t nValues, soadyn::fmu::ValueType type) {
+  return for_each_value(instance, call, vrs, n, values, nValues,
+                        [type](soadyn::fmu::Instance& i, fmi3ValueReference vr, const Integer& x) {
+                          return i.set_integer(vr, static_cast<long long>(x), type);
+                        });
+}
+
 }  // namespace
 
 #define SOADYN_FMI3_UNSUPPORTED(function, ...) \
@@ -179,6 +201,27 @@ fmi3Status fmi3SetBoolean(fmi3Instance instance, const fmi3ValueReference vrs[],
                     });
 }
 
+// Int32: the substeps parameter; Int64: the integrator (an Enumeration, which FMI 3 reads and writes as Int64).
+fmi3Status fmi3GetInt32(fmi3Instance instance, const fmi3ValueReference vrs[], size_t n, fmi3Int32 values[],
+                        size_t nValues) {
+  return get_integers(instance, "fmi3GetInt32", vrs, n, values, nValues, soadyn::fmu::ValueType::int32);
+}
+
+fmi3Status fmi3SetInt32(fmi3Instance instance, const fmi3ValueReference vrs[], size_t n, const fmi3Int32 values[],
+                        size_t nValues) {
+  return set_integers(instance, "fmi3SetInt32", vrs, n, values, nValues, soadyn::fmu::ValueType::int32);
+}
+
+fmi3Status fmi3GetInt64(fmi3Instance instance, const fmi3ValueReference vrs[], size_t n, fmi3Int64 values[],
+                        size_t nValues) {
+  return get_integers(instance, "fmi3GetInt64", vrs, n, values, nValues, soadyn::fmu::ValueType::enumeration);
+}
+
+fmi3Status fmi3SetInt64(fmi3Instance instance, const fmi3ValueReference vrs[], size_t n, const fmi3Int64 values[],
+                        size_t nValues) {
+  return set_integers(instance, "fmi3SetInt64", vrs, n, values, nValues, soadyn::fmu::ValueType::enumeration);
+}
+
 fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoint, fmi3Float64 communicationStepSize,
                       fmi3Boolean, fmi3Boolean* eventHandlingNeeded, fmi3Boolean* terminateSimulation,
                       fmi3Boolean* earlyReturn, fmi3Float64* lastSuccessfulTime) {
@@ -248,9 +291,7 @@ SOADYN_FMI3_UNSUPPORTED(fmi3GetInt8, const fmi3ValueReference[], size_t, fmi3Int
 SOADYN_FMI3_UNSUPPORTED(fmi3GetUInt8, const fmi3ValueReference[], size_t, fmi3UInt8[], size_t)
 SOADYN_FMI3_UNSUPPORTED(fmi3GetInt16, const fmi3ValueReference[], size_t, fmi3Int16[], size_t)
 SOADYN_FMI3_UNSUPPORTED(fmi3GetUInt16, const fmi3ValueReference[], size_t, fmi3UInt16[], size_t)
-SOADYN_FMI3_UNSUPPORTED(fmi3GetInt32, const fmi3ValueReference[], size_t, fmi3Int32[], size_t)
 SOADYN_FMI3_UNSUPPORTED(fmi3GetUInt32, const fmi3ValueReference[], size_t, fmi3UInt32[], size_t)
-SOADYN_FMI3_UNSUPPORTED(fmi3GetInt64, const fmi3ValueReference[], size_t, fmi3Int64[], size_t)
 SOADYN_FMI3_UNSUPPORTED(fmi3GetUInt64, const fmi3ValueReference[], size_t, fmi3UInt64[], size_t)
 SOADYN_FMI3_UNSUPPORTED(fmi3GetString, const fmi3ValueReference[], size_t, fmi3String[], size_t)
 SOADYN_FMI3_UNSUPPORTED(fmi3GetBinary, const fmi3ValueReference[], size_t, size_t[], fmi3Binary[], size_t)
@@ -260,9 +301,7 @@ SOADYN_FMI3_UNSUPPORTED(fmi3SetInt8, const fmi3ValueReference[], size_t, const f
 SOADYN_FMI3_UNSUPPORTED(fmi3SetUInt8, const fmi3ValueReference[], size_t, const fmi3UInt8[], size_t)
 SOADYN_FMI3_UNSUPPORTED(fmi3SetInt16, const fmi3ValueReference[], size_t, const fmi3Int16[], size_t)
 SOADYN_FMI3_UNSUPPORTED(fmi3SetUInt16, const fmi3ValueReference[], size_t, const fmi3UInt16[], size_t)
-SOADYN_FMI3_UNSUPPORTED(fmi3SetInt32, const fmi3ValueReference[], size_t, const fmi3Int32[], size_t)
 SOADYN_FMI3_UNSUPPORTED(fmi3SetUInt32, const fmi3ValueReference[], size_t, const fmi3UInt32[], size_t)
-SOADYN_FMI3_UNSUPPORTED(fmi3SetInt64, const fmi3ValueReference[], size_t, const fmi3Int64[], size_t)
 SOADYN_FMI3_UNSUPPORTED(fmi3SetUInt64, const fmi3ValueReference[], size_t, const fmi3UInt64[], size_t)
 SOADYN_FMI3_UNSUPPORTED(fmi3SetString, const fmi3ValueReference[], size_t, const fmi3String[], size_t)
 SOADYN_FMI3_UNSUPPORTED(fmi3SetBinary, const fmi3ValueReference[], size_t, const size_t[], const fmi3Binary[], size_t)

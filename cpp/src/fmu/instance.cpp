@@ -12,92 +12,43 @@
 
 namespace soadyn::fmu {
 
-namespace {
-
-constexpr const char* kSettingsHeader = "soadyn-fmu 1";
-
-std::vector<double> numbers(std::istringstream& line, std::size_t count, const std::string& where) {
-  std::vector<double> out(count);
-  for (double& x : out)
-    if (!(line >> x) || !std::isfinite(x)) throw std::invalid_argument(where + ": expected " + std::to_string(count) +
-                                                                     " finite numbers");
-  std::string extra;
-  if (line >> extra) throw std::invalid_argument(where + ": more than " + std::to_string(count) + " numbers");
-  return out;
-}
-
-}  // namespace
-
-Settings read_settings(const std::string& path, int nq, int nv) {
-  std::ifstream file(path);
-  if (!file) throw std::invalid_argument("cannot read the FMU's settings '" + path + "' (a missing resource?)");
-  Settings s;
-  std::string text;
-  int number = 0;
-  bool header = false;
-  while (std::getline(file, text)) {
-    ++number;
-    const std::string where = path + ", line " + std::to_string(number);
-    if (!header) {
-      if (text != kSettingsHeader) throw std::invalid_argument(where + ": expected '" + kSettingsHeader + "'");
-      header = true;
-      continue;
-    }
-    std::istringstream line(text);
-    std::string key;
-    if (!(line >> key)) continue;
-    if (key == "token") {
-      if (!(line >> s.token)) throw std::invalid_argument(where + ": the token is missing");
-    } else if (key == "step") {
-      s.step = numbers(line, 1, where)[0];
-      if (!(s.step > 0)) throw std::invalid_argument(where + ": the step must be > 0");
-    } else if (key == "substeps") {
-      const double n = numbers(line, 1, where)[0];
-      if (!(n >= 1 && n <= 1e6 && n == std::floor(n))) throw std::invalid_argument(where + ": substeps must be 1 to 1e6");
-      s.substeps = static_cast<int>(n);
-    } else if (key == "integrator") {
-      if (!(line >> s.integrator)) throw std::invalid_argument(where + ": the integrator's name is missing");
-      embed::integrator_from_name(s.integrator);
-    } else if (key == "q0") {
-      s.q0 = numbers(line, static_cast<std::size_t>(nq), where);
-    } else if (key == "v0") {
-      s.v0 = numbers(line, static_cast<std::size_t>(nv), where);
-    } else if (key == "frames") {
-      for (std::string name; line >> name;) s.frames.push_back(name);
-    } else {
-      throw std::invalid_argument(where + ": unknown setting '" + key + "'");
-    }
-  }
-  if (!header) throw std::invalid_argument(path + ": empty (expected '" + kSettingsHeader + "')");
-  return s;
-}
-
-std::string settings_text(const Settings& s) {
-  std::ostringstream out;
-  out.precision(17);
-  out << kSettingsHeader << "\ntoken " << s.token << "\nstep " << s.step << "\nsubsteps " << s.substeps
-      << "\nintegrator " << s.integrator;
-  out << "\nq0";
-  for (double x : s.q0) out << ' ' << x;
-  out << "\nv0";
-  for (double x : s.v0) out << ' ' << x;
-  out << "\nframes";
-  for (const std::string& name : s.frames) out << ' ' << name;
-  out << '\n';
-  return out.str();
-}
-
 Instance::Instance(const std::string& resources, Log log) : resources_(resources), log_(std::move(log)) {
   model_ = load_model(resources_ + "/model.json");
   settings_ = read_settings(resources_ + "/soadyn_fmu.txt", model_.nq, model_.nv);
-  variables_ = fmu::variables(model_, settings_.frames);
+  variables_ = fmu::variables(model_, settings_);
   for (const std::string& name : settings_.frames) frames_.push_back(locate_frame<double>(model_, name));
   frame_values_.assign(16 * frames_.size(), 0.0);
   loop_values_.assign(6 * static_cast<std::size_t>(model_.nloops()), 0.0);
   parameters_ = std::make_unique<ParameterTable<double>>(model_);
   parameter_scratch_.assign(16, 0.0);
-  plant_ = std::make_unique<embed::Plant>(model_, settings_.step / settings_.substeps,
-                                          embed::integrator_from_name(settings_.integrator));
+  for (const Variable& v : variables_)  // each tunable entry once (its elements are consecutive variables)
+    if (v.quantity == Quantity::parameter && v.tunable && (tunable_entries_.empty() || tunable_entries_.back() != v.index))
+      tunable_entries_.push_back(v.index);
+  std::size_t tunable_size = 0;
+  for (int k : tunable_entries_) tunable_size += static_cast<std::size_t>(parameters_->entry(k).size());
+  tunable_values_.assign(tunable_size, 0.0);
+  tunable_loaded_.assign(tunable_size, 0.0);
+  make_plant();
+}
+
+void Instance::make_plant() {
+  auto plant = std::make_unique<embed::Plant>(model_, settings_.step / settings_.substeps,
+                                              embed::integrator_from_name(settings_.integrator));
+  const std::vector<embed::InputKind> kinds = input_kinds(model_, settings_);
+  for (int dof = 0; dof < model_.nv; ++dof)
+    if (kinds[static_cast<std::size_t>(dof)] != embed::InputKind::acceleration)
+      plant->set_input_kind(dof, kinds[static_cast<std::size_t>(dof)]);
+  for (const std::string& frame : settings_.wrenches) plant->add_wrench_input(frame);
+  if (plant_) {  // a rebuild keeps the inputs set so far
+    for (int dof = 0; dof < model_.nv; ++dof) {
+      plant->set_u(dof, plant_->u(dof));
+      plant->set_locked(dof, plant_->locked(dof));
+      plant->set_prescribed(dof, plant_->prescribed(dof));
+    }
+    for (int k = 0; k < plant->wrench_inputs(); ++k)
+      for (int c = 0; c < 6; ++c) plant->set_wrench(k, c, plant_->wrench(k, c));
+  }
+  plant_ = std::move(plant);
 }
 
 bool Instance::fail(const std::string& message) {
@@ -139,14 +90,11 @@ bool Instance::enter_initialization(double start_time) {
 bool Instance::exit_initialization() {
   if (failed_) return fail("exit initialization after an error");
   if (parameters_changed_) {  // setup, not a step: the new model's Plant is made here, with the inputs set so far
-    auto changed = std::make_unique<embed::Plant>(model_, settings_.step / settings_.substeps,
-                                                  embed::integrator_from_name(settings_.integrator));
-    for (int dof = 0; dof < model_.nv; ++dof) {
-      changed->set_u(dof, plant_->u(dof));
-      changed->set_locked(dof, plant_->locked(dof));
-      changed->set_prescribed(dof, plant_->prescribed(dof));
+    try {
+      make_plant();
+    } catch (const std::exception& e) {
+      return fail(std::string("ExitInitializationMode: ") + e.what());
     }
-    plant_ = std::move(changed);
     parameters_changed_ = false;
   }
   initialized_ = true;
@@ -157,14 +105,15 @@ bool Instance::reset() {
   failed_ = false;
   initialized_ = false;
   parameters_changed_ = false;
-  try {  // the parameters' start values: the model as exported (setup: it allocates)
+  try {  // the parameters' start values: the model and settings as exported (setup: it allocates)
     model_ = load_model(resources_ + "/model.json");
+    settings_ = read_settings(resources_ + "/soadyn_fmu.txt", model_.nq, model_.nv);
     parameters_ = std::make_unique<ParameterTable<double>>(model_);
+    plant_.reset();
+    make_plant();
   } catch (const std::exception& e) {
     return fail(std::string("Reset: ") + e.what());
   }
-  plant_ = std::make_unique<embed::Plant>(model_, settings_.step / settings_.substeps,
-                                          embed::integrator_from_name(settings_.integrator));
   start_time_ = 0.0;
   return start();
 }
@@ -224,21 +173,34 @@ bool Instance::do_step(double current_time, double step) {
 bool Instance::set_float64(unsigned vr, double value) {
   const Variable* v = variable(vr, "SetFloat64");
   if (!v) return false;
-  if (v->quantity == Quantity::parameter) {
-    if (initialized_) return fail("SetFloat64: the parameter '" + v->name + "' is fixed: set it before the "
-                                  "initialization ends");
-    if (!std::isfinite(value)) return fail("SetFloat64: the value of '" + v->name + "' is not finite");
-    try {
-      set_parameter_element(*parameters_, model_, *v, value, parameter_scratch_);
-    } catch (const std::exception& e) {
-      return fail(std::string("SetFloat64: ") + e.what());
-    }
+  if (v->quantity == Quantity::parameter) return set_parameter(*v, value);
+  if (v->quantity != Quantity::input && v->quantity != Quantity::wrench)
+    return fail("SetFloat64: '" + v->name + "' is not a Float64 input or parameter");
+  if (!std::isfinite(value)) return fail("SetFloat64: the value of '" + v->name + "' is not finite");
+  if (v->quantity == Quantity::wrench) plant_->set_wrench(v->index, v->row, value);
+  else plant_->set_u(v->index, value);
+  return true;
+}
+
+// Before the initialization ends: the model changes and the Plant is rebuilt when it ends. After, a tunable
+// parameter changes in the model and in the simulator's copy at once (allocation-free: ParameterTable::set),
+// from the next DoStep on.
+bool Instance::set_parameter(const Variable& v, double value) {
+  if (initialized_ && !v.tunable)
+    return fail("SetFloat64: the parameter '" + v.name + "' is fixed: set it before the initialization ends");
+  if (!std::isfinite(value)) return fail("SetFloat64: the value of '" + v.name + "' is not finite");
+  try {
+    set_parameter_element(*parameters_, model_, v, value, parameter_scratch_);
+  } catch (const std::exception& e) {
+    return fail(std::string("SetFloat64: ") + e.what());
+  }
+  if (!initialized_) {
     parameters_changed_ = true;
     return true;
   }
-  if (v->quantity != Quantity::input) return fail("SetFloat64: '" + v->name + "' is not a Float64 input");
-  if (!std::isfinite(value)) return fail("SetFloat64: the value of '" + v->name + "' is not finite");
-  plant_->set_u(v->index, value);
+  parameters_->get(model_, v.index, parameter_scratch_.data());  // the value just accepted, mirror included
+  plant_->simulator().change_parameters([&](Model& m) { parameters_->set(m, v.index, parameter_scratch_.data()); });
+  outputs_current_ = false;
   return true;
 }
 
@@ -253,6 +215,7 @@ bool Instance::get_float64(unsigned vr, double& value) {
   switch (v->quantity) {
     case Quantity::time: value = sim.time(); return true;
     case Quantity::input: value = plant_->u(v->index); return true;
+    case Quantity::wrench: value = plant_->wrench(v->index, v->row); return true;
     case Quantity::position: value = sim.q()[v->index]; return true;
     case Quantity::velocity: value = sim.v()[v->index]; return true;
     case Quantity::acceleration: value = plant_->qdd()[v->index]; return true;
@@ -264,6 +227,33 @@ bool Instance::get_float64(unsigned vr, double& value) {
     case Quantity::parameter: value = parameter_element(*parameters_, model_, *v, parameter_scratch_); return true;
     default: return fail("GetFloat64: '" + v->name + "' is a Boolean");
   }
+}
+
+bool Instance::set_integer(unsigned vr, long long value, std::optional<ValueType> type) {
+  const Variable* v = variable(vr, "SetInteger");
+  if (!v) return false;
+  if ((v->quantity != Quantity::integrator && v->quantity != Quantity::substeps) || (type && *type != v->type))
+    return fail("SetInteger: '" + v->name + "' is not a parameter of this type (integrator: Enumeration, substeps: Int32)");
+  if (initialized_) return fail("SetInteger: the parameter '" + v->name + "' is fixed: set it before the initialization ends");
+  if (v->quantity == Quantity::integrator) {
+    if (value < 1 || value > 3) return fail("SetInteger: integrator must be 1 (rk4), 2 (euler) or 3 (dopri5), got " +
+                                            std::to_string(value));
+    settings_.integrator = kIntegrators[value - 1];
+  } else {
+    if (value < 1 || value > 1000000) return fail("SetInteger: substeps must be 1 to 1000000, got " + std::to_string(value));
+    settings_.substeps = static_cast<int>(value);
+  }
+  parameters_changed_ = true;
+  return true;
+}
+
+bool Instance::get_integer(unsigned vr, long long& value, std::optional<ValueType> type) {
+  const Variable* v = variable(vr, "GetInteger");
+  if (!v) return false;
+  if ((v->quantity != Quantity::integrator && v->quantity != Quantity::substeps) || (type && *type != v->type))
+    return fail("GetInteger: '" + v->name + "' is not a variable of this type (integrator: Enumeration, substeps: Int32)");
+  value = v->quantity == Quantity::integrator ? integrator_number(settings_.integrator) : settings_.substeps;
+  return true;
 }
 
 bool Instance::set_boolean(unsigned vr, bool value) {
@@ -284,16 +274,63 @@ bool Instance::get_boolean(unsigned vr, bool& value) {
   return true;
 }
 
-void Instance::save_state(unsigned char* out) const {
+void Instance::save_tunable() {
+  double* at = tunable_values_.data();
+  for (int k : tunable_entries_) {
+    parameters_->get(model_, k, at);
+    at += parameters_->entry(k).size();
+  }
+}
+
+// All or nothing: values a ParameterTable refuses (a corrupted state) leave the model as it was. Before,
+// save_tunable() put the present values into tunable_values_.
+bool Instance::load_tunable(const double* values) {
+  const auto set_all = [this](Model& m, const double* from, std::size_t entries) {
+    for (std::size_t j = 0; j < entries; ++j) {
+      parameters_->set(m, tunable_entries_[j], from);
+      from += parameters_->entry(tunable_entries_[j]).size();
+    }
+  };
+  std::size_t applied = 0;
+  try {
+    const double* at = values;
+    for (int k : tunable_entries_) {
+      parameters_->set(model_, k, at);
+      at += parameters_->entry(k).size();
+      ++applied;
+    }
+  } catch (const std::exception& e) {
+    set_all(model_, tunable_values_.data(), applied);  // the values it had: valid
+    return fail(std::string("SetFMUState: the state's parameters are refused: ") + e.what());
+  }
+  plant_->simulator().change_parameters([&](Model& m) { set_all(m, values, tunable_entries_.size()); });
+  return true;
+}
+
+void Instance::save_state(unsigned char* out) {
   plant_->save_state(out);
-  std::memcpy(out + plant_->state_size(), &start_time_, sizeof(double));
-  out[plant_->state_size() + sizeof(double)] = initialized_ ? 1 : 0;
+  std::size_t at = plant_->state_size();
+  std::memcpy(out + at, &start_time_, sizeof(double));
+  out[at + sizeof(double)] = initialized_ ? 1 : 0;
+  save_tunable();
+  if (!tunable_values_.empty())
+    std::memcpy(out + at + sizeof(double) + 1, tunable_values_.data(), tunable_values_.size() * sizeof(double));
 }
 
 bool Instance::load_state(const unsigned char* in, std::size_t size) {
   if (size != state_size()) return fail("SetFMUState: the state has the wrong size for this FMU");
+  const std::size_t at = plant_->state_size() + sizeof(double) + 1;
+  for (std::size_t k = 0; k < tunable_loaded_.size(); ++k) {  // the parameters: checked, then set all or nothing
+    std::memcpy(&tunable_loaded_[k], in + at + k * sizeof(double), sizeof(double));
+    if (!std::isfinite(tunable_loaded_[k])) return fail("SetFMUState: the state holds a parameter that is not finite");
+  }
+  save_tunable();
+  if (!load_tunable(tunable_loaded_.data())) return false;
   const char* why = "";
-  if (!plant_->load_state(in, plant_->state_size(), &why)) return fail(std::string("SetFMUState: ") + why);
+  if (!plant_->load_state(in, plant_->state_size(), &why)) {
+    load_tunable(tunable_values_.data());  // the values before: valid
+    return fail(std::string("SetFMUState: ") + why);
+  }
   std::memcpy(&start_time_, in + plant_->state_size(), sizeof(double));
   initialized_ = in[plant_->state_size() + sizeof(double)] != 0;
   failed_ = false;

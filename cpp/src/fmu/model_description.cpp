@@ -47,26 +47,32 @@ const char* base_unit(const std::string& unit) {
   throw std::logic_error("no base unit for '" + unit + "'");
 }
 
+bool is_parameter(const Variable& v) {
+  return v.quantity == Quantity::parameter || v.quantity == Quantity::integrator || v.quantity == Quantity::substeps;
+}
+
 bool is_output(const Variable& v) {
   return v.quantity != Quantity::time && v.quantity != Quantity::input && v.quantity != Quantity::locked &&
-         v.quantity != Quantity::prescribed && v.quantity != Quantity::parameter;
+         v.quantity != Quantity::prescribed && v.quantity != Quantity::wrench && !is_parameter(v);
 }
 
 const char* causality(const Variable& v) {
   if (v.quantity == Quantity::time) return "independent";
-  if (v.quantity == Quantity::parameter) return "parameter";
+  if (is_parameter(v)) return "parameter";
   return is_output(v) ? "output" : "input";
 }
 
 const char* variability(const Variable& v) {
-  if (v.quantity == Quantity::parameter) return "fixed";
-  return v.boolean ? "discrete" : "continuous";
+  if (is_parameter(v)) return v.tunable ? "tunable" : "fixed";
+  return v.type == ValueType::float64 ? "continuous" : "discrete";
 }
 
 // The start attribute of an input or parameter ("" for the others, whose values are computed).
-std::string start(const Model& model, const Variable& v) {
-  if (v.boolean) return std::string(" start=\"") + (v.start_true ? "true" : "false") + "\"";
-  if (v.quantity == Quantity::input) return " start=\"0\"";
+std::string start(const Model& model, const Settings& settings, const Variable& v) {
+  if (v.type == ValueType::boolean) return std::string(" start=\"") + (v.start_true ? "true" : "false") + "\"";
+  if (v.quantity == Quantity::input || v.quantity == Quantity::wrench) return " start=\"0\"";
+  if (v.quantity == Quantity::integrator) return " start=\"" + std::to_string(integrator_number(settings.integrator)) + "\"";
+  if (v.quantity == Quantity::substeps) return " start=\"" + std::to_string(settings.substeps) + "\"";
   if (v.quantity != Quantity::parameter) return "";
   const ParameterTable<double> table(model);
   std::vector<double> scratch(16);
@@ -90,8 +96,28 @@ std::string unit_definitions(const std::vector<Variable>& variables) {
   return out + "  </UnitDefinitions>\n";
 }
 
+constexpr const char* kIntegratorType = "soadyn.Integrator";
+
+// The integrator parameter's items, as FMI 3 (EnumerationType) and FMI 2 (SimpleType) declare them.
+std::string integrator_items(const char* indent) {
+  std::string out;
+  for (int k = 0; k < 3; ++k)
+    out += std::string(indent) + "<Item name=\"" + kIntegrators[k] + "\" value=\"" + std::to_string(k + 1) + "\"/>\n";
+  return out;
+}
+
+// FMI 3's element of a variable's type.
+const char* fmi3_element(const Variable& v) {
+  switch (v.type) {
+    case ValueType::boolean: return "Boolean";
+    case ValueType::int32: return "Int32";
+    case ValueType::enumeration: return "Enumeration";
+    default: return "Float64";
+  }
+}
+
 std::string fmi3(const Model& model, const Settings& settings, const Identity& id) {
-  const std::vector<Variable> vars = variables(model, settings.frames);
+  const std::vector<Variable> vars = variables(model, settings);
   std::ostringstream x;
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
     << "<fmiModelDescription fmiVersion=\"3.0\" modelName=\"" << escaped(id.model_name) << "\" instantiationToken=\""
@@ -102,13 +128,15 @@ std::string fmi3(const Model& model, const Settings& settings, const Identity& i
     << "\" canHandleVariableCommunicationStepSize=\"true\" canGetAndSetFMUState=\"true\" "
        "canSerializeFMUState=\"true\" fixedInternalStepSize=\""
     << number(settings.step / settings.substeps) << "\" hasEventMode=\"false\"/>\n"
-    << unit_definitions(vars) << "  <DefaultExperiment startTime=\"0\" stepSize=\"" << number(settings.step)
-    << "\"/>\n  <ModelVariables>\n";
+    << unit_definitions(vars) << "  <TypeDefinitions>\n    <EnumerationType name=\"" << kIntegratorType << "\">\n"
+    << integrator_items("      ") << "    </EnumerationType>\n  </TypeDefinitions>\n"
+    << "  <DefaultExperiment startTime=\"0\" stepSize=\"" << number(settings.step) << "\"/>\n  <ModelVariables>\n";
   for (std::size_t vr = 0; vr < vars.size(); ++vr) {
     const Variable& v = vars[vr];
-    x << "    <" << (v.boolean ? "Boolean " : "Float64 ") << attributes(v, vr);
+    x << "    <" << fmi3_element(v) << " " << attributes(v, vr);
+    if (v.type == ValueType::enumeration) x << " declaredType=\"" << kIntegratorType << "\"";
     if (!v.unit.empty()) x << " unit=\"" << v.unit << "\"";
-    x << start(model, v) << "/>\n";
+    x << start(model, settings, v) << "/>\n";
   }
   x << "  </ModelVariables>\n  <ModelStructure>\n";
   for (std::size_t vr = 0; vr < vars.size(); ++vr)
@@ -120,7 +148,7 @@ std::string fmi3(const Model& model, const Settings& settings, const Identity& i
 }
 
 std::string fmi2(const Model& model, const Settings& settings, const Identity& id) {
-  const std::vector<Variable> vars = variables(model, settings.frames);
+  const std::vector<Variable> vars = variables(model, settings);
   std::ostringstream x;
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
     << "<fmiModelDescription fmiVersion=\"2.0\" modelName=\"" << escaped(id.model_name) << "\" guid=\""
@@ -130,8 +158,10 @@ std::string fmi2(const Model& model, const Settings& settings, const Identity& i
     << "  <CoSimulation modelIdentifier=\"" << escaped(id.model_identifier)
     << "\" canHandleVariableCommunicationStepSize=\"true\" canGetAndSetFMUstate=\"true\" "
        "canSerializeFMUstate=\"true\"/>\n"
-    << unit_definitions(vars) << "  <DefaultExperiment startTime=\"0\" stepSize=\"" << number(settings.step)
-    << "\"/>\n  <ModelVariables>\n";
+    << unit_definitions(vars) << "  <TypeDefinitions>\n    <SimpleType name=\"" << kIntegratorType
+    << "\">\n      <Enumeration>\n" << integrator_items("        ")
+    << "      </Enumeration>\n    </SimpleType>\n  </TypeDefinitions>\n"
+    << "  <DefaultExperiment startTime=\"0\" stepSize=\"" << number(settings.step) << "\"/>\n  <ModelVariables>\n";
   // FMI 2.0 needs no independent variable, and readers disagree on its start: time is left out, and
   // value reference 0 unused. ModelStructure's indices count the variables written, from 1.
   std::vector<std::size_t> position(vars.size(), 0);
@@ -141,12 +171,16 @@ std::string fmi2(const Model& model, const Settings& settings, const Identity& i
     if (v.quantity == Quantity::time) continue;
     position[vr] = ++written;
     x << "    <ScalarVariable " << attributes(v, vr) << ">";
-    if (v.boolean) {
-      x << "<Boolean" << start(model, v) << "/>";
+    if (v.type == ValueType::boolean) {
+      x << "<Boolean" << start(model, settings, v) << "/>";
+    } else if (v.type == ValueType::int32) {
+      x << "<Integer" << start(model, settings, v) << "/>";
+    } else if (v.type == ValueType::enumeration) {
+      x << "<Enumeration declaredType=\"" << kIntegratorType << "\"" << start(model, settings, v) << "/>";
     } else {
       x << "<Real";
       if (!v.unit.empty()) x << " unit=\"" << v.unit << "\"";
-      x << start(model, v) << "/>";
+      x << start(model, settings, v) << "/>";
     }
     x << "</ScalarVariable>\n";
   }

@@ -5,7 +5,7 @@
 
 namespace soadyn::fmu {
 
-SavedState* capture_state(const Instance& instance, void* existing) {
+SavedState* capture_state(Instance& instance, void* existing) {
   auto* state = existing ? static_cast<SavedState*>(existing) : new SavedState;
   state->bytes.resize(instance.state_size());
   instance.save_state(state->bytes.data());

@@ -47,9 +47,14 @@ void append_parameters(const Model& m, std::vector<Variable>& out) {
   const ParameterTable<double> table(m);
   for (int k = 0; k < table.size(); ++k) {
     const ParameterEntry<double>& e = table.entry(k);
-    const std::string unit = parameter_unit(e.name), description = "model parameter (fixed)";
+    // A placement moves bodies (and would open the loops): fixed. Every other parameter is tunable.
+    const bool tunable = e.name.size() < 10 || e.name.compare(e.name.size() - 10, 10, ".placement") != 0;
+    const std::string unit = parameter_unit(e.name),
+                      description = tunable ? "model parameter (tunable)" : "model parameter (fixed)";
     if (e.size() == 1) {
-      out.push_back({e.name, Quantity::parameter, k, false, false, unit, description});
+      Variable v{e.name, Quantity::parameter, k, ValueType::float64, false, unit, description};
+      v.tunable = tunable;
+      out.push_back(v);
       continue;
     }
     for (int r = 0; r < e.rows; ++r)
@@ -58,9 +63,10 @@ void append_parameters(const Model& m, std::vector<Variable>& out) {
         if (e.rows == 4 && e.cols == 4 && (c != 3 || r == 3)) continue;
         Variable v{e.cols == 1 ? e.name + "[" + std::to_string(r) + "]"
                                : e.name + "[" + std::to_string(r) + "," + std::to_string(c) + "]",
-                   Quantity::parameter, k, false, false, unit, description};
+                   Quantity::parameter, k, ValueType::float64, false, unit, description};
         v.row = r;
         v.col = c;
+        v.tunable = tunable;
         out.push_back(v);
       }
   }
@@ -94,29 +100,47 @@ std::string coordinate_unit(const Model& m, int coordinate) {
   return "";  // a modal coordinate
 }
 
-std::vector<Variable> variables(const Model& m, const std::vector<std::string>& frames) {
+std::vector<Variable> variables(const Model& m, const Settings& settings) {
+  const std::vector<std::string>& frames = settings.frames;
+  const std::vector<embed::InputKind> kinds = input_kinds(m, settings);
   std::vector<Variable> out;
-  out.push_back({"time", Quantity::time, -1, false, false, "s", "simulation time"});
+  out.push_back({"time", Quantity::time, -1, ValueType::float64, false, "s", "simulation time"});
   for (int dof = 0; dof < m.nv; ++dof) {
     const DofUnits units = dof_units(m, dof);
     const std::string& name = m.dof_names[static_cast<std::size_t>(dof)];
-    out.push_back({"u." + name, Quantity::input, dof, false, false, "",
+    const embed::InputKind kind = kinds[static_cast<std::size_t>(dof)];
+    const std::string& driven_unit = kind == embed::InputKind::position   ? units.position
+                                     : kind == embed::InputKind::velocity ? units.velocity
+                                                                          : units.acceleration;
+    const char* fallback = kind == embed::InputKind::position ? "1" : kind == embed::InputKind::velocity ? "1/s" : "1/s2";
+    out.push_back({"u." + name, Quantity::input, dof, ValueType::float64, false, "",
                    "torque or force of DOF " + name + " when regular (" + (units.force.empty() ? "modal force"
                                                                                                : units.force) +
-                       "); its acceleration when prescribed (" + (units.acceleration.empty() ? "1/s2"
-                                                                                             : units.acceleration) +
-                       ")"});
+                       "); its " + embed::input_kind_name(kind) + " when prescribed (" +
+                       (driven_unit.empty() ? fallback : driven_unit) + ")"});
   }
   for (int dof = 0; dof < m.nv; ++dof)
     if (embed::lockable_dof(m, dof))
-      out.push_back({"locked." + m.dof_names[static_cast<std::size_t>(dof)], Quantity::locked, dof, true, false, "",
+      out.push_back({"locked." + m.dof_names[static_cast<std::size_t>(dof)], Quantity::locked, dof, ValueType::boolean, false, "",
                      "true: the DOF is locked (stopped by an impulse, then held)"});
   for (int dof = 0; dof < m.nv; ++dof)
     if (embed::sourceable_dof(m, dof))
-      out.push_back({"prescribed." + m.dof_names[static_cast<std::size_t>(dof)], Quantity::prescribed, dof, true,
-                     m.is_prescribed(dof), "", "true: the DOF follows its input u as an acceleration"});
+      out.push_back({"prescribed." + m.dof_names[static_cast<std::size_t>(dof)], Quantity::prescribed, dof,
+                     ValueType::boolean, m.is_prescribed(dof), "",
+                     std::string("true: the DOF follows its input u as its ") +
+                         embed::input_kind_name(kinds[static_cast<std::size_t>(dof)])});
+  static const char* const wrench[6] = {"tx", "ty", "tz", "fx", "fy", "fz"};
+  for (std::size_t k = 0; k < settings.wrenches.size(); ++k)
+    for (int row = 0; row < 6; ++row) {
+      Variable v{"wrench." + settings.wrenches[k] + "." + wrench[row], Quantity::wrench, static_cast<int>(k),
+                 ValueType::float64, false, row < 3 ? "N.m" : "N",
+                 "external wrench on the frame: [torque; force] in its own axes about its origin, held over each "
+                 "communication step"};
+      v.row = row;
+      out.push_back(v);
+    }
   for (int k = 0; k < m.nq; ++k)
-    out.push_back({"q." + m.coordinate_names[static_cast<std::size_t>(k)], Quantity::position, k, false, false,
+    out.push_back({"q." + m.coordinate_names[static_cast<std::size_t>(k)], Quantity::position, k, ValueType::float64, false,
                    coordinate_unit(m, k), "coordinate"});
   const struct {
     const char* prefix;
@@ -129,16 +153,15 @@ std::vector<Variable> variables(const Model& m, const std::vector<std::string>& 
                   "generalized force at the communication point (the drive torque of a prescribed or locked DOF)"}};
   for (const auto& kind : per_dof)
     for (int dof = 0; dof < m.nv; ++dof)
-      out.push_back({kind.prefix + m.dof_names[static_cast<std::size_t>(dof)], kind.quantity, dof, false, false,
+      out.push_back({kind.prefix + m.dof_names[static_cast<std::size_t>(dof)], kind.quantity, dof, ValueType::float64, false,
                      dof_units(m, dof).*kind.unit, kind.description});
-  out.push_back({"energy.kinetic", Quantity::kinetic_energy, -1, false, false, "J", "kinetic energy"});
-  out.push_back({"energy.potential", Quantity::potential_energy, -1, false, false, "J",
+  out.push_back({"energy.kinetic", Quantity::kinetic_energy, -1, ValueType::float64, false, "J", "kinetic energy"});
+  out.push_back({"energy.potential", Quantity::potential_energy, -1, ValueType::float64, false, "J",
                  "potential energy (gravity, springs, strain)"});
-  static const char* const wrench[6] = {"tx", "ty", "tz", "fx", "fy", "fz"};
   for (int loop = 0; loop < m.nloops(); ++loop)
     for (int row = 0; row < 6; ++row) {
       Variable v{"loop." + m.loops[static_cast<std::size_t>(loop)].name + "." + wrench[row], Quantity::loop_wrench,
-                 loop, false, false, row < 3 ? "N.m" : "N",
+                 loop, ValueType::float64, false, row < 3 ? "N.m" : "N",
                  "the loop's wrench at the communication point: [torque; force] of frame_b's side on frame_a's "
                  "side, world axes, about frame_a's origin (constrained_dynamics)"};
       v.row = row;
@@ -148,11 +171,15 @@ std::vector<Variable> variables(const Model& m, const std::vector<std::string>& 
                                         "m/s", "m/s", "m/s", "m/s2", "m/s2", "m/s2"};
   for (std::size_t k = 0; k < frames.size(); ++k)
     for (int row = 0; row < 16; ++row) {
-      Variable v{"frame." + frames[k] + "." + kFrameOutputs[row], Quantity::frame, static_cast<int>(k), false, false,
+      Variable v{"frame." + frames[k] + "." + kFrameOutputs[row], Quantity::frame, static_cast<int>(k), ValueType::float64, false,
                  units[row], "frame output (the FMU guide lists them)"};
       v.row = row;
       out.push_back(v);
     }
+  out.push_back({"integrator", Quantity::integrator, -1, ValueType::enumeration, false, "",
+                 "the integrator: 1 rk4, 2 euler (semi-implicit), 3 dopri5 (adaptive)"});
+  out.push_back({"substeps", Quantity::substeps, -1, ValueType::int32, false, "",
+                 "internal steps per export step (the internal step is the export step / substeps)"});
   append_parameters(m, out);
   return out;
 }

@@ -22,6 +22,8 @@ FMI_VERSIONS = (3, 2)
 """The FMI versions export_fmu writes (co-simulation)."""
 
 INTEGRATORS = ("rk4", "euler", "dopri5")
+INPUT_KINDS = ("acceleration", "velocity", "position")
+"""What the input u.<dof> of a prescribed DOF can give (export_fmu's input_kinds)."""
 # Where each FMI version's standard puts an x86-64 Linux binary in the archive.
 _PLATFORM_FOLDER = {3: "x86_64-linux", 2: "linux64"}
 
@@ -75,8 +77,34 @@ def _frames(model: Model, outputs) -> list[str]:
     return frames
 
 
+def _names(model: Model, frames, what: str) -> list[str]:
+    """Frame names (a body or frame of the model, no spaces); FmuError naming a wrong one."""
+    if isinstance(frames, str):
+        frames = [frames]
+    known = model.body_names + model.frame_names
+    for name in frames:
+        if not isinstance(name, str) or name not in known:
+            raise FmuError(f"{what}: {name!r} is not a body or frame of the model ({', '.join(known)})")
+    return list(frames)
+
+
+def _input_kinds(model: Model, kinds) -> list[str]:
+    """{DOF: kind} as "<dof>=<kind>" items; FmuError naming an unknown DOF or kind."""
+    if not isinstance(kinds, dict):
+        raise FmuError(f"input_kinds must be a dict {{DOF name: kind}}, got {type(kinds).__name__}")
+    items = []
+    for dof, kind in kinds.items():
+        if dof not in model.dof_names:
+            raise FmuError(f"input_kinds: {dof!r} is not a DOF of the model ({', '.join(model.dof_names)})")
+        if kind not in INPUT_KINDS:
+            raise FmuError(f"input_kinds[{dof!r}] must be one of {', '.join(INPUT_KINDS)}, got {kind!r}")
+        items.append(f"{dof}={kind}")
+    return items
+
+
 def export_fmu(model, path, fmi: int = 3, step: float = 1e-3, substeps: int = 1, integrator: str = "rk4",
-               q0=None, v0=None, outputs=(), name: str | None = None, description: str = "") -> Path:
+               q0=None, v0=None, outputs=(), name: str | None = None, description: str = "", wrenches=(),
+               input_kinds=None) -> Path:
     """Write `model` as a co-simulation FMU at `path` (.fmu) and return the path.
 
     model: a soadyn.Model, or what `soadyn view` takes by name (a built-in scene, a model file, an MJCF or
@@ -86,12 +114,17 @@ def export_fmu(model, path, fmi: int = 3, step: float = 1e-3, substeps: int = 1,
     state ((nq,), (nv,); default the neutral configuration at rest, closed first on a loop model).
     outputs: the extra outputs, "frame.<name>" for a body or frame: its world position, world quaternion,
     angular and linear velocity and classical acceleration in its own axes (frame.<name>.x ... .az; the
-    FMU guide lists them). name: the modelName (default the scene's name or "soadyn_model").
+    FMU guide lists them). name: the modelName (default the scene's name or "soadyn_model"). wrenches: the
+    bodies or frames that take an external wrench input, wrench.<frame>.tx ... .fz ([torque; force] in the
+    frame's own axes about its origin). input_kinds: {DOF name: "acceleration", "velocity" or "position"},
+    what u.<dof> gives when the DOF is prescribed (default acceleration; the FMU guide gives the motions).
 
-    The FMU's variables (fixed names): inputs u.<dof> (torque or force of a regular DOF, acceleration of a
-    prescribed one, held over each communication step), locked.<dof> and prescribed.<dof> (Booleans:
-    the mode switches); outputs q.<coordinate>, v.<dof>, qdd.<dof> and tau.<dof> (the accelerations and
-    generalized forces at the communication point), energy.kinetic, energy.potential; SI units.
+    The FMU's variables (fixed names): inputs u.<dof> (torque or force of a regular DOF; acceleration,
+    velocity or position of a prescribed one per input_kinds; held over each communication step),
+    locked.<dof> and prescribed.<dof> (Booleans: the mode switches), wrench.<frame>.*; outputs q.<coordinate>,
+    v.<dof>, qdd.<dof> and tau.<dof> (the accelerations and generalized forces at the communication point),
+    energy.kinetic, energy.potential, loop.<loop>.*, frame.<name>.*; parameters integrator (an enumeration,
+    fixed), substeps (fixed) and the model's parameters (tunable but for the placements); SI units.
 
     Raises FmuError naming the argument at fault (or the start state the simulator refuses), TypeError for
     a model of another type, and OSError naming the path when it cannot be written.
@@ -117,6 +150,8 @@ def export_fmu(model, path, fmi: int = 3, step: float = 1e-3, substeps: int = 1,
     path = Path(path)
     q0, v0 = _start(model, q0, v0)
     frames = _frames(model, outputs)
+    wrench_frames = _names(model, wrenches, "wrenches")
+    kinds = _input_kinds(model, {} if input_kinds is None else input_kinds)
     name = name or "soadyn_model"
     identifier = _identifier(name)
     token = "{" + str(uuid.uuid4()) + "}"
@@ -126,14 +161,14 @@ def export_fmu(model, path, fmi: int = 3, step: float = 1e-3, substeps: int = 1,
     describe.restype = ctypes.c_int
     double_array = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
     describe.argtypes = [ctypes.c_char_p, ctypes.c_int, ctypes.c_double, ctypes.c_int, ctypes.c_char_p, double_array,
-                         double_array] + [ctypes.c_char_p] * 7
+                         double_array] + [ctypes.c_char_p] * 9
     for getter in ("soadyn_fmu_description_xml", "soadyn_fmu_settings_text", "soadyn_fmu_error"):
         getattr(library, getter).restype = ctypes.c_char_p
     model_json = model_to_json(model)
     now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat().replace("+00:00", "Z")
     texts = [model_json, name, identifier, token, description, f"soadyn {__version__}", now]
     if describe(texts[0].encode(), fmi, float(step), substeps, integrator.encode(), q0, v0, " ".join(frames).encode(),
-                *(t.encode() for t in texts[1:])) != 0:
+                " ".join(wrench_frames).encode(), " ".join(kinds).encode(), *(t.encode() for t in texts[1:])) != 0:
         raise FmuError(f"cannot export the FMU: {library.soadyn_fmu_error().decode()}")
     xml = library.soadyn_fmu_description_xml().decode()
     settings = library.soadyn_fmu_settings_text().decode()

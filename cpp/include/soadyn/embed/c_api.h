@@ -5,7 +5,7 @@
  *
  * Inputs follow hybrid_dynamics: u of a regular DOF is its torque (N m) or force (N); u of a DOF that follows
  * its input (soadyn_sim_prescribe, or a DOF the model marks prescribed) is its acceleration (rad/s^2, m/s^2),
- * held from the call until changed. Units are SI; q and v as in the Python API (quaternions x y z w, body-frame
+ * or its velocity or position (soadyn_sim_set_input_kind), held from the call until changed. Units are SI; q and v as in the Python API (quaternions x y z w, body-frame
  * velocities of free, spherical and planar joints).
  *
  * Real time: after soadyn_sim_create, every call on a simulator (inputs, steps, mode switches, reads, saving
@@ -22,7 +22,7 @@
 extern "C" {
 #endif
 
-#define SOADYN_C_API_VERSION 1
+#define SOADYN_C_API_VERSION 2
 #define SOADYN_OK 0
 #define SOADYN_ERROR 1
 
@@ -66,6 +66,17 @@ SOADYN_C_EXPORT int soadyn_sim_set_input_by_name(soadyn_sim* sim, const char* do
 SOADYN_C_EXPORT int soadyn_sim_lock(soadyn_sim* sim, int dof);
 SOADYN_C_EXPORT int soadyn_sim_release(soadyn_sim* sim, int dof);
 SOADYN_C_EXPORT int soadyn_sim_prescribe(soadyn_sim* sim, int dof);
+
+/* Setup (since version 2; allocates): what u of a DOF that follows its input gives, "acceleration" (the
+ * default), "velocity" (reached at the end of the next soadyn_sim_step call, at a constant acceleration) or
+ * "position" (reached at the end of the next soadyn_sim_step call along a cubic, velocity continuous; the
+ * C++ header soadyn/embed/plant.hpp gives the motions). */
+SOADYN_C_EXPORT int soadyn_sim_set_input_kind(soadyn_sim* sim, int dof, const char* kind);
+/* Setup (since version 2; allocates): a wrench input on a body or named frame; returns its index (>= 0), or
+ * -1 on failure. soadyn_sim_set_wrench sets it: [tx ty tz fx fy fz] in the frame's own axes about its
+ * origin (N m, N), applied from the next step on until changed. */
+SOADYN_C_EXPORT int soadyn_sim_add_wrench_input(soadyn_sim* sim, const char* frame);
+SOADYN_C_EXPORT int soadyn_sim_set_wrench(soadyn_sim* sim, int wrench, const double values[6]);
 
 /* `steps` steps of dt; on failure the state is that after the last step done. */
 SOADYN_C_EXPORT int soadyn_sim_step(soadyn_sim* sim, int steps);

@@ -2,10 +2,11 @@
 // resources, a Plant driven by the variables of variables.hpp, and the FMI calls' behaviour (the fmi2 and
 // fmi3 entry points translate their arguments and status codes only).
 //
-// resources/model.json: the model file; resources/soadyn_fmu.txt: the settings written at export, one
-// per line: "soadyn-fmu 1", "token <instantiation token>", "step <s>", "substeps <n>",
-// "integrator <rk4|euler|dopri5>", "q0 <nq numbers>", "v0 <nv numbers>", "frames <names>". The FMU's
-// internal step is step / substeps; a DoStep of h runs h / (step / substeps) steps (h must be a whole number of them).
+// resources/model.json: the model file; resources/soadyn_fmu.txt: the settings written at export
+// (settings.hpp). The integrator and the substeps are fixed parameters (set before the initialization
+// ends; their start values are the settings'); the model's parameters are tunable but for the placements
+// (a placement moves bodies and would open the loops): set in step mode, a change applies from the next
+// DoStep on, the state kept.
 //
 // Real time: do_step, get and set allocate nothing and never throw (qdd, tau and the energies are
 // evaluated when first read after a step); errors are logged with the item named
@@ -13,28 +14,17 @@
 // freeing are accepted (FMI's rule after an error).
 #pragma once
 #include <functional>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "soadyn/algorithms/frames.hpp"
 #include "soadyn/embed/plant.hpp"
+#include "soadyn/fmu/settings.hpp"
 #include "soadyn/fmu/variables.hpp"
 
 namespace soadyn::fmu {
-
-struct Settings {
-  std::string token;   // the instantiation token (FMI 2: guid) of the modelDescription.xml
-  double step = 1e-3;  // the export's communication step, s
-  int substeps = 1;
-  std::string integrator = "rk4";
-  std::vector<double> q0, v0;
-  std::vector<std::string> frames;  // the named frames with outputs
-};
-
-// Reads resources/soadyn_fmu.txt; throws std::invalid_argument naming the file and line at fault.
-Settings read_settings(const std::string& path, int nq, int nv);
-std::string settings_text(const Settings& settings);
 
 class Instance {
  public:
@@ -56,9 +46,15 @@ class Instance {
   bool get_float64(unsigned vr, double& value);
   bool set_boolean(unsigned vr, bool value);
   bool get_boolean(unsigned vr, bool& value);
+  // The Int32 (substeps) and Enumeration (integrator) parameters; `type` is the type the call serves
+  // (FMI 3: fmi3Get/SetInt32 an Int32, fmi3Get/SetInt64 an Enumeration; FMI 2's Integer calls both: nullopt).
+  bool set_integer(unsigned vr, long long value, std::optional<ValueType> type);
+  bool get_integer(unsigned vr, long long& value, std::optional<ValueType> type);
 
-  std::size_t state_size() const { return plant_->state_size() + sizeof(double) + 1; }
-  void save_state(unsigned char* out) const;
+  std::size_t state_size() const {
+    return plant_->state_size() + sizeof(double) + 1 + tunable_values_.size() * sizeof(double);
+  }
+  void save_state(unsigned char* out);
   bool load_state(const unsigned char* in, std::size_t size);
 
   bool failed() const { return failed_; }
@@ -68,6 +64,11 @@ class Instance {
   bool update_outputs();
   const Variable* variable(unsigned vr, const char* call);
   bool start();  // the start state at start_time_, the inputs applied, the outputs computed
+  void make_plant();  // a Plant of model_ with the settings' step, substeps, integrator, input kinds and wrenches
+  bool set_parameter(const Variable& v, double value);
+  // The tunable parameters' values (the FMU state holds them) into tunable_values_, and back.
+  void save_tunable();
+  bool load_tunable(const double* values);
 
   std::string resources_;
   Log log_;
@@ -77,6 +78,8 @@ class Instance {
   std::unique_ptr<embed::Plant> plant_;
   std::unique_ptr<ParameterTable<double>> parameters_;
   std::vector<double> parameter_scratch_;
+  std::vector<int> tunable_entries_;       // the ParameterTable entries of the tunable parameters
+  std::vector<double> tunable_values_, tunable_loaded_;  // their values (now, and from a saved state)
   bool parameters_changed_ = false;  // the Plant is rebuilt from model_ when the initialization ends
   double start_time_ = 0.0, kinetic_ = 0.0, potential_ = 0.0;
   bool failed_ = false, initialized_ = false;

@@ -15,7 +15,7 @@ struct SavedState {
 };
 
 // The instance's state into `existing` (or a new object when null); returns it.
-SavedState* capture_state(const Instance& instance, void* existing);
+SavedState* capture_state(Instance& instance, void* existing);
 bool restore_state(Instance& instance, const void* state);
 void free_state(void* state);
 std::size_t serialized_size(const void* state);

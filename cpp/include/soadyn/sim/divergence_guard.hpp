@@ -84,9 +84,10 @@ class DivergenceGuardTpl {
   // generalized forces `forces` and ended with energy `energy` (magnitude
   // T + |V|). On success the budget moves on; otherwise it is unchanged and
   // `dof` names the DOF at fault: the first beyond its velocity limit, or the
-  // one whose speed grew most in the step.
+  // one whose speed grew most in the step. Without check_energy (forces the
+  // generalized ones leave out act: external wrenches) only the velocity limits are judged.
   bool judge(const VecX<S>& v, const VecX<S>& v_next, const VecX<S>& forces, S dt, S energy, S magnitude,
-             int& dof) {
+             int& dof, bool check_energy = true) {
     dof = -1;
     S power(0), growth(-1);
     for (Eigen::Index i = 0; i < v.size(); ++i) {
@@ -104,7 +105,7 @@ class DivergenceGuardTpl {
     }
     const S work = work_bound_ + dt * power;
     const S allowed = S(budget_factor) * work + S(slack) * scale_ + std::numeric_limits<S>::min();
-    if (!(energy - reference_energy_ <= allowed)) return false;  // a NaN energy fails too
+    if (check_energy && !(energy - reference_energy_ <= allowed)) return false;  // a NaN energy fails too
     work_bound_ = work;
     scale_ = std::max(scale_, magnitude);
     dof = -1;

@@ -62,8 +62,15 @@ struct SimulationError : std::runtime_error {
   Status status;
 };
 
+// The motion of a DOF's input source (SimulatorTpl::drive_by_input) from the time t0, position q0 and
+// velocity v0 it started from: q = q0 + v0 s + a s^2 / 2 + jerk s^3 / 6 with s = t - t0.
+template <class S>
+struct InputMotion {
+  S t0 = S(0), q0 = S(0), v0 = S(0), a = S(0), jerk = S(0);
+};
+
 // What a step reads and writes, saved and restored whole (a co-simulation master's rollback: the C API's
-// and the FMU's saved states): time, state, inputs, each DOF's drive and its input source. Made by
+// and the FMU's saved states): time, state, inputs, external wrenches, each DOF's drive and its input source. Made by
 // SimulatorTpl::make_snapshot (allocates); save and restore copy into and out of it without allocating.
 // Not part of it: the motion sources given by prescribe() and the pending events (restore keeps the
 // simulator's), the divergence guard's reference (restarted from the restored state).
@@ -71,10 +78,10 @@ template <class S>
 struct SimulatorSnapshot {
   S time = S(0), energy_lost = S(0), adaptive_h = S(0);
   std::int64_t steps = 0;
-  VecX<S> q, v, inputs, forces, source_offset, held_position;
+  VecX<S> q, v, inputs, forces, source_offset, held_position, external_wrenches;
   std::vector<std::uint8_t> drive;
   std::vector<int> source_of;
-  std::vector<ConstantAcceleration<S>> input_motion;  // each DOF's input source (zero for a DOF without one)
+  std::vector<InputMotion<S>> input_motion;  // each DOF's input source (zero for a DOF without one)
 };
 
 template <class S>
@@ -119,20 +126,41 @@ class SimulatorTpl {
   Status release(int dof);
   Status step();
 
-  // Real-time inputs of driven DOFs: the C API's and the FMU's input u of a prescribed DOF (its
-  // acceleration, as in hybrid_dynamics) and their "prescribe" switch. Every DOF with a scalar coordinate
-  // (not a modal one) has an input source, made at construction, that moves it at a constant acceleration
-  // from where it is: q = q0 + v0 (t - t0) + a (t - t0)^2 / 2 with (t0, q0, v0) the time, position and
-  // velocity when the acceleration was set. drive_by_input makes a DOF follow it from now on (positions
-  // and velocities continuous: no impulse); set_driven_acceleration gives the input source of a DOF that
-  // follows it a new acceleration from now on. Both equal prescribe(dof, ConstantAcceleration{time(),
-  // q, v, a}) bit for bit, without allocating or throwing: invalid_dof for a DOF without an input source
-  // (planar, spherical, free joints; modal DOFs) or, for set_driven_acceleration, one that does not follow
-  // it; non_finite_source for an acceleration that is not finite.
-  Status drive_by_input(int dof, S acceleration);
-  Status set_driven_acceleration(int dof, S acceleration);
+  // Real-time inputs of driven DOFs: the C API's and the FMU's input u of a prescribed DOF and their
+  // "prescribe" switch. Every DOF with a scalar coordinate (not a modal one) has an input source, made at
+  // construction, that moves it from where it is at a constant acceleration, or with a constant jerk:
+  // q = q0 + v0 s + a s^2 / 2 + jerk s^3 / 6, s = t - t0, with (t0, q0, v0) the time, position and velocity
+  // when the motion was set (InputMotion). drive_by_input makes a DOF follow it from now on (positions and
+  // velocities continuous: no impulse); set_driven_acceleration gives the input source of a DOF that
+  // follows it a new motion from now on. With jerk = 0 both equal prescribe(dof, ConstantAcceleration{
+  // time(), q, v, a}) bit for bit, otherwise prescribe(dof, Polynomial{time(), {q, v, a / 2, jerk / 6}}),
+  // without allocating or throwing: invalid_dof for a DOF without an input source (planar, spherical,
+  // free joints; modal DOFs) or, for set_driven_acceleration, one that does not follow it;
+  // non_finite_source for an acceleration or jerk that is not finite.
+  Status drive_by_input(int dof, S acceleration, S jerk = S(0));
+  Status set_driven_acceleration(int dof, S acceleration, S jerk = S(0));
   // Whether the DOF follows its input source (after drive_by_input, until a lock, release or prescribe).
   bool driven_by_input(int dof) const;
+
+  // Setup: changes the physical parameters of the simulator's model in place, without a structural change
+  // (`change(model)` sets values through a ParameterTable: masses, inertias, gravity, placements ...). The
+  // state and the drives stay; the divergence guard restarts from the new energy. What `change` throws
+  // passes through (a ParameterTable set changes nothing then). Allocation-free when `change` is.
+  template <class Change>
+  void change_parameters(Change&& change) {
+    change(model_);
+    restart_divergence_guard();
+  }
+
+  // External wrenches: [torque; force] on a body, in its frame about its origin (f_ext of forward_dynamics),
+  // held until changed, like set_input. Real-time (no allocation; throws only std::invalid_argument for a
+  // body index out of range, as set_input for a DOF); a wrench that is not finite fails the next step with
+  // a non-finite result. The divergence guard's energy budget counts the work of the generalized forces
+  // only: while a wrench is applied it checks the velocity limits alone.
+  void set_external_wrench(int body, const Vec6<S>& wrench);
+  void clear_external_wrenches();
+  // (nbodies x 6): each body's external wrench.
+  const VecX<S>& external_wrenches() const { return external_wrenches_; }
 
   // The accelerations and generalized forces at the present time, state and inputs (what the next step's
   // first stage evaluates); qdd and tau must have nv entries. Real-time; changes nothing a step reads.
@@ -158,6 +186,8 @@ class SimulatorTpl {
   const VecX<S>& forces() const { return forces_; }
   S time() const { return time_; }
   S dt() const { return dt_; }
+  // The coordinate of a DOF with a scalar coordinate (q = q0 + xi), -1 for the others.
+  int coordinate_of(int dof) const { return coordinate_of_[static_cast<std::size_t>(dof)]; }
   Integrator integrator() const { return integrator_; }
   // Kinetic energy removed by lock impulses so far (>= 0).
   S energy_lost() const { return energy_lost_; }
@@ -217,7 +247,7 @@ class SimulatorTpl {
   void check_dof(int dof) const;
   void check_drivable(int dof) const;  // check_dof, and not a modal DOF
   void check_sourceable(int dof) const;  // check_drivable, and a scalar coordinate (coordinate_of_ >= 0)
-  void rebase_input_source(int dof, S acceleration);
+  void rebase_input_source(int dof, S acceleration, S jerk);
 
   ModelTpl<S> model_;
   DataTpl<S> data_;
@@ -255,6 +285,9 @@ class SimulatorTpl {
   };
   std::vector<SampledSource> sources_;
   std::vector<int> input_source_;  // each DOF's input source (index into sources_), -1 without one
+  std::vector<InputMotion<S>> input_motion_;  // the motion of each DOF's input source (its slot in sources_ samples it)
+  VecX<S> external_wrenches_;                 // nbodies x 6, body frames
+  bool has_external_wrench_ = false;          // some wrench is not zero: evaluate passes them to the dynamics
   std::vector<Event<S>> events_;  // binary heap, earliest (time, sequence) first; capacity reserved
   std::size_t event_capacity_;
   std::int64_t events_scheduled_ = 0;

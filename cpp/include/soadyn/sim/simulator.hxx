@@ -46,6 +46,8 @@ SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integra
                      &v0_, &v_save_, &step_v_, &step_forces_, &sampled_position_, &sampled_velocity_, &free_dofs_})
     x->setZero(nv);
   for (VecX<S>* x : {&q0_, &qs_, &q_save_, &step_q_}) x->setZero(nq);
+  external_wrenches_.setZero(6 * model_.nbodies());
+  input_motion_.assign(static_cast<std::size_t>(nv), InputMotion<S>{});
   k_xi_.assign(7, VecX<S>::Zero(nv));
   k_v_.assign(7, VecX<S>::Zero(nv));
   drive_.assign(static_cast<std::size_t>(nv), Drive::regular);
@@ -178,7 +180,7 @@ void SimulatorTpl<S>::set_state(const ConstVecRef<S>& q, const ConstVecRef<S>& v
       source_offset_[dof] = q_[coordinate_of_[d]] - sampled_position_[dof];
       v_[dof] = sampled_velocity_[dof];
       if (driven_by_input(dof))
-        rebase_input_source(dof, std::get<ConstantAcceleration<S>>(sources_[static_cast<std::size_t>(source_of_[d])].source).a);
+        rebase_input_source(dof, input_motion_[d].a, input_motion_[d].jerk);
     }
   }
   restart_divergence_guard();
@@ -260,11 +262,27 @@ std::int64_t SimulatorTpl<S>::schedule_prescribe(S time, int dof, MotionSource<S
   return e.sequence;
 }
 
+// The input source's sampled form: ConstantAcceleration without a jerk (bit for bit what prescribe() of
+// one gives), else the cubic Polynomial {q0, v0, a / 2, jerk / 6}.
 template <class S>
-void SimulatorTpl<S>::rebase_input_source(int dof, S acceleration) {
+MotionSource<S> input_source_motion(const InputMotion<S>& m) {
+  if (m.jerk == S(0)) return ConstantAcceleration<S>{m.t0, m.q0, m.v0, m.a};
+  Polynomial<S> cubic;
+  cubic.t0 = m.t0;
+  cubic.c[0] = m.q0;
+  cubic.c[1] = m.v0;
+  cubic.c[2] = m.a / S(2);
+  cubic.c[3] = m.jerk / S(6);
+  cubic.degree = 3;
+  return cubic;
+}
+
+template <class S>
+void SimulatorTpl<S>::rebase_input_source(int dof, S acceleration, S jerk) {
   const std::size_t d = static_cast<std::size_t>(dof);
+  input_motion_[d] = InputMotion<S>{time_, q_[coordinate_of_[d]], v_[dof], acceleration, jerk};
   SampledSource& slot = sources_[static_cast<std::size_t>(input_source_[d])];
-  slot.source = ConstantAcceleration<S>{time_, q_[coordinate_of_[d]], v_[dof], acceleration};
+  slot.source = input_source_motion(input_motion_[d]);
   slot.sampled = false;
 }
 
@@ -276,16 +294,18 @@ bool SimulatorTpl<S>::driven_by_input(int dof) const {
 }
 
 template <class S>
-Status SimulatorTpl<S>::drive_by_input(int dof, S acceleration) {
+Status SimulatorTpl<S>::drive_by_input(int dof, S acceleration, S jerk) {
   if (dof < 0 || dof >= model_.nv || input_source_[static_cast<std::size_t>(dof)] < 0)
     return Status{StatusCode::invalid_dof, dof};
-  if (!detail::finite(acceleration)) return Status{StatusCode::non_finite_source, dof};
-  SampledSource& slot = sources_[static_cast<std::size_t>(input_source_[static_cast<std::size_t>(dof)])];
-  const ConstantAcceleration<S> previous = std::get<ConstantAcceleration<S>>(slot.source);
-  rebase_input_source(dof, acceleration);
-  const Status s = switch_mode(dof, Drive::sourced, input_source_[static_cast<std::size_t>(dof)], true);
+  if (!detail::finite(acceleration) || !detail::finite(jerk)) return Status{StatusCode::non_finite_source, dof};
+  const std::size_t d = static_cast<std::size_t>(dof);
+  const InputMotion<S> previous = input_motion_[d];
+  rebase_input_source(dof, acceleration, jerk);
+  const Status s = switch_mode(dof, Drive::sourced, input_source_[d], true);
   if (!s.ok()) {  // all or nothing
-    slot.source = previous;
+    input_motion_[d] = previous;
+    SampledSource& slot = sources_[static_cast<std::size_t>(input_source_[d])];
+    slot.source = input_source_motion(previous);
     slot.sampled = false;
   }
   return s;
@@ -294,13 +314,27 @@ Status SimulatorTpl<S>::drive_by_input(int dof, S acceleration) {
 // As prescribe(dof, ConstantAcceleration{time_, q, v, a}) does through switch_mode: the new source's
 // position and velocity now are the DOF's, so its offset is zero and there is no impulse.
 template <class S>
-Status SimulatorTpl<S>::set_driven_acceleration(int dof, S acceleration) {
+Status SimulatorTpl<S>::set_driven_acceleration(int dof, S acceleration, S jerk) {
   if (!driven_by_input(dof)) return Status{StatusCode::invalid_dof, dof};
-  if (!detail::finite(acceleration)) return Status{StatusCode::non_finite_source, dof};
-  rebase_input_source(dof, acceleration);
+  if (!detail::finite(acceleration) || !detail::finite(jerk)) return Status{StatusCode::non_finite_source, dof};
+  rebase_input_source(dof, acceleration, jerk);
   source_offset_[dof] = S(0);
   restart_divergence_guard();
   return Status{};
+}
+
+template <class S>
+void SimulatorTpl<S>::set_external_wrench(int body, const Vec6<S>& wrench) {
+  if (body < 0 || body >= model_.nbodies())
+    throw std::invalid_argument("body index " + std::to_string(body) + " is out of range");
+  external_wrenches_.template segment<6>(6 * body) = wrench;
+  has_external_wrench_ = !external_wrenches_.isZero(S(0));
+}
+
+template <class S>
+void SimulatorTpl<S>::clear_external_wrenches() {
+  external_wrenches_.setZero();
+  has_external_wrench_ = false;
 }
 
 template <class S>
@@ -316,6 +350,7 @@ SimulatorSnapshot<S> SimulatorTpl<S>::make_snapshot() const {
   snapshot.q.resize(model_.nq);
   for (VecX<S>* x : {&snapshot.v, &snapshot.inputs, &snapshot.forces, &snapshot.source_offset, &snapshot.held_position})
     x->resize(model_.nv);
+  snapshot.external_wrenches.resize(external_wrenches_.size());
   snapshot.drive.resize(static_cast<std::size_t>(model_.nv));
   snapshot.source_of.resize(static_cast<std::size_t>(model_.nv));
   snapshot.input_motion.resize(static_cast<std::size_t>(model_.nv));
@@ -335,12 +370,11 @@ void SimulatorTpl<S>::save(SimulatorSnapshot<S>& snapshot) const {
   snapshot.forces = forces_;
   snapshot.source_offset = source_offset_;
   snapshot.held_position = held_position_;
+  snapshot.external_wrenches = external_wrenches_;
   for (std::size_t d = 0; d < drive_.size(); ++d) {
     snapshot.drive[d] = static_cast<std::uint8_t>(drive_[d]);
     snapshot.source_of[d] = source_of_[d];
-    snapshot.input_motion[d] = input_source_[d] < 0 ? ConstantAcceleration<S>{}
-                                                    : std::get<ConstantAcceleration<S>>(
-                                                          sources_[static_cast<std::size_t>(input_source_[d])].source);
+    snapshot.input_motion[d] = input_motion_[d];
   }
 }
 
@@ -348,7 +382,8 @@ template <class S>
 Status SimulatorTpl<S>::restore(const SimulatorSnapshot<S>& snapshot) {
   const std::size_t nv = static_cast<std::size_t>(model_.nv);
   if (snapshot.q.size() != model_.nq || snapshot.v.size() != model_.nv || snapshot.drive.size() != nv ||
-      snapshot.source_of.size() != nv || snapshot.input_motion.size() != nv)
+      snapshot.source_of.size() != nv || snapshot.input_motion.size() != nv ||
+      snapshot.external_wrenches.size() != external_wrenches_.size())
     return Status{StatusCode::invalid_dof, -1};
   for (std::size_t d = 0; d < nv; ++d)  // a source index this simulator does not have: another simulator's
     if (snapshot.source_of[d] >= static_cast<int>(sources_.size())) return Status{StatusCode::invalid_dof, static_cast<int>(d)};
@@ -362,13 +397,16 @@ Status SimulatorTpl<S>::restore(const SimulatorSnapshot<S>& snapshot) {
   forces_ = snapshot.forces;
   source_offset_ = snapshot.source_offset;
   held_position_ = snapshot.held_position;
+  external_wrenches_ = snapshot.external_wrenches;
+  has_external_wrench_ = !external_wrenches_.isZero(S(0));
   for (std::size_t d = 0; d < nv; ++d) {
     drive_[d] = static_cast<Drive>(snapshot.drive[d]);
     source_of_[d] = snapshot.source_of[d];
     model_.set_prescribed(static_cast<int>(d), drive_[d] != Drive::regular);
     if (input_source_[d] < 0) continue;
+    input_motion_[d] = snapshot.input_motion[d];
     SampledSource& slot = sources_[static_cast<std::size_t>(input_source_[d])];
-    slot.source = snapshot.input_motion[d];
+    slot.source = input_source_motion(input_motion_[d]);
     slot.sampled = false;
   }
   for (SampledSource& source : sources_) source.sampled = false;
@@ -470,7 +508,8 @@ Status SimulatorTpl<S>::evaluate(S t, const VecX<S>& q, const VecX<S>& v, VecX<S
     }
     u_[static_cast<Eigen::Index>(d)] = acceleration;
   }
-  const Status s = constrained_dynamics<S>(model_, data_, q, v, u_);  // hybrid_dynamics when there are no loops
+  // hybrid_dynamics when there are no loops
+  const Status s = constrained_dynamics<S>(model_, data_, q, v, u_, has_external_wrench_ ? external_wrenches_.data() : nullptr);
   qdd = data_.qdd;
   return s;
 }
@@ -718,7 +757,7 @@ Status SimulatorTpl<S>::judge_step() {
   S energy, magnitude;
   mechanical_energy(energy, magnitude);
   int dof = -1;
-  if (guard_.judge(step_v_, v_, forces_, dt_, energy, magnitude, dof)) return Status{};
+  if (guard_.judge(step_v_, v_, forces_, dt_, energy, magnitude, dof, !has_external_wrench_)) return Status{};
   return Status{StatusCode::diverging, dof};
 }
 
