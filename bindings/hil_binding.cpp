@@ -71,7 +71,8 @@ std::unique_ptr<HilSession> make_session(SimulatorHandle& sim, double rate_hz, s
                                          int fifo_priority, int cpu, bool lock_memory,
                                          std::optional<Eigen::VectorXd> command_limits,
                                          const std::string& command_policy, int udp_command_port,
-                                         int max_packets_per_step, std::int64_t floor_periods) {
+                                         int max_packets_per_step, std::int64_t floor_periods,
+                                         const std::string& floor, double preemption_margin_us) {
   auto session = std::make_unique<HilSession>();
   session->sim = &sim;
   const SimulatorLock simulator_in_use(sim);  // the runner reads the simulator's model and state
@@ -84,6 +85,12 @@ std::unique_ptr<HilSession> make_session(SimulatorHandle& sim, double rate_hz, s
     session->runner = std::make_unique<soadyn::HilRunner>(sim, rate_hz, steps, session->link.get());
     session->runner->record_state_every(record_every);
     session->runner->set_floor_periods(floor_periods);
+    if (floor != "interleaved" && floor != "after")
+      throw std::invalid_argument("floor '" + floor + "': choose 'interleaved' or 'after'");
+    session->runner->set_floor_mode(floor == "after" ? soadyn::FloorMode::after_run : soadyn::FloorMode::interleaved);
+    if (!std::isfinite(preemption_margin_us))
+      throw std::invalid_argument("preemption_margin_us must be a finite number >= 0");
+    session->runner->set_preemption_margin_ns(std::llround(preemption_margin_us * 1e3));
     session->runner->set_realtime(soadyn::RealtimeRequest{fifo_priority, cpu, lock_memory});
     if (command_limits) session->runner->set_command_limits(*command_limits);
     session->runner->set_command_policy(policy_from(command_policy));
@@ -141,6 +148,15 @@ void bind_hil(py::module_& mod) {
       .def_readonly("wall_seconds", &Summary::wall_seconds)
       .def_readonly("misses_compute_overrun", &Summary::misses_compute_overrun)
       .def_readonly("misses_late_wakeup", &Summary::misses_late_wakeup)
+      .def_readonly("misses_preempted", &Summary::misses_preempted)
+      .def_readonly("preempted_steps", &Summary::preempted_steps)
+      .def_readonly("involuntary_switches", &Summary::involuntary_switches)
+      .def_readonly("preemption_margin_us", &Summary::preemption_margin_us)
+      .def_readonly("cpu_p50_us", &Summary::cpu_p50_us)
+      .def_readonly("cpu_p99_us", &Summary::cpu_p99_us)
+      .def_readonly("cpu_p999_us", &Summary::cpu_p999_us)
+      .def_readonly("cpu_max_us", &Summary::cpu_max_us)
+      .def_readonly("floor_interleaved", &Summary::floor_interleaved)
       .def_readonly("floor_periods", &Summary::floor_periods)
       .def_readonly("floor_target_us", &Summary::floor_target_us)
       .def_readonly("floor_p50_us", &Summary::floor_p50_us)
@@ -189,6 +205,7 @@ void bind_hil(py::module_& mod) {
            py::arg("fifo_priority") = 0, py::arg("cpu") = -1, py::arg("lock_memory") = false,
            py::arg("command_limits") = py::none(), py::arg("command_policy") = "clamp",
            py::arg("udp_command_port") = -1, py::arg("max_packets_per_step") = 16, py::arg("floor_periods") = 0,
+           py::arg("floor") = "interleaved", py::arg("preemption_margin_us") = 10.0,
            py::keep_alive<1, 2>())  // the simulator outlives the runner
       .def("run", &run_session, "Run the loop (GIL released); the outcome is in summary(). An exception raised by a "
                         "Python motion source ends the run: run() raises the DynamicsError naming its DOF, caused by that exception, "
@@ -225,6 +242,9 @@ void bind_hil(py::module_& mod) {
            "or after run()), or None before the first run.")
       .def_property_readonly("deadline_misses", [](const HilSession& s) { return s.runner->deadline_misses(); },
                              "Steps that ended after their period's deadline so far.")
+      .def_property_readonly("misses_ours", [](const HilSession& s) { return s.runner->misses_ours(); },
+                             "Deadline misses so far whose step's own CPU time exceeded the period (the others are the "
+                             "machine's).")
       .def_property_readonly("packets_received", [](const HilSession& s) {
              return s.link ? s.link->packets_received() : std::uint64_t{0}; },
            "Valid commands received so far (0 without UDP).")
@@ -244,6 +264,16 @@ void bind_hil(py::module_& mod) {
              s.check_idle("lateness_ns");
              return to_numpy(s.runner->lateness_ns(), s.runner->steps_done()); },
            "Per-step lateness of the wake-up past its deadline in ns (steps_done,); RuntimeError while run() is\n"
+           "running.")
+      .def_property_readonly("cpu_ns", [](const HilSession& s) {
+             s.check_idle("cpu_ns");
+             return to_numpy(s.runner->cpu_ns(), s.runner->steps_done()); },
+           "Per-step CPU time of the loop's thread in ns (steps_done,); RuntimeError while run() is running.")
+      .def_property_readonly("involuntary_switches", [](const HilSession& s) {
+             s.check_idle("involuntary_switches");
+             const std::vector<std::int32_t>& x = s.runner->involuntary_switches();
+             return py::array_t<std::int32_t>(static_cast<py::ssize_t>(s.runner->steps_done()), x.data()); },
+           "Per-step involuntary context switches of the loop's thread (steps_done,); RuntimeError while run() is "
            "running.")
       .def_property_readonly("floor_ns", [](const HilSession& s) {
              s.check_idle("floor_ns");

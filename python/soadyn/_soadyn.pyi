@@ -646,6 +646,18 @@ class _HilSummary:
     def compute_p99_us(self) -> float:
         ...
     @property
+    def cpu_max_us(self) -> float:
+        ...
+    @property
+    def cpu_p50_us(self) -> float:
+        ...
+    @property
+    def cpu_p999_us(self) -> float:
+        ...
+    @property
+    def cpu_p99_us(self) -> float:
+        ...
+    @property
     def deadline_misses(self) -> int:
         ...
     @property
@@ -656,6 +668,9 @@ class _HilSummary:
         ...
     @property
     def failed_step(self) -> int:
+        ...
+    @property
+    def floor_interleaved(self) -> bool:
         ...
     @property
     def floor_max_us(self) -> float:
@@ -674,6 +689,9 @@ class _HilSummary:
         ...
     @property
     def floor_target_us(self) -> float:
+        ...
+    @property
+    def involuntary_switches(self) -> int:
         ...
     @property
     def kernel_drops(self) -> int:
@@ -700,6 +718,9 @@ class _HilSummary:
     def misses_late_wakeup(self) -> int:
         ...
     @property
+    def misses_preempted(self) -> int:
+        ...
+    @property
     def packets_dropped(self) -> int:
         ...
     @property
@@ -713,6 +734,12 @@ class _HilSummary:
         ...
     @property
     def packets_stale(self) -> int:
+        ...
+    @property
+    def preempted_steps(self) -> int:
+        ...
+    @property
+    def preemption_margin_us(self) -> float:
         ...
     @property
     def realtime(self) -> dict:
@@ -745,7 +772,7 @@ class HilRunner:
     """
     Fixed-rate loop over a Simulator with optional UDP I/O (see soadyn.hil.run_hil).
     """
-    def __init__(self, sim: _Simulator, rate_hz: typing.SupportsFloat | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex, udp_port: typing.SupportsInt | typing.SupportsIndex | None = None, udp_destination_port: typing.SupportsInt | typing.SupportsIndex = 0, as_fast_as_possible: bool = False, record_every: typing.SupportsInt | typing.SupportsIndex = 0, spin_us: typing.SupportsFloat | typing.SupportsIndex = 0.0, fifo_priority: typing.SupportsInt | typing.SupportsIndex = 0, cpu: typing.SupportsInt | typing.SupportsIndex = -1, lock_memory: bool = False, command_limits: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, command_policy: str = 'clamp', udp_command_port: typing.SupportsInt | typing.SupportsIndex = -1, max_packets_per_step: typing.SupportsInt | typing.SupportsIndex = 16, floor_periods: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def __init__(self, sim: _Simulator, rate_hz: typing.SupportsFloat | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex, udp_port: typing.SupportsInt | typing.SupportsIndex | None = None, udp_destination_port: typing.SupportsInt | typing.SupportsIndex = 0, as_fast_as_possible: bool = False, record_every: typing.SupportsInt | typing.SupportsIndex = 0, spin_us: typing.SupportsFloat | typing.SupportsIndex = 0.0, fifo_priority: typing.SupportsInt | typing.SupportsIndex = 0, cpu: typing.SupportsInt | typing.SupportsIndex = -1, lock_memory: bool = False, command_limits: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, command_policy: str = 'clamp', udp_command_port: typing.SupportsInt | typing.SupportsIndex = -1, max_packets_per_step: typing.SupportsInt | typing.SupportsIndex = 16, floor_periods: typing.SupportsInt | typing.SupportsIndex = 0, floor: str = 'interleaved', preemption_margin_us: typing.SupportsFloat | typing.SupportsIndex = 10.0) -> None:
         ...
     def latest_state(self) -> typing.Any:
         """
@@ -796,6 +823,11 @@ class HilRunner:
         Per-step compute times in ns (steps_done,); RuntimeError while run() is running.
         """
     @property
+    def cpu_ns(self) -> numpy.typing.NDArray[numpy.int64]:
+        """
+        Per-step CPU time of the loop's thread in ns (steps_done,); RuntimeError while run() is running.
+        """
+    @property
     def deadline_misses(self) -> int:
         """
         Steps that ended after their period's deadline so far.
@@ -806,10 +838,20 @@ class HilRunner:
         Per-period times of the machine's floor (register arithmetic of the steps' median length).
         """
     @property
+    def involuntary_switches(self) -> numpy.typing.NDArray[numpy.int32]:
+        """
+        Per-step involuntary context switches of the loop's thread (steps_done,); RuntimeError while run() is running.
+        """
+    @property
     def lateness_ns(self) -> numpy.typing.NDArray[numpy.int64]:
         """
         Per-step lateness of the wake-up past its deadline in ns (steps_done,); RuntimeError while run() is
         running.
+        """
+    @property
+    def misses_ours(self) -> int:
+        """
+        Deadline misses so far whose step's own CPU time exceeded the period (the others are the machine's).
         """
     @property
     def packets_received(self) -> int:

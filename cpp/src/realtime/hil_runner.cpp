@@ -1,6 +1,7 @@
 // The fixed-rate HIL loop; the timing model is described in hil_runner.hpp.
 #include "soadyn/realtime/hil_runner.hpp"
 
+#include <sys/resource.h>
 #include <time.h>
 #ifdef __linux__
 #include <sys/prctl.h>
@@ -22,6 +23,21 @@ std::int64_t now_ns() {
   timespec t;
   clock_gettime(CLOCK_MONOTONIC, &t);
   return static_cast<std::int64_t>(t.tv_sec) * ns_per_s + t.tv_nsec;
+}
+
+// The calling thread's own CPU time, and its involuntary context switches so far (Linux: RUSAGE_THREAD).
+std::int64_t thread_cpu_ns() {
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<std::int64_t>(t.tv_sec) * ns_per_s + t.tv_nsec;
+}
+
+std::int64_t involuntary_switches_now() {
+#ifdef RUSAGE_THREAD
+  rusage usage;
+  if (getrusage(RUSAGE_THREAD, &usage) == 0) return usage.ru_nivcsw;
+#endif
+  return 0;
 }
 
 // Linux lets a sleeping thread wake up to 50 us late by default ("timer
@@ -77,6 +93,7 @@ __attribute__((noinline)) void register_arithmetic(std::int64_t iterations) {
 }
 
 constexpr std::size_t median_sample_size = 1001;  // steps sampled for the floor's length
+constexpr std::int64_t interleaved_floor_warmup = 100;  // at most this many steps' median sets the interleaved floor's length
 constexpr std::int64_t calibration_iterations = 20000;
 
 }  // namespace
@@ -90,6 +107,8 @@ HilRunner::HilRunner(Simulator& sim, double rate_hz, std::int64_t steps, UdpLink
     throw std::invalid_argument("the UDP link's nq and nv differ from the simulator's model");
   compute_ns_.assign(static_cast<std::size_t>(steps), 0);
   lateness_ns_.assign(static_cast<std::size_t>(steps), 0);
+  cpu_ns_.assign(static_cast<std::size_t>(steps), 0);
+  switches_.assign(static_cast<std::size_t>(steps), 0);
   median_sample_.assign(median_sample_size, 0);
   limits_.set_limits(default_command_limits(sim.model(), sim.q()));
   sim.set_divergence_guard(true);  // on in every HIL run (sim/divergence_guard.hpp); the caller may turn it off
@@ -125,9 +144,15 @@ void HilRunner::set_floor_periods(std::int64_t periods) {
   floor_ns_.assign(static_cast<std::size_t>(std::min(periods, steps_)), 0);  // at most one per step
 }
 
+void HilRunner::set_preemption_margin_ns(std::int64_t ns) {
+  if (ns < 0) throw std::invalid_argument("the pre-emption margin must be >= 0");
+  preemption_margin_ns_ = ns;
+}
+
 void HilRunner::reset() {
-  floor_done_ = floor_target_ns_ = 0;
-  misses_compute_overrun_ = misses_late_wakeup_ = 0;
+  floor_done_ = floor_target_ns_ = floor_iterations_ = 0;
+  misses_compute_overrun_ = misses_late_wakeup_ = misses_preempted_ = preempted_steps_ = 0;
+  misses_ours_.store(0, std::memory_order_relaxed);
   status_ = Status{};
   failed_step_ = exception_step_ = -1;
   out_of_range_dof_ = -1;
@@ -151,76 +176,120 @@ Status HilRunner::run() {
   const RealtimeScope realtime(realtime_request_);
   realtime_outcome_ = realtime.outcome();
   RunBookkeeping bookkeeping(*this);
+  const bool interleave = floor_mode_ == FloorMode::interleaved && !as_fast_as_possible_ && !floor_ns_.empty();
+  if (interleave) calibrate_floor();
+  // The first tenth of the steps, at most 100, set the interleaved floor's length.
+  const std::int64_t warmup = std::min(interleaved_floor_warmup, std::max<std::int64_t>(1, steps_ / 10));
   start_ns_ = now_ns();
   std::int64_t previous_end = start_ns_;
+  bool previous_miss_ours = false;
   for (std::int64_t k = 0; k < steps_; ++k) {
     if (stop_requested_.load(std::memory_order_relaxed)) {
       stopped_ = true;
       break;
     }
-    const std::int64_t deadline = deadline_ns(k);
+    const std::int64_t deadline = deadline_ns(k), next_deadline = deadline_ns(k + 1);
     if (!as_fast_as_possible_) {
       sleep_until_ns(deadline - spin_ns_);
       while (now_ns() < deadline) {
       }
     }
+    // The CPU clock inside the wall window: wall - CPU >= 0 but for the clocks' own reading.
+    const std::int64_t switches_before = involuntary_switches_now();
     const std::int64_t wake = now_ns();
+    const std::int64_t cpu_start = thread_cpu_ns();
     const bool go_on = advance(k);
+    const std::int64_t cpu_end = thread_cpu_ns();
     const std::int64_t end = now_ns();
+    const std::int64_t switches = involuntary_switches_now() - switches_before;
     if (!go_on) {
       failed_step_ = k;
       break;
     }
     const std::size_t i = static_cast<std::size_t>(k);
     compute_ns_[i] = end - wake;
+    cpu_ns_[i] = cpu_end - cpu_start;
+    switches_[i] = static_cast<std::int32_t>(std::min<std::int64_t>(switches, std::numeric_limits<std::int32_t>::max()));
+    const bool preempted = compute_ns_[i] - cpu_ns_[i] > preemption_margin_ns_ || switches > 0;
+    preempted_steps_ += preempted ? 1 : 0;
     lateness_ns_[i] = as_fast_as_possible_ ? 0 : wake - deadline;
-    if (!as_fast_as_possible_ && end > deadline_ns(k + 1)) {
+    bool ours = false;
+    if (!as_fast_as_possible_ && end > next_deadline) {
       deadline_misses_.fetch_add(1, std::memory_order_relaxed);
-      // Ours when this step's compute exceeded the period, or when it started late only because the
-      // previous step was still running (a backlog of our own); else the machine woke us late.
-      const bool ours = end - wake > deadline_ns(k + 1) - deadline || previous_end > deadline;
-      ++(ours ? misses_compute_overrun_ : misses_late_wakeup_);
+      // Ours when this step's own CPU time exceeded the period, or when it started late only because the
+      // previous step, a miss of ours, was still running; else the machine woke us late or pre-empted us.
+      ours = cpu_ns_[i] > next_deadline - deadline || (previous_end > deadline && previous_miss_ours);
+      if (ours) {
+        ++misses_compute_overrun_;
+        misses_ours_.fetch_add(1, std::memory_order_relaxed);
+      } else {
+        ++misses_late_wakeup_;
+        misses_preempted_ += preempted ? 1 : 0;
+      }
     }
+    previous_miss_ours = ours;
     previous_end = end;
     steps_done_.store(k + 1, std::memory_order_relaxed);
+    if (!interleave) continue;
+    if (k + 1 == warmup) set_floor_target(warmup);
+    // The floor at the period's midpoint when the step ended before it and the floor fits before the next deadline.
+    const std::int64_t midpoint = deadline + (next_deadline - deadline) / 2;
+    if (floor_iterations_ > 0 && floor_done_ < static_cast<std::int64_t>(floor_ns_.size()) && end < midpoint &&
+        midpoint + 2 * floor_target_ns_ < next_deadline)
+      floor_period(midpoint);
   }
   end_ns_ = now_ns();
-  if (!as_fast_as_possible_ && !stopped_ && failed_step_ < 0) measure_floor();  // a whole paced run only
+  // An after-run floor: a whole paced run only.
+  if (floor_mode_ == FloorMode::after_run && !as_fast_as_possible_ && !stopped_ && failed_step_ < 0)
+    measure_floor_after_run();
   bookkeeping.finished = true;
   return status_;
 }
 
-void HilRunner::measure_floor() {
-  const std::int64_t n = steps_done(), periods = std::min<std::int64_t>(n, static_cast<std::int64_t>(floor_ns_.size()));
-  if (periods == 0) return;
-  // The length: the median compute time of the steps (sampled evenly).
-  const std::int64_t m = std::min<std::int64_t>(n, static_cast<std::int64_t>(median_sample_.size()));
-  for (std::int64_t i = 0; i < m; ++i)
-    median_sample_[static_cast<std::size_t>(i)] = compute_ns_[static_cast<std::size_t>(i * n / m)];
-  const auto middle = median_sample_.begin() + m / 2;
-  std::nth_element(median_sample_.begin(), middle, median_sample_.begin() + m);
-  floor_target_ns_ = *middle;
-  // Iterations per nanosecond: the fastest of three timings.
+// Iterations per nanosecond of the floor's arithmetic: the fastest of three timings.
+void HilRunner::calibrate_floor() {
   std::int64_t fastest = std::numeric_limits<std::int64_t>::max();
   for (int trial = 0; trial < 3; ++trial) {
     const std::int64_t t0 = now_ns();
     register_arithmetic(calibration_iterations);
     fastest = std::min(fastest, std::max<std::int64_t>(1, now_ns() - t0));
   }
-  const std::int64_t iterations =
-      std::max<std::int64_t>(1, floor_target_ns_ * calibration_iterations / fastest);
+  floor_ns_per_iteration_x1000_ = std::max<std::int64_t>(1, fastest * 1000 / calibration_iterations);
+}
+
+// The floor's length: the median compute time of the first `steps_timed` steps (sampled evenly).
+void HilRunner::set_floor_target(std::int64_t steps_timed) {
+  const std::int64_t n = steps_timed, m = std::min<std::int64_t>(n, static_cast<std::int64_t>(median_sample_.size()));
+  if (m == 0) return;
+  for (std::int64_t i = 0; i < m; ++i)
+    median_sample_[static_cast<std::size_t>(i)] = compute_ns_[static_cast<std::size_t>(i * n / m)];
+  const auto middle = median_sample_.begin() + m / 2;
+  std::nth_element(median_sample_.begin(), middle, median_sample_.begin() + m);
+  floor_target_ns_ = *middle;
+  floor_iterations_ = std::max<std::int64_t>(1, floor_target_ns_ * 1000 / floor_ns_per_iteration_x1000_);
+}
+
+// One period of the floor, paced like a step: woken at `deadline` by the same sleep and spin.
+void HilRunner::floor_period(std::int64_t deadline) {
+  sleep_until_ns(deadline - spin_ns_);
+  while (now_ns() < deadline) {
+  }
+  const std::int64_t wake = now_ns();
+  register_arithmetic(floor_iterations_);
+  floor_ns_[static_cast<std::size_t>(floor_done_)] = now_ns() - wake;
+  ++floor_done_;
+}
+
+void HilRunner::measure_floor_after_run() {
+  const std::int64_t periods = std::min<std::int64_t>(steps_done(), static_cast<std::int64_t>(floor_ns_.size()));
+  if (periods == 0) return;
+  calibrate_floor();
+  set_floor_target(steps_done());
   // Paced like the steps, from the next period on.
   const std::int64_t period = std::llround(1e9 / rate_hz_), start = now_ns() + period;
   for (std::int64_t k = 0; k < periods; ++k) {
     if (stop_requested_.load(std::memory_order_relaxed)) break;
-    const std::int64_t deadline = start + k * period;
-    sleep_until_ns(deadline - spin_ns_);
-    while (now_ns() < deadline) {
-    }
-    const std::int64_t wake = now_ns();
-    register_arithmetic(iterations);
-    floor_ns_[static_cast<std::size_t>(k)] = now_ns() - wake;
-    floor_done_ = k + 1;
+    floor_period(start + k * period);
   }
 }
 
@@ -278,6 +347,16 @@ HilSummary HilRunner::summary() const {
   s.lateness_p50_us = percentile_us(lateness, 0.5);
   s.lateness_p99_us = percentile_us(lateness, 0.99);
   s.lateness_max_us = percentile_us(lateness, 1.0);
+  const std::vector<std::int64_t> cpu = sorted_first(cpu_ns_, s.steps);
+  s.cpu_p50_us = percentile_us(cpu, 0.5);
+  s.cpu_p99_us = percentile_us(cpu, 0.99);
+  s.cpu_p999_us = percentile_us(cpu, 0.999);
+  s.cpu_max_us = percentile_us(cpu, 1.0);
+  for (std::int64_t k = 0; k < s.steps; ++k) s.involuntary_switches += switches_[static_cast<std::size_t>(k)];
+  s.preempted_steps = preempted_steps_;
+  s.misses_preempted = misses_preempted_;
+  s.preemption_margin_us = static_cast<double>(preemption_margin_ns_) * 1e-3;
+  s.floor_interleaved = floor_mode_ == FloorMode::interleaved;
   s.wall_seconds = static_cast<double>(end_ns_ - start_ns_) * 1e-9;
   s.misses_compute_overrun = misses_compute_overrun_;
   s.misses_late_wakeup = misses_late_wakeup_;

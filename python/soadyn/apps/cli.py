@@ -202,8 +202,13 @@ def add_hil_parser(sub) -> argparse.ArgumentParser:
                      help="largest |command| of every DOF, or of one DOF (repeatable; default 1000 M_ii per DOF, "
                           "see the HIL guide, docs/guides/hil.md; inf: no limit)")
     hil.add_argument("--floor-periods", type=int, default=None, metavar="N",
-                     help="after a paced run, time the machine's floor over N periods (default: as many as the "
-                          "run's steps, at most 10000; 0: none)")
+                     help="time the machine's floor over N periods (default: every step's period when interleaved, "
+                          "at most 10000 after the run; 0: none)")
+    hil.add_argument("--floor", default="interleaved", choices=["interleaved", "after"],
+                     help="time the floor at the midpoint of the steps' own periods (default: the same phases of "
+                          "the machine, no extra time) or in the periods after the run")
+    hil.add_argument("--preemption-margin-us", type=float, default=10.0, metavar="US",
+                     help="a step whose wall time exceeds its CPU time by more than this was pre-empted (default 10)")
     hil.add_argument("--view", action="store_true",
                      help="draw the run live in the browser (viser), from snapshots the loop publishes without waiting")
     hil.add_argument("--view-host", default="127.0.0.1", help="address the viewer serves on (default 127.0.0.1)")
@@ -455,7 +460,8 @@ def run_hil_command(args, parser) -> int:
                              command_policy=args.command_policy, udp_command_port=args.udp_command_port,
                              max_packets_per_step=args.max_packets_per_step, on_start=announce,
                              on_state=(lambda step, t, q, v: viewer.show(q)) if viewer else None,
-                             floor_periods=args.floor_periods, divergence_guard=not args.no_divergence_guard)
+                             floor_periods=args.floor_periods, divergence_guard=not args.no_divergence_guard,
+                             floor=args.floor, preemption_margin_us=args.preemption_margin_us)
     except ValueError as error:  # priority, CPU or a command limit out of range: the message names it
         parser.error(str(error))
     except (RuntimeError, MemoryError) as error:  # the UDP port could not be bound; no memory for the run

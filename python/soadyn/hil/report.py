@@ -46,14 +46,22 @@ class HilReport:
     # Models with loops: the largest closure residuals the integrator left before the projection of a step,
     # {"max_position": ..., "max_velocity": ...}; None without loops.
     loop_drift: dict | None = None
-    # Deadline misses by cause: "compute" (the step's own compute exceeded the period) and "machine" (woken or
-    # let run too late); they add up to deadline_misses.
+    # Deadline misses by cause: "compute" (ours: the step's own CPU time exceeded the period, or a backlog of our
+    # own) and "machine" (woken or let run too late, or pre-empted: "machine_preempted" of them); "compute" and
+    # "machine" add up to deadline_misses.
     misses: dict = field(default_factory=dict)
+    # The step's own CPU time (the loop thread's CPU clock, same window as compute_us): {"p50", "p99", "p999",
+    # "max"} in us, "spread" = p99.9 / p50 (the step's work varying by itself) and the "preemption_margin" (us).
+    cpu_us: dict = field(default_factory=dict)
+    preempted_steps: int = 0  # steps whose wall time exceeded their CPU time by the margin, or switched out
+    involuntary_switches: int = 0  # of the loop's thread during the steps
+    cpu_ns: np.ndarray | None = field(default=None, repr=False)
     # The state at the end of the run, {"t", "q", "v"}: after a failed step, the last good one (a failed step
     # leaves the state as it was before it).
     final_state: dict | None = None
-    # The machine's floor measured after the run (paced runs; None otherwise): register arithmetic of the steps'
-    # median length, paced like the steps: {"periods", "target", "p50", "p99", "p999", "max"} in us, and
+    # The machine's floor (paced runs; None otherwise): register arithmetic of the first steps' median length,
+    # paced like the steps, "mode" "interleaved" (at the midpoint of the steps' own periods) or "after" (in the
+    # periods after the run): {"mode", "periods", "target", "p50", "p99", "p999", "max"} in us, and
     # "tail_ratio" = compute p99.9 / floor p99.9 (1: the step's tail is the machine's).
     floor_us: dict | None = None
     floor_ns: np.ndarray | None = field(default=None, repr=False)
@@ -65,7 +73,8 @@ class HilReport:
 
     def to_dict(self) -> dict:
         """The summary as JSON-ready data (no per-step arrays)."""
-        keys = ["rate_hz", "realtime", "requested_steps", "steps", "deadline_misses", "compute_us", "lateness_us",
+        keys = ["rate_hz", "realtime", "requested_steps", "steps", "deadline_misses", "compute_us", "cpu_us",
+                "preempted_steps", "involuntary_switches", "lateness_us",
                 "packets", "commands", "wall_seconds", "sim_time", "status", "failed_step", "failed_dof", "error",
                 "interrupted", "energy", "momentum", "scheduling", "report_errors", "failed_loop", "loop_drift",
                 "misses", "floor_us"]
@@ -117,13 +126,20 @@ def format_table(r: HilReport) -> str:
         f"steps            {r.steps} of {r.requested_steps} at {r.rate_hz:g} Hz ({mode}), "
         f"{r.sim_time:.3f} s simulated in {r.wall_seconds:.3f} s",
         f"deadline misses  {r.deadline_misses}"
-        + (f" ({r.misses['compute']} compute overran the period, {r.misses['machine']} woken or run late)"
-           if r.deadline_misses else ""),
+        + (f" ({r.misses['compute']} ours: CPU time over the period; {r.misses['machine']} the machine's: woken or "
+           f"run late, {r.misses['machine_preempted']} of them pre-empted)" if r.deadline_misses else ""),
         f"scheduling       {format_scheduling(r.scheduling)}",
-        f"compute   us     p50 {c['p50']:8.1f}   p99 {c['p99']:8.1f}   p99.9 {c['p999']:8.1f}   max {c['max']:8.1f}",
+        f"compute   us     p50 {c['p50']:8.1f}   p99 {c['p99']:8.1f}   p99.9 {c['p999']:8.1f}   max {c['max']:8.1f}"
+        "   (wall clock)",
+        *([f"cpu       us     p50 {u['p50']:8.1f}   p99 {u['p99']:8.1f}   p99.9 {u['p999']:8.1f}   max {u['max']:8.1f}"
+           f"   (the thread's own; p99.9 / p50 " + (f"{u['spread']:.2f})" if u["spread"] is not None else "n/a)")]
+          if (u := r.cpu_us) else []),
+        f"pre-empted       {r.preempted_steps} steps (wall time over CPU time by more than "
+        f"{r.cpu_us.get('preemption_margin', 0):g} us, or switched out), {r.involuntary_switches} involuntary switches",
         f"lateness  us     p50 {lat['p50']:8.1f}   p99 {lat['p99']:8.1f}   max {lat['max']:8.1f}",
         *([f"machine   us     p50 {f['p50']:8.1f}   p99 {f['p99']:8.1f}   p99.9 {f['p999']:8.1f}   max {f['max']:8.1f}"
-           f"   (floor: {f['periods']} periods of {f['target']:.1f} us register arithmetic; step p99.9 / floor p99.9 "
+           f"   (floor, {f['mode']}: {f['periods']} periods of {f['target']:.1f} us register arithmetic; "
+           "step p99.9 / floor p99.9 "
            + (f"{f['tail_ratio']:.2f})" if f["tail_ratio"] is not None else "n/a)")] if (f := r.floor_us) else []),
         f"packets          received {p['received']}, dropped {p['dropped']}, sent {p['sent']}, "
         f"rejected sender {p['rejected_sender']}, stale {p['stale']}, kernel drops {p['kernel_drops']}, "

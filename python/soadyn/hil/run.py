@@ -22,6 +22,7 @@ MAX_STEPS = 10**8  # one run keeps 16 bytes of timings per step: at most 1.6 GB
 COMMAND_POLICIES = ("clamp", "reject", "stop")
 MAX_PACKETS_PER_STEP = 16  # datagrams read per step at most (the rest wait for the next step)
 MAX_FLOOR_PERIODS = 10000  # periods of the machine's floor after a paced run, at most
+FLOOR_MODES = ("interleaved", "after")  # where run_hil times the machine's floor
 
 # Statuses whose index is a loop: a step whose closure projection failed, and closure
 # accelerations the prescribed motion contradicts.
@@ -57,7 +58,8 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
             cpu: int = -1, lock_memory: bool = False, command_limits=None, command_policy: str = "clamp",
             udp_command_port: int | None = None, max_packets_per_step: int = MAX_PACKETS_PER_STEP,
             on_start=None, on_state=None, state_interval: float = STATE_INTERVAL,
-            floor_periods: int | None = None, divergence_guard: bool = True) -> HilReport:
+            floor_periods: int | None = None, divergence_guard: bool = True, floor: str = "interleaved",
+            preemption_margin_us: float = 10.0) -> HilReport:
     """Run `sim` for `duration` simulated seconds, one step per 1/rate wall seconds.
 
     The simulation is real time when sim.dt == 1/rate. `udp_port` (None: no
@@ -91,11 +93,18 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
     measurement that cannot be made at the end (energy of a broken state) is
     None, with the reason in `report_errors`. `on_start(runner)` is called
     once the runner exists (its `udp_port` is bound), before the loop.
-    After a paced run, `floor_periods` more periods (None: as many as the
-    run's steps, at most MAX_FLOOR_PERIODS; 0: none) time the machine's floor
-    (HilRunner: register arithmetic of the steps' median length, paced like
-    the steps); the report's `floor_us` and `misses` separate the machine's
-    share of the tail and of the misses from the step's own.
+    Every step's wall time (`compute_us`) is timed beside the loop thread's
+    own CPU time (`cpu_us`) and its involuntary context switches: a step whose
+    wall time exceeds its CPU time by more than `preemption_margin_us`, or that
+    was switched out, was pre-empted, and a deadline miss is ours only when
+    the step's own CPU time exceeded the period (`misses`). `floor_periods`
+    periods (None: every step's, at most MAX_FLOOR_PERIODS after the run; 0:
+    none) time the machine's floor (HilRunner: register arithmetic of the
+    first steps' median length, paced like the steps). `floor="interleaved"`
+    times it at the midpoint of the steps' own periods, so step and floor see
+    the same phases of the machine and the run takes no longer; "after" times
+    it in the periods after a completed run. The report's `floor_us` gives
+    the step's tail over the floor's (1: the step's tail is the machine's).
     `on_state(step, t, q, v)` (a viewer's `show`, a telemetry writer) is
     called on the calling thread, at most every `state_interval` seconds and
     once more at the end, with the latest state the loop published
@@ -127,8 +136,12 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
         raise ValueError(f"duration {duration:g} s at dt {sim.dt:g} s is {steps:.3g} steps, more than the {MAX_STEPS:.0e} "
                          "one run records (16 bytes of timings per step): shorten the duration or lower the rate")
     steps = sim.steps_in(duration)  # a whole number of steps, as Simulator.run requires
+    if floor not in FLOOR_MODES:
+        raise ValueError(f"floor {floor!r}: choose one of {', '.join(FLOOR_MODES)}")
+    if not (math.isfinite(preemption_margin_us) and preemption_margin_us >= 0):
+        raise ValueError(f"preemption_margin_us must be a finite number >= 0, got {preemption_margin_us}")
     if floor_periods is None:
-        floor_periods = min(steps, MAX_FLOOR_PERIODS)
+        floor_periods = steps if floor == "interleaved" else min(steps, MAX_FLOOR_PERIODS)
     if isinstance(floor_periods, bool) or int(floor_periods) != floor_periods or floor_periods < 0:
         raise ValueError(f"floor_periods must be a whole number >= 0, got {floor_periods!r}")
     report_errors: list[str] = []
@@ -139,7 +152,8 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
                        spin_us=float(spin_us), fifo_priority=int(fifo_priority), cpu=int(cpu),
                        lock_memory=bool(lock_memory), command_policy=command_policy,
                        udp_command_port=-1 if udp_command_port is None else int(udp_command_port),
-                       max_packets_per_step=int(max_packets_per_step), floor_periods=int(floor_periods))
+                       max_packets_per_step=int(max_packets_per_step), floor_periods=int(floor_periods),
+                       floor=floor, preemption_margin_us=float(preemption_margin_us))
     if command_limits is not None:
         runner.command_limits = resolve_command_limits(command_limits, runner.command_limits, sim._dof_names)
     sim.divergence_guard = divergence_guard  # the runner turned it on
@@ -147,7 +161,8 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
         on_start(runner)
     watcher = _StateWatcher(runner, on_state, report_errors) if on_state is not None else None
     interrupted, exception = _run_with_progress(runner, steps, progress, sim.dt, watcher,
-                                                state_interval if watcher else PROGRESS_INTERVAL)
+                                                state_interval if watcher else PROGRESS_INTERVAL,
+                                                interleaved_floor=floor == "interleaved")
     return _report(sim, runner, rate, realtime, interrupted, exception, energy0, momentum0, report_errors)
 
 
@@ -217,7 +232,8 @@ class _StateWatcher:
             self.on_state = None
 
 
-def _run_with_progress(runner, steps: int, show: bool, dt: float, watcher=None, interval: float = PROGRESS_INTERVAL):
+def _run_with_progress(runner, steps: int, show: bool, dt: float, watcher=None, interval: float = PROGRESS_INTERVAL,
+                       interleaved_floor: bool = True):
     """Runs the loop in a worker thread while the main thread updates a
     progress bar (and hands states to `watcher` every `interval` s); returns
     (Ctrl-C stopped it, the exception a step raised or None)."""
@@ -236,7 +252,7 @@ def _run_with_progress(runner, steps: int, show: bool, dt: float, watcher=None, 
     try:
         while worker.is_alive():
             worker.join(interval)
-            _update_progress(bar, runner, dt)
+            _update_progress(bar, runner, dt, interleaved_floor)
             if watcher is not None:
                 watcher()
     except KeyboardInterrupt:
@@ -244,22 +260,24 @@ def _run_with_progress(runner, steps: int, show: bool, dt: float, watcher=None, 
         runner.request_stop()
         worker.join()
     finally:
-        _update_progress(bar, runner, dt)
+        _update_progress(bar, runner, dt, interleaved_floor)
         bar.close()
         if watcher is not None:
             watcher()  # the final state
     return interrupted, errors[0] if errors else None
 
 
-def _update_progress(bar, runner, dt: float) -> None:
+def _update_progress(bar, runner, dt: float, interleaved: bool = True) -> None:
     done = runner.steps_done
     bar.update(done - bar.n)
-    postfix = {"t": f"{done * dt:.2f}s", "misses": runner.deadline_misses}
+    misses = runner.deadline_misses
+    ours = runner.misses_ours
+    postfix = {"t": f"{done * dt:.2f}s", "misses": f"{ours} ours, {misses - ours} machine's" if misses else 0}
     if runner.udp_port is not None:
         postfix["rx"] = runner.packets_received
         postfix["saturated"] = runner.commands_saturated
         postfix["rejected"] = runner.commands_rejected
-    if bar.total and done >= bar.total:
+    if bar.total and done >= bar.total and not interleaved:
         postfix["now"] = "timing the machine's floor"  # the paced pass after the steps (HilRunner)
     bar.set_postfix(postfix, refresh=False)
 
@@ -290,6 +308,7 @@ def _report(sim, runner, rate, realtime, interrupted, exception, energy0, moment
         rate_hz=float(rate), realtime=realtime, requested_steps=s.requested_steps, steps=s.steps,
         deadline_misses=s.deadline_misses,
         compute_us=_percentiles(s, "compute", ("p50", "p99", "p999", "max")),
+        cpu_us=_cpu(s), preempted_steps=s.preempted_steps, involuntary_switches=s.involuntary_switches,
         lateness_us=_percentiles(s, "lateness", ("p50", "p99", "max")),
         packets=_packets(s), commands=_commands(s, runner.command_limits, dof_names),
         wall_seconds=s.wall_seconds, sim_time=float(sim.time), status=s.status,
@@ -303,17 +322,26 @@ def _report(sim, runner, rate, realtime, interrupted, exception, energy0, moment
         dof_names=dof_names, compute_ns=runner.compute_ns, lateness_ns=runner.lateness_ns, t=t, q=q, v=v,
         error=_describe(exception) if exception is not None else None,
         report_errors=report_errors, exception=exception,
-        misses={"compute": s.misses_compute_overrun, "machine": s.misses_late_wakeup},
-        floor_us=_floor(s), floor_ns=runner.floor_ns if s.floor_periods else None,
+        misses={"compute": s.misses_compute_overrun, "machine": s.misses_late_wakeup,
+                "machine_preempted": s.misses_preempted},
+        floor_us=_floor(s), floor_ns=runner.floor_ns if s.floor_periods else None, cpu_ns=runner.cpu_ns,
         final_state={"t": float(sim.time), "q": [float(x) for x in sim.q], "v": [float(x) for x in sim.v]})
 
 
 def _floor(s) -> dict | None:
     if not s.floor_periods:
         return None
-    return {"periods": s.floor_periods, "target": s.floor_target_us, "p50": s.floor_p50_us, "p99": s.floor_p99_us,
+    return {"mode": "interleaved" if s.floor_interleaved else "after", "periods": s.floor_periods,
+            "target": s.floor_target_us, "p50": s.floor_p50_us, "p99": s.floor_p99_us,
             "p999": s.floor_p999_us, "max": s.floor_max_us,
             "tail_ratio": s.compute_p999_us / s.floor_p999_us if s.floor_p999_us > 0 else None}
+
+
+def _cpu(s) -> dict:
+    """The step's own CPU time: percentiles (us) and the spread of its work, p99.9 / p50."""
+    return {**_percentiles(s, "cpu", ("p50", "p99", "p999", "max")),
+            "spread": s.cpu_p999_us / s.cpu_p50_us if s.cpu_p50_us > 0 else None,
+            "preemption_margin": s.preemption_margin_us}
 
 
 def _packets(s) -> dict:

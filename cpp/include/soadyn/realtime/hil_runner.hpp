@@ -15,21 +15,29 @@
 // of the core).
 //
 // Per step it records the compute time (wake-up to the end of the step,
-// I/O included) and the lateness (wake-up minus deadline); a step whose
-// compute ends after the next deadline is a deadline miss. A miss is ours
-// when the step's compute alone exceeded the period, or when the step
-// started late only because the previous step was still running; any other
-// miss is the machine's (the thread woke up, or was let run, too late). In as-fast-as-possible mode it never sleeps, lateness is 0 and no
-// step is a miss.
+// I/O included, wall clock), the thread's own CPU time in that window
+// (CLOCK_THREAD_CPUTIME_ID) and the involuntary context switches around it
+// (getrusage(RUSAGE_THREAD)), and the lateness (wake-up minus deadline); a
+// step whose compute ends after the next deadline is a deadline miss. A step
+// whose wall time exceeds its CPU time by more than the pre-emption margin,
+// or that was switched out involuntarily, was pre-empted. A miss is ours when
+// the step's own CPU time exceeded the period, or when the step started late
+// only because the previous step's miss was ours (a backlog of our own); any
+// other miss is the machine's (the thread woke up, or was let run, too late,
+// or was pre-empted). In as-fast-as-possible mode it never sleeps, lateness
+// is 0 and no step is a miss.
 //
-// The machine's floor: after a paced run that completed (not stopped, no
-// failed step), the loop times a workload that
-// cannot vary by itself — multiply-add chains in registers, calibrated to
-// the median compute time of the run's steps — over `floor_periods` more
-// periods, paced exactly like the steps (same rate, sleep, spin and
-// scheduling). Its spread is what the machine adds to any computation of
-// that length; the step's p99.9 over the floor's p99.9 is the part of the
-// tail that is the step's own.
+// The machine's floor: a workload that cannot vary by itself — multiply-add
+// chains in registers, calibrated to the median compute time of the first
+// tenth of the steps (at most 100) — timed over `floor_periods` periods. Interleaved (the
+// default), it runs in the second half of the steps' own periods, at the
+// period's midpoint, paced like the steps (the same sleep, spin and
+// scheduling): step and floor see the same phases of a shared host, and the
+// run takes no longer. After the run (FloorMode::after_run, a completed run
+// only), it runs over as many more periods. Its spread is what the machine
+// adds to any computation of that length; the step's p99.9 over the floor's
+// p99.9 is the part of the tail that is the step's own. A period whose step
+// ran past its midpoint times no floor.
 //
 // Real-time scheduling (optional, set_realtime): run() applies SCHED_FIFO,
 // CPU pinning and memory locking to its thread before the loop and undoes
@@ -79,12 +87,19 @@ struct HilSummary {
   std::int64_t deadline_misses = 0;
   double compute_p50_us = 0, compute_p99_us = 0, compute_p999_us = 0, compute_max_us = 0;
   double lateness_p50_us = 0, lateness_p99_us = 0, lateness_max_us = 0;
-  double wall_seconds = 0;  // wall-clock time of the loop (the floor pass excluded)
-  std::int64_t misses_compute_overrun = 0;  // misses whose compute, or the previous step's backlog, exceeded the period (ours)
+  // The step's own CPU time (thread CPU clock) between wake-up and the end of the step.
+  double cpu_p50_us = 0, cpu_p99_us = 0, cpu_p999_us = 0, cpu_max_us = 0;
+  double wall_seconds = 0;  // wall-clock time of the loop (an after-run floor pass excluded)
+  std::int64_t misses_compute_overrun = 0;  // misses whose CPU time, or our own backlog, exceeded the period (ours)
   std::int64_t misses_late_wakeup = 0;      // the other misses (the machine's)
+  std::int64_t misses_preempted = 0;        // the machine's misses whose step was pre-empted
+  std::int64_t preempted_steps = 0;         // steps pre-empted (wall - CPU > margin, or switched out)
+  std::int64_t involuntary_switches = 0;    // over the steps
+  double preemption_margin_us = 0;
   // The machine's floor (see above): periods timed (0: not measured), the
   // workload's calibrated length and its percentiles.
   std::int64_t floor_periods = 0;
+  bool floor_interleaved = true;  // timed in the steps' periods (false: after the run)
   double floor_target_us = 0, floor_p50_us = 0, floor_p99_us = 0, floor_p999_us = 0, floor_max_us = 0;
   // Counters accumulate over the runner's (and the link's) life, across
   // runs. The link's counters (udp_link.hpp): accepted commands, malformed, sensor
@@ -107,6 +122,8 @@ struct HilSummary {
   RealtimeRequest realtime_request;  // what set_realtime asked for
   RealtimeOutcome realtime;          // what the kernel granted during the last run
 };
+
+enum class FloorMode { interleaved, after_run };
 
 class HilRunner {
  public:
@@ -134,9 +151,12 @@ class HilRunner {
   void set_command_limits(const Eigen::VectorXd& limits) { limits_.set_limits(limits); }
   void set_command_policy(CommandPolicy policy) { limits_.set_policy(policy); }
   const CommandLimits& command_limits() const { return limits_; }
-  // Periods of the machine's floor after a paced run (0: none; at most one
-  // per step is kept). Allocates the buffer.
+  // Periods of the machine's floor (0: none; at most one per step). Allocates the buffer.
   void set_floor_periods(std::int64_t periods);
+  void set_floor_mode(FloorMode mode) { floor_mode_ = mode; }
+  // Wall time beyond the CPU time that marks a step pre-empted (default 10 us); throws
+  // std::invalid_argument for a negative or non-finite margin.
+  void set_preemption_margin_ns(std::int64_t ns);
   // Records time, q and v at the start and after every `every` steps
   // (0: no recording). Allocates the buffers.
   void record_state_every(std::int64_t every);
@@ -147,6 +167,8 @@ class HilRunner {
   // Thread-safe progress and control.
   std::int64_t steps_done() const { return steps_done_.load(std::memory_order_relaxed); }
   std::int64_t deadline_misses() const { return deadline_misses_.load(std::memory_order_relaxed); }
+  // The misses that are ours (CPU time over the period), so far.
+  std::int64_t misses_ours() const { return misses_ours_.load(std::memory_order_relaxed); }
   // The step the last run's failing status came from, or -1 (read after run()).
   std::int64_t failed_step() const { return failed_step_; }
   std::uint64_t commands_saturated() const { return limits_.saturated(); }
@@ -159,6 +181,8 @@ class HilRunner {
   HilSummary summary() const;
   const std::vector<std::int64_t>& compute_ns() const { return compute_ns_; }
   const std::vector<std::int64_t>& lateness_ns() const { return lateness_ns_; }
+  const std::vector<std::int64_t>& cpu_ns() const { return cpu_ns_; }
+  const std::vector<std::int32_t>& involuntary_switches() const { return switches_; }
   const std::vector<std::int64_t>& floor_ns() const { return floor_ns_; }  // floor_done() valid entries
   std::int64_t floor_done() const { return floor_done_; }
   std::int64_t recorded_rows() const { return recorded_rows_; }
@@ -182,8 +206,11 @@ class HilRunner {
   void apply_command();
   class RunBookkeeping;
   void record_state();
-  // The floor pass after the loop (allocation free).
-  void measure_floor();
+  // The floor (allocation free): its length from the first steps, one period of it, the pass after the loop.
+  void calibrate_floor();
+  void set_floor_target(std::int64_t steps_timed);
+  void floor_period(std::int64_t deadline);
+  void measure_floor_after_run();
 
   Simulator& sim_;
   UdpLink* link_;
@@ -194,10 +221,13 @@ class HilRunner {
   RealtimeRequest realtime_request_;
   RealtimeOutcome realtime_outcome_;
   std::int64_t start_ns_ = 0, end_ns_ = 0;
-  std::vector<std::int64_t> compute_ns_, lateness_ns_;
+  std::vector<std::int64_t> compute_ns_, lateness_ns_, cpu_ns_;
+  std::vector<std::int32_t> switches_;
   std::vector<std::int64_t> floor_ns_, median_sample_;  // the floor's periods; steps sampled for its length
-  std::int64_t floor_done_ = 0, floor_target_ns_ = 0;
-  std::int64_t misses_compute_overrun_ = 0, misses_late_wakeup_ = 0;
+  std::int64_t floor_done_ = 0, floor_target_ns_ = 0, floor_iterations_ = 0, floor_ns_per_iteration_x1000_ = 0;
+  FloorMode floor_mode_ = FloorMode::interleaved;
+  std::int64_t preemption_margin_ns_ = 10000;
+  std::int64_t misses_compute_overrun_ = 0, misses_late_wakeup_ = 0, misses_preempted_ = 0, preempted_steps_ = 0;
   std::int64_t record_every_ = 0, recorded_rows_ = 0;
   std::vector<double> recorded_time_, recorded_q_, recorded_v_;
   CommandLimits limits_;
@@ -206,7 +236,7 @@ class HilRunner {
   Status status_;
   std::int64_t failed_step_ = -1, exception_step_ = -1;
   int out_of_range_dof_ = -1;
-  std::atomic<std::int64_t> steps_done_{0}, deadline_misses_{0};
+  std::atomic<std::int64_t> steps_done_{0}, deadline_misses_{0}, misses_ours_{0};
   std::atomic<bool> stop_requested_{false};
   StateSnapshot latest_state_;
   bool stopped_ = false;
