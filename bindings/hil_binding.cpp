@@ -72,7 +72,7 @@ std::unique_ptr<HilSession> make_session(SimulatorHandle& sim, double rate_hz, s
                                          std::optional<Eigen::VectorXd> command_limits,
                                          const std::string& command_policy, int udp_command_port,
                                          int max_packets_per_step, std::int64_t floor_periods,
-                                         const std::string& floor, double preemption_margin_us) {
+                                         const std::string& floor, double preemption_margin_us, bool warm_up) {
   auto session = std::make_unique<HilSession>();
   session->sim = &sim;
   const SimulatorLock simulator_in_use(sim);  // the runner reads the simulator's model and state
@@ -91,6 +91,7 @@ std::unique_ptr<HilSession> make_session(SimulatorHandle& sim, double rate_hz, s
     if (!std::isfinite(preemption_margin_us))
       throw std::invalid_argument("preemption_margin_us must be a finite number >= 0");
     session->runner->set_preemption_margin_ns(std::llround(preemption_margin_us * 1e3));
+    session->runner->set_warm_up(warm_up);
     session->runner->set_realtime(soadyn::RealtimeRequest{fifo_priority, cpu, lock_memory});
     if (command_limits) session->runner->set_command_limits(*command_limits);
     session->runner->set_command_policy(policy_from(command_policy));
@@ -157,6 +158,7 @@ void bind_hil(py::module_& mod) {
       .def_readonly("cpu_p999_us", &Summary::cpu_p999_us)
       .def_readonly("cpu_max_us", &Summary::cpu_max_us)
       .def_readonly("floor_interleaved", &Summary::floor_interleaved)
+      .def_readonly("warm_up", &Summary::warm_up)
       .def_readonly("floor_periods", &Summary::floor_periods)
       .def_readonly("floor_target_us", &Summary::floor_target_us)
       .def_readonly("floor_p50_us", &Summary::floor_p50_us)
@@ -205,7 +207,7 @@ void bind_hil(py::module_& mod) {
            py::arg("fifo_priority") = 0, py::arg("cpu") = -1, py::arg("lock_memory") = false,
            py::arg("command_limits") = py::none(), py::arg("command_policy") = "clamp",
            py::arg("udp_command_port") = -1, py::arg("max_packets_per_step") = 16, py::arg("floor_periods") = 0,
-           py::arg("floor") = "interleaved", py::arg("preemption_margin_us") = 10.0,
+           py::arg("floor") = "interleaved", py::arg("preemption_margin_us") = 10.0, py::arg("warm_up") = true,
            py::keep_alive<1, 2>())  // the simulator outlives the runner
       .def("run", &run_session, "Run the loop (GIL released); the outcome is in summary(). An exception raised by a "
                         "Python motion source ends the run: run() raises the DynamicsError naming its DOF, caused by that exception, "

@@ -768,11 +768,14 @@ class _HilSummary:
     @property
     def wall_seconds(self) -> float:
         ...
+    @property
+    def warm_up(self) -> bool:
+        ...
 class HilRunner:
     """
     Fixed-rate loop over a Simulator with optional UDP I/O (see soadyn.hil.run_hil).
     """
-    def __init__(self, sim: _Simulator, rate_hz: typing.SupportsFloat | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex, udp_port: typing.SupportsInt | typing.SupportsIndex | None = None, udp_destination_port: typing.SupportsInt | typing.SupportsIndex = 0, as_fast_as_possible: bool = False, record_every: typing.SupportsInt | typing.SupportsIndex = 0, spin_us: typing.SupportsFloat | typing.SupportsIndex = 0.0, fifo_priority: typing.SupportsInt | typing.SupportsIndex = 0, cpu: typing.SupportsInt | typing.SupportsIndex = -1, lock_memory: bool = False, command_limits: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, command_policy: str = 'clamp', udp_command_port: typing.SupportsInt | typing.SupportsIndex = -1, max_packets_per_step: typing.SupportsInt | typing.SupportsIndex = 16, floor_periods: typing.SupportsInt | typing.SupportsIndex = 0, floor: str = 'interleaved', preemption_margin_us: typing.SupportsFloat | typing.SupportsIndex = 10.0) -> None:
+    def __init__(self, sim: _Simulator, rate_hz: typing.SupportsFloat | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex, udp_port: typing.SupportsInt | typing.SupportsIndex | None = None, udp_destination_port: typing.SupportsInt | typing.SupportsIndex = 0, as_fast_as_possible: bool = False, record_every: typing.SupportsInt | typing.SupportsIndex = 0, spin_us: typing.SupportsFloat | typing.SupportsIndex = 0.0, fifo_priority: typing.SupportsInt | typing.SupportsIndex = 0, cpu: typing.SupportsInt | typing.SupportsIndex = -1, lock_memory: bool = False, command_limits: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, command_policy: str = 'clamp', udp_command_port: typing.SupportsInt | typing.SupportsIndex = -1, max_packets_per_step: typing.SupportsInt | typing.SupportsIndex = 16, floor_periods: typing.SupportsInt | typing.SupportsIndex = 0, floor: str = 'interleaved', preemption_margin_us: typing.SupportsFloat | typing.SupportsIndex = 10.0, warm_up: bool = True) -> None:
         ...
     def latest_state(self) -> typing.Any:
         """

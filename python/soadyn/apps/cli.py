@@ -207,6 +207,8 @@ def add_hil_parser(sub) -> argparse.ArgumentParser:
     hil.add_argument("--floor", default="interleaved", choices=["interleaved", "after"],
                      help="time the floor at the midpoint of the steps' own periods (default: the same phases of "
                           "the machine, no extra time) or in the periods after the run")
+    hil.add_argument("--no-warm-up", action="store_true",
+                     help="while spinning, do not evaluate the dynamics once before each deadline to warm the caches")
     hil.add_argument("--preemption-margin-us", type=float, default=10.0, metavar="US",
                      help="a step whose wall time exceeds its CPU time by more than this was pre-empted (default 10)")
     hil.add_argument("--view", action="store_true",
@@ -461,7 +463,8 @@ def run_hil_command(args, parser) -> int:
                              max_packets_per_step=args.max_packets_per_step, on_start=announce,
                              on_state=(lambda step, t, q, v: viewer.show(q)) if viewer else None,
                              floor_periods=args.floor_periods, divergence_guard=not args.no_divergence_guard,
-                             floor=args.floor, preemption_margin_us=args.preemption_margin_us)
+                             floor=args.floor, preemption_margin_us=args.preemption_margin_us,
+                             warm_up=not args.no_warm_up)
     except ValueError as error:  # priority, CPU or a command limit out of range: the message names it
         parser.error(str(error))
     except (RuntimeError, MemoryError) as error:  # the UDP port could not be bound; no memory for the run

@@ -31,7 +31,7 @@ class HilReport:
     interrupted: bool
     energy: dict
     momentum: dict
-    scheduling: dict  # real-time scheduling asked for and granted (format_scheduling)
+    scheduling: dict  # real-time scheduling asked for and granted, and whether the caches were warmed (format_scheduling)
     commands: dict  # command limits, policy, saturated and rejected counts
     dof_names: list = field(repr=False)
     compute_ns: np.ndarray = field(repr=False)
@@ -105,7 +105,8 @@ def format_scheduling(s: dict) -> str:
         parts.append(f"on CPU {s['cpu']}" if s["cpu_granted"] else f"CPU {s['cpu']} refused ({s['cpu_refused']})")
     if s["lock_memory"]:
         parts.append("memory locked" if s["memory_locked"] else f"memory lock refused ({s['lock_refused']})")
-    return ", ".join(parts) if parts else "default (no real-time priority, pinning or memory lock asked for)"
+    text = ", ".join(parts) if parts else "default (no real-time priority, pinning or memory lock asked for)"
+    return text + ("; caches warmed before each deadline" if s.get("warm_up") else "")
 
 
 def format_table(r: HilReport) -> str:

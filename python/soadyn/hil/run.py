@@ -59,7 +59,7 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
             udp_command_port: int | None = None, max_packets_per_step: int = MAX_PACKETS_PER_STEP,
             on_start=None, on_state=None, state_interval: float = STATE_INTERVAL,
             floor_periods: int | None = None, divergence_guard: bool = True, floor: str = "interleaved",
-            preemption_margin_us: float = 10.0) -> HilReport:
+            preemption_margin_us: float = 10.0, warm_up: bool = True) -> HilReport:
     """Run `sim` for `duration` simulated seconds, one step per 1/rate wall seconds.
 
     The simulation is real time when sim.dt == 1/rate. `udp_port` (None: no
@@ -78,7 +78,9 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
     misses). Ctrl-C stops the loop and returns the report so far
     (`interrupted`). `spin_us` > 0 busy-waits that long before each deadline
     instead of sleeping (a warm core: lower and steadier step times, at the
-    cost of that share of a core). `fifo_priority` (1-99) runs the loop's
+    cost of that share of a core); while spinning, `warm_up` evaluates the
+    dynamics once shortly before each deadline (changing nothing the step
+    reads), so the step finds its data in the caches. `fifo_priority` (1-99) runs the loop's
     thread under SCHED_FIFO, `cpu` pins it to that CPU and `lock_memory`
     locks the process's pages (mlockall), all for the loop's duration only; a
     request the kernel refuses (no privilege) does not stop the run, and the
@@ -153,7 +155,7 @@ def run_hil(sim: Simulator, rate: float, duration: float, udp_port: int | None =
                        lock_memory=bool(lock_memory), command_policy=command_policy,
                        udp_command_port=-1 if udp_command_port is None else int(udp_command_port),
                        max_packets_per_step=int(max_packets_per_step), floor_periods=int(floor_periods),
-                       floor=floor, preemption_margin_us=float(preemption_margin_us))
+                       floor=floor, preemption_margin_us=float(preemption_margin_us), warm_up=bool(warm_up))
     if command_limits is not None:
         runner.command_limits = resolve_command_limits(command_limits, runner.command_limits, sim._dof_names)
     sim.divergence_guard = divergence_guard  # the runner turned it on
@@ -318,7 +320,7 @@ def _report(sim, runner, rate, realtime, interrupted, exception, energy0, moment
         loop_drift=dict(zip(("max_position", "max_velocity"), sim.max_loop_drift)) if loop_names else None,
         interrupted=interrupted,
         energy={"start": energy0, "end": energy1}, momentum={"start": momentum0, "end": momentum1},
-        scheduling=_scheduling(s.realtime),
+        scheduling={**_scheduling(s.realtime), "warm_up": s.warm_up},
         dof_names=dof_names, compute_ns=runner.compute_ns, lateness_ns=runner.lateness_ns, t=t, q=q, v=v,
         error=_describe(exception) if exception is not None else None,
         report_errors=report_errors, exception=exception,

@@ -12,7 +12,12 @@
 // busy-waits the rest: the core stays awake and its caches warm, so neither
 // the wake-up latency of a sleeping core nor cold caches reach the step (the
 // usual practice on a core dedicated to the simulation; it costs that share
-// of the core).
+// of the core). While spinning, the loop also warms the caches (set_warm_up,
+// on by default): shortly before the deadline (twice the last step's compute
+// time, at least 20 us, at most half the spin) it evaluates the dynamics once
+// at the present state (Simulator::evaluate_now, which changes nothing a step
+// reads), so the step finds its model and data in the caches even when other
+// processes evicted them during the wait.
 //
 // Per step it records the compute time (wake-up to the end of the step,
 // I/O included, wall clock), the thread's own CPU time in that window
@@ -100,6 +105,7 @@ struct HilSummary {
   // workload's calibrated length and its percentiles.
   std::int64_t floor_periods = 0;
   bool floor_interleaved = true;  // timed in the steps' periods (false: after the run)
+  bool warm_up = false;           // the caches were warmed before each deadline (spinning, set_warm_up)
   double floor_target_us = 0, floor_p50_us = 0, floor_p99_us = 0, floor_p999_us = 0, floor_max_us = 0;
   // Counters accumulate over the runner's (and the link's) life, across
   // runs. The link's counters (udp_link.hpp): accepted commands, malformed, sensor
@@ -154,6 +160,8 @@ class HilRunner {
   // Periods of the machine's floor (0: none; at most one per step). Allocates the buffer.
   void set_floor_periods(std::int64_t periods);
   void set_floor_mode(FloorMode mode) { floor_mode_ = mode; }
+  // The warm-up evaluation before each deadline while spinning (on by default).
+  void set_warm_up(bool on) { warm_up_ = on; }
   // Wall time beyond the CPU time that marks a step pre-empted (default 10 us); throws
   // std::invalid_argument for a negative or non-finite margin.
   void set_preemption_margin_ns(std::int64_t ns);
@@ -226,6 +234,8 @@ class HilRunner {
   std::vector<std::int64_t> floor_ns_, median_sample_;  // the floor's periods; steps sampled for its length
   std::int64_t floor_done_ = 0, floor_target_ns_ = 0, floor_iterations_ = 0, floor_ns_per_iteration_x1000_ = 0;
   FloorMode floor_mode_ = FloorMode::interleaved;
+  bool warm_up_ = true;
+  VecX<double> warm_qdd_, warm_tau_;
   std::int64_t preemption_margin_ns_ = 10000;
   std::int64_t misses_compute_overrun_ = 0, misses_late_wakeup_ = 0, misses_preempted_ = 0, preempted_steps_ = 0;
   std::int64_t record_every_ = 0, recorded_rows_ = 0;
