@@ -23,6 +23,8 @@ DynamicsDerivativesTpl<S>::DynamicsDerivativesTpl(const ModelTpl<S>& m) {
   for (MatX<S>* x : {&inverse_dq, &inverse_dv, &dqdd_dq, &dqdd_dv, &dqdd_du, &dtau_dq, &dtau_dv, &dtau_du, &regular_mass})
     x->setZero(nv, nv);
   inverse_factor.setZero(nv, nv);
+  coupled_dofs.assign(static_cast<std::size_t>(nv), 0);
+  coupled_mass.setZero(nv);
   subtree_end.resize(static_cast<std::size_t>(nv));
   for (Eigen::Index k = nv; k-- > 0;) {  // DOFs in topological order: a subtree is a contiguous range
     subtree_end[static_cast<std::size_t>(k)] = std::max(subtree_end[static_cast<std::size_t>(k)], static_cast<int>(k));
@@ -265,16 +267,58 @@ Status inverse_derivative_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDe
   return detail::check_finite(w.inverse_force);
 }
 
-// dtau/dx = dID/dx + M dqdd/dx on the prescribed rows, zero on the regular
-// rows (their torques are inputs): `partial` is dID/dx, null for x = u.
+// The prescribed rows of dtau/dx = dID/dx + M dqdd/dx (the regular rows are
+// zero for x = q, v: their torques are inputs). Rows P of dqdd/dx are zero, so
+// M_P. dqdd/dx = M_PR dqdd_R/dx = -E dID_R/dx with E = M_PR M_RR^-1. Row p of
+// E is minus the regular part of dqdd/du's column p (-M_RR^-1 M_Rp, M_RR^-1
+// symmetric): placed in M~^-1's prescribed rows (zero there on the regular
+// columns), the products that form dqdd_R/dx leave M_PR dqdd_R/dx in rows P
+// of dqdd/dx at no extra cost. Called after dqdd/du's prescribed columns are
+// formed and before dqdd/dq and dqdd/dv are; the prescribed rows of
+// M~^-1's prescribed columns become those of M_PR dqdd_R/du + I, that is
+// I - E M_RP (over each column's tree pattern).
 template <class S>
-void prescribed_force_derivative(const ModelTpl<S>& m, const MatX<S>& mass, const MatX<S>* partial,
-                                 const MatX<S>& acceleration_derivative, MatX<S>& force_derivative) {
-  force_derivative.setZero();
+void place_prescribed_rows_of_inverse(const ModelTpl<S>& m, const MatX<S>& mass, DynamicsDerivativesTpl<S>& w) {
+  MatX<S>& Minv = w.dqdd_du;
   for (int k = 0; k < m.n_prescribed; ++k) {
     const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
-    force_derivative.row(p).noalias() = mass.row(p).lazyProduct(acceleration_derivative);
-    if (partial) force_derivative.row(p) += partial->row(p);
+    for (Eigen::Index c = 0; c < m.nv; ++c)
+      if (!m.is_prescribed(static_cast<int>(c))) Minv(p, c) = -Minv(c, p);
+  }
+  for (int j = 0; j < m.n_prescribed; ++j) {
+    const int column = m.prescribed_dofs[static_cast<std::size_t>(j)];
+    const auto subtract = [&](int first, int last) {  // M_Rp' is nonzero on p's ancestors and subtree only
+      for (int c = first; c <= last; ++c) {
+        if (m.is_prescribed(c)) continue;
+        for (int k = 0; k < m.n_prescribed; ++k) {
+          const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+          Minv(p, column) -= Minv(p, c) * mass(c, column);
+        }
+      }
+    };
+    subtract(column, w.subtree_end[static_cast<std::size_t>(column)]);
+    for_each_ancestor_run(column, false, m.dof_parent, m.dof_run_start, subtract);
+  }
+}
+
+// With M~^-1's prescribed rows placed (place_prescribed_rows_of_inverse) and
+// dqdd/dq, dqdd/dv formed from it: dtau_P/dx = dID_P/dx + (rows P of dqdd/dx),
+// dtau_P/du = rows P of M~^-1 (M_PR dqdd_R/du) + M_PP on the prescribed
+// columns (qdd_P = u_P), and then rows P of dqdd/dx and dqdd/du back to what
+// they are: zero, and the identity on the prescribed columns of dqdd/du.
+template <class S>
+void prescribed_force_derivatives(const ModelTpl<S>& m, const MatX<S>& mass, DynamicsDerivativesTpl<S>& w) {
+  for (MatX<S>* x : {&w.dtau_dq, &w.dtau_dv, &w.dtau_du}) x->setZero();
+  for (Eigen::Index j = 0; j < m.nv; ++j) {  // column by column: the prescribed rows of a column are close
+    const bool prescribed_column = m.is_prescribed(static_cast<int>(j));
+    for (int k = 0; k < m.n_prescribed; ++k) {
+      const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
+      w.dtau_dq(p, j) = w.inverse_dq(p, j) + w.dqdd_dq(p, j);
+      w.dtau_dv(p, j) = w.inverse_dv(p, j) + w.dqdd_dv(p, j);
+      w.dtau_du(p, j) = prescribed_column ? w.dqdd_du(p, j) + mass(p, j) - (p == j ? S(1) : S(0)) : w.dqdd_du(p, j);
+      w.dqdd_dq(p, j) = w.dqdd_dv(p, j) = S(0);
+      w.dqdd_du(p, j) = p == j ? S(1) : S(0);
+    }
   }
 }
 
@@ -325,9 +369,13 @@ Status one_sweep_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynam
   MatX<S>& inverse_factor = w.inverse_factor;
   tree_ltl_inverse_factor(U, m.dof_parent, m.dof_run_start, inverse_factor);
   MatX<S>& Minv = w.dqdd_du;
+  // W's prescribed rows and columns are those of the identity (M~'s are): so are M~^-1's, without the dots.
   for (Eigen::Index b = 0; b < nv; ++b)
     for (Eigen::Index a = 0; a <= b; ++a)
-      Minv(a, b) = Minv(b, a) = inverse_factor.col(a).head(a + 1).dot(inverse_factor.col(b).head(a + 1));
+      Minv(a, b) = Minv(b, a) =
+          m.is_prescribed(static_cast<int>(a)) || m.is_prescribed(static_cast<int>(b))
+              ? S(a == b ? 1 : 0)
+              : inverse_factor.col(a).head(a + 1).dot(inverse_factor.col(b).head(a + 1));
   VecX<S>& rhs = d.tau;  // b, then tau
   rhs = Eigen::Map<const VecX<S>>(u, nv) - w.inverse_force;
   for (int k = 0; k < m.n_prescribed; ++k) {  // b_R -= M_RP u_P, b_P = u_P
@@ -354,41 +402,6 @@ Status one_sweep_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynam
   }
   status = detail::check_prescribed_finite(m, d.tau);
   if (!status.ok()) return status;
-  w.dqdd_dq.setZero();
-  w.dqdd_dv.setZero();
-  // 1 on regular DOFs, 0 on prescribed ones: dID~ is dID without its prescribed rows.
-  const auto regular = [&](int dof) { return m.is_prescribed(dof) ? S(0) : S(1); };
-  // Columns k of dqdd/dq and dqdd/dv together: each column of M^-1 is read
-  // once for both (plain loops: no product dispatch for these short columns).
-  for (Eigen::Index k = 0; k < nv; ++k) {
-    S* const out_q = &w.dqdd_dq(0, k);
-    S* const out_v = &w.dqdd_dv(0, k);
-    const S* const partial_q = &w.inverse_dq(0, k);
-    const S* const partial_v = &w.inverse_dv(0, k);
-    const auto accumulate = [&](int first, int last) {
-      int c = first;
-      for (; c < last; c += 2) {  // two columns of M^-1 per pass over the outputs
-        const S a_q = regular(c) * partial_q[c], a_v = regular(c) * partial_v[c];
-        const S b_q = regular(c + 1) * partial_q[c + 1], b_v = regular(c + 1) * partial_v[c + 1];
-        const S* const column_a = &Minv(0, c);
-        const S* const column_b = &Minv(0, c + 1);
-        for (Eigen::Index r = 0; r < nv; ++r) {
-          out_q[r] -= a_q * column_a[r] + b_q * column_b[r];
-          out_v[r] -= a_v * column_a[r] + b_v * column_b[r];
-        }
-      }
-      if (c == last) {
-        const S a_q = regular(c) * partial_q[c], a_v = regular(c) * partial_v[c];
-        const S* const column = &Minv(0, c);
-        for (Eigen::Index r = 0; r < nv; ++r) {
-          out_q[r] -= a_q * column[r];
-          out_v[r] -= a_v * column[r];
-        }
-      }
-    };
-    accumulate(static_cast<int>(k), w.subtree_end[static_cast<std::size_t>(k)]);
-    for_each_ancestor_run(static_cast<int>(k), false, m.dof_parent, m.dof_run_start, accumulate);
-  }
   // dqdd/du: M~^-1 on regular columns; column p = e_p - M~^-1 M~_.p on a
   // prescribed one (M~^-1 has e_p there, and M's column p is nonzero on p's
   // ancestors and subtree only).
@@ -401,10 +414,52 @@ Status one_sweep_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynam
     subtract(p, w.subtree_end[static_cast<std::size_t>(p)]);
     for_each_ancestor_run(p, false, m.dof_parent, m.dof_run_start, subtract);
   }
-  // Regular DOFs: tau = u (the identity); prescribed: tau_P = ID_P (prescribed_force_derivative).
-  prescribed_force_derivative(m, d.mass_matrix, &w.inverse_dq, w.dqdd_dq, w.dtau_dq);
-  prescribed_force_derivative(m, d.mass_matrix, &w.inverse_dv, w.dqdd_dv, w.dtau_dv);
-  prescribed_force_derivative(m, d.mass_matrix, static_cast<const MatX<S>*>(nullptr), w.dqdd_du, w.dtau_du);
+  place_prescribed_rows_of_inverse(m, d.mass_matrix, w);
+  w.dqdd_dq.setZero();
+  w.dqdd_dv.setZero();
+  // Columns k of dqdd/dq and dqdd/dv together: each column of M^-1 is read
+  // once for both (plain loops: no product dispatch for these short columns).
+  // dID~ is dID without its prescribed rows: their columns of M^-1 are skipped.
+  for (Eigen::Index k = 0; k < nv; ++k) {
+    S* const out_q = &w.dqdd_dq(0, k);
+    S* const out_v = &w.dqdd_dv(0, k);
+    const S* const partial_q = &w.inverse_dq(0, k);
+    const S* const partial_v = &w.inverse_dv(0, k);
+    const auto one_column = [&](int c) {
+      const S a_q = partial_q[c], a_v = partial_v[c];
+      const S* const column = &Minv(0, c);
+      for (Eigen::Index r = 0; r < nv; ++r) {
+        out_q[r] -= a_q * column[r];
+        out_v[r] -= a_v * column[r];
+      }
+    };
+    const auto two_columns = [&](int c, int e) {  // two columns of M^-1 per pass over the outputs
+      const S a_q = partial_q[c], a_v = partial_v[c], b_q = partial_q[e], b_v = partial_v[e];
+      const S* const column_a = &Minv(0, c);
+      const S* const column_b = &Minv(0, e);
+      for (Eigen::Index r = 0; r < nv; ++r) {
+        out_q[r] -= a_q * column_a[r] + b_q * column_b[r];
+        out_v[r] -= a_v * column_a[r] + b_v * column_b[r];
+      }
+    };
+    const auto accumulate = [&](int first, int last) {
+      int pending = -1;
+      for (int c = first; c <= last; ++c) {
+        if (m.is_prescribed(c)) continue;
+        if (pending < 0) {
+          pending = c;
+        } else {
+          two_columns(pending, c);
+          pending = -1;
+        }
+      }
+      if (pending >= 0) one_column(pending);
+    };
+    accumulate(static_cast<int>(k), w.subtree_end[static_cast<std::size_t>(k)]);
+    for_each_ancestor_run(static_cast<int>(k), false, m.dof_parent, m.dof_run_start, accumulate);
+  }
+  // Regular DOFs: tau = u (the identity); prescribed: tau_P = ID_P (prescribed_force_derivatives).
+  prescribed_force_derivatives(m, d.mass_matrix, w);
   for (int r = 0; r < m.nv; ++r)
     if (!m.is_prescribed(r)) w.dtau_du(r, r) = S(1);
   for (const MatX<S>* x : {&w.dqdd_dq, &w.dqdd_dv, &w.dqdd_du, &w.dtau_dq, &w.dtau_dv, &w.dtau_du}) {

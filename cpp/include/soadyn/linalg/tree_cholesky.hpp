@@ -52,6 +52,7 @@ int tree_ltl_in_place(Eigen::MatrixBase<Derived>& M, const std::vector<int>& par
     for_each_ancestor_run(k, false, parent, run_start, [&](int first, int last) {
       for (int i = first; i <= last; ++i) {
         const S a = column_k[i];
+        if (a == S(0)) continue;  // a structural zero (a prescribed DOF's identity row in M~): nothing to update
         S* const column_i = &M(0, i);
         for_each_ancestor_run(i, true, parent, run_start, [&](int f, int l) {
           for (int j = f; j <= l; ++j) column_i[j] -= a * column_k[j];
@@ -113,6 +114,7 @@ void tree_ltl_inverse_factor(const Eigen::MatrixBase<FactorDerived>& U, const st
     for (int i = c; i >= 0; i = parent[static_cast<std::size_t>(i)]) {
       const auto* const column_i = &U(0, i);
       const S wi = w[i] /= column_i[i];
+      if (wi == S(0)) continue;  // a structural zero: nothing to subtract
       for_each_ancestor_run(i, false, parent, run_start, [&](int first, int last) {
         for (int j = first; j <= last; ++j) w[j] -= wi * column_i[j];
       });
