@@ -92,7 +92,8 @@ __attribute__((noinline)) void register_arithmetic(std::int64_t iterations) {
   floor_sink = sum;
 }
 
-constexpr std::int64_t min_warm_lead_ns = 20000;  // the warm-up evaluation starts at least this long before the deadline
+constexpr std::int64_t min_warm_lead_ns = 20000;
+constexpr std::int64_t floor_gap_ns = 10000;  // between the end of an interleaved floor and what follows it  // the warm-up evaluation starts at least this long before the deadline
 constexpr std::size_t median_sample_size = 1001;  // steps sampled for the floor's length
 constexpr std::int64_t interleaved_floor_warmup = 100;  // at most this many steps' median sets the interleaved floor's length
 constexpr std::int64_t calibration_iterations = 20000;
@@ -194,9 +195,15 @@ Status HilRunner::run() {
     const std::int64_t deadline = deadline_ns(k), next_deadline = deadline_ns(k + 1);
     if (!as_fast_as_possible_) {
       sleep_until_ns(deadline - spin_ns_);
-      if (warm_up_ && spin_ns_ > 0) {  // the dynamics' data into the caches just before the step
-        const std::int64_t lead = std::clamp(2 * previous_compute, min_warm_lead_ns, spin_ns_ / 2);
-        while (now_ns() < deadline - lead) {
+      const std::int64_t warm_lead =
+          warm_up_ && spin_ns_ > 0 ? std::clamp(2 * previous_compute, min_warm_lead_ns, spin_ns_ / 2) : 0;
+      // Spinning: the floor inside the spin window, on the same warm core as the step and without adding
+      // busy time (a real-time thread busy all the period would be throttled by the kernel).
+      const std::int64_t floor_lead = warm_lead + 2 * floor_target_ns_ + floor_gap_ns;
+      if (interleave && spin_ns_ > 0 && floor_due() && floor_lead < spin_ns_ && now_ns() < deadline - floor_lead)
+        floor_period(deadline - floor_lead);
+      if (warm_lead > 0) {  // the dynamics' data into the caches just before the step
+        while (now_ns() < deadline - warm_lead) {
         }
         sim_.evaluate_now(warm_qdd_, warm_tau_);  // changes nothing the step reads
       }
@@ -242,10 +249,11 @@ Status HilRunner::run() {
     steps_done_.store(k + 1, std::memory_order_relaxed);
     if (!interleave) continue;
     if (k + 1 == warmup) set_floor_target(warmup);
-    // The floor at the period's midpoint when the step ended before it and the floor fits before the next deadline.
+    // Sleeping (or a spin window too short for it): the floor at the period's midpoint, woken like the step,
+    // when the step ended before the wake-up and the floor fits before the next deadline.
     const std::int64_t midpoint = deadline + (next_deadline - deadline) / 2;
-    if (floor_iterations_ > 0 && floor_done_ < static_cast<std::int64_t>(floor_ns_.size()) && end < midpoint &&
-        midpoint + 2 * floor_target_ns_ < next_deadline)
+    const bool in_spin_window = spin_ns_ > 0 && 2 * floor_target_ns_ + floor_gap_ns + 2 * min_warm_lead_ns < spin_ns_;
+    if (floor_due() && !in_spin_window && end < midpoint - spin_ns_ && midpoint + 2 * floor_target_ns_ < next_deadline)
       floor_period(midpoint);
   }
   end_ns_ = now_ns();

@@ -35,14 +35,16 @@
 // The machine's floor: a workload that cannot vary by itself — multiply-add
 // chains in registers, calibrated to the median compute time of the first
 // tenth of the steps (at most 100) — timed over `floor_periods` periods. Interleaved (the
-// default), it runs in the second half of the steps' own periods, at the
-// period's midpoint, paced like the steps (the same sleep, spin and
-// scheduling): step and floor see the same phases of a shared host, and the
-// run takes no longer. After the run (FloorMode::after_run, a completed run
+// default), it runs in the steps' own periods under the same conditions as
+// the step: when the loop spins, inside the spin window shortly before the
+// deadline (before the warm-up), on the same awake core, without adding busy
+// time; when it sleeps (or the window is too short), at the period's
+// midpoint, woken by the same sleep. Step and floor see the same phases of a
+// shared host, and the run takes no longer. After the run (FloorMode::after_run, a completed run
 // only), it runs over as many more periods. Its spread is what the machine
 // adds to any computation of that length; the step's p99.9 over the floor's
-// p99.9 is the part of the tail that is the step's own. A period whose step
-// ran past its midpoint times no floor.
+// p99.9 is the part of the tail that is the step's own. A period without
+// room for it (a late wake-up, a step past the midpoint) times no floor.
 //
 // Real-time scheduling (optional, set_realtime): run() applies SCHED_FIFO,
 // CPU pinning and memory locking to its thread before the loop and undoes
@@ -218,6 +220,7 @@ class HilRunner {
   void calibrate_floor();
   void set_floor_target(std::int64_t steps_timed);
   void floor_period(std::int64_t deadline);
+  bool floor_due() const { return floor_iterations_ > 0 && floor_done_ < static_cast<std::int64_t>(floor_ns_.size()); }
   void measure_floor_after_run();
 
   Simulator& sim_;
