@@ -69,11 +69,14 @@ def check_sim_no_allocation(output: str) -> None:
     traffic with the clamp, reject and stop policies."""
     rows = lines(r"^(\S+) \((rk4|euler)\): 100000 steps, 0 allocations, 0 frees, 0 failed statuses", output)
     require(len(rows) == 4, "10^5 allocation-free steps of both scenes with both integrators")
-    hil = lines(r"^hil runner \((paced|as fast as possible)\): 20000 steps, 0 allocations, 0 frees, status ok;.*"
+    hil = lines(r"^hil runner \((paced, 10000 Hz, floor after the run|as fast as possible, 10000 Hz, floor after the "
+                r"run|paced, 2000 Hz, floor interleaved)\): (?:20000|4000) steps, 0 allocations, 0 frees, status ok;.*"
                 r"snapshots read by another thread [1-9]\d*, inconsistent 0, last snapshot the final state; "
-                r"floor periods (?:5000|0)$", output)
-    require(sorted(hil) == ["as fast as possible", "paced"],
-            "the HIL runner, paced and as fast as possible, its snapshots read by another thread")
+                r"floor periods (?:5000|0|1000)$", output)
+    require(sorted(hil) == ["as fast as possible, 10000 Hz, floor after the run", "paced, 10000 Hz, floor after the run",
+                            "paced, 2000 Hz, floor interleaved"],
+            "the HIL runner, paced (the floor after the run and interleaved) and as fast as possible, its snapshots "
+            "read by another thread")
     require(bool(lines(r"^state snapshot: 1000000 published, [1-9]\d* read by another thread, 0 torn, \d+ reads given up, "
                        r"0 allocations, 0 frees$", output)), "the snapshot's sequence lock: no torn read")
     udp = lines(r"^hil runner over UDP \((clamp|reject)\): 20000 steps, 0 allocations, 0 frees, status ok;", output)

@@ -35,7 +35,7 @@ soadyn::Model sprung_model() {
   int springs = 0;
   for (int k = 0; k < model.nv; ++k) {
     const int body = model.dof_body[static_cast<std::size_t>(k)];
-    if (!soadyn::detail::joint_has_scalar_coordinates(model.joints[static_cast<std::size_t>(body)])) continue;
+    if (!soadyn::joint_has_scalar_coordinates(model.joints[static_cast<std::size_t>(body)])) continue;
     model.add_joint_spring("joint_spring_" + std::to_string(k), k, 2.0 + k, 0.1 * (k % 3), 0.05 * k);
     ++springs;
   }

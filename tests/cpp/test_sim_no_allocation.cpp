@@ -7,8 +7,9 @@
 // bound) and a queue of 10^5 pending events; then the HIL loop
 // (HilRunner::run) over cassini, paced and as fast as possible, with
 // real-time scheduling asked for (granted or not), the machine's floor timed
-// after the paced run, and another thread reading the published state
-// throughout; the state snapshot's sequence lock under
+// after a paced run at 10 kHz and interleaved in the spin windows of one at
+// 2 kHz (the caches warmed before each deadline), and another thread reading
+// the published state throughout; the state snapshot's sequence lock under
 // 10^6 publications against a concurrent reader (no torn copy); then the HIL loop over the
 // UDP link under hostile traffic (udp_link.hpp, command_limits.hpp): a flood
 // queued before the run (kernel drops, the per-step read bound) and, during
@@ -103,19 +104,21 @@ class SnapshotReader {
   std::thread thread_;
 };
 
-// HilRunner::run with counting armed: `steps` steps of cassini at 10 kHz
-// (paced, spinning the last 50 us) or as fast as possible, recording every
-// 10th state, SCHED_FIFO, CPU pinning and memory locking requested, while a
-// SnapshotReader reads the published states.
-bool hil_run_allocates_nothing(bool as_fast_as_possible, long steps) {
+// HilRunner::run with counting armed: `steps` steps of cassini at `rate`
+// (paced, spinning the last `spin_us`, the floor timed as `floor` says) or as
+// fast as possible, recording every 10th state, SCHED_FIFO, CPU pinning and
+// memory locking requested, while a SnapshotReader reads the published states.
+bool hil_run_allocates_nothing(bool as_fast_as_possible, long steps, double rate, std::int64_t spin_us,
+                               soadyn::FloorMode floor) {
   soadyn::Simulator sim(soadyn::cassini_model<double>(), 1e-4, soadyn::Integrator::rk4);
   soadyn::drive_cassini(sim);
-  soadyn::HilRunner runner(sim, 1e4, steps);
+  soadyn::HilRunner runner(sim, rate, steps);
   runner.record_state_every(10);
   runner.set_as_fast_as_possible(as_fast_as_possible);
-  runner.set_spin_ns(50000);
+  runner.set_spin_ns(spin_us * 1000);
   runner.set_realtime(soadyn::RealtimeRequest{1, 0, true});
-  runner.set_floor_periods(steps / 4);  // the machine's floor after a paced run, in run() too
+  runner.set_floor_periods(steps / 4);  // the machine's floor, in run() too
+  runner.set_floor_mode(floor);
   SnapshotReader reader(runner);
   reader.start();  // allocates its thread before the counter is armed
   arm_counter();
@@ -128,9 +131,12 @@ bool hil_run_allocates_nothing(bool as_fast_as_possible, long steps) {
   const bool final_read = runner.latest_state().read(final_step, final_time, q, v);
   const bool final_state = final_read && final_step == steps && final_time == sim.time() && q == sim.q() && v == sim.v();
   const soadyn::RealtimeOutcome& rt = runner.summary().realtime;
-  std::printf("hil runner (%s): %ld steps, %ld allocations, %ld frees, status %s; SCHED_FIFO %s, CPU %s, memory %s; "
-              "snapshots read by another thread %ld, inconsistent %ld, last snapshot %s; floor periods %ld\n",
-              as_fast_as_possible ? "as fast as possible" : "paced", static_cast<long>(runner.steps_done()),
+  std::printf("hil runner (%s, %g Hz, floor %s): %ld steps, %ld allocations, %ld frees, status %s; SCHED_FIFO %s, "
+              "CPU %s, memory %s; snapshots read by another thread %ld, inconsistent %ld, last snapshot %s; floor "
+              "periods %ld\n",
+              as_fast_as_possible ? "as fast as possible" : "paced", rate,
+              floor == soadyn::FloorMode::interleaved ? "interleaved" : "after the run",
+              static_cast<long>(runner.steps_done()),
               counts.allocations(), counts.frees, status.ok() ? "ok" : "failed",
               rt.fifo_granted ? "granted" : "refused", rt.cpu_granted ? "pinned" : "refused",
               rt.memory_locked ? "locked" : "not locked", reader.reads, reader.inconsistent,
@@ -367,7 +373,9 @@ int main(int argc, char**) {
     }
   }
   pass = failures_and_full_queues_allocate_nothing() && pass;
-  for (const bool fast : {false, true}) pass = hil_run_allocates_nothing(fast, 20000) && pass;
+  pass = hil_run_allocates_nothing(false, 20000, 1e4, 50, soadyn::FloorMode::after_run) && pass;
+  pass = hil_run_allocates_nothing(true, 20000, 1e4, 50, soadyn::FloorMode::after_run) && pass;
+  pass = hil_run_allocates_nothing(false, 4000, 2e3, 200, soadyn::FloorMode::interleaved) && pass;
   pass = snapshot_reads_are_never_torn() && pass;
   for (const auto policy : {soadyn::CommandPolicy::clamp, soadyn::CommandPolicy::reject, soadyn::CommandPolicy::stop})
     pass = hil_link_allocates_nothing(policy) && pass;

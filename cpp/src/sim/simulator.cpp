@@ -11,8 +11,7 @@ template class SimulatorTpl<float>;
 
 #define SOADYN_INSTANTIATE_CHARTS(S)                                                   \
   template void chart_retract<S>(const JointModel<S>&, const S*, const S*, S*);        \
-  template void chart_rate<S>(const JointModel<S>&, const S*, const S*, const S*, S*); \
-  template bool joint_has_scalar_coordinates<S>(const JointModel<S>&);
+  template void chart_rate<S>(const JointModel<S>&, const S*, const S*, const S*, S*);
 SOADYN_INSTANTIATE_CHARTS(double)
 #if SOADYN_FLOAT
 SOADYN_INSTANTIATE_CHARTS(float)

@@ -41,6 +41,13 @@ bool joint_is_fixed(const JointModel<S>& j) {
   return std::holds_alternative<FixedJoint<S>>(j);
 }
 
+// Whether the joint's coordinates are its velocities' integrals (q' = v), so a motion source can set a
+// coordinate directly (revolute, prismatic, helical, cylindrical, universal, translation).
+template <class S>
+bool joint_has_scalar_coordinates(const JointModel<S>& j) {
+  return std::visit([](const auto& jj) { return detail::joint_type<decltype(jj)>::Space::scalar_coordinates; }, j);
+}
+
 // The joint's type name ("revolute", ...).
 template <class S>
 const char* joint_type_name(const JointModel<S>& j) {

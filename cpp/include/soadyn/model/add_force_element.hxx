@@ -27,12 +27,6 @@ void check_new_force_element(const ModelTpl<S>& m, const std::string& element, S
   check_spring_constant(element, "damping", damping);
 }
 
-// Whether a joint's coordinates are its velocities' integrals (q' = v).
-template <class S>
-bool joint_has_scalar_coordinates(const JointModel<S>& j) {
-  return std::visit([](const auto& jj) { return joint_type<decltype(jj)>::Space::scalar_coordinates; }, j);
-}
-
 // The body carrying point `point` of `frame` ("" or "world": -1) and the point
 // in that body's frame; refuses unknown frames and flexible bodies.
 template <class S>
@@ -66,7 +60,7 @@ int ModelTpl<S>::add_joint_spring(const std::string& name, int dof, S stiffness,
   const std::string& dof_name = dof_names[static_cast<std::size_t>(dof)];
   if (is_modal(dof)) detail::force_element_fail(name, "DOF '" + dof_name + "' is modal: its stiffness is the flexible body's");
   const int body = dof_body[static_cast<std::size_t>(dof)];
-  if (!detail::joint_has_scalar_coordinates(joints[static_cast<std::size_t>(body)]))
+  if (!joint_has_scalar_coordinates(joints[static_cast<std::size_t>(body)]))
     detail::force_element_fail(name, "DOF '" + dof_name + "' has no scalar coordinate (planar, spherical or free "
                                      "joint); joint springs need one with q' = v");
   JointSpringTpl<S> spring;

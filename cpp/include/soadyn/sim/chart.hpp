@@ -22,13 +22,6 @@ void chart_rate(const JointModel<S>& j, const S* q, const S* xi, const S* v, S* 
   std::visit([&](const auto& jj) { detail::joint_type<decltype(jj)>::Space::chart_rate(q, xi, v, rate); }, j);
 }
 
-// Whether the DOF's coordinate is its velocity's integral (q' = v), so a
-// motion source can set the coordinate directly.
-template <class S>
-bool joint_has_scalar_coordinates(const JointModel<S>& j) {
-  return std::visit([](const auto& jj) { return detail::joint_type<decltype(jj)>::Space::scalar_coordinates; }, j);
-}
-
 }  // namespace soadyn
 
 namespace soadyn {
