@@ -237,3 +237,14 @@ def test_the_command_line_exports_wrench_inputs_and_input_kinds(tmp_path):
     assert "its position when prescribed (rad)" in description["u.gimbal_pitch"]
     assert "its velocity when prescribed (rad/s)" in description["u.turntable"]
     session.close()
+
+
+def test_the_command_line_names_a_malformed_input_kind(tmp_path, capsys):
+    from soadyn.apps.cli import main
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(["fmu", "cassini", "--out", str(tmp_path / "c.fmu"), "--input-kind", "gimbal_pitch"])
+    assert exit_info.value.code == 2 and "--input-kind 'gimbal_pitch': expected DOF=KIND" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["fmu", "cassini", "--out", str(tmp_path / "c.fmu"), "--input-kind", "gimbal_pitch=jerk"])
+    assert "must be one of acceleration, velocity, position" in capsys.readouterr().err
