@@ -88,10 +88,6 @@ struct DynamicsDerivativesTpl {
   VecX<S> inverse_force;  // ID(q, v, qdd) of the last derivative sweeps
   MatX<S> inverse_factor;  // W = U^-1 for the factor M~ = U U' (nv x nv)
   std::vector<int> subtree_end;  // per DOF: the last DOF of its subtree (DOFs k..subtree_end[k])
-  // Scratch of the prescribed rows of dtau/dx: a prescribed DOF's regular ancestors and subtree DOFs, and
-  // their entries of its column of M.
-  std::vector<int> coupled_dofs;
-  VecX<S> coupled_mass;
 };
 
 using DynamicsDerivatives = DynamicsDerivativesTpl<double>;

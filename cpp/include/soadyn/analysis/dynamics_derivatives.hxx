@@ -23,8 +23,6 @@ DynamicsDerivativesTpl<S>::DynamicsDerivativesTpl(const ModelTpl<S>& m) {
   for (MatX<S>* x : {&inverse_dq, &inverse_dv, &dqdd_dq, &dqdd_dv, &dqdd_du, &dtau_dq, &dtau_dv, &dtau_du, &regular_mass})
     x->setZero(nv, nv);
   inverse_factor.setZero(nv, nv);
-  coupled_dofs.assign(static_cast<std::size_t>(nv), 0);
-  coupled_mass.setZero(nv);
   subtree_end.resize(static_cast<std::size_t>(nv));
   for (Eigen::Index k = nv; k-- > 0;) {  // DOFs in topological order: a subtree is a contiguous range
     subtree_end[static_cast<std::size_t>(k)] = std::max(subtree_end[static_cast<std::size_t>(k)], static_cast<int>(k));
