@@ -1,7 +1,8 @@
-"""Throughput of the batched calls against the number of threads, and against
-Pinocchio's parallel ABA (`abaInParallel`, OpenMP, with its ModelPool) in the
-same run: forward dynamics of a batch of random states, from Python, one call
-per batch for both libraries. Calls per second are medians over repeats, after
+"""Throughput of the batched calls against the number of threads and the
+packet width (`lanes`: four states per pass on processors with AVX2 and FMA,
+against one), and against Pinocchio's parallel ABA (`abaInParallel`, OpenMP,
+with its ModelPool) in the same run: forward dynamics of a batch of random
+states, from Python, one call per batch for both libraries. Calls per second are medians over repeats, after
 one warm-up call; ratios are taken within this run. Also the rollout's runs per
 second (cassini, RK4) against the number of threads.
 
@@ -31,9 +32,14 @@ def median_rate(fn, rows: int, repeats: int) -> float:
 
 
 def soadyn_rates(name: str, rows: int, repeats: int) -> dict:
+    """Rows per second by (threads, lanes): one row per pass on one thread, and the widest packet on each
+    number of threads."""
     m = load_robot(name)
     Q, V, T = numbered_states(m, 0, rows)
-    return {k: median_rate(lambda: batch.forward_dynamics(m, Q, V, T, threads=k), rows, repeats) for k in THREADS}
+    widest = batch.widest_lanes()
+    settings = [(1, 1)] + [(k, widest) for k in THREADS]
+    return {(k, lanes): median_rate(lambda: batch.forward_dynamics(m, Q, V, T, threads=k, lanes=lanes), rows, repeats)
+            for k, lanes in settings}
 
 
 def pinocchio_rates(name: str, rows: int, repeats: int) -> dict | None:
@@ -75,18 +81,21 @@ def main() -> int:
     parser.add_argument("--repeats", type=int, default=30)
     parser.add_argument("--runs", type=int, default=64, help="rollout runs (cassini, 100 RK4 steps each)")
     args = parser.parse_args()
+    widest = batch.widest_lanes()
     rates = Table(f"Forward dynamics of {args.rows} random states in one call, calls per second", [
-        "robot", "soadyn 1 thread", "soadyn 2 threads", "soadyn speed-up", "Pinocchio abaInParallel 1 thread",
+        "robot", "soadyn 1 thread lanes=1", f"soadyn 1 thread lanes={widest}", "packet speed-up",
+        f"soadyn 2 threads lanes={widest}", "soadyn thread speed-up", "Pinocchio abaInParallel 1 thread",
         "Pinocchio 2 threads", "Pinocchio speed-up", "soadyn 2 / Pinocchio 2"],
-        headline=["soadyn speed-up", "soadyn 2 / Pinocchio 2"])
+        headline=["packet speed-up", "soadyn 2 / Pinocchio 2"])
     rates.formats = {c: ",.0f" for c in rates.columns[1:]}
-    rates.formats.update({c: ".2f" for c in ("soadyn speed-up", "Pinocchio speed-up", "soadyn 2 / Pinocchio 2")})
+    rates.formats.update({c: ".2f" for c in ("packet speed-up", "soadyn thread speed-up", "Pinocchio speed-up",
+                                             "soadyn 2 / Pinocchio 2")})
     for name in ROBOTS:
         ours = soadyn_rates(name, args.rows, args.repeats)
+        one, packet, two = ours[(1, 1)], ours[(1, widest)], ours[(2, widest)]
         peer = pinocchio_rates(name, args.rows, args.repeats)
-        print(rates.add(name, ours[1], ours[2], ours[2] / ours[1], *((peer[1], peer[2], peer[2] / peer[1],
-                                                                       ours[2] / peer[2]) if peer else (None,) * 4)),
-              flush=True)
+        print(rates.add(name, one, packet, packet / one, two, two / packet,
+                        *((peer[1], peer[2], peer[2] / peer[1], two / peer[2]) if peer else (None,) * 4)), flush=True)
     rollout = rollout_rates(args.runs, max(3, args.repeats // 10))
     rollouts = Table(f"Rollouts (cassini, RK4, 100 steps of 1 ms per run, {args.runs} runs per call), runs per second",
                      ["scene", "1 thread", "2 threads", "speed-up"], {"1 thread": ",.0f", "2 threads": ",.0f",
@@ -96,7 +105,7 @@ def main() -> int:
         table.print()
     write("batch", "Batched forward dynamics and rollouts against threads", [rates, rollouts],
           {"rows": args.rows, "repeats": args.repeats, "runs": args.runs, "rollout_repeats": max(3, args.repeats // 10),
-           "threads": list(THREADS)},
+           "threads": list(THREADS), "widest_lanes": widest},
           ["Calls per second (higher is better): medians of the repeats of one call over all the rows, after one "
            "warm-up call."])
     return 0

@@ -90,8 +90,9 @@ soadyn::BatchDynamics& batch_for(ModelHandle& h, int threads) {
 // Runs fn(batch) with the model locked and the GIL released; raises the
 // first failed row's DynamicsError.
 template <class Fn>
-void run_batch(ModelHandle& h, std::uint64_t version, int threads, const char* what, Fn&& fn) {
+void run_batch(ModelHandle& h, std::uint64_t version, int threads, int lanes, const char* what, Fn&& fn) {
   if (threads < 0) throw py::value_error(std::string(what) + ": threads must be >= 0 (0: one per hardware thread)");
+  if (lanes == 0) lanes = soadyn::BatchDynamics::widest_lanes();
   soadyn::BatchOutcome outcome;
   PythonInterrupt interrupt;
   {
@@ -99,6 +100,7 @@ void run_batch(ModelHandle& h, std::uint64_t version, int threads, const char* w
     std::lock_guard<std::mutex> lock(h.mutex);
     refuse_changed_model(h, version);
     soadyn::BatchDynamics& batch = batch_for(h, threads);
+    batch.set_lanes(lanes);
     batch.set_interrupt(interrupt.get());
     const std::unique_ptr<soadyn::BatchDynamics, void (*)(soadyn::BatchDynamics*)> forget_interrupt(
         &batch, [](soadyn::BatchDynamics* b) { b->set_interrupt(nullptr); });
@@ -127,7 +129,7 @@ struct BatchStates {
 };
 
 #define BATCH_STATE_ARGS(x_name)                                                                              \
-  py::arg("model"), py::arg("Q"), py::arg("V"), py::arg(x_name), py::arg("f_ext"), py::arg("n"), py::arg("threads")
+  py::arg("model"), py::arg("Q"), py::arg("V"), py::arg(x_name), py::arg("f_ext"), py::arg("n"), py::arg("threads"), py::arg("lanes")
 
 py::array_t<double> stacked(py::ssize_t rows, py::ssize_t cols) { return fresh_array(rows, cols); }
 
@@ -139,44 +141,44 @@ py::array_t<double> stacked(py::ssize_t rows, py::ssize_t a, py::ssize_t b) {
 
 void bind_batch(py::module_& mod) {
   mod.def("_batch_forward_dynamics", [](ModelHandle& h, py::handle Q, py::handle V, py::handle TAU, py::handle F,
-                                        py::ssize_t n, int threads) {
+                                        py::ssize_t n, int threads, int lanes) {
     const BatchStates s(h, Q, V, TAU, "TAU", F, n);
     auto qdd = stacked(n, h.model.nv);
     double* out = qdd.mutable_data();
-    run_batch(h, s.version, threads, "batch.forward_dynamics", [&](soadyn::BatchDynamics& b) {
+    run_batch(h, s.version, threads, lanes, "batch.forward_dynamics", [&](soadyn::BatchDynamics& b) {
       return b.forward_dynamics(n, s.q.data(), s.v.data(), s.x.data(), s.f, out); });
     return qdd;
   }, BATCH_STATE_ARGS("TAU"), "Forward dynamics of n rows (soadyn.batch.forward_dynamics).");
   mod.def("_batch_inverse_dynamics", [](ModelHandle& h, py::handle Q, py::handle V, py::handle QDD, py::handle F,
-                                        py::ssize_t n, int threads) {
+                                        py::ssize_t n, int threads, int lanes) {
     const BatchStates s(h, Q, V, QDD, "QDD", F, n);
     auto tau = stacked(n, h.model.nv);
     double* out = tau.mutable_data();
-    run_batch(h, s.version, threads, "batch.inverse_dynamics", [&](soadyn::BatchDynamics& b) {
+    run_batch(h, s.version, threads, lanes, "batch.inverse_dynamics", [&](soadyn::BatchDynamics& b) {
       return b.inverse_dynamics(n, s.q.data(), s.v.data(), s.x.data(), s.f, out); });
     return tau;
   }, BATCH_STATE_ARGS("QDD"), "Inverse dynamics of n rows (soadyn.batch.inverse_dynamics).");
   mod.def("_batch_hybrid_dynamics", [](ModelHandle& h, py::handle Q, py::handle V, py::handle U, py::handle F,
-                                       py::ssize_t n, int threads) {
+                                       py::ssize_t n, int threads, int lanes) {
     const BatchStates s(h, Q, V, U, "U", F, n);
     auto qdd = stacked(n, h.model.nv), tau = stacked(n, h.model.nv);
     double *qdd_out = qdd.mutable_data(), *tau_out = tau.mutable_data();
-    run_batch(h, s.version, threads, "batch.hybrid_dynamics", [&](soadyn::BatchDynamics& b) {
+    run_batch(h, s.version, threads, lanes, "batch.hybrid_dynamics", [&](soadyn::BatchDynamics& b) {
       return b.hybrid_dynamics(n, s.q.data(), s.v.data(), s.x.data(), s.f, qdd_out, tau_out); });
     return py::make_tuple(qdd, tau);
   }, BATCH_STATE_ARGS("U"), "Hybrid dynamics of n rows (soadyn.batch.hybrid_dynamics).");
-  mod.def("_batch_mass_matrix", [](ModelHandle& h, py::handle Q, py::ssize_t n, int threads) {
+  mod.def("_batch_mass_matrix", [](ModelHandle& h, py::handle Q, py::ssize_t n, int threads, int lanes) {
     const std::uint64_t version = h.model.version;
     const Array q = configurations_arg(h, Q, "Q", n);
     auto M = stacked(n, h.model.nv, h.model.nv);
     double* out = M.mutable_data();
-    run_batch(h, version, threads, "batch.mass_matrix", [&](soadyn::BatchDynamics& b) {
+    run_batch(h, version, threads, lanes, "batch.mass_matrix", [&](soadyn::BatchDynamics& b) {
       return b.mass_matrix(n, q.data(), out); });
     return M;
-  }, py::arg("model"), py::arg("Q"), py::arg("n"), py::arg("threads"),
+  }, py::arg("model"), py::arg("Q"), py::arg("n"), py::arg("threads"), py::arg("lanes"),
      "Mass matrices of n rows (soadyn.batch.mass_matrix).");
   mod.def("_batch_dynamics_derivatives", [](ModelHandle& h, py::handle Q, py::handle V, py::handle U, py::handle F,
-                                            py::ssize_t n, int threads) {
+                                            py::ssize_t n, int threads, int lanes) {
     const BatchStates s(h, Q, V, U, "U", F, n);
     std::array<py::array_t<double>, 6> d;
     std::array<double*, 6> out;
@@ -184,10 +186,13 @@ void bind_batch(py::module_& mod) {
       d[i] = stacked(n, h.model.nv, h.model.nv);
       out[i] = d[i].mutable_data();
     }
-    run_batch(h, s.version, threads, "batch.dynamics_derivatives", [&](soadyn::BatchDynamics& b) {
+    run_batch(h, s.version, threads, lanes, "batch.dynamics_derivatives", [&](soadyn::BatchDynamics& b) {
       return b.dynamics_derivatives(n, s.q.data(), s.v.data(), s.x.data(), s.f, out); });
     return py::make_tuple(d[0], d[1], d[2], d[3], d[4], d[5]);
   }, BATCH_STATE_ARGS("U"), "Dynamics derivatives of n rows (soadyn.batch.dynamics_derivatives).");
+
+  mod.def("_batch_widest_lanes", &soadyn::BatchDynamics::widest_lanes,
+          "States per pass of the batched calls' packet path on this processor (soadyn.batch.widest_lanes).");
 
   mod.def("_batch_rollout", [](ModelHandle& h, py::handle X0, py::ssize_t runs, py::handle controls,
                                bool controls_per_run, double dt, std::int64_t steps, const std::string& integrator,

@@ -885,29 +885,33 @@ def _appendage_kernel() -> str:
     """
 def _assemble(model: _Model, q: typing.Any, free: collections.abc.Sequence[bool], tolerance: typing.Any, max_iterations: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
     ...
-def _batch_dynamics_derivatives(model: _Model, Q: typing.Any, V: typing.Any, U: typing.Any, f_ext: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+def _batch_dynamics_derivatives(model: _Model, Q: typing.Any, V: typing.Any, U: typing.Any, f_ext: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex, lanes: typing.SupportsInt | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     """
     Dynamics derivatives of n rows (soadyn.batch.dynamics_derivatives).
     """
-def _batch_forward_dynamics(model: _Model, Q: typing.Any, V: typing.Any, TAU: typing.Any, f_ext: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+def _batch_forward_dynamics(model: _Model, Q: typing.Any, V: typing.Any, TAU: typing.Any, f_ext: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex, lanes: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
     """
     Forward dynamics of n rows (soadyn.batch.forward_dynamics).
     """
-def _batch_hybrid_dynamics(model: _Model, Q: typing.Any, V: typing.Any, U: typing.Any, f_ext: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+def _batch_hybrid_dynamics(model: _Model, Q: typing.Any, V: typing.Any, U: typing.Any, f_ext: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex, lanes: typing.SupportsInt | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     """
     Hybrid dynamics of n rows (soadyn.batch.hybrid_dynamics).
     """
-def _batch_inverse_dynamics(model: _Model, Q: typing.Any, V: typing.Any, QDD: typing.Any, f_ext: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+def _batch_inverse_dynamics(model: _Model, Q: typing.Any, V: typing.Any, QDD: typing.Any, f_ext: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex, lanes: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
     """
     Inverse dynamics of n rows (soadyn.batch.inverse_dynamics).
     """
-def _batch_mass_matrix(model: _Model, Q: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+def _batch_mass_matrix(model: _Model, Q: typing.Any, n: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex, lanes: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
     """
     Mass matrices of n rows (soadyn.batch.mass_matrix).
     """
 def _batch_rollout(model: _Model, x0s: typing.Any, runs: typing.SupportsInt | typing.SupportsIndex, controls: typing.Any, controls_per_run: bool, dt: typing.SupportsFloat | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex, integrator: str, record_every: typing.SupportsInt | typing.SupportsIndex, parameters: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], parameter_values: typing.Any, sources: collections.abc.Sequence[tuple[typing.SupportsInt | typing.SupportsIndex, MotionSource]], events: collections.abc.Sequence[tuple[str, typing.SupportsInt | typing.SupportsIndex]], event_times: typing.Any, threads: typing.SupportsInt | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], list[int], list[str]]:
     """
     Parallel rollouts (soadyn.batch.rollout): (q, v, failed_step, messages).
+    """
+def _batch_widest_lanes() -> int:
+    """
+    States per pass of the batched calls' packet path on this processor (soadyn.batch.widest_lanes).
     """
 def _delta_robot_state(position: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], velocity: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
     ...

@@ -12,6 +12,12 @@ argument and its dtype, never cast) and have the documented shape (ValueError
 naming the argument, the expected shape and the shape given); a row whose
 dynamics fail raises DynamicsError naming the first failing row.
 
+`lanes` sets how many rows one pass of the algorithm computes: on processors with AVX2 and FMA the forward,
+inverse and hybrid dynamics and the mass matrix of rigid trees take four rows per pass (``widest_lanes()``, the
+default), lanes=1 one row per pass. Both report the same failing rows with the same errors; their results agree
+to rounding (docs/guides/batch.md states how closely, and when they are equal bit for bit). Models with
+flexible bodies, the derivatives and rollouts take one row per pass whatever the lanes.
+
 `rollout` steps many independent simulations of one model in parallel (the
 equivalent of MuJoCo's rollout): different initial states, torques, shared
 prescribed motions, per-run parameter values (``m.parameter_names``) and
@@ -30,7 +36,7 @@ from . import _soadyn
 from .simulator import MotionSource
 
 __all__ = ["forward_dynamics", "inverse_dynamics", "hybrid_dynamics", "mass_matrix", "dynamics_derivatives",
-           "rollout", "RolloutResult"]
+           "rollout", "RolloutResult", "widest_lanes"]
 
 
 MAX_THREADS = 1024  # a pool larger than this is refused: no machine this runs on has that many cores
@@ -43,6 +49,25 @@ def _threads(threads) -> int:
         raise ValueError(f"threads must be an integer from 1 to {MAX_THREADS} or None (one per hardware thread), "
                          f"got {threads!r}")
     return int(threads)
+
+
+def widest_lanes() -> int:
+    """Rows per pass of the batched calls' packet path on this processor: 4 with AVX2 and FMA, 1 without them
+    (or with the environment variable SOADYN_BASELINE_KERNELS set)."""
+    return _soadyn._batch_widest_lanes()
+
+
+def _lanes(lanes) -> int:
+    if lanes is None:
+        return 0
+    widest = widest_lanes()
+    allowed = (1, 4) if widest == 4 else (1,)
+    if isinstance(lanes, bool) or not isinstance(lanes, (int, np.integer)) or int(lanes) not in allowed:
+        why = "" if widest == 4 else " (this processor runs no packets: it lacks AVX2 and FMA, or " \
+                                     "SOADYN_BASELINE_KERNELS is set)"
+        raise ValueError(f"lanes must be {' or '.join(map(str, allowed))} or None (the widest, {widest}){why}, "
+                         f"got {lanes!r}")
+    return int(lanes)
 
 
 def _shape_text(shape: tuple) -> str:
@@ -85,62 +110,67 @@ def _state_batch(m, Q, V, X, x_name: str):
     return q, _rows("V", V, m.nv, n), _rows(x_name, X, m.nv, n), n
 
 
-def forward_dynamics(m, Q, V, TAU, f_ext=None, threads=None) -> np.ndarray:
+def forward_dynamics(m, Q, V, TAU, f_ext=None, threads=None, lanes=None) -> np.ndarray:
     """QDD (n, nv): forward dynamics (every DOF regular) of n states. Q (n, nq), V and TAU (n, nv),
     f_ext None or (n, nbodies, 6) body-frame wrenches [torque; force] about the body origins.
 
     Units and frames as the single call's. Raises TypeError for an array that is not of real numbers, ValueError
     naming the array, the row and the coordinate or DOF for a wrong shape or a non-finite entry, and
-    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS raises ValueError.
+    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS, or lanes other than
+    None, 1 or widest_lanes(), raises ValueError.
     """
     q, v, tau, n = _state_batch(m, Q, V, TAU, "TAU")
-    return _soadyn._batch_forward_dynamics(m, q, v, tau, _wrenches(m, f_ext, n), n, _threads(threads))
+    return _soadyn._batch_forward_dynamics(m, q, v, tau, _wrenches(m, f_ext, n), n, _threads(threads), _lanes(lanes))
 
 
-def inverse_dynamics(m, Q, V, QDD, f_ext=None, threads=None) -> np.ndarray:
+def inverse_dynamics(m, Q, V, QDD, f_ext=None, threads=None, lanes=None) -> np.ndarray:
     """TAU (n, nv): inverse dynamics of n states and accelerations.
 
     Units and frames as the single call's. Raises TypeError for an array that is not of real numbers, ValueError
     naming the array, the row and the coordinate or DOF for a wrong shape or a non-finite entry, and
-    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS raises ValueError.
+    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS, or lanes other than
+    None, 1 or widest_lanes(), raises ValueError.
     """
     q, v, qdd, n = _state_batch(m, Q, V, QDD, "QDD")
-    return _soadyn._batch_inverse_dynamics(m, q, v, qdd, _wrenches(m, f_ext, n), n, _threads(threads))
+    return _soadyn._batch_inverse_dynamics(m, q, v, qdd, _wrenches(m, f_ext, n), n, _threads(threads), _lanes(lanes))
 
 
-def hybrid_dynamics(m, Q, V, U, f_ext=None, threads=None) -> tuple[np.ndarray, np.ndarray]:
+def hybrid_dynamics(m, Q, V, U, f_ext=None, threads=None, lanes=None) -> tuple[np.ndarray, np.ndarray]:
     """(QDD, TAU), each (n, nv): hybrid dynamics under the model's prescribed flags (U: torques of
     regular DOFs, accelerations of prescribed ones).
 
     Units and frames as the single call's. Raises TypeError for an array that is not of real numbers, ValueError
     naming the array, the row and the coordinate or DOF for a wrong shape or a non-finite entry, and
-    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS raises ValueError.
+    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS, or lanes other than
+    None, 1 or widest_lanes(), raises ValueError.
     """
     q, v, u, n = _state_batch(m, Q, V, U, "U")
-    return _soadyn._batch_hybrid_dynamics(m, q, v, u, _wrenches(m, f_ext, n), n, _threads(threads))
+    return _soadyn._batch_hybrid_dynamics(m, q, v, u, _wrenches(m, f_ext, n), n, _threads(threads), _lanes(lanes))
 
 
-def mass_matrix(m, Q, threads=None) -> np.ndarray:
+def mass_matrix(m, Q, threads=None, lanes=None) -> np.ndarray:
     """M (n, nv, nv) at n configurations.
 
     Units and frames as the single call's. Raises TypeError for an array that is not of real numbers, ValueError
     naming the array, the row and the coordinate or DOF for a wrong shape or a non-finite entry, and
-    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS raises ValueError.
+    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS, or lanes other than
+    None, 1 or widest_lanes(), raises ValueError.
     """
     q = _rows("Q", Q, m.nq)
-    return _soadyn._batch_mass_matrix(m, q, q.shape[0], _threads(threads))
+    return _soadyn._batch_mass_matrix(m, q, q.shape[0], _threads(threads), _lanes(lanes))
 
 
-def dynamics_derivatives(m, Q, V, U, f_ext=None, threads=None) -> tuple[np.ndarray, ...]:
+def dynamics_derivatives(m, Q, V, U, f_ext=None, threads=None, lanes=None) -> tuple[np.ndarray, ...]:
     """(dqdd_dq, dqdd_dv, dqdd_du, dtau_dq, dtau_dv, dtau_du), each (n, nv, nv): soadyn.dynamics_derivatives
     of n states (q-derivatives in the tangent space), by the same algorithm the single call chooses.
 
     Units and frames as the single call's. Raises TypeError for an array that is not of real numbers, ValueError
     naming the array, the row and the coordinate or DOF for a wrong shape or a non-finite entry, and
-    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS raises ValueError.
+    DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS, or lanes other than
+    None, 1 or widest_lanes(), raises ValueError.
     """
     q, v, u, n = _state_batch(m, Q, V, U, "U")
-    return _soadyn._batch_dynamics_derivatives(m, q, v, u, _wrenches(m, f_ext, n), n, _threads(threads))
+    return _soadyn._batch_dynamics_derivatives(m, q, v, u, _wrenches(m, f_ext, n), n, _threads(threads), _lanes(lanes))
 
 
 @dataclass
@@ -231,7 +261,8 @@ def _events(m, events, runs: int):
 
 
 def rollout(m, x0s, controls_or_sources=None, dt: float = 1e-3, steps: int = 1000, integrator: str = "rk4",
-            parameters: dict | None = None, events=None, record_every: int = 1, threads=None) -> RolloutResult:
+            parameters: dict | None = None, events=None, record_every: int = 1, threads=None,
+            lanes=None) -> RolloutResult:
     """Simulate len(x0s) runs of `m` in parallel, each from its state x0s[r] = [q, v] (nq + nv values).
 
     controls_or_sources: None; torques of the regular DOFs per step, (steps, nv) shared by every run or
@@ -239,13 +270,15 @@ def rollout(m, x0s, controls_or_sources=None, dt: float = 1e-3, steps: int = 100
     prescribing motions shared by every run (C++ sources only: a Python-function source would need the
     GIL). parameters: {parameter name: (runs, *shape) values} set on each run's copy of the model.
     events: [(kind, DOF, times)] with kind 'lock' or 'release' and one time per run (or one for all).
-    Samples every `record_every` steps (which must divide `steps`), the start included.
+    Samples every `record_every` steps (which must divide `steps`), the start included. lanes is checked as the
+    other calls check it; rollouts step one run per pass whatever its value.
 
     dt in s; torques in N or N m, states as the single calls'. Raises TypeError or ValueError naming the
     argument (and the run, row or DOF) for a wrong type, shape, a non-finite entry, an unknown DOF or parameter,
     a dt that is not finite and positive, or a record_every that does not divide steps. A run whose dynamics
     fail is not raised: RolloutResult reports it (ok, failed_step, messages) and its later samples are NaN.
     """
+    _lanes(lanes)
     x0 = _rows("x0s", x0s, m.nq + m.nv)
     runs = x0.shape[0]
     steps = _whole("steps", steps, 0)

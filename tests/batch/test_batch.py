@@ -1,7 +1,8 @@
 """soadyn.batch: batched dynamics and parallel rollouts on a C++ thread pool.
 
-- Every batched call equals, bit for bit, the single call on each row, with
-  1, 2 and 3 threads, on trees (a URDF robot with external wrenches, a
+- Every batched call with one row per pass (lanes=1) equals, bit for bit,
+  the single call on each row, with 1, 2 and 3 threads (four rows per pass:
+  test_batch_lanes.py), on trees (a URDF robot with external wrenches, a
   prescribed mask), a flexible spacecraft (cassini: the dual-number
   derivatives) and a closed loop (four-bar).
 - rollout equals, bit for bit, the same calls on one Simulator per run
@@ -19,16 +20,14 @@ import pytest
 
 import soadyn
 from soadyn import batch
+from support.batch_states import batch_states
 from support.robots import robot_with_oracle
 
 ROWS = 24
 
 
 def states(m, rows=ROWS, seed=0):
-    rng = np.random.default_rng(seed)
-    Q = np.array([soadyn.random_configuration(m, seed * 1000 + k) for k in range(rows)]).reshape(rows, m.nq)
-    V, X = rng.uniform(-1, 1, (2, rows, m.nv))
-    return Q, V, X
+    return batch_states(m, rows, seed)
 
 
 def models():
@@ -50,14 +49,14 @@ def test_batched_calls_equal_single_calls_bit_for_bit(name, threads):
     F = np.random.default_rng(7).uniform(-2, 2, (ROWS, m.nbodies, 6)) if name == "panda" else None
     f = (lambda k: None) if F is None else (lambda k: F[k])
     if not m.nloops:
-        qdd = batch.forward_dynamics(m, Q, V, X, F, threads=threads)
-        tau = batch.inverse_dynamics(m, Q, V, qdd, F, threads=threads)
+        qdd = batch.forward_dynamics(m, Q, V, X, F, threads=threads, lanes=1)
+        tau = batch.inverse_dynamics(m, Q, V, qdd, F, threads=threads, lanes=1)
         for k in range(ROWS):
             assert np.array_equal(qdd[k], soadyn.forward_dynamics(m, Q[k], V[k], X[k], f(k)))
             assert np.array_equal(tau[k], soadyn.inverse_dynamics(m, Q[k], V[k], qdd[k], f(k)))
-    hq, ht = batch.hybrid_dynamics(m, Q, V, X, F, threads=threads)
-    M = batch.mass_matrix(m, Q, threads=threads)
-    D = batch.dynamics_derivatives(m, Q[:8], V[:8], X[:8], None if F is None else F[:8], threads=threads)
+    hq, ht = batch.hybrid_dynamics(m, Q, V, X, F, threads=threads, lanes=1)
+    M = batch.mass_matrix(m, Q, threads=threads, lanes=1)
+    D = batch.dynamics_derivatives(m, Q[:8], V[:8], X[:8], None if F is None else F[:8], threads=threads, lanes=1)
     assert M.shape == (ROWS, m.nv, m.nv) and all(d.shape == (8, m.nv, m.nv) for d in D)
     for k in range(ROWS):
         single_q, single_t = soadyn.hybrid_dynamics(m, Q[k], V[k], X[k], f(k))

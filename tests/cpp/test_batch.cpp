@@ -66,6 +66,7 @@ long batched_calls_differ(const soadyn::Model& m, int threads) {
   const int n = 64, nq = m.nq, nv = m.nv, nf = 6 * m.nbodies();
   const Batch b = random_batch(m, n);
   soadyn::BatchDynamics batch(m, threads);
+  batch.set_lanes(1);  // one row per pass: bit for bit (the packets' agreement: tests/batch/test_batch_lanes.py)
   Rows qdd(n * nv), tau(n * nv), hq(n * nv), ht(n * nv), M(n * nv * nv);
   std::vector<Rows> D(6, Rows(n * nv * nv));
   const std::array<double*, 6> out = {D[0].data(), D[1].data(), D[2].data(), D[3].data(), D[4].data(), D[5].data()};

@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <mutex>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
 
 #include "soadyn/algorithms/aba.hpp"
 #include "soadyn/algorithms/crba.hpp"
@@ -29,12 +32,14 @@ std::int64_t grain(std::int64_t n, int threads) { return std::clamp<std::int64_t
 struct BatchDynamics::Workspace {
   explicit Workspace(const Model& model) : data(model) {}
   Data data;
+  std::unique_ptr<PacketDynamics> packet;  // built at the first packet call
   std::unique_ptr<DynamicsDerivatives> derivatives;  // built at the first derivatives call
   std::unique_ptr<ParameterSensitivity> dual;
   std::array<Eigen::MatrixXd, 6> dual_results;
 };
 
-BatchDynamics::BatchDynamics(const Model& model, int threads) : model_(model), pool_(threads) {
+BatchDynamics::BatchDynamics(const Model& model, int threads)
+    : model_(model), lanes_(widest_lanes()), pool_(threads) {
   for (int w = 0; w < pool_.size(); ++w) workspaces_.push_back(std::make_unique<Workspace>(model));
 }
 
@@ -44,34 +49,83 @@ bool BatchDynamics::derivatives_by_dual_numbers(const Model& model) {
   return model.nloops() > 0 || model.has_flexible_bodies() || !model.force_elements.point_springs.empty();
 }
 
+int BatchDynamics::widest_lanes() { return PacketDynamics::available() ? PacketDynamics::lanes : 1; }
+
+void BatchDynamics::set_lanes(int lanes) {
+  if (lanes == 1 || (lanes == PacketDynamics::lanes && PacketDynamics::available())) {
+    lanes_ = lanes;
+    return;
+  }
+  throw std::invalid_argument("lanes must be 1" +
+                              std::string(PacketDynamics::available() ? " or 4" : " (this processor lacks AVX2 and FMA, "
+                                                                                   "or SOADYN_BASELINE_KERNELS is set)") +
+                              ", got " + std::to_string(lanes));
+}
+
+bool BatchDynamics::prepare_packets() {
+  if (lanes_ == 1 || !PacketDynamics::serves(model_)) return false;
+  if (packet_model_)
+    packet_model_->refresh(model_);
+  else
+    packet_model_ = std::make_unique<PacketModel>(model_);
+  for (auto& w : workspaces_)
+    if (!w->packet) w->packet = std::make_unique<PacketDynamics>(model_, *packet_model_);
+  return true;
+}
+
 template <class RowFn>
 BatchOutcome BatchDynamics::for_rows(std::int64_t n, RowFn&& fn) {
+  return for_rows(n, std::forward<RowFn>(fn), nullptr);
+}
+
+template <class RowFn, class PacketFn>
+BatchOutcome BatchDynamics::for_rows(std::int64_t n, RowFn&& fn, PacketFn&& packet_fn) {
+  constexpr bool has_packet_fn = !std::is_same_v<std::decay_t<PacketFn>, std::nullptr_t>;
+  bool packets = false;
+  if constexpr (has_packet_fn) packets = prepare_packets();
+  const std::int64_t width = packets ? PacketDynamics::lanes : 1, units = (n + width - 1) / width;
   BatchOutcome outcome;
   std::mutex failures;
-  pool_.parallel_for(n, grain(n, threads()), [&](std::int64_t begin, std::int64_t end, int worker) {
+  const auto record = [&](std::int64_t row, const Status& status) {
+    if (status.ok()) return;
+    std::lock_guard<std::mutex> lock(failures);
+    ++outcome.failed_rows;
+    if (outcome.first_failed_row < 0 || row < outcome.first_failed_row) {
+      outcome.first_failed_row = row;
+      outcome.first_status = status;
+    }
+  };
+  pool_.parallel_for(units, grain(units, threads()), [&](std::int64_t begin, std::int64_t end, int worker) {
     Workspace& w = *workspaces_[static_cast<std::size_t>(worker)];
-    for (std::int64_t row = begin; row < end; ++row) {
-      const Status status = fn(row, w);
-      if (status.ok()) continue;
-      std::lock_guard<std::mutex> lock(failures);
-      ++outcome.failed_rows;
-      if (outcome.first_failed_row < 0 || row < outcome.first_failed_row) {
-        outcome.first_failed_row = row;
-        outcome.first_status = status;
+    for (std::int64_t unit = begin; unit < end; ++unit) {
+      const std::int64_t first = unit * width, last = std::min(first + width, n);
+      if constexpr (has_packet_fn) {
+        if (packets && last - first == PacketDynamics::lanes) {
+          Status status[PacketDynamics::lanes];
+          packet_fn(first, *w.packet, status);
+          for (int l = 0; l < PacketDynamics::lanes; ++l) record(first + l, status[l]);
+          continue;
+        }
       }
+      for (std::int64_t row = first; row < last; ++row) record(row, fn(row, w));
     }
   });
   return outcome;
 }
 
-template <class Call>
+template <class Call, class PacketCall>
 BatchOutcome BatchDynamics::vector_call(std::int64_t n, const double* Q, const double* V, const double* X,
-                                        const double* F, double* OUT, Call&& call) {
+                                        const double* F, double* OUT, Call&& call, PacketCall&& packet_call) {
   const int nq = model_.nq, nv = model_.nv, nf = 6 * model_.nbodies();
-  return for_rows(n, [&](std::int64_t k, Workspace& w) {
-    return call(w.data, Map(Q + k * nq, nq), Map(V + k * nv, nv), Map(X + k * nv, nv), F ? F + k * nf : nullptr,
-                VectorOut(OUT + k * nv, nv));
-  });
+  return for_rows(
+      n,
+      [&](std::int64_t k, Workspace& w) {
+        return call(w.data, Map(Q + k * nq, nq), Map(V + k * nv, nv), Map(X + k * nv, nv), F ? F + k * nf : nullptr,
+                    VectorOut(OUT + k * nv, nv));
+      },
+      [&](std::int64_t k, PacketDynamics& p, Status* status) {
+        (p.*packet_call)(Q + k * nq, V + k * nv, X + k * nv, F ? F + k * nf : nullptr, OUT + k * nv, status);
+      });
 }
 
 BatchOutcome BatchDynamics::forward_dynamics(std::int64_t n, const double* Q, const double* V, const double* TAU,
@@ -81,7 +135,7 @@ BatchOutcome BatchDynamics::forward_dynamics(std::int64_t n, const double* Q, co
     const Status s = soadyn::forward_dynamics<double>(model_, d, q, v, tau, f);
     qdd = d.qdd;
     return s;
-  });
+  }, &PacketDynamics::forward_dynamics);
 }
 
 BatchOutcome BatchDynamics::inverse_dynamics(std::int64_t n, const double* Q, const double* V, const double* QDD,
@@ -91,7 +145,7 @@ BatchOutcome BatchDynamics::inverse_dynamics(std::int64_t n, const double* Q, co
     const Status s = soadyn::inverse_dynamics<double>(model_, d, q, v, qdd, f);
     tau = d.tau;
     return s;
-  });
+  }, &PacketDynamics::inverse_dynamics);
 }
 
 BatchOutcome BatchDynamics::hybrid_dynamics(std::int64_t n, const double* Q, const double* V, const double* U,
@@ -104,6 +158,8 @@ BatchOutcome BatchDynamics::hybrid_dynamics(std::int64_t n, const double* Q, con
     VectorOut(QDD + k * nv, nv) = w.data.qdd;
     VectorOut(TAU + k * nv, nv) = w.data.tau;
     return s;
+  }, [&](std::int64_t k, PacketDynamics& p, Status* status) {
+    p.hybrid_dynamics(Q + k * nq, V + k * nv, U + k * nv, F ? F + k * nf : nullptr, QDD + k * nv, TAU + k * nv, status);
   });
 }
 
@@ -113,7 +169,7 @@ BatchOutcome BatchDynamics::mass_matrix(std::int64_t n, const double* Q, double*
     const Status s = soadyn::mass_matrix<double>(model_, w.data, Map(Q + k * nq, nq));
     RowMajorOut(M + k * nv * nv, nv, nv) = w.data.mass_matrix;
     return s;
-  });
+  }, [&](std::int64_t k, PacketDynamics& p, Status* status) { p.mass_matrix(Q + k * nq, M + k * nv * nv, status); });
 }
 
 BatchOutcome BatchDynamics::dynamics_derivatives(std::int64_t n, const double* Q, const double* V, const double* U,

@@ -1,5 +1,8 @@
 #include "soadyn/sweeps/joint_angles.hpp"
+#include "soadyn/core/packet.hpp"
 #include "soadyn/core/processor_features.hpp"
+
+#include <algorithm>
 #include <cmath>
 #if defined(__x86_64__) && defined(__GNUC__)
 #define SOADYN_HAVE_AVX2_KERNEL 1  // the polynomial kernel below
@@ -209,6 +212,31 @@ std::vector<SineCosineKernel> detail::available_sine_cosine_kernels() {
 void tabulate_joint_angles(const ModelTpl<double>& m, SweepData<double>& sweep, const double* q) {
   ChosenSineCosine::run(joint_angle_sources(m, q), sweep.tree_joint_angle.data(), sweep.tree_joint_sine.data(),
                         sweep.tree_joint_cosine.data());
+}
+
+template <>
+void tabulate_joint_angles<Packet4d>(const ModelTpl<Packet4d>& m, SweepData<Packet4d>& sweep, const Packet4d* q) {
+  // The lanes of the packets, as doubles: lane l of slot k is entry 4 k + l.
+  constexpr int lanes = Packet4d::lanes, chunk = 16;
+  static_assert(sizeof(Packet4d) == lanes * sizeof(double), "a packet is its lanes");
+  const double* coordinates = reinterpret_cast<const double*>(q);
+  double* angle = reinterpret_cast<double*>(sweep.tree_joint_angle.data());
+  double* sine = reinterpret_cast<double*>(sweep.tree_joint_sine.data());
+  double* cosine = reinterpret_cast<double*>(sweep.tree_joint_cosine.data());
+  const auto n = static_cast<Eigen::Index>(m.angle_coordinates.size());
+  int lane_coordinate[chunk * lanes];
+  double lane_sign[chunk * lanes];
+  for (Eigen::Index first = 0; first < n; first += chunk) {
+    const Eigen::Index slots = std::min<Eigen::Index>(chunk, n - first);
+    for (Eigen::Index k = 0; k < slots; ++k)
+      for (int l = 0; l < lanes; ++l) {
+        lane_coordinate[k * lanes + l] = lanes * m.angle_coordinates[static_cast<std::size_t>(first + k)] + l;
+        lane_sign[k * lanes + l] = m.angle_signs[static_cast<std::size_t>(first + k)][l];
+      }
+    const Eigen::Index at = first * lanes;
+    ChosenSineCosine::run(Sources{coordinates, lane_coordinate, lane_sign, slots * lanes}, angle + at, sine + at,
+                          cosine + at);
+  }
 }
 
 const char* joint_angle_kernel() { return running_kernel().name; }

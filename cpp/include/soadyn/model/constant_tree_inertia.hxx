@@ -56,7 +56,7 @@ void ModelTpl<S>::refresh_constant_tree_inertia() {
   derived.leaf_presum_slot.assign(n, -1);
   derived.placement_axes.assign(n, PlacementAxes<S>());
   derived.diagonal_inertia_com.assign(n, 0);
-  if constexpr (!std::is_floating_point_v<S>) return;
+  if constexpr (!is_real_scalar_v<S>) return;
   for (std::size_t i = 0; i < n; ++i) {
     derived.placement_axes[i] = placement_axes_of(placement[i].rotation);
     derived.diagonal_inertia_com[i] = detail::is_diagonal(inertia_com[i]);

@@ -4,6 +4,12 @@
 // its Data differ). One Data (and derivative workspace) per thread, built by
 // the constructor; a call allocates nothing but the pool's job.
 //
+// Lanes: on processors with AVX2 and FMA, the forward, inverse and hybrid
+// dynamics and the mass matrix of rigid trees take four rows per pass
+// (algorithms/packet_dynamics.hpp), with the same results, bit for bit, and
+// the same per-row statuses; set_lanes(1) keeps the one-row path. Flexible
+// bodies, and the derivatives, stay one row at a time.
+//
 // Arrays are row-major with the batch first: Q is n x nq, V, TAU, U, QDD n x
 // nv, F (optional, nullptr: none) n x nbodies x 6 body-frame wrenches, mass
 // matrices n x nv x nv, derivatives six arrays of n x nv x nv. Inputs are not
@@ -16,6 +22,7 @@
 #include <memory>
 #include <vector>
 
+#include "soadyn/algorithms/packet_dynamics.hpp"
 #include "soadyn/model/data.hpp"
 #include "soadyn/parallel/thread_pool.hpp"
 #include "soadyn/core/status.hpp"
@@ -40,6 +47,16 @@ class BatchDynamics {
   void set_interrupt(const Interrupt* interrupt) { pool_.set_interrupt(interrupt); }
   const Model& model() const { return model_; }
 
+  // The widest packet this processor runs: PacketDynamics::lanes where
+  // PacketDynamics::available(), else 1.
+  static int widest_lanes();
+  // Rows per pass from now on: 1, or PacketDynamics::lanes where available
+  // (std::invalid_argument otherwise, naming the value). Starts at
+  // widest_lanes(). Models the packet path does not serve run one row at a
+  // time whatever the lanes.
+  void set_lanes(int lanes);
+  int lanes() const { return lanes_; }
+
   BatchOutcome forward_dynamics(std::int64_t n, const double* Q, const double* V, const double* TAU, const double* F,
                                 double* QDD);
   BatchOutcome inverse_dynamics(std::int64_t n, const double* Q, const double* V, const double* QDD, const double* F,
@@ -58,15 +75,25 @@ class BatchDynamics {
 
  private:
   struct Workspace;
-  // fn(row, workspace) -> Status over rows [0, n) on the pool.
+  // fn(row, workspace) -> Status over rows [0, n) on the pool; with packets
+  // on, packet_fn(first row, packet dynamics, statuses) over full groups of
+  // four rows instead (the rows past the last full group by fn).
   template <class RowFn>
   BatchOutcome for_rows(std::int64_t n, RowFn&& fn);
-  // call(data, q, v, x, f, out) -> Status per row, for one nv-vector out per row.
-  template <class Call>
+  template <class RowFn, class PacketFn>
+  BatchOutcome for_rows(std::int64_t n, RowFn&& fn, PacketFn&& packet_fn);
+  // Whether this call takes the packet path; if so, the packet model takes
+  // the model's values and every workspace has its packet dynamics.
+  bool prepare_packets();
+  // call(data, q, v, x, f, out) -> Status per row, for one nv-vector out
+  // per row; packet_call the PacketDynamics member for four rows.
+  template <class Call, class PacketCall>
   BatchOutcome vector_call(std::int64_t n, const double* Q, const double* V, const double* X, const double* F,
-                           double* OUT, Call&& call);
+                           double* OUT, Call&& call, PacketCall&& packet_call);
 
   const Model& model_;
+  int lanes_;
+  std::unique_ptr<PacketModel> packet_model_;  // built at the first packet call
   ThreadPool pool_;
   std::vector<std::unique_ptr<Workspace>> workspaces_;  // one per thread
 };

@@ -99,7 +99,7 @@ template <class S>
 SOADYN_ALWAYS_INLINE void inertia_parameters_in_frame(const Transform<S>& pose, const S& mass, const Vec3<S>& com,
                                                       const Mat3<S>& inertia_com, InertiaParameters<S>& p) {
   bool diagonal = false;
-  if constexpr (std::is_floating_point_v<S>) diagonal = detail::is_diagonal(inertia_com);
+  if constexpr (is_real_scalar_v<S>) diagonal = detail::is_diagonal(inertia_com);
   inertia_parameters_in_frame(pose, mass, com, inertia_com, diagonal, p);
 }
 

@@ -33,13 +33,13 @@ struct PlacementAxes {
   std::array<S, 3> sign{S(1), S(1), S(1)};
 };
 
-// The shape of a rotation (above). Floating-point scalars only: an
+// The shape of a rotation (above). Real scalars only (is_real_scalar_v): an
 // automatic-differentiation scalar is always `general`, so that derivatives
 // by the placement's parameters flow through the full product.
 template <class S>
 PlacementAxes<S> placement_axes_of(const Mat3<S>& rotation) {
   PlacementAxes<S> axes;
-  if constexpr (std::is_floating_point_v<S>) {
+  if constexpr (is_real_scalar_v<S>) {
     using std::abs;
     const S tolerance = std::numeric_limits<S>::epsilon();
     int rows_taken = 0;

@@ -39,6 +39,17 @@ template <class S> using Mat6N = Eigen::Matrix<S, 6, Eigen::Dynamic, 0, 6, 6>;
 template <class S> using MatN = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 template <class S> using VecN = Eigen::Matrix<S, Eigen::Dynamic, 1, 0, 6, 1>;
 
+struct Packet4d;  // core/packet.hpp
+
+// Whether S holds real numbers, one per state: a floating-point type, or a
+// packet of doubles (core/packet.hpp) whose lanes each take the double
+// algorithm's every step. The speed paths and the model's precomputed
+// shapes (placement axes, diagonal inertias, constant tree inertias) are
+// for such scalars; automatic-differentiation scalars take the general
+// paths, so that derivatives flow through every product.
+template <class S>
+inline constexpr bool is_real_scalar_v = std::is_floating_point_v<S> || std::is_same_v<S, Packet4d>;
+
 // The value of a scalar as a double: the number itself, or the value part of
 // an automatic-differentiation scalar (one with .value()).
 template <class S>

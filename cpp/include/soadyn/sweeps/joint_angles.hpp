@@ -50,6 +50,12 @@ void tabulate_joint_angles(const ModelTpl<S>& m, SweepData<S>& sweep, const S* q
   }
 }
 
+// Packets of four states (core/packet.hpp): the double kernel on the lanes'
+// angles, so each lane's sines and cosines are the double call's, bit for
+// bit (joint_angles.cpp).
+template <>
+void tabulate_joint_angles<Packet4d>(const ModelTpl<Packet4d>& m, SweepData<Packet4d>& sweep, const Packet4d* q);
+
 // The double-precision kernel this process runs: "polynomial AVX2",
 // "libmvec AVX2", "libmvec SSE2" or "std" (benchmarks report it). Chosen on
 // the first call, or by this question if no call came first

@@ -50,13 +50,13 @@ namespace soadyn {
 namespace detail {
 
 // Whether scalar S gets the speed paths: the tree-frame sweeps and the
-// hybrid dynamics' all-regular and all-prescribed shortcuts. Double and
-// float do. Any other scalar (the dual numbers of the parameter
+// hybrid dynamics' all-regular and all-prescribed shortcuts. Double, float
+// and packets of doubles do (is_real_scalar_v). Any other scalar (the dual numbers of the parameter
 // sensitivity) takes the body-frame sweeps under the model's flags, correct
 // for every model and equal up to rounding: instantiated for such a scalar,
 // the speed paths would only lengthen the build.
 template <class S>
-inline constexpr bool has_speed_paths = std::is_floating_point_v<S>;
+inline constexpr bool has_speed_paths = is_real_scalar_v<S>;
 
 // Any joint: its body-frame pose, subspace and bias from JointModel, carried
 // to the tree frame. Returns the bias (dS/dt v) in the tree frame.

@@ -1,0 +1,152 @@
+// Packet4d: four doubles that travel together through the dynamics, one
+// state per lane, so that one pass of a sweep computes four states (the
+// batched calls' packet path, algorithms/packet_dynamics.hpp). Every
+// arithmetic operation acts lane by lane with the rounding of the double
+// operation it stands for (+, -, *, / and sqrt are IEEE operations in each
+// lane; the transcendental functions call the double ones per lane), so a
+// lane computes exactly what the double algorithm computes on its state as
+// long as every branch the algorithm takes on a value goes the same way in
+// all four lanes.
+//
+// Comparisons therefore answer for all lanes at once, and record when the
+// lanes disagree: lanes_diverged() is then true on this thread until
+// clear_lane_divergence(). The caller replays such a packet state by state
+// with the double algorithm, so that each lane's result and status are
+// exactly those of the single call.
+//
+// The type is in namespace soadyn, so the algorithms' unqualified calls
+// (sin, sqrt, abs, ...) find its functions by argument-dependent lookup.
+#pragma once
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+#include <Eigen/Core>
+
+namespace soadyn {
+
+struct Packet4d {
+  static constexpr int lanes = 4;
+  // Aligned as a double: packets live inside Eigen's heap arrays (16-byte
+  // alignment), so loads and stores are unaligned ones.
+  typedef double Lanes __attribute__((vector_size(32), aligned(8)));
+  typedef long long Mask __attribute__((vector_size(32), aligned(8)));
+
+  Lanes v;
+
+  Packet4d() : v{0.0, 0.0, 0.0, 0.0} {}
+  Packet4d(double x) : v{x, x, x, x} {}  // NOLINT: implicit, as a double constant converts to the scalar
+  Packet4d(int x) : Packet4d(static_cast<double>(x)) {}  // NOLINT
+  explicit Packet4d(const Lanes& x) : v(x) {}
+
+  double operator[](int lane) const { return v[lane]; }
+  double& operator[](int lane) { return reinterpret_cast<double*>(&v)[lane]; }
+
+  // The sum of the lanes: non-finite when any lane is (scalar_value, the
+  // algorithms' finiteness checks).
+  double value() const { return (v[0] + v[1]) + (v[2] + v[3]); }
+
+  Packet4d& operator+=(const Packet4d& o) { v += o.v; return *this; }
+  Packet4d& operator-=(const Packet4d& o) { v -= o.v; return *this; }
+  Packet4d& operator*=(const Packet4d& o) { v *= o.v; return *this; }
+  Packet4d& operator/=(const Packet4d& o) { v /= o.v; return *this; }
+};
+
+template <class S>
+inline constexpr bool is_packet_v = std::is_same_v<S, Packet4d>;
+
+namespace packet_detail {
+// Set by a comparison whose lanes disagree (thread-local; see above).
+inline thread_local bool diverged = false;
+
+// The common answer of a lane mask; a split one is recorded, and lane 0's
+// answer is returned (the caller replays the packet).
+inline bool common(const Packet4d::Mask& m) {
+  const bool first = m[0] != 0;
+  if ((m[1] != 0) != first || (m[2] != 0) != first || (m[3] != 0) != first) diverged = true;
+  return first;
+}
+}  // namespace packet_detail
+
+inline bool lanes_diverged() { return packet_detail::diverged; }
+inline void clear_lane_divergence() { packet_detail::diverged = false; }
+
+inline Packet4d operator+(const Packet4d& a, const Packet4d& b) { return Packet4d(a.v + b.v); }
+inline Packet4d operator-(const Packet4d& a, const Packet4d& b) { return Packet4d(a.v - b.v); }
+inline Packet4d operator*(const Packet4d& a, const Packet4d& b) { return Packet4d(a.v * b.v); }
+inline Packet4d operator/(const Packet4d& a, const Packet4d& b) { return Packet4d(a.v / b.v); }
+inline Packet4d operator-(const Packet4d& a) { return Packet4d(-a.v); }
+inline Packet4d operator+(const Packet4d& a) { return a; }
+
+inline bool operator<(const Packet4d& a, const Packet4d& b) { return packet_detail::common(a.v < b.v); }
+inline bool operator>(const Packet4d& a, const Packet4d& b) { return packet_detail::common(a.v > b.v); }
+inline bool operator<=(const Packet4d& a, const Packet4d& b) { return packet_detail::common(a.v <= b.v); }
+inline bool operator>=(const Packet4d& a, const Packet4d& b) { return packet_detail::common(a.v >= b.v); }
+inline bool operator==(const Packet4d& a, const Packet4d& b) { return packet_detail::common(a.v == b.v); }
+inline bool operator!=(const Packet4d& a, const Packet4d& b) { return packet_detail::common(a.v != b.v); }
+
+// Lane-by-lane functions: one double call per lane.
+template <class F>
+inline Packet4d per_lane(const Packet4d& a, F&& f) {
+  Packet4d r;
+  for (int k = 0; k < Packet4d::lanes; ++k) r[k] = f(a[k]);
+  return r;
+}
+template <class F>
+inline Packet4d per_lane(const Packet4d& a, const Packet4d& b, F&& f) {
+  Packet4d r;
+  for (int k = 0; k < Packet4d::lanes; ++k) r[k] = f(a[k], b[k]);
+  return r;
+}
+
+inline Packet4d abs(const Packet4d& a) {  // clears the sign bits, as fabs does
+  constexpr long long magnitude = ~(1LL << 63);
+  return Packet4d((Packet4d::Lanes)((Packet4d::Mask)a.v & Packet4d::Mask{magnitude, magnitude, magnitude, magnitude}));
+}
+inline Packet4d sqrt(const Packet4d& a) { return per_lane(a, [](double x) { return std::sqrt(x); }); }
+inline Packet4d sin(const Packet4d& a) { return per_lane(a, [](double x) { return std::sin(x); }); }
+inline Packet4d cos(const Packet4d& a) { return per_lane(a, [](double x) { return std::cos(x); }); }
+inline Packet4d tan(const Packet4d& a) { return per_lane(a, [](double x) { return std::tan(x); }); }
+inline Packet4d exp(const Packet4d& a) { return per_lane(a, [](double x) { return std::exp(x); }); }
+inline Packet4d log(const Packet4d& a) { return per_lane(a, [](double x) { return std::log(x); }); }
+inline Packet4d acos(const Packet4d& a) { return per_lane(a, [](double x) { return std::acos(x); }); }
+inline Packet4d asin(const Packet4d& a) { return per_lane(a, [](double x) { return std::asin(x); }); }
+inline Packet4d atan(const Packet4d& a) { return per_lane(a, [](double x) { return std::atan(x); }); }
+inline Packet4d atan2(const Packet4d& a, const Packet4d& b) {
+  return per_lane(a, b, [](double y, double x) { return std::atan2(y, x); });
+}
+inline Packet4d pow(const Packet4d& a, const Packet4d& b) {
+  return per_lane(a, b, [](double x, double y) { return std::pow(x, y); });
+}
+inline Packet4d max(const Packet4d& a, const Packet4d& b) {
+  return per_lane(a, b, [](double x, double y) { return std::max(x, y); });
+}
+inline Packet4d min(const Packet4d& a, const Packet4d& b) {
+  return per_lane(a, b, [](double x, double y) { return std::min(x, y); });
+}
+inline bool isfinite(const Packet4d& a) { return std::isfinite(a.value()); }  // all lanes finite
+inline bool isnan(const Packet4d& a) { return std::isnan(a.value()); }        // some lane NaN
+inline bool isinf(const Packet4d& a) { return !isfinite(a) && !isnan(a); }
+
+}  // namespace soadyn
+
+namespace std {
+template <>
+class numeric_limits<soadyn::Packet4d> : public numeric_limits<double> {};
+}  // namespace std
+
+namespace Eigen {
+template <>
+struct NumTraits<soadyn::Packet4d> : GenericNumTraits<soadyn::Packet4d> {
+  typedef soadyn::Packet4d Real;
+  typedef soadyn::Packet4d NonInteger;
+  typedef soadyn::Packet4d Nested;
+  typedef soadyn::Packet4d Literal;
+  enum { IsComplex = 0, IsInteger = 0, IsSigned = 1, RequireInitialization = 0, ReadCost = 1, AddCost = 1, MulCost = 1 };
+  static soadyn::Packet4d epsilon() { return std::numeric_limits<double>::epsilon(); }
+  static soadyn::Packet4d dummy_precision() { return 1e-12; }
+  static soadyn::Packet4d highest() { return std::numeric_limits<double>::max(); }
+  static soadyn::Packet4d lowest() { return std::numeric_limits<double>::lowest(); }
+  static int digits10() { return std::numeric_limits<double>::digits10; }
+};
+}  // namespace Eigen

@@ -1,0 +1,200 @@
+"""soadyn.batch's packet path (lanes=4: four rows per pass, AVX2) against one row per pass (lanes=1).
+
+- On the four robots and on random trees with every joint type (floating and fixed roots), the forward,
+  inverse and hybrid dynamics (with a mixed mask) and the mass matrix of 23 rows (five packets and three
+  rows past them) agree with lanes=1 to within 1e-12 of each row's largest entry; the rows past the last
+  full packet, which take the one-row path, are equal bit for bit.
+- The packet path agrees with Pinocchio's ABA, RNEA and CRBA (an oracle) on panda.
+- A packet whose rows branch differently (one body beyond its tree-frame reach, where the forward and hybrid
+  dynamics and the mass matrix switch to body frames) is computed again row by row: its four rows equal lanes=1
+  bit for bit. A row whose dynamics overflow raises the same DynamicsError,
+  naming the same row, whatever the lanes.
+- Values changed on the model between calls (prescribed flags, gravity, a mass) are taken by the next call.
+- The rows are grouped by index, so the result does not depend on the number of threads (bit for bit).
+- lanes other than None, 1 or widest_lanes() is refused by name; with SOADYN_BASELINE_KERNELS set the widest
+  is 1 and lanes=4 is refused, naming the reason.
+"""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import soadyn
+from soadyn import batch
+from support.batch_states import batch_states
+from support.robots import robot_with_oracle
+from support.trees import random_tree
+
+ROWS = 23  # five packets of four, and three rows on the one-row path
+PAST_PACKETS = slice(20, 23)
+# The packet sums each lane's products in Eigen's generic order, the one-row path in its SSE2 order: the two
+# round differently, by at most 2.3e-13 of a row's largest entry over 2,000 random states of talos (the worst of
+# the four robots; docs/guides/batch.md). 1e-12 leaves the margin of a different seed.
+ROW_TOLERANCE = 1e-12
+
+
+
+def require_packets():
+    """The packet tests need a processor with AVX2 and FMA (every x86-64 machine CI runs on has them)."""
+    assert batch.widest_lanes() == 4, "this processor runs no packets (no AVX2 and FMA)"
+
+
+def states(m, rows=ROWS, seed=0):
+    return batch_states(m, rows, seed)
+
+
+def models():
+    out = {}
+    for name, floating in (("ur5", False), ("panda", False), ("solo12", True), ("talos", True)):
+        out[name] = robot_with_oracle(name, floating)[0]
+    for seed, floating in ((3, True), (4, False)):
+        out[f"tree-{seed}"] = random_tree(seed, nbodies=14, floating=floating)[0]
+    return out
+
+
+MODELS = models()
+
+
+def mixed(m):
+    """A copy of m with every third DOF prescribed."""
+    masked = m.copy()
+    masked.set_prescribed(list(m.dof_names[::3]))
+    return masked
+
+
+def calls(m, Q, V, X, lanes, threads=1):
+    """Every packet call's results, as a list of (n, ...) arrays."""
+    qdd = batch.forward_dynamics(m, Q, V, X, threads=threads, lanes=lanes)
+    tau = batch.inverse_dynamics(m, Q, V, X, threads=threads, lanes=lanes)
+    hq, ht = batch.hybrid_dynamics(mixed(m), Q, V, X, threads=threads, lanes=lanes)
+    M = batch.mass_matrix(m, Q, threads=threads, lanes=lanes)
+    return [qdd, tau, hq, ht, M]
+
+
+def row_difference(a, b):
+    """The largest difference of each row, over that row's largest magnitude."""
+    a, b = a.reshape(len(a), -1), b.reshape(len(b), -1)
+    return np.max(np.abs(a - b), axis=1) / np.max(np.abs(a), axis=1)
+
+
+@pytest.mark.parametrize("name", sorted(MODELS))
+def test_four_lanes_agree_with_one_row_per_pass(name):
+    require_packets()
+    m = MODELS[name]
+    Q, V, X = states(m)
+    for one, four in zip(calls(m, Q, V, X, 1), calls(m, Q, V, X, 4)):
+        assert np.all(np.isfinite(four))
+        assert np.max(row_difference(one, four)) <= ROW_TOLERANCE
+        assert np.array_equal(one[PAST_PACKETS], four[PAST_PACKETS])
+
+
+def test_packet_path_matches_pinocchio():
+    require_packets()
+    m, oracle = robot_with_oracle("panda", False)
+    Q, V, X = states(m, rows=8, seed=5)
+    qdd = batch.forward_dynamics(m, Q, V, X, lanes=4)
+    tau = batch.inverse_dynamics(m, Q, V, X, lanes=4)
+    M = batch.mass_matrix(m, Q, lanes=4)
+    for k in range(8):
+        scale = 1 + np.max(np.abs(qdd[k]))
+        assert np.max(np.abs(qdd[k] - oracle.forward_dynamics(Q[k], V[k], X[k]))) <= 1e-9 * scale
+        assert np.max(np.abs(tau[k] - oracle.inverse_dynamics(Q[k], V[k], X[k]))) <= 1e-9 * (1 + np.max(np.abs(tau[k])))
+        assert np.max(np.abs(M[k] - oracle.mass_matrix(Q[k]))) <= 1e-12 * (1 + np.max(np.abs(M[k])))
+
+
+def far_prismatic_model():
+    """A revolute root and a chain below it whose third joint slides: a slide of 1e5 m puts the bodies below it
+    beyond their tree-frame reach (1000 radii of gyration), where the dynamics switch to body frames."""
+    m = soadyn.Model()
+    rng = np.random.default_rng(11)
+    joints = [soadyn.Joint.revolute([0, 0, 1]), soadyn.Joint.revolute([0, 1, 0]),
+              soadyn.Joint.prismatic([1, 0, 0]), soadyn.Joint.revolute([1, 0, 0]), soadyn.Joint.revolute([0, 1, 0])]
+    for i, joint in enumerate(joints):
+        m.add_body(f"b{i}", i - 1, joint, placement=(np.eye(3), rng.uniform(-0.3, 0.3, 3)), mass=1.0 + i,
+                   com=rng.uniform(-0.1, 0.1, 3), inertia=np.diag(rng.uniform(0.1, 0.15, 3)))
+    return m
+
+
+def test_rows_that_branch_apart_are_computed_row_by_row():
+    require_packets()
+    m = far_prismatic_model()
+    Q, V, X = states(m, rows=8, seed=2)
+    Q[5, 2] = 1e5  # the slide's coordinate; row 5: beyond the reach; rows 4, 6, 7 within
+    results = zip(calls(m, Q, V, X, 1), calls(m, Q, V, X, 4))
+    for k, (one, four) in enumerate(results):
+        assert np.max(row_difference(one, four)) <= ROW_TOLERANCE
+        if k != 1:  # the inverse dynamics (Newton-Euler in body frames) does not branch on the reach
+            assert np.array_equal(one[4:8], four[4:8])  # the split packet: the single call's bits
+
+
+@pytest.mark.parametrize("call", ["forward_dynamics", "inverse_dynamics", "hybrid_dynamics"])
+def test_a_failing_row_is_reported_as_the_single_call_reports_it(call):
+    require_packets()
+    m = MODELS["panda"]
+    Q, V, X = states(m, rows=8, seed=3)
+    V[6] = 1e200  # the velocity products overflow in row 6 only
+    messages = []
+    for lanes in (1, 4):
+        with pytest.raises(soadyn.DynamicsError) as info:
+            getattr(batch, call)(m, Q, V, X, lanes=lanes)
+        messages.append(str(info.value))
+    assert "row 6" in messages[0]
+    assert messages[0] == messages[1]
+
+
+def test_values_changed_between_calls_are_taken():
+    require_packets()
+    m = MODELS["ur5"].copy()
+    Q, V, X = states(m, rows=8, seed=4)
+    before = batch.hybrid_dynamics(m, Q, V, X, lanes=4)
+    m.set_prescribed([m.dof_names[0], m.dof_names[2]])
+    m.gravity = np.array([0.0, 3.0, -5.0])
+    after = batch.hybrid_dynamics(m, Q, V, X, lanes=4)
+    reference = batch.hybrid_dynamics(m, Q, V, X, lanes=1)
+    assert not np.allclose(before[0], after[0])
+    for one, four in zip(reference, after):
+        assert np.max(row_difference(one, four)) <= ROW_TOLERANCE
+
+
+def test_threads_do_not_change_the_packets():
+    require_packets()
+    m = MODELS["talos"]
+    Q, V, X = states(m, rows=37, seed=6)
+    for one, two in zip(calls(m, Q, V, X, 4, threads=1), calls(m, Q, V, X, 4, threads=2)):
+        assert np.array_equal(one, two)
+
+
+@pytest.mark.parametrize("lanes", [0, 2, 3, 8, -4, True, 4.0, "4"])
+def test_bad_lanes_are_refused_by_name(lanes):
+    m = MODELS["ur5"]
+    Q, V, X = states(m, rows=4)
+    for call in (lambda: batch.forward_dynamics(m, Q, V, X, lanes=lanes),
+                 lambda: batch.mass_matrix(m, Q, lanes=lanes),
+                 lambda: batch.dynamics_derivatives(m, Q, V, X, lanes=lanes),
+                 lambda: batch.rollout(m, np.zeros((2, m.nq + m.nv)), steps=2, lanes=lanes)):
+        with pytest.raises(ValueError, match="lanes must be"):
+            call()
+
+
+def test_baseline_kernels_leave_one_lane():
+    script = (
+        "import numpy as np, soadyn\n"
+        "from soadyn import batch\n"
+        "m = soadyn.scenes.pendulum_chain(3)\n"
+        "assert batch.widest_lanes() == 1, batch.widest_lanes()\n"
+        "Q = np.zeros((4, m.nq))\n"
+        "batch.mass_matrix(m, Q)\n"
+        "batch.mass_matrix(m, Q, lanes=1)\n"
+        "try:\n"
+        "    batch.mass_matrix(m, Q, lanes=4)\n"
+        "except ValueError as e:\n"
+        "    assert 'AVX2' in str(e), e\n"
+        "else:\n"
+        "    raise SystemExit('lanes=4 accepted without packets')\n")
+    env = dict(os.environ, SOADYN_BASELINE_KERNELS="1")
+    done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
