@@ -1,9 +1,11 @@
 // The parallel layer as a C++ user links it (soadyn::realtime):
 //   - BatchDynamics: forward, inverse and hybrid dynamics, the mass matrix and
-//     the derivatives of 64 states, with 1, 2 and 3 threads, equal bit for bit
-//     to the single calls on a random 20-body tree (every joint type, external
-//     wrenches, a mixed mask) and on the same tree with flexible bodies (the
-//     dual-number derivatives);
+//     the derivatives of 64 states, with 1, 2 and 3 threads, one row per pass
+//     and the widest packets, equal bit for bit to the single calls on a
+//     random 20-body tree (every joint type, external wrenches, a mixed mask)
+//     and on the same tree with flexible bodies (the dual-number derivatives;
+//     one row per pass whatever the lanes). Four rows per pass, a rigid
+//     model's mass matrix is the baseline kernel's, bit for bit;
 //   - rollout: 6 pendulum-chain runs with per-run torques, masses and lock
 //     times, with 1 and 2 threads, equal bit for bit to one Simulator per run;
 //     a refused parameter and an overflowing step reported per run;
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "random_tree.hpp"
+#include "soadyn/algorithms/crba.hpp"
 #include "soadyn/analysis/dynamics_derivatives.hpp"
 #include "soadyn/analysis/parameter_sensitivity.hpp"
 #include "soadyn/parallel/batch_dynamics.hpp"
@@ -60,13 +63,24 @@ bool same(const double* a, const Eigen::VectorXd& b) {
   return true;
 }
 
+// The single call's mass matrix at q, or with four rows per pass on a rigid
+// model the baseline kernel's (algorithms/packet_dynamics.hpp), into d.
+void reference_mass_matrix(const soadyn::Model& m, soadyn::Data& d, const Eigen::Map<const Eigen::VectorXd>& q,
+                           int lanes) {
+  if (lanes > 1 && soadyn::PacketDynamics::serves(m)) {
+    const auto& baseline = soadyn::detail::available_mass_matrix_kernels().back();
+    if (baseline.run(m, d, q).ok()) return;  // beyond the tree-frame reach: the body-frame sweeps, as the call
+  }
+  soadyn::mass_matrix<double>(m, d, q);
+}
+
 // Every batched call against the single calls; returns the rows that differ.
-long batched_calls_differ(const soadyn::Model& m, int threads) {
+long batched_calls_differ(const soadyn::Model& m, int threads, int lanes) {
   using Map = Eigen::Map<const Eigen::VectorXd>;
   const int n = 64, nq = m.nq, nv = m.nv, nf = 6 * m.nbodies();
   const Batch b = random_batch(m, n);
   soadyn::BatchDynamics batch(m, threads);
-  batch.set_lanes(1);  // one row per pass: bit for bit (the packets' agreement: tests/batch/test_batch_lanes.py)
+  batch.set_lanes(lanes);
   Rows qdd(n * nv), tau(n * nv), hq(n * nv), ht(n * nv), M(n * nv * nv);
   std::vector<Rows> D(6, Rows(n * nv * nv));
   const std::array<double*, 6> out = {D[0].data(), D[1].data(), D[2].data(), D[3].data(), D[4].data(), D[5].data()};
@@ -92,7 +106,7 @@ long batched_calls_differ(const soadyn::Model& m, int threads) {
     ok = ok && same(tau.data() + k * nv, d.tau);
     soadyn::hybrid_dynamics<double>(m, d, q, v, u, f);
     ok = ok && same(hq.data() + k * nv, d.qdd) && same(ht.data() + k * nv, d.tau);
-    soadyn::mass_matrix<double>(m, d, q);
+    reference_mass_matrix(m, d, q, lanes);
     ok = ok && same(M.data() + k * nv * nv, d.mass_matrix);
     if (by_dual) {
       for (auto& x : r) x.setZero(nv, nv);
@@ -216,9 +230,12 @@ int main() {
   soadyn::Model flexible = soadyn_test::build_model<double>(soadyn_test::random_tree_spec(2024, 20));
   soadyn_test::add_flexible_bodies(flexible);
   long differ = 0;
-  for (int threads : {1, 2, 3}) differ += batched_calls_differ(tree, threads) + batched_calls_differ(flexible, threads);
-  std::printf("batched calls: 2 models x 3 thread counts x 64 rows, rows differing from the single calls: %ld\n",
-              differ);
+  const int widest = soadyn::BatchDynamics::widest_lanes();
+  for (int lanes : {1, widest})
+    for (int threads : {1, 2, 3})
+      differ += batched_calls_differ(tree, threads, lanes) + batched_calls_differ(flexible, threads, lanes);
+  std::printf("batched calls: 2 models x 3 thread counts x lanes 1 and %d x 64 rows, rows differing from the single "
+              "calls: %ld\n", widest, differ);
   long rollout_differ = 0, reported = 0;
   for (int threads : {1, 2}) {
     long r = 0;

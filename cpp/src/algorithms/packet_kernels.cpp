@@ -1,7 +1,7 @@
 // The packet path's forward, inverse and hybrid dynamics
 // (algorithms/packet_kernels.hpp). Compiled for AVX2 without contracting
 // products into fused multiply-adds (CMakeLists.txt), as the single calls'
-// double code is: each lane rounds exactly as they do.
+// double code is compiled: each lane rounds exactly as they do.
 #include "soadyn/algorithms/packet_kernels.hpp"
 
 #include "soadyn/algorithms/aba.hxx"

@@ -3,14 +3,17 @@
 // the algorithms run on packets of four doubles (core/packet.hpp), one state
 // per lane, compiled for AVX2 (one instruction for the four lanes).
 //
-// Each lane's result is the single call's, bit for bit: the packet
-// operations are the double ones lane by lane, the joint angles' sines and
-// cosines come from the same kernel, and the fused multiply-adds are the
-// single call's (none in the forward, inverse and hybrid dynamics; the mass
-// matrix is compiled as its AVX2 FMA kernel is). When the four states take
-// different branches (a comparison on values whose lanes disagree) or a
-// lane fails, the four rows are computed again one by one by the single
-// call, so each row's result and status are exactly the single call's.
+// Each lane's forward, inverse and hybrid dynamics are the single call's,
+// bit for bit: the packet operations are the double ones lane by lane, the
+// joint angles' sines and cosines come from the same kernel, Eigen sums
+// products over packets in the order it sums doubles (core/packet.hpp), and
+// nothing is fused into multiply-adds, as in the single call. The mass
+// matrix is the baseline kernel's bit for bit; on processors with AVX2 and
+// FMA the single call runs its FMA kernel, whose M differs in the last bits
+// (algorithms/crba.hpp). When the four states take different branches (a
+// comparison on values whose lanes disagree) or a lane fails, the four rows
+// are computed again one by one by the single call, so each row's result
+// and status are exactly the single call's.
 //
 // Rigid trees only (no flexible bodies: their appendage step has its own
 // double kernel); BatchDynamics runs other models row by row.

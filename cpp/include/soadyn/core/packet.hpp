@@ -135,7 +135,119 @@ template <>
 class numeric_limits<soadyn::Packet4d> : public numeric_limits<double> {};
 }  // namespace std
 
+namespace soadyn {
+// Eigen's vector of two Packet4d scalars. Declaring packets of this size, as
+// SSE2's two doubles are, makes Eigen evaluate every expression on packets
+// in the order it evaluates the same expression on doubles: its sums of
+// products (matrix-vector products, dot products) add their terms in the
+// same order, so each lane rounds as the double call does.
+struct Packet4dPair {
+  Packet4d lo, hi;
+};
+}  // namespace soadyn
+
 namespace Eigen {
+namespace internal {
+
+template <>
+struct packet_traits<soadyn::Packet4d> : default_packet_traits {
+  typedef soadyn::Packet4dPair type;
+  typedef soadyn::Packet4dPair half;
+  // As packet_traits<double> with SSE2 (arch/SSE/PacketMath.h), for the
+  // operations the algorithms use.
+  enum {
+    Vectorizable = 1,
+    AlignedOnScalar = 1,
+    size = 2,
+    HasHalfPacket = 0,
+    HasShift = 0,
+    HasSetLinear = 0,
+    HasDiv = 1,
+    HasSqrt = 1
+  };
+};
+
+template <>
+struct unpacket_traits<soadyn::Packet4dPair> {
+  typedef soadyn::Packet4d type;
+  typedef soadyn::Packet4dPair half;
+  enum { size = 2, alignment = Aligned16, vectorizable = true, masked_load_available = false,
+         masked_store_available = false };
+};
+
+// (Eigen::internal has its own Packet4d: AVX's four doubles.)
+using LanePacket = soadyn::Packet4d;
+using LanePair = soadyn::Packet4dPair;
+
+template <>
+inline LanePair pset1<LanePair>(const LanePacket& a) { return {a, a}; }
+template <>
+inline LanePair pload<LanePair>(const LanePacket* from) { return {from[0], from[1]}; }
+template <>
+inline LanePair ploadu<LanePair>(const LanePacket* from) { return {from[0], from[1]}; }
+template <>
+inline LanePair ploaddup<LanePair>(const LanePacket* from) { return {from[0], from[0]}; }
+template <>
+inline void pstore<LanePacket>(LanePacket* to, const LanePair& a) { to[0] = a.lo; to[1] = a.hi; }
+template <>
+inline void pstoreu<LanePacket>(LanePacket* to, const LanePair& a) { to[0] = a.lo; to[1] = a.hi; }
+template <>
+inline LanePair pgather<LanePacket, LanePair>(const LanePacket* from, Index stride) { return {from[0], from[stride]}; }
+template <>
+inline void pscatter<LanePacket, LanePair>(LanePacket* to, const LanePair& a, Index stride) {
+  to[0] = a.lo;
+  to[stride] = a.hi;
+}
+template <>
+inline LanePair padd<LanePair>(const LanePair& a, const LanePair& b) { return {a.lo + b.lo, a.hi + b.hi}; }
+template <>
+inline LanePair psub<LanePair>(const LanePair& a, const LanePair& b) { return {a.lo - b.lo, a.hi - b.hi}; }
+template <>
+inline LanePair pmul<LanePair>(const LanePair& a, const LanePair& b) { return {a.lo * b.lo, a.hi * b.hi}; }
+template <>
+inline LanePair pdiv<LanePair>(const LanePair& a, const LanePair& b) { return {a.lo / b.lo, a.hi / b.hi}; }
+template <>
+inline LanePair pnegate<LanePair>(const LanePair& a) { return {-a.lo, -a.hi}; }
+template <>
+inline LanePair pconj<LanePair>(const LanePair& a) { return a; }
+// SSE2 has no fused multiply-add: a product, rounded, then a sum.
+template <>
+inline LanePair pmadd<LanePair>(const LanePair& a, const LanePair& b, const LanePair& c) {
+  return padd(pmul(a, b), c);
+}
+template <>
+inline LanePair pabs<LanePair>(const LanePair& a) { return {abs(a.lo), abs(a.hi)}; }
+template <>
+inline LanePair pmin<LanePair>(const LanePair& a, const LanePair& b) {
+  return {min(a.lo, b.lo), min(a.hi, b.hi)};
+}
+template <>
+inline LanePair pmax<LanePair>(const LanePair& a, const LanePair& b) {
+  return {max(a.lo, b.lo), max(a.hi, b.hi)};
+}
+template <>
+inline LanePair psqrt<LanePair>(const LanePair& a) { return {sqrt(a.lo), sqrt(a.hi)}; }
+template <>
+inline LanePair preverse<LanePair>(const LanePair& a) { return {a.hi, a.lo}; }
+template <>
+inline LanePacket pfirst<LanePair>(const LanePair& a) { return a.lo; }
+// The horizontal sum as SSE2's: lane 0 plus lane 1.
+template <>
+inline LanePacket predux<LanePair>(const LanePair& a) { return a.lo + a.hi; }
+template <>
+inline LanePacket predux_mul<LanePair>(const LanePair& a) { return a.lo * a.hi; }
+template <>
+inline LanePacket predux_min<LanePair>(const LanePair& a) { return min(a.lo, a.hi); }
+template <>
+inline LanePacket predux_max<LanePair>(const LanePair& a) { return max(a.lo, a.hi); }
+inline void ptranspose(PacketBlock<LanePair, 2>& block) {
+  const LanePair a = block.packet[0], b = block.packet[1];
+  block.packet[0] = {a.lo, b.lo};
+  block.packet[1] = {a.hi, b.hi};
+}
+
+}  // namespace internal
+
 template <>
 struct NumTraits<soadyn::Packet4d> : GenericNumTraits<soadyn::Packet4d> {
   typedef soadyn::Packet4d Real;

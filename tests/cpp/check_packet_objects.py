@@ -1,0 +1,63 @@
+"""The packet kernels' objects are compiled for AVX2 (CMakeLists.txt) and linked into a library that runs on
+any x86-64 processor. Inline functions they share with the rest of the library (an exception helper, a
+destructor) are emitted in every object that uses them, and the linker keeps one copy: a copy of such a
+function compiled for AVX2 could then run on a processor without it. This check disassembles the kernels'
+objects and fails if a function whose name does not involve a packet (soadyn::Packet4d) uses an AVX
+instruction (a VEX-encoded one: its mnemonic starts with 'v') or a 256-bit register.
+
+Usage: python check_packet_objects.py OBJECT... (or one ;-separated list; the objects whose names hold
+"packet_kernels" or "packet_mass_matrix" are checked; at least one must be given). Prints one summary line.
+"""
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+
+KERNEL_OBJECTS = ("packet_kernels", "packet_mass_matrix")
+FUNCTION = re.compile(r"^[0-9a-f]+ <(.+)>:$")
+INSTRUCTION = re.compile(r"^\s+[0-9a-f]+:\s+(\S+)")
+
+
+def functions(path: str) -> dict[str, list[str]]:
+    """Each function of the object, demangled, with its instructions' mnemonics."""
+    text = subprocess.run(["objdump", "-d", "-C", "--no-show-raw-insn", path], check=True, capture_output=True,
+                          text=True).stdout
+    out: dict[str, list[str]] = {}
+    name = None
+    for line in text.splitlines():
+        match = FUNCTION.match(line)
+        if match:
+            name = match.group(1)
+            out.setdefault(name, [])
+            continue
+        match = INSTRUCTION.match(line)
+        if match and name is not None:
+            out[name].append(line)
+    return out
+
+
+def main(paths: list[str]) -> int:
+    paths = [p for arg in paths for p in arg.split(";")]  # CTest passes a target's objects as one list
+    objects = [p for p in paths if any(k in p for k in KERNEL_OBJECTS)]
+    if not objects:
+        print("check_packet_objects: no packet kernel object among the arguments")
+        return 1
+    shared, leaks = 0, []
+    for path in objects:
+        for name, lines in functions(path).items():
+            if "Packet4d" in name:
+                continue
+            shared += 1
+            avx = [ln for ln in lines if INSTRUCTION.match(ln).group(1).startswith("v") or "%ymm" in ln]
+            if avx:
+                leaks.append(f"{path}: {name}: {avx[0].strip()}")
+    for leak in leaks:
+        print("AVX in a shared function:", leak)
+    print(f"check_packet_objects: {len(objects)} objects, {shared} functions shared with the library, "
+          f"{len(leaks)} with AVX instructions")
+    return 1 if leaks else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
