@@ -199,7 +199,7 @@ void bind_batch(py::module_& mod) {
                                std::int64_t record_every, const std::vector<int>& parameters, py::handle values,
                                const std::vector<std::pair<int, Source>>& sources,
                                const std::vector<std::pair<std::string, int>>& events, py::handle event_times,
-                               int threads) {
+                               int threads, int lanes) {
     if (threads < 0) throw py::value_error("batch.rollout: threads must be >= 0 (0: one per hardware thread)");
     const std::uint64_t version = h.model.version;
     std::vector<std::string> state_names = h.model.coordinate_names;
@@ -237,6 +237,7 @@ void bind_batch(py::module_& mod) {
       require_size(p, runs * width, "parameter values");
     }
     if (r.event_times) require_size(te, runs * static_cast<py::ssize_t>(events.size()), "event times");
+    r.lanes = lanes;
     const py::ssize_t rows = soadyn::rollout_rows(r);
     py::array_t<double> q({runs, rows, static_cast<py::ssize_t>(h.model.nq)}),
         v({runs, rows, static_cast<py::ssize_t>(h.model.nv)});
@@ -256,7 +257,7 @@ void bind_batch(py::module_& mod) {
     interrupt.raise_if_interrupted();
     return py::make_tuple(q, v, failed, messages);
   }, py::arg("model"), py::arg("x0s"), py::arg("runs"), py::arg("controls"), py::arg("controls_per_run"), py::arg("dt"), py::arg("steps"), py::arg("integrator"), py::arg("record_every"), py::arg("parameters"), py::arg("parameter_values"), py::arg("sources"), py::arg("events"), py::arg("event_times"), py::arg("threads"),
-     "Parallel rollouts (soadyn.batch.rollout): (q, v, failed_step, messages).");
+     py::arg("lanes"), "Parallel rollouts (soadyn.batch.rollout): (q, v, failed_step, messages).");
 }
 
 }  // namespace soadyn_py

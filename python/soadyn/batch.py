@@ -14,9 +14,11 @@ dynamics fail raises DynamicsError naming the first failing row.
 
 `lanes` sets how many rows one pass of the algorithm computes: on processors with AVX2 and FMA the forward,
 inverse and hybrid dynamics and the mass matrix of rigid trees take four rows per pass (``widest_lanes()``, the
-default), lanes=1 one row per pass. Both report the same failing rows with the same errors; their results agree
-to rounding (docs/guides/batch.md states how closely, and when they are equal bit for bit). Models with
-flexible bodies, the derivatives and rollouts take one row per pass whatever the lanes.
+default), lanes=1 one row per pass. Both give the same results, bit for bit, and report the same failing rows
+with the same errors; the mass matrix four rows per pass is the baseline kernel's, which differs from the
+single call's AVX2 FMA kernel in the last bits (docs/guides/batch.md). Models with flexible bodies and the
+derivatives take one row per pass whatever the lanes; rollouts step four runs side by side when the runs
+share everything but their initial states and torques.
 
 `rollout` steps many independent simulations of one model in parallel (the
 equivalent of MuJoCo's rollout): different initial states, torques, shared
@@ -270,15 +272,16 @@ def rollout(m, x0s, controls_or_sources=None, dt: float = 1e-3, steps: int = 100
     prescribing motions shared by every run (C++ sources only: a Python-function source would need the
     GIL). parameters: {parameter name: (runs, *shape) values} set on each run's copy of the model.
     events: [(kind, DOF, times)] with kind 'lock' or 'release' and one time per run (or one for all).
-    Samples every `record_every` steps (which must divide `steps`), the start included. lanes is checked as the
-    other calls check it; rollouts step one run per pass whatever its value.
+    Samples every `record_every` steps (which must divide `steps`), the start included. With lanes 4 (the default
+    where the processor has AVX2 and FMA), runs of a rigid tree without parameters, sources or events step four
+    side by side, each equal bit for bit to its run alone; other runs step one by one.
 
     dt in s; torques in N or N m, states as the single calls'. Raises TypeError or ValueError naming the
     argument (and the run, row or DOF) for a wrong type, shape, a non-finite entry, an unknown DOF or parameter,
     a dt that is not finite and positive, or a record_every that does not divide steps. A run whose dynamics
     fail is not raised: RolloutResult reports it (ok, failed_step, messages) and its later samples are NaN.
     """
-    _lanes(lanes)
+    width = _lanes(lanes)
     x0 = _rows("x0s", x0s, m.nq + m.nv)
     runs = x0.shape[0]
     steps = _whole("steps", steps, 0)
@@ -297,7 +300,7 @@ def rollout(m, x0s, controls_or_sources=None, dt: float = 1e-3, steps: int = 100
     kinds, times = _events(m, events, runs)
     q, v, failed, messages = _soadyn._batch_rollout(
         m, x0, runs, controls, per_run, dt, steps, integrator, record_every, entries, values,
-        sources, kinds, times, _threads(threads))
+        sources, kinds, times, _threads(threads), width)
     failed = np.asarray(failed, dtype=np.int64)
     t = np.arange(steps // record_every + 1) * (dt * record_every)
     return RolloutResult(t, q, v, np.array([not text for text in messages]), failed, list(messages))

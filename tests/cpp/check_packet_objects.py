@@ -3,10 +3,13 @@ any x86-64 processor. Inline functions they share with the rest of the library (
 destructor) are emitted in every object that uses them, and the linker keeps one copy: a copy of such a
 function compiled for AVX2 could then run on a processor without it. This check disassembles the kernels'
 objects and fails if a function whose name does not involve a packet (soadyn::Packet4d) uses an AVX
-instruction (a VEX-encoded one: its mnemonic starts with 'v') or a 256-bit register.
+instruction (a VEX-encoded one: its mnemonic starts with 'v') or a 256-bit register. Given a program linked
+with the library (--program), it checks the copies the linker kept: no function of the program uses AVX but
+the packet ones and the kernels compiled for AVX2 on purpose (their names hold "avx2").
 
-Usage: python check_packet_objects.py OBJECT... (or one ;-separated list; the objects whose names hold
-"packet_kernels" or "packet_mass_matrix" are checked; at least one must be given). Prints one summary line.
+Usage: python check_packet_objects.py [--program PROGRAM] OBJECT... (or one ;-separated list; the objects
+whose names hold "packet_kernels", "packet_mass_matrix" or "packet_step" are checked; at least one must be
+given). Prints one summary line.
 """
 from __future__ import annotations
 
@@ -14,7 +17,7 @@ import re
 import subprocess
 import sys
 
-KERNEL_OBJECTS = ("packet_kernels", "packet_mass_matrix")
+KERNEL_OBJECTS = ("packet_kernels", "packet_mass_matrix", "packet_step")
 FUNCTION = re.compile(r"^[0-9a-f]+ <(.+)>:$")
 INSTRUCTION = re.compile(r"^\s+[0-9a-f]+:\s+(\S+)")
 
@@ -37,7 +40,27 @@ def functions(path: str) -> dict[str, list[str]]:
     return out
 
 
+def uses_avx(lines: list[str]) -> list[str]:
+    return [ln for ln in lines if INSTRUCTION.match(ln).group(1).startswith("v") or "%ymm" in ln]
+
+
+def program_leaks(path: str) -> tuple[int, list[str]]:
+    """(functions using AVX, those that should not) in a linked program."""
+    users, leaks = 0, []
+    for name, lines in functions(path).items():
+        avx = uses_avx(lines)
+        if not avx:
+            continue
+        users += 1
+        if "Packet4d" not in name and "avx2" not in name:
+            leaks.append(f"{path}: {name}: {avx[0].strip()}")
+    return users, leaks
+
+
 def main(paths: list[str]) -> int:
+    program = None
+    if paths[:1] == ["--program"]:
+        program, paths = paths[1], paths[2:]
     paths = [p for arg in paths for p in arg.split(";")]  # CTest passes a target's objects as one list
     objects = [p for p in paths if any(k in p for k in KERNEL_OBJECTS)]
     if not objects:
@@ -49,14 +72,16 @@ def main(paths: list[str]) -> int:
             if "Packet4d" in name:
                 continue
             shared += 1
-            avx = [ln for ln in lines if INSTRUCTION.match(ln).group(1).startswith("v") or "%ymm" in ln]
+            avx = uses_avx(lines)
             if avx:
                 leaks.append(f"{path}: {name}: {avx[0].strip()}")
-    for leak in leaks:
+    users, kept = program_leaks(program) if program else (0, [])
+    for leak in leaks + kept:
         print("AVX in a shared function:", leak)
     print(f"check_packet_objects: {len(objects)} objects, {shared} functions shared with the library, "
-          f"{len(leaks)} with AVX instructions")
-    return 1 if leaks else 0
+          f"{len(leaks)} with AVX instructions; the program's functions using AVX: {users}, "
+          f"{len(kept)} of them neither packet nor AVX2 kernels")
+    return 1 if leaks or kept else 0
 
 
 if __name__ == "__main__":

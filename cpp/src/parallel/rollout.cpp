@@ -1,6 +1,9 @@
 // Parallel rollouts (parallel/rollout.hpp).
 #include "soadyn/parallel/rollout.hpp"
 
+#include "soadyn/algorithms/packet_dynamics.hpp"
+#include "soadyn/sim/packet_simulation.hpp"
+
 #include <algorithm>
 #include <exception>
 #include <limits>
@@ -119,6 +122,41 @@ class Run {
   std::int64_t rows_;
 };
 
+// Runs first .. first + 3 as one PacketSimulation.
+struct PoolWorker {
+  ThreadPool* pool;
+  int worker;
+};
+
+PacketSimulation packet_simulation(const Model& model, const PacketModel& packets, const RolloutRequest& r,
+                                   const RolloutOutputs& out, std::int64_t first, ThreadPool& pool, int worker) {
+  thread_local PoolWorker asked;
+  asked = PoolWorker{&pool, worker};
+  PacketSimulation s;
+  s.model = &model;
+  s.packets = &packets;
+  s.dt = r.dt;
+  s.integrator = r.integrator;
+  s.steps = r.steps;
+  s.record_every = r.record_every;
+  const int nq = model.nq, nv = model.nv;
+  const std::int64_t rows = rollout_rows(r);
+  for (int l = 0; l < PacketSimulation::lanes; ++l) {
+    const std::int64_t run = first + l;
+    s.initial_states[l] = r.initial_states + run * (nq + nv);
+    s.controls[l] = r.controls ? r.controls + (r.controls_per_run ? run * r.steps * nv : 0) : nullptr;
+    s.q[l] = out.q + run * rows * nq;
+    s.v[l] = out.v + run * rows * nv;
+  }
+  s.control_stride = nv;
+  s.stop = [](void* context) {
+    const PoolWorker& w = *static_cast<PoolWorker*>(context);
+    return w.pool->stop_requested(w.worker);
+  };
+  s.context = &asked;
+  return s;
+}
+
 }  // namespace
 
 std::int64_t rollout_rows(const RolloutRequest& request) {
@@ -134,9 +172,20 @@ void rollout(ThreadPool& pool, const Model& model, const RolloutRequest& request
     outputs.message[run].clear();
   }
   std::vector<Model> scratch(static_cast<std::size_t>(pool.size()), model);  // one model copy per thread
-  pool.parallel_for(request.runs, 1, [&](std::int64_t begin, std::int64_t end, int worker) {
-    for (std::int64_t run = begin; run < end; ++run)
-      Run(model, request, table, run, outputs)(scratch[static_cast<std::size_t>(worker)], pool, worker);
+  const bool packets = request.lanes != 1 && PacketDynamics::available() && PacketDynamics::serves(model) &&
+                       model.nloops() == 0 &&
+                       request.parameters.empty() && request.sources.empty() && request.events.empty();
+  const std::int64_t width = packets ? PacketSimulation::lanes : 1, units = (request.runs + width - 1) / width;
+  const std::unique_ptr<PacketModel> packet_model = packets ? std::make_unique<PacketModel>(model) : nullptr;
+  pool.parallel_for(units, 1, [&](std::int64_t begin, std::int64_t end, int worker) {
+    for (std::int64_t unit = begin; unit < end; ++unit) {
+      const std::int64_t first = unit * width, last = std::min(first + width, request.runs);
+      if (packets && last - first == PacketSimulation::lanes &&
+          run_packet_simulation(packet_simulation(model, *packet_model, request, outputs, first, pool, worker)))
+        continue;
+      for (std::int64_t run = first; run < last; ++run)
+        Run(model, request, table, run, outputs)(scratch[static_cast<std::size_t>(worker)], pool, worker);
+    }
   });
 }
 

@@ -16,8 +16,9 @@ template <class S>
 S largest_residual(const VecX<S>& r, int* row) {
   S largest(0);
   *row = 0;
+  using std::abs;
   for (Eigen::Index i = 0; i < r.size(); ++i) {
-    const S a = std::abs(r[i]);
+    const S a = abs(r[i]);
     if (!(a <= largest)) {  // a NaN residual counts as the largest
       largest = a;
       *row = static_cast<int>(i);
@@ -59,7 +60,7 @@ Status assemble_loops(const ModelTpl<S>& m, DataTpl<S>& d, VecRef<S> q, const Co
   S error = detail::largest_residual(ld.residual, &row);
   S halving_reference = error;  // the residual the next halving is counted from
   while (!(error <= tolerance)) {
-    if (steps == max_iterations || !std::isfinite(static_cast<double>(error)) ||
+    if (steps == max_iterations || !std::isfinite(scalar_value(error)) ||
         !detail::minimum_norm_correction<S>(m, ld, free, ld.residual))
       return Status{StatusCode::loop_not_closed, detail::loop_of_row(m, row)};
     if (steps_without_progress == assembly_stall_steps || steps - last_halving == assembly_halving_steps)

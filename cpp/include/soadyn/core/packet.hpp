@@ -37,7 +37,18 @@ struct Packet4d {
   Packet4d() : v{0.0, 0.0, 0.0, 0.0} {}
   Packet4d(double x) : v{x, x, x, x} {}  // NOLINT: implicit, as a double constant converts to the scalar
   Packet4d(int x) : Packet4d(static_cast<double>(x)) {}  // NOLINT
+  Packet4d(long x) : Packet4d(static_cast<double>(x)) {}  // NOLINT: sizes and indices (Eigen::Index)
   explicit Packet4d(const Lanes& x) : v(x) {}
+  // User-provided copies make the type non-trivial for calls: the C++ ABI
+  // then passes and returns it through memory whether or not the unit is
+  // compiled for AVX (a bare 32-byte vector would travel in a YMM register
+  // only where AVX is on). Code compiled for the baseline and code compiled
+  // for AVX2 can thus call each other's packet functions.
+  Packet4d(const Packet4d& o) : v(o.v) {}
+  Packet4d& operator=(const Packet4d& o) {
+    v = o.v;
+    return *this;
+  }
 
   double operator[](int lane) const { return v[lane]; }
   double& operator[](int lane) { return reinterpret_cast<double*>(&v)[lane]; }

@@ -34,8 +34,9 @@ void ModelTpl<S>::refresh_tree_frame_reach() {
   // trace of the rotational inertia about the origin = 2 sum m |r|^2.
   std::vector<S>& radius = derived.subtree_radius;
   radius.assign(n, infinity);
+  using std::sqrt;
   for (std::size_t i = 0; i < n; ++i)
-    if (mass[i] > S(0)) radius[i] = std::sqrt(inertia[i].template topLeftCorner<3, 3>().trace() / (S(2) * mass[i]));
+    if (mass[i] > S(0)) radius[i] = sqrt(inertia[i].template topLeftCorner<3, 3>().trace() / (S(2) * mass[i]));
   for (std::size_t i = n; i-- > 0;)
     if (parent[i] >= 0) {
       S& r = radius[static_cast<std::size_t>(parent[i])];

@@ -44,6 +44,12 @@ struct RolloutRequest {
   // lock / release events and their times: runs x events.size().
   std::vector<std::pair<EventKind, int>> events;
   const double* event_times = nullptr;
+  // Runs per pass: 1, or PacketSimulation::lanes (0: the widest this
+  // processor runs, BatchDynamics::widest_lanes). Four runs of a rigid tree
+  // step side by side when they share everything but their initial states
+  // and torques (no parameters, sources or events) and the model has no
+  // loops; other runs one by one.
+  int lanes = 0;
 };
 
 struct RolloutOutputs {

@@ -68,7 +68,7 @@ class DivergenceGuardTpl {
     for (Eigen::Index i = 0; i < limits.size(); ++i)
       if (!(limits[i] > S(0)))
         throw std::invalid_argument("velocity limit of DOF " + std::to_string(i) + " must be > 0, got " +
-                                    std::to_string(static_cast<double>(limits[i])));
+                                    std::to_string(scalar_value(limits[i])));
     velocity_limit_ = limits;
   }
   const VecX<S>& velocity_limits() const { return velocity_limit_; }
@@ -88,31 +88,48 @@ class DivergenceGuardTpl {
   // generalized ones leave out act: external wrenches) only the velocity limits are judged.
   bool judge(const VecX<S>& v, const VecX<S>& v_next, const VecX<S>& forces, S dt, S energy, S magnitude,
              int& dof, bool check_energy = true) {
+    using std::abs;
+    using std::max;
     dof = -1;
-    S power(0), growth(-1);
+    S power(0);
     for (Eigen::Index i = 0; i < v.size(); ++i) {
-      const S speed = std::max(std::abs(v[i]), std::abs(v_next[i]));
-      power += std::abs(forces[i]) * speed;
-      if (std::abs(v_next[i]) > velocity_limit_[i]) {
+      const S speed = max(abs(v[i]), abs(v_next[i]));
+      power += abs(forces[i]) * speed;
+      if (abs(v_next[i]) > velocity_limit_[i]) {
         dof = static_cast<int>(i);
         return false;
       }
-      const S grew = std::abs(v_next[i]) - std::abs(v[i]);
+    }
+    const S work = work_bound_ + dt * power;
+    const S allowed = S(budget_factor) * work + S(slack) * scale_ + std::numeric_limits<S>::min();
+    if (check_energy && !(energy - reference_energy_ <= allowed)) {  // a NaN energy fails too
+      dof = fastest_growing(v, v_next);
+      return false;
+    }
+    work_bound_ = work;
+    scale_ = max(scale_, magnitude);
+    return true;
+  }
+
+ private:
+  // The DOF whose speed grew most from v to v_next (the first of equals), or
+  // -1 if none grew by more than -1. Asked only when a step fails, so that a
+  // passing step branches on no comparison between DOFs (packets of states
+  // then take one path: core/packet.hpp).
+  static int fastest_growing(const VecX<S>& v, const VecX<S>& v_next) {
+    using std::abs;
+    int dof = -1;
+    S growth(-1);
+    for (Eigen::Index i = 0; i < v.size(); ++i) {
+      const S grew = abs(v_next[i]) - abs(v[i]);
       if (grew > growth) {
         growth = grew;
         dof = static_cast<int>(i);
       }
     }
-    const S work = work_bound_ + dt * power;
-    const S allowed = S(budget_factor) * work + S(slack) * scale_ + std::numeric_limits<S>::min();
-    if (check_energy && !(energy - reference_energy_ <= allowed)) return false;  // a NaN energy fails too
-    work_bound_ = work;
-    scale_ = std::max(scale_, magnitude);
-    dof = -1;
-    return true;
+    return dof;
   }
 
- private:
   bool enabled_ = false;
   VecX<S> velocity_limit_;
   S reference_energy_ = S(0), work_bound_ = S(0), scale_ = S(0);

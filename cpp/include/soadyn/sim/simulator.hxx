@@ -37,7 +37,7 @@ constexpr double dp_c[7] = {0, 0.2, 0.3, 0.8, 8.0 / 9, 1, 1};
 template <class S>
 SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integrator, int event_capacity)
     : model_(model), data_(model_), dt_(dt), adaptive_h_(dt), integrator_(integrator), guard_(model.nv) {
-  if (!(dt > S(0)) || !std::isfinite(static_cast<double>(dt))) throw std::invalid_argument("dt must be positive");
+  if (!(dt > S(0)) || !std::isfinite(scalar_value(dt))) throw std::invalid_argument("dt must be positive");
   if (event_capacity < 0) throw std::invalid_argument("event capacity must be >= 0");
   const int nv = model_.nv, nq = model_.nq;
   q_.resize(nq);
@@ -114,7 +114,7 @@ S SimulatorTpl<S>::quaternion_tolerance() {
 namespace detail {
 template <class S>
 bool finite(S x) {
-  return std::isfinite(static_cast<double>(x));
+  return std::isfinite(scalar_value(x));
 }
 template <class S>
 bool finite(const MotionSample<S>& m) {
@@ -148,8 +148,8 @@ void SimulatorTpl<S>::set_state(const ConstVecRef<S>& q, const ConstVecRef<S>& v
   const int body = first_non_unit_quaternion<S>(model_, q, quaternion_tolerance(), &norm);
   if (body >= 0)
     throw std::invalid_argument("the quaternion of joint '" + model_.joint_names[static_cast<std::size_t>(body)] +
-                                "' has norm " + std::to_string(static_cast<double>(norm)) +
-                                ", not 1 (tolerance " + std::to_string(static_cast<double>(quaternion_tolerance())) +
+                                "' has norm " + std::to_string(scalar_value(norm)) +
+                                ", not 1 (tolerance " + std::to_string(scalar_value(quaternion_tolerance())) +
                                 ")");
   for (int dof = 0; dof < model_.nv; ++dof) {  // every source at the new time, before anything changes
     const std::size_t d = static_cast<std::size_t>(dof);
@@ -592,14 +592,16 @@ Status SimulatorTpl<S>::runge_kutta(int stages, const S* a, const S* b, const S*
   }
   retract(xi_, q_);
   if (error_norm) {
+    using std::abs;
+    using std::max;
     using std::sqrt;
     S sum(0);
     for (Eigen::Index k = 0; k < xi_.size(); ++k) {
-      const S sx = atol + rtol * std::abs(xi_[k]);
-      const S sv = atol + rtol * std::max(std::abs(v_[k]), std::abs(v0_[k]));
+      const S sx = atol + rtol * abs(xi_[k]);
+      const S sv = atol + rtol * max(abs(v_[k]), abs(v0_[k]));
       sum += (xi_err_[k] / sx) * (xi_err_[k] / sx) + (v_err_[k] / sv) * (v_err_[k] / sv);
     }
-    *error_norm = xi_.size() ? sqrt(sum / S(2 * xi_.size())) : S(0);
+    *error_norm = xi_.size() ? sqrt(sum / S(static_cast<double>(2 * xi_.size()))) : S(0);
   }
   return Status{};
 }
@@ -732,8 +734,9 @@ Status SimulatorTpl<S>::close_loops() {
 template <class S>
 void SimulatorTpl<S>::mechanical_energy(S& energy, S& magnitude) {
   const S kinetic = kinetic_energy<S>(model_, data_, q_, v_), potential = potential_energy<S>(model_, data_, q_);
+  using std::abs;
   energy = kinetic + potential;
-  magnitude = kinetic + std::abs(potential);
+  magnitude = kinetic + abs(potential);
 }
 
 template <class S>
@@ -790,7 +793,7 @@ std::string SimulatorTpl<S>::describe(const Status& s) const {
   if (loop_status && s.index >= 0 && s.index < model_.nloops()) {
     text += " (loop '" + model_.loops[static_cast<std::size_t>(s.index)].name + "'";
     if (s.code == StatusCode::loop_not_closed)
-      text += ", tolerance " + std::to_string(static_cast<double>(loop_tolerance)) + " in " +
+      text += ", tolerance " + std::to_string(scalar_value(loop_tolerance)) + " in " +
               std::to_string(loop_max_iterations) + " Gauss-Newton steps";
     text += ")";
   }
@@ -800,7 +803,7 @@ std::string SimulatorTpl<S>::describe(const Status& s) const {
             "limit: the integration is unstable at this step size (take a smaller dt or lower the command limits)";
   if (s.code == StatusCode::substep_limit)
     text += " (dopri5: " + std::to_string(max_substeps) + " sub-step attempts in one step, max_substeps)";
-  return text + " at t = " + std::to_string(static_cast<double>(time_));
+  return text + " at t = " + std::to_string(scalar_value(time_));
 }
 
 }  // namespace soadyn

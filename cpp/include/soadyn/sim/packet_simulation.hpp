@@ -1,0 +1,44 @@
+// Four simulations of one rigid tree stepped side by side: a Simulator on
+// packets of four doubles (core/packet.hpp), one run per lane, compiled for
+// AVX2 (packet_simulation.cpp). Each lane steps exactly as a Simulator of its
+// run alone, bit for bit, as long as every branch on values goes the same
+// way in the four lanes; when one does not, or a step fails, the caller runs
+// the four again one by one (parallel/rollout.cpp), so each run's trajectory,
+// status and message are the single Simulator's.
+#pragma once
+#include <cstdint>
+
+#include "soadyn/model/model.hpp"
+#include "soadyn/sim/simulator.hpp"
+
+namespace soadyn {
+
+class PacketModel;  // algorithms/packet_dynamics.hpp
+
+struct PacketSimulation {
+  static constexpr int lanes = 4;
+  const Model* model = nullptr;  // a rigid tree without loops (PacketDynamics::serves)
+  const PacketModel* packets = nullptr;  // the model in packets
+  double dt = 1e-3;
+  Integrator integrator = Integrator::rk4;
+  std::int64_t steps = 0, record_every = 1;
+  const double* initial_states[lanes] = {};  // each nq + nv values
+  // Each run's torques of step 0 (nv values, prescribed DOFs' ignored), the
+  // next step's `control_stride` values further on; null: none.
+  const double* controls[lanes] = {};
+  std::int64_t control_stride = 0;
+  // Each run's recorded rows: 1 + steps / record_every of nq (nv) values.
+  double* q[lanes] = {};
+  double* v[lanes] = {};
+  // Asked before each step: true stops the runs there (their later rows left
+  // as they are), and run_packet_simulation returns true.
+  bool (*stop)(void* context) = nullptr;
+  void* context = nullptr;
+};
+
+// Steps the four runs of `s` and records them. False when the lanes took
+// different branches or a step failed: the rows are then to be computed
+// again run by run. Call only where PacketDynamics::available().
+bool run_packet_simulation(const PacketSimulation& s);
+
+}  // namespace soadyn
