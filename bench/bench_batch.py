@@ -12,13 +12,17 @@ Usage: python bench/bench_batch.py [--rows 2000] [--repeats 30] [--runs 64]
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import sys
+
+# numpy's BLAS threads spin for a while after each call, taking one of the two cores from the timed calls.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
 
 import soadyn
-from fixtures import ROBOTS, cassini, load_robot, numbered_states, pinocchio_robot, robot
+from fixtures import ROBOTS, cassini, cassini_without, load_robot, numbered_states, pinocchio_robot, robot
 from measure import run_seconds
 from report import Table, write
 from soadyn import batch
@@ -66,13 +70,19 @@ def pinocchio_rates(name: str, rows: int, repeats: int) -> dict | None:
     return out
 
 
-def rollout_rates(runs: int, repeats: int) -> dict:
-    """Rollouts of cassini from rest, the bus's z rate spread over [-0.01, 0.01] rad/s across runs."""
-    m = cassini()
+RIGID_CASSINI_LEFT_OUT = ("magnetometer_boom", "plasma_wave_antenna")  # its two flexible booms
+
+
+def rollout_rates(m: soadyn.Model, runs: int, repeats: int) -> dict:
+    """Runs per second by (threads, lanes) of rollouts of cassini from rest, the bus's z rate spread over
+    [-0.01, 0.01] rad/s across runs."""
     x0 = np.tile(np.concatenate([soadyn.neutral_configuration(m), np.zeros(m.nv)]), (runs, 1))
     x0[:, m.nq + m.dof_names.index("bus:wz")] = np.linspace(-0.01, 0.01, runs)
-    return {k: median_rate(lambda: batch.rollout(m, x0, None, dt=1e-3, steps=100, threads=k), runs, repeats)
-            for k in THREADS}
+    widest = batch.widest_lanes()
+    settings = [(1, 1)] + [(k, widest) for k in THREADS]
+    return {(k, lanes): median_rate(lambda: batch.rollout(m, x0, None, dt=1e-3, steps=100, threads=k, lanes=lanes),
+                                    runs, repeats)
+            for k, lanes in settings}
 
 
 def main() -> int:
@@ -96,11 +106,17 @@ def main() -> int:
         peer = pinocchio_rates(name, args.rows, args.repeats)
         print(rates.add(name, one, packet, packet / one, two, two / packet,
                         *((peer[1], peer[2], peer[2] / peer[1], two / peer[2]) if peer else (None,) * 4)), flush=True)
-    rollout = rollout_rates(args.runs, max(3, args.repeats // 10))
-    rollouts = Table(f"Rollouts (cassini, RK4, 100 steps of 1 ms per run, {args.runs} runs per call), runs per second",
-                     ["scene", "1 thread", "2 threads", "speed-up"], {"1 thread": ",.0f", "2 threads": ",.0f",
-                                                                     "speed-up": ".2f"}, headline=["speed-up"])
-    rollouts.add("cassini", rollout[1], rollout[2], rollout[2] / rollout[1])
+    rollouts = Table(f"Rollouts (RK4, 100 steps of 1 ms per run, {args.runs} runs per call), runs per second",
+                     ["scene", "1 thread lanes=1", f"1 thread lanes={widest}", "packet speed-up",
+                      f"2 threads lanes={widest}", "thread speed-up"],
+                     headline=["packet speed-up"])
+    rollouts.formats = {c: ",.0f" for c in rollouts.columns[1:]}
+    rollouts.formats.update({"packet speed-up": ".2f", "thread speed-up": ".2f"})
+    for scene, model in (("cassini (flexible booms: one run per pass)", cassini()),
+                         ("cassini rigid (without its booms)", cassini_without(RIGID_CASSINI_LEFT_OUT))):
+        r = rollout_rates(model, args.runs, max(3, args.repeats // 10))
+        one, packet, two = r[(1, 1)], r[(1, widest)], r[(2, widest)]
+        print(rollouts.add(scene, one, packet, packet / one, two, two / packet), flush=True)
     for table in (rates, rollouts):
         table.print()
     write("batch", "Batched forward dynamics and rollouts against threads", [rates, rollouts],
