@@ -2,7 +2,8 @@
 // of the outputs is what the single call computes at row k of the inputs,
 // bit for bit (the same algorithm on the same numbers; only the thread and
 // its Data differ). One Data (and derivative workspace) per thread, built by
-// the constructor; a call allocates nothing but the pool's job.
+// the constructor; a call allocates nothing but the pool's job, and with
+// packets the model's values taken again in packets (PacketModel::refresh).
 //
 // Lanes: on processors with AVX2 and FMA, the forward, inverse and hybrid
 // dynamics and the mass matrix of rigid trees take four rows per pass
