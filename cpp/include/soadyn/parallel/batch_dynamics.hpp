@@ -8,8 +8,10 @@
 // Lanes: on processors with AVX2 and FMA, the forward, inverse and hybrid
 // dynamics and the mass matrix of rigid trees take four rows per pass
 // (algorithms/packet_dynamics.hpp), with the same results, bit for bit, and
-// the same per-row statuses; set_lanes(1) keeps the one-row path. Flexible
-// bodies, and the derivatives, stay one row at a time.
+// the same per-row statuses; but the mass matrix, which is then the baseline
+// kernel's, not the single call's AVX2 FMA kernel's (they differ in the last
+// bits). set_lanes(1) keeps the one-row path. Flexible bodies, and the
+// derivatives, stay one row at a time.
 //
 // Arrays are row-major with the batch first: Q is n x nq, V, TAU, U, QDD n x
 // nv, F (optional, nullptr: none) n x nbodies x 6 body-frame wrenches, mass
