@@ -287,6 +287,15 @@ def check_small_solves(output: str) -> None:
     require(bool(lines(r"^PASS: 0 failures$", output)), "no failure")
 
 
+def check_packet_lanes(build: str, output: str) -> None:
+    """Packet4d's operations against the double ones, bit for bit, in the given build."""
+    match = re.search(rf"^{build} build: (\d+) lanes of arithmetic and (\d+) lanes of functions against the double "
+                      r"operations$", output, re.MULTILINE)
+    require(match is not None and min(int(match.group(1)), int(match.group(2))) > 100000,
+            f"over 10^5 lanes of arithmetic and of functions compared ({build} build)")
+    require(bool(lines(rf"^test_packet_lanes: PASS: {build} build, every lane bit for bit$", output)), "the PASS line")
+
+
 def check_c_api(output: str) -> None:
     """The C API from a C program: every check line ok, and the PASS line."""
     require(len(lines(r"^ok: ", output)) >= 20 and not lines(r"^FAILED: ", output), "every check of the C program")
@@ -327,6 +336,8 @@ CHECKS = {
     "test_joint_angles": check_joint_angles,
     "test_mass_matrix_kernels": check_mass_matrix_kernels,
     "test_appendage_kernels": check_appendage_kernels,
+    "test_packet_lanes": lambda output: check_packet_lanes("baseline", output),
+    "test_packet_lanes_avx2": lambda output: check_packet_lanes("AVX2", output),
     "test_small_solves": check_small_solves,
     "test_batch": check_batch,
     "test_c_api": check_c_api,

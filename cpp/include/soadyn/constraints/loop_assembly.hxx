@@ -36,7 +36,7 @@ int loop_of_row(const ModelTpl<S>& m, int row) {
 
 // correction = -C_f' (C_f C_f')^+ r, from C in data.loops.jacobian.
 template <class S>
-bool minimum_norm_correction(const ModelTpl<S>& m, LoopData<S>& ld, const ConstVecRef<S>& free, const VecX<S>& r) {
+bool minimum_norm_correction(LoopData<S>& ld, const ConstVecRef<S>& free, const VecX<S>& r) {
   restrict_jacobian_columns(ld.jacobian, [&](Eigen::Index k) { return free[k] != S(0); }, ld.constraint_jacobian_regular);
   ld.delassus.noalias() = ld.constraint_jacobian_regular.lazyProduct(ld.constraint_jacobian_regular.transpose());
   ld.rhs = -r;
@@ -61,7 +61,7 @@ Status assemble_loops(const ModelTpl<S>& m, DataTpl<S>& d, VecRef<S> q, const Co
   S halving_reference = error;  // the residual the next halving is counted from
   while (!(error <= tolerance)) {
     if (steps == max_iterations || !std::isfinite(scalar_value(error)) ||
-        !detail::minimum_norm_correction<S>(m, ld, free, ld.residual))
+        !detail::minimum_norm_correction<S>(ld, free, ld.residual))
       return Status{StatusCode::loop_not_closed, detail::loop_of_row(m, row)};
     if (steps_without_progress == assembly_stall_steps || steps - last_halving == assembly_halving_steps)
       return Status{StatusCode::loop_assembly_stalled, detail::loop_of_row(m, row)};
@@ -99,7 +99,7 @@ Status project_loop_velocity(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVec
   LoopData<S>& ld = d.loops;
   loop_residual<S>(m, d, q, v.data());
   int row = 0;
-  if (!detail::minimum_norm_correction<S>(m, ld, free, ld.velocity_residual))
+  if (!detail::minimum_norm_correction<S>(ld, free, ld.velocity_residual))
     return Status{StatusCode::loop_not_closed, detail::loop_of_row(m, row)};
   v += ld.correction;
   return Status{};

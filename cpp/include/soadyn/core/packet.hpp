@@ -114,7 +114,20 @@ inline Packet4d abs(const Packet4d& a) {  // clears the sign bits, as fabs does
   constexpr long long magnitude = ~(1LL << 63);
   return Packet4d((Packet4d::Lanes)((Packet4d::Mask)a.v & Packet4d::Mask{magnitude, magnitude, magnitude, magnitude}));
 }
-inline Packet4d sqrt(const Packet4d& a) { return per_lane(a, [](double x) { return std::sqrt(x); }); }
+// The square root of each lane: IEEE's correctly rounded one, as std::sqrt
+// gives, in one instruction for the four lanes (two with SSE2 alone).
+inline Packet4d sqrt(const Packet4d& a) {
+#if defined(__AVX__)
+  return Packet4d(__builtin_ia32_sqrtpd256(a.v));
+#elif defined(__SSE2__)
+  typedef double Half __attribute__((vector_size(16)));
+  const Half lo = {a.v[0], a.v[1]}, hi = {a.v[2], a.v[3]};
+  const Half root_lo = __builtin_ia32_sqrtpd(lo), root_hi = __builtin_ia32_sqrtpd(hi);
+  return Packet4d(Packet4d::Lanes{root_lo[0], root_lo[1], root_hi[0], root_hi[1]});
+#else
+  return per_lane(a, [](double x) { return std::sqrt(x); });
+#endif
+}
 inline Packet4d sin(const Packet4d& a) { return per_lane(a, [](double x) { return std::sin(x); }); }
 inline Packet4d cos(const Packet4d& a) { return per_lane(a, [](double x) { return std::cos(x); }); }
 inline Packet4d tan(const Packet4d& a) { return per_lane(a, [](double x) { return std::tan(x); }); }
@@ -129,12 +142,10 @@ inline Packet4d atan2(const Packet4d& a, const Packet4d& b) {
 inline Packet4d pow(const Packet4d& a, const Packet4d& b) {
   return per_lane(a, b, [](double x, double y) { return std::pow(x, y); });
 }
-inline Packet4d max(const Packet4d& a, const Packet4d& b) {
-  return per_lane(a, b, [](double x, double y) { return std::max(x, y); });
-}
-inline Packet4d min(const Packet4d& a, const Packet4d& b) {
-  return per_lane(a, b, [](double x, double y) { return std::min(x, y); });
-}
+// std::max and std::min lane by lane, selected without a branch: std::max(x, y)
+// is x < y ? y : x, std::min(x, y) is y < x ? y : x (x when unordered).
+inline Packet4d max(const Packet4d& a, const Packet4d& b) { return Packet4d(a.v < b.v ? b.v : a.v); }
+inline Packet4d min(const Packet4d& a, const Packet4d& b) { return Packet4d(b.v < a.v ? b.v : a.v); }
 inline bool isfinite(const Packet4d& a) { return std::isfinite(a.value()); }  // all lanes finite
 inline bool isnan(const Packet4d& a) { return std::isnan(a.value()); }        // some lane NaN
 inline bool isinf(const Packet4d& a) { return !isfinite(a) && !isnan(a); }
