@@ -272,50 +272,72 @@ Status inverse_derivative_sweeps(const ModelTpl<S>& m, DataTpl<S>& d, DynamicsDe
 // symmetric): placed in M~^-1's prescribed rows (zero there on the regular
 // columns), the products that form dqdd_R/dx leave M_PR dqdd_R/dx in rows P
 // of dqdd/dx at no extra cost. Called after dqdd/du's prescribed columns are
-// formed and before dqdd/dq and dqdd/dv are; the prescribed rows of
-// M~^-1's prescribed columns become those of M_PR dqdd_R/du + I, that is
-// I - E M_RP (over each column's tree pattern).
+// formed and before dqdd/dq and dqdd/dv are.
 template <class S>
-void place_prescribed_rows_of_inverse(const ModelTpl<S>& m, const MatX<S>& mass, DynamicsDerivativesTpl<S>& w) {
+void place_prescribed_rows_of_inverse(const ModelTpl<S>& m, DynamicsDerivativesTpl<S>& w) {
   MatX<S>& Minv = w.dqdd_du;
   for (int k = 0; k < m.n_prescribed; ++k) {
     const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
     for (Eigen::Index c = 0; c < m.nv; ++c)
       if (!m.is_prescribed(static_cast<int>(c))) Minv(p, c) = -Minv(c, p);
   }
-  for (int j = 0; j < m.n_prescribed; ++j) {
-    const int column = m.prescribed_dofs[static_cast<std::size_t>(j)];
-    const auto subtract = [&](int first, int last) {  // M_Rp' is nonzero on p's ancestors and subtree only
-      for (int c = first; c <= last; ++c) {
-        if (m.is_prescribed(c)) continue;
-        for (int k = 0; k < m.n_prescribed; ++k) {
-          const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
-          Minv(p, column) -= Minv(p, c) * mass(c, column);
-        }
-      }
-    };
-    subtract(column, w.subtree_end[static_cast<std::size_t>(column)]);
-    for_each_ancestor_run(column, false, m.dof_parent, m.dof_run_start, subtract);
+}
+
+// dtau_P/du on the prescribed columns: with qdd_P = u_P, entry (p, j) is
+//   M_pR dqdd_R/du_j + M_pj = M_pj - M_pR M_RR^-1 M_Rj,
+// the Schur complement of M_RR, symmetric. Column j of dqdd/du holds
+// -M_RR^-1 M_Rj on the regular rows and e_j on the prescribed ones, so the
+// whole sum is the dot product of M's column p with it, over the DOFs where
+// that column is nonzero (p's ancestors and subtree: contiguous runs, each
+// an Eigen dot product of two column segments). Entries j < p are mirrored.
+template <class S>
+void prescribed_schur_complement(const ModelTpl<S>& m, const MatX<S>& mass, DynamicsDerivativesTpl<S>& w) {
+  for (int a = 0; a < m.n_prescribed; ++a) {
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(a)];
+    for (int b = a; b < m.n_prescribed; ++b) {
+      const int j = m.prescribed_dofs[static_cast<std::size_t>(b)];
+      S sum(0);
+      const auto add_run = [&](int first, int last) {
+        const Eigen::Index length = last - first + 1;
+        sum += mass.col(p).segment(first, length).dot(w.dqdd_du.col(j).segment(first, length));
+      };
+      add_run(p, w.subtree_end[static_cast<std::size_t>(p)]);
+      for_each_ancestor_run(p, false, m.dof_parent, m.dof_run_start, add_run);
+      w.dtau_du(p, j) = w.dtau_du(j, p) = sum;
+    }
   }
 }
 
-// With M~^-1's prescribed rows placed (place_prescribed_rows_of_inverse) and
-// dqdd/dq, dqdd/dv formed from it: dtau_P/dx = dID_P/dx + (rows P of dqdd/dx),
-// dtau_P/du = rows P of M~^-1 (M_PR dqdd_R/du) + M_PP on the prescribed
-// columns (qdd_P = u_P), and then rows P of dqdd/dx and dqdd/du back to what
-// they are: zero, and the identity on the prescribed columns of dqdd/du.
+// Column k of dtau_P/dq and dtau_P/dv, dID_P/dx + (rows P of dqdd/dx), taken
+// as soon as column k of dqdd/dx is formed with M~^-1's prescribed rows
+// placed (place_prescribed_rows_of_inverse), while it is in cache; rows P of
+// that column are then set back to zero, as they are in dqdd/dx.
 template <class S>
-void prescribed_force_derivatives(const ModelTpl<S>& m, const MatX<S>& mass, DynamicsDerivativesTpl<S>& w) {
-  for (MatX<S>* x : {&w.dtau_dq, &w.dtau_dv, &w.dtau_du}) x->setZero();
-  for (Eigen::Index j = 0; j < m.nv; ++j) {  // column by column: the prescribed rows of a column are close
-    const bool prescribed_column = m.is_prescribed(static_cast<int>(j));
-    for (int k = 0; k < m.n_prescribed; ++k) {
-      const int p = m.prescribed_dofs[static_cast<std::size_t>(k)];
-      w.dtau_dq(p, j) = w.inverse_dq(p, j) + w.dqdd_dq(p, j);
-      w.dtau_dv(p, j) = w.inverse_dv(p, j) + w.dqdd_dv(p, j);
-      w.dtau_du(p, j) = prescribed_column ? w.dqdd_du(p, j) + mass(p, j) - (p == j ? S(1) : S(0)) : w.dqdd_du(p, j);
-      w.dqdd_dq(p, j) = w.dqdd_dv(p, j) = S(0);
-      w.dqdd_du(p, j) = p == j ? S(1) : S(0);
+SOADYN_ALWAYS_INLINE void take_prescribed_rows(const ModelTpl<S>& m, DynamicsDerivativesTpl<S>& w, Eigen::Index k) {
+  for (int a = 0; a < m.n_prescribed; ++a) {
+    const int p = m.prescribed_dofs[static_cast<std::size_t>(a)];
+    w.dtau_dq(p, k) = w.inverse_dq(p, k) + w.dqdd_dq(p, k);
+    w.dtau_dv(p, k) = w.inverse_dv(p, k) + w.dqdd_dv(p, k);
+    w.dqdd_dq(p, k) = w.dqdd_dv(p, k) = S(0);
+  }
+}
+
+// dtau/du: the identity on the regular rows (tau_R = u_R); on the prescribed
+// rows, rows P of M~^-1 (M_PR dqdd_R/du) on the regular columns and the
+// Schur complement (prescribed_schur_complement) on the prescribed ones.
+// Rows P of dqdd/du then go back to what they are: zero on the regular
+// columns (the prescribed columns kept e_j there).
+template <class S>
+void input_derivatives_of_force(const ModelTpl<S>& m, const MatX<S>& mass, DynamicsDerivativesTpl<S>& w) {
+  w.dtau_du.setZero();
+  prescribed_schur_complement(m, mass, w);
+  for (int j = 0; j < m.nv; ++j) {
+    if (m.is_prescribed(j)) continue;
+    w.dtau_du(j, j) = S(1);
+    for (int a = 0; a < m.n_prescribed; ++a) {
+      const int p = m.prescribed_dofs[static_cast<std::size_t>(a)];
+      w.dtau_du(p, j) = w.dqdd_du(p, j);
+      w.dqdd_du(p, j) = S(0);
     }
   }
 }
@@ -412,9 +434,11 @@ Status one_sweep_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynam
     subtract(p, w.subtree_end[static_cast<std::size_t>(p)]);
     for_each_ancestor_run(p, false, m.dof_parent, m.dof_run_start, subtract);
   }
-  place_prescribed_rows_of_inverse(m, d.mass_matrix, w);
+  place_prescribed_rows_of_inverse(m, w);
   w.dqdd_dq.setZero();
   w.dqdd_dv.setZero();
+  w.dtau_dq.setZero();  // the regular rows stay zero: their torques are inputs
+  w.dtau_dv.setZero();
   // Columns k of dqdd/dq and dqdd/dv together: each column of M^-1 is read
   // once for both (plain loops: no product dispatch for these short columns).
   // dID~ is dID without its prescribed rows: their columns of M^-1 are skipped.
@@ -455,11 +479,9 @@ Status one_sweep_dynamics_derivatives(const ModelTpl<S>& m, DataTpl<S>& d, Dynam
     };
     accumulate(static_cast<int>(k), w.subtree_end[static_cast<std::size_t>(k)]);
     for_each_ancestor_run(static_cast<int>(k), false, m.dof_parent, m.dof_run_start, accumulate);
+    take_prescribed_rows(m, w, k);
   }
-  // Regular DOFs: tau = u (the identity); prescribed: tau_P = ID_P (prescribed_force_derivatives).
-  prescribed_force_derivatives(m, d.mass_matrix, w);
-  for (int r = 0; r < m.nv; ++r)
-    if (!m.is_prescribed(r)) w.dtau_du(r, r) = S(1);
+  input_derivatives_of_force(m, d.mass_matrix, w);
   for (const MatX<S>* x : {&w.dqdd_dq, &w.dqdd_dv, &w.dqdd_du, &w.dtau_dq, &w.dtau_dv, &w.dtau_du}) {
     status = detail::check_finite_columns(*x);
     if (!status.ok()) return status;
