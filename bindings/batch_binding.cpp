@@ -193,6 +193,8 @@ void bind_batch(py::module_& mod) {
 
   mod.def("_batch_widest_lanes", &soadyn::BatchDynamics::widest_lanes,
           "States per pass of the batched calls' packet path on this processor (soadyn.batch.widest_lanes).");
+  mod.def("_batch_packet_minimum_rows", [] { return soadyn::BatchDynamics::packet_minimum_rows; },
+          "The fewest rows a batched call runs in packets (soadyn.batch.packet_minimum_rows).");
 
   mod.def("_batch_rollout", [](ModelHandle& h, py::handle X0, py::ssize_t runs, py::handle controls,
                                bool controls_per_run, double dt, std::int64_t steps, const std::string& integrator,

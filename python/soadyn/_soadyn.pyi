@@ -905,6 +905,10 @@ def _batch_mass_matrix(model: _Model, Q: typing.Any, n: typing.SupportsInt | typ
     """
     Mass matrices of n rows (soadyn.batch.mass_matrix).
     """
+def _batch_packet_minimum_rows() -> int:
+    """
+    The fewest rows a batched call runs in packets (soadyn.batch.packet_minimum_rows).
+    """
 def _batch_rollout(model: _Model, x0s: typing.Any, runs: typing.SupportsInt | typing.SupportsIndex, controls: typing.Any, controls_per_run: bool, dt: typing.SupportsFloat | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex, integrator: str, record_every: typing.SupportsInt | typing.SupportsIndex, parameters: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], parameter_values: typing.Any, sources: collections.abc.Sequence[tuple[typing.SupportsInt | typing.SupportsIndex, MotionSource]], events: collections.abc.Sequence[tuple[str, typing.SupportsInt | typing.SupportsIndex]], event_times: typing.Any, threads: typing.SupportsInt | typing.SupportsIndex, lanes: typing.SupportsInt | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64], list[int], list[str]]:
     """
     Parallel rollouts (soadyn.batch.rollout): (q, v, failed_step, messages).

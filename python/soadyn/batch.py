@@ -17,8 +17,10 @@ inverse and hybrid dynamics and the mass matrix of rigid trees take four rows pe
 default), lanes=1 one row per pass. Both give the same results, bit for bit, and report the same failing rows
 with the same errors; the mass matrix four rows per pass is the baseline kernel's, which differs from the
 single call's AVX2 FMA kernel in the last bits (docs/guides/batch.md). Models with flexible bodies and the
-derivatives take one row per pass whatever the lanes; rollouts step four runs side by side when the runs
-share everything but their initial states and torques.
+derivatives take one row per pass whatever the lanes, and so does a call of fewer rows than
+``packet_minimum_rows()``, whose packets would cost more to set up than they save: its results are the
+single call's, the mass matrix included. Rollouts step four runs side by side when the runs share everything
+but their initial states and torques.
 
 `rollout` steps many independent simulations of one model in parallel (the
 equivalent of MuJoCo's rollout): different initial states, torques, shared
@@ -38,7 +40,7 @@ from . import _soadyn
 from .simulator import MotionSource
 
 __all__ = ["forward_dynamics", "inverse_dynamics", "hybrid_dynamics", "mass_matrix", "dynamics_derivatives",
-           "rollout", "RolloutResult", "widest_lanes"]
+           "rollout", "RolloutResult", "widest_lanes", "packet_minimum_rows"]
 
 
 MAX_THREADS = 1024  # a pool larger than this is refused: no machine this runs on has that many cores
@@ -57,6 +59,12 @@ def widest_lanes() -> int:
     """Rows per pass of the batched calls' packet path on this processor: 4 with AVX2 and FMA, 1 without them
     (or with the environment variable SOADYN_BASELINE_KERNELS set)."""
     return _soadyn._batch_widest_lanes()
+
+
+def packet_minimum_rows() -> int:
+    """The fewest rows a batched call runs four per pass: a call of fewer rows runs one row per pass whatever
+    its lanes, because copying the model's values into packets would cost more than the packets save."""
+    return _soadyn._batch_packet_minimum_rows()
 
 
 def _lanes(lanes) -> int:

@@ -100,11 +100,11 @@ def test_four_lanes_equal_one_row_per_pass(name):
 def test_packet_path_matches_pinocchio():
     require_packets()
     m, oracle = robot_with_oracle("panda", False)
-    Q, V, X = states(m, rows=8, seed=5)
+    Q, V, X = states(m, rows=16, seed=5)
     qdd = batch.forward_dynamics(m, Q, V, X, lanes=4)
     tau = batch.inverse_dynamics(m, Q, V, X, lanes=4)
     M = batch.mass_matrix(m, Q, lanes=4)
-    for k in range(8):
+    for k in range(16):
         scale = 1 + np.max(np.abs(qdd[k]))
         assert np.max(np.abs(qdd[k] - oracle.forward_dynamics(Q[k], V[k], X[k]))) <= 1e-9 * scale
         assert np.max(np.abs(tau[k] - oracle.inverse_dynamics(Q[k], V[k], X[k]))) <= 1e-9 * (1 + np.max(np.abs(tau[k])))
@@ -127,7 +127,7 @@ def far_prismatic_model():
 def test_rows_that_branch_apart_are_computed_row_by_row():
     require_packets()
     m = far_prismatic_model()
-    Q, V, X = states(m, rows=8, seed=2)
+    Q, V, X = states(m, rows=16, seed=2)
     Q[5, 2] = 1e5  # the slide's coordinate; row 5: beyond the reach; rows 4, 6, 7 within
     one, four = calls(m, Q, V, X, 1), calls(m, Q, V, X, 4)
     assert_lanes_agree(one, four)
@@ -138,7 +138,7 @@ def test_rows_that_branch_apart_are_computed_row_by_row():
 def test_a_failing_row_is_reported_as_the_single_call_reports_it(call):
     require_packets()
     m = MODELS["panda"]
-    Q, V, X = states(m, rows=8, seed=3)
+    Q, V, X = states(m, rows=16, seed=3)
     V[6] = 1e200  # the velocity products overflow in row 6 only
     messages = []
     for lanes in (1, 4):
@@ -152,7 +152,7 @@ def test_a_failing_row_is_reported_as_the_single_call_reports_it(call):
 def test_values_changed_between_calls_are_taken():
     require_packets()
     m = MODELS["ur5"].copy()
-    Q, V, X = states(m, rows=8, seed=4)
+    Q, V, X = states(m, rows=16, seed=4)
     before = batch.hybrid_dynamics(m, Q, V, X, lanes=4)
     m.set_prescribed([m.dof_names[0], m.dof_names[2]])
     m.gravity = np.array([0.0, 3.0, -5.0])
@@ -161,6 +161,20 @@ def test_values_changed_between_calls_are_taken():
     assert not np.allclose(before[0], after[0])
     for one, four in zip(reference, after):
         assert np.array_equal(one, four)
+
+
+def test_calls_of_few_rows_run_one_row_per_pass():
+    """Below packet_minimum_rows() rows, lanes=4 runs one row per pass: every result is the single call's, bit
+    for bit, the mass matrix too (in packets it would be the baseline kernel's, which differs from the single
+    call's AVX2 FMA kernel in the last bits of about half its entries)."""
+    require_packets()
+    m = MODELS["panda"]
+    fewest, lanes = batch.packet_minimum_rows(), batch.widest_lanes()
+    assert fewest > lanes
+    for rows in (1, lanes, 2 * lanes + 1, fewest - 1):
+        Q, V, X = states(m, rows=rows, seed=rows)
+        for one, four in zip(calls(m, Q, V, X, 1), calls(m, Q, V, X, 4)):
+            assert np.array_equal(one, four)
 
 
 def test_threads_do_not_change_the_packets():

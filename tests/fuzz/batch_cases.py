@@ -2,7 +2,8 @@
 
 A case takes a small model (a random tree of fuzz.api_cases, a pendulum
 chain, the four-bar, a flexible cantilever on a hinge), a batch of 0 to 6
-states, and spoils the arrays: complex, string, boolean and object arrays,
+states, or of 16 or 19 (packets from soadyn.batch.packet_minimum_rows() rows
+on), and spoils the arrays: complex, string, boolean and object arrays,
 nested lists (ragged ones too), float32, integer and Fortran-ordered arrays,
 a NaN or infinite row, a huge finite row, wrong shapes (a row or a column too
 many or too few, a missing or an extra axis), the thread count (0, -1,
@@ -127,7 +128,7 @@ def single_rows(m: soadyn.Model, name: str, Q, V, X, F, result, exact: bool) -> 
 
 
 def batched(rng: np.random.Generator, m: soadyn.Model, name: str):
-    n = int(rng.choice([0, 1, 2, 3, 6]))
+    n = int(rng.choice([0, 1, 2, 3, 6, 16, 19]))
     Q, V, X = states(rng, m, n)
     F = None if name == "mass_matrix" else hostile_wrenches(rng, m)
     F = None if F is None else np.broadcast_to(np.asarray(F), (n, *np.shape(F))) if rng.uniform() < 0.8 else F
@@ -141,7 +142,8 @@ def batched(rng: np.random.Generator, m: soadyn.Model, name: str):
         result = getattr(batch, name)(m, *arrays.values(), threads=threads(rng), lanes=width)
     if spoil_free:
         single_rows(m, name, Q, V, X, None if F is None else np.asarray(F, dtype=float), result,
-                    exact=name != "mass_matrix" or (width is not None and not isinstance(width, bool) and width == 1))
+                    exact=name != "mass_matrix" or n < batch.packet_minimum_rows() or
+                    (width is not None and not isinstance(width, bool) and width == 1))
     return result, arrays
 
 

@@ -82,7 +82,7 @@ template <class RowFn, class PacketFn>
 BatchOutcome BatchDynamics::for_rows(std::int64_t n, RowFn&& fn, PacketFn&& packet_fn) {
   constexpr bool has_packet_fn = !std::is_same_v<std::decay_t<PacketFn>, std::nullptr_t>;
   bool packets = false;
-  if constexpr (has_packet_fn) packets = prepare_packets();
+  if constexpr (has_packet_fn) packets = n >= packet_minimum_rows && prepare_packets();
   const std::int64_t width = packets ? PacketDynamics::lanes : 1, units = (n + width - 1) / width;
   BatchOutcome outcome;
   std::mutex failures;

@@ -11,7 +11,9 @@
 // the same per-row statuses; but the mass matrix, which is then the baseline
 // kernel's, not the single call's AVX2 FMA kernel's (they differ in the last
 // bits). set_lanes(1) keeps the one-row path. Flexible bodies, and the
-// derivatives, stay one row at a time.
+// derivatives, stay one row at a time; so does a call of fewer than
+// packet_minimum_rows rows, whose results are then the single call's, the
+// mass matrix included.
 //
 // Arrays are row-major with the batch first: Q is n x nq, V, TAU, U, QDD n x
 // nv, F (optional, nullptr: none) n x nbodies x 6 body-frame wrenches, mass
@@ -53,6 +55,11 @@ class BatchDynamics {
   // The widest packet this processor runs: PacketDynamics::lanes where
   // PacketDynamics::available(), else 1.
   static int widest_lanes();
+  // The fewest rows a call runs in packets. A packet call first copies the
+  // model's values into packets (PacketModel::refresh: about 6 us for a
+  // 6-body arm, 36 us for a 33-body humanoid on a 2026 Xeon); below this
+  // many rows, that costs more than the packets save (docs/guides/batch.md).
+  static constexpr std::int64_t packet_minimum_rows = 16;
   // Rows per pass from now on: 1, or PacketDynamics::lanes where available
   // (std::invalid_argument otherwise, naming the value). Starts at
   // widest_lanes(). Models the packet path does not serve run one row at a
