@@ -73,16 +73,21 @@ def pinocchio_rates(name: str, rows: int, repeats: int) -> dict | None:
 RIGID_CASSINI_LEFT_OUT = ("magnetometer_boom", "plasma_wave_antenna")  # its two flexible booms
 
 
-def rollout_rates(m: soadyn.Model, runs: int, repeats: int) -> dict:
+def rollout_rates(m: soadyn.Model, runs: int, repeats: int, parameters: dict | None = None) -> dict:
     """Runs per second by (threads, lanes) of rollouts of cassini from rest, the bus's z rate spread over
-    [-0.01, 0.01] rad/s across runs."""
+    [-0.01, 0.01] rad/s across runs; `parameters` as batch.rollout's (each run's own values)."""
     x0 = np.tile(np.concatenate([soadyn.neutral_configuration(m), np.zeros(m.nv)]), (runs, 1))
     x0[:, m.nq + m.dof_names.index("bus:wz")] = np.linspace(-0.01, 0.01, runs)
     widest = batch.widest_lanes()
     settings = [(1, 1)] + [(k, widest) for k in THREADS]
-    return {(k, lanes): median_rate(lambda: batch.rollout(m, x0, None, dt=1e-3, steps=100, threads=k, lanes=lanes),
-                                    runs, repeats)
+    return {(k, lanes): median_rate(lambda: batch.rollout(m, x0, None, dt=1e-3, steps=100, threads=k, lanes=lanes,
+                                                          parameters=parameters), runs, repeats)
             for k, lanes in settings}
+
+
+def bus_masses(m: soadyn.Model, runs: int) -> dict:
+    """A Monte Carlo campaign's parameters: the bus's mass spread over +-5 % across runs."""
+    return {"bus.mass": m.get_parameter("bus.mass") * np.linspace(0.95, 1.05, runs)}
 
 
 def main() -> int:
@@ -112,9 +117,12 @@ def main() -> int:
                      headline=["packet speed-up"])
     rollouts.formats = {c: ",.0f" for c in rollouts.columns[1:]}
     rollouts.formats.update({"packet speed-up": ".2f", "thread speed-up": ".2f"})
-    for scene, model in (("cassini (flexible booms: one run per pass)", cassini()),
-                         ("cassini rigid (without its booms)", cassini_without(RIGID_CASSINI_LEFT_OUT))):
-        r = rollout_rates(model, args.runs, max(3, args.repeats // 10))
+    rigid = cassini_without(RIGID_CASSINI_LEFT_OUT)
+    for scene, model, parameters in (("cassini (flexible booms: one run per pass)", cassini(), None),
+                                     ("cassini rigid (without its booms)", rigid, None),
+                                     ("cassini rigid, each run its own bus mass", rigid,
+                                      bus_masses(rigid, args.runs))):
+        r = rollout_rates(model, args.runs, max(3, args.repeats // 10), parameters)
         one, packet, two = r[(1, 1)], r[(1, widest)], r[(2, widest)]
         print(rollouts.add(scene, one, packet, packet / one, two, two / packet), flush=True)
     for table in (rates, rollouts):

@@ -15,6 +15,9 @@
 - Rollouts of a random tree (every joint type) four runs side by side equal one by one, bit for bit, with RK4,
   Euler and DOPRI5, with no torques, per-run and shared torques, and runs past the last packet; a run that
   fails inside a packet is reported as it is alone (ok, failed step, message, NaN rows) and the others match.
+- Rollouts whose runs set their own parameters (a mass, a centre of mass, an inertia, a placement, gravity) four
+  runs side by side equal one by one, bit for bit, with RK4 and DOPRI5; a packet whose runs cannot share one
+  packet model (a placement turned in one run) or with a refused value goes one by one, reported as alone.
 - lanes other than None, 1 or widest_lanes() is refused by name; with SOADYN_BASELINE_KERNELS set the widest
   is 1 and lanes=4 is refused, naming the reason.
 """
@@ -243,8 +246,62 @@ def test_a_failing_run_in_a_packet_is_reported_as_alone():
     x0[2, m.nq:] = 1e155  # run 2's velocities square to infinity in its first step
     one = batch.rollout(m, x0, None, dt=1e-3, steps=20, lanes=1)
     four = batch.rollout(m, x0, None, dt=1e-3, steps=20, lanes=4)
-    assert list(one.ok) == list(four.ok) and not one.ok[2] and one.ok.sum() == 7
+    assert not one.ok[2] and one.ok.sum() == 7 and one.messages[2]
+    assert_rollouts_equal(one, four)
+
+
+def run_parameters(m, runs, seed):
+    """Per-run values of a mass, a centre of mass, an inertia, a placement's translation and gravity."""
+    rng = np.random.default_rng(seed)
+    a, b, c = m.body_names[2], m.body_names[4], m.body_names[6]
+    placement = np.asarray(m.get_parameter(f"{c}.placement"))
+    placements = np.repeat(placement[None], runs, axis=0)
+    placements[:, :3, 3] *= rng.uniform(0.8, 1.2, (runs, 1))
+    inertia = np.asarray(m.get_parameter(f"{b}.inertia"))
+    return {f"{a}.mass": m.get_parameter(f"{a}.mass") * rng.uniform(0.5, 2.0, runs),
+            f"{a}.com": np.asarray(m.get_parameter(f"{a}.com")) + rng.uniform(-0.02, 0.02, (runs, 3)),
+            f"{b}.inertia": inertia[None] * rng.uniform(0.8, 1.2, (runs, 1, 1)),
+            f"{c}.placement": placements,
+            "gravity": np.asarray(m.get_parameter("gravity")) * rng.uniform(0.5, 1.5, (runs, 1))}
+
+
+def assert_rollouts_equal(one, four):
+    assert list(one.ok) == list(four.ok) and one.messages == four.messages
     assert np.array_equal(one.failed_step, four.failed_step)
-    assert one.messages == four.messages and one.messages[2]
-    assert np.array_equal(np.isnan(one.q), np.isnan(four.q))
+    assert np.array_equal(np.isnan(one.q), np.isnan(four.q)) and np.array_equal(np.isnan(one.v), np.isnan(four.v))
     assert np.array_equal(np.nan_to_num(one.q), np.nan_to_num(four.q))
+    assert np.array_equal(np.nan_to_num(one.v), np.nan_to_num(four.v))
+
+
+@pytest.mark.parametrize("integrator", ["rk4", "dopri5"])
+def test_rollouts_with_their_own_parameters_four_side_by_side_equal_one_by_one(integrator):
+    require_packets()
+    m = random_tree(6, nbodies=10, floating=True)[0]
+    runs, steps = 10, 40
+    x0 = rollout_states(m, runs, 13)
+    params = run_parameters(m, runs, 14)
+    one = batch.rollout(m, x0, None, dt=2e-3, steps=steps, integrator=integrator, parameters=params, lanes=1)
+    four = batch.rollout(m, x0, None, dt=2e-3, steps=steps, integrator=integrator, parameters=params, lanes=4)
+    assert one.ok.all()
+    assert_rollouts_equal(one, four)
+
+
+def test_runs_whose_parameters_cannot_share_packets_go_one_by_one():
+    """A placement turned in one run of a packet (its rotation no longer the identity) and a refused mass."""
+    require_packets()
+    m = soadyn.scenes.pendulum_chain(4)
+    runs = 8
+    x0 = rollout_states(m, runs, 15)
+    body = m.body_names[2]
+    placements = np.repeat(np.asarray(m.get_parameter(f"{body}.placement"))[None], runs, axis=0)
+    turn = 0.2
+    placements[1, :3, :3] = placements[1, :3, :3] @ np.array([[np.cos(turn), -np.sin(turn), 0.0],
+                                                              [np.sin(turn), np.cos(turn), 0.0], [0.0, 0.0, 1.0]])
+    masses = m.get_parameter(f"{body}.mass") * np.linspace(0.5, 2.0, runs)
+    masses[6] = -1.0  # refused: run 6 fails with the parameter's message, every row NaN
+    params = {f"{body}.placement": placements, f"{body}.mass": masses}
+    one = batch.rollout(m, x0, None, dt=1e-3, steps=30, parameters=params, lanes=1)
+    four = batch.rollout(m, x0, None, dt=1e-3, steps=30, parameters=params, lanes=4)
+    assert not one.ok[6] and f"{body}.mass" in one.messages[6] and one.ok.sum() == 7
+    assert_rollouts_equal(one, four)
+

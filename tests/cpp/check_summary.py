@@ -274,6 +274,17 @@ def check_batch(output: str) -> None:
     require(bool(lines(r"^test_batch: PASS$", output)), "the PASS line")
 
 
+def check_packet_parameters(output: str) -> None:
+    """Four runs with their own parameters in one Simulator of packets, against each run alone."""
+    require(bool(lines(r"^packet model of four parameter sets: built, lane values differing from their model's: 0$",
+                       output)), "the packet model holds each run's values in its lane")
+    require(bool(lines(r"^four runs side by side, 200 RK4 steps: entries differing from each run alone: 0$", output)),
+            "the four runs equal their Simulators bit for bit")
+    require(bool(lines(r"^models that cannot share packets \(a placement's axes, an inertia's symmetry, a flag\): "
+                       r"refused 3 of 3$", output)), "models with different derived properties or flags refused")
+    require(bool(lines(r"^test_packet_parameters: PASS$", output)), "the PASS line")
+
+
 def check_small_solves(output: str) -> None:
     """The free root's solve and the two-DOF hinge step against LLT and cholesky_in_place."""
     require(bool(lines(r"^spd_factor6: 2000 random P \(condition up to 1e6\), solve's max relative error / condition \S+$",
@@ -340,6 +351,7 @@ CHECKS = {
     "test_packet_lanes_avx2": lambda output: check_packet_lanes("AVX2", output),
     "test_small_solves": check_small_solves,
     "test_batch": check_batch,
+    "test_packet_parameters": check_packet_parameters,
     "test_c_api": check_c_api,
     "test_c_api_no_allocation": check_c_api_no_allocation,
     "test_fmu_no_allocation": check_fmu_no_allocation,

@@ -21,6 +21,8 @@ namespace soadyn {
 // The packet model and its Data (the flexible bodies' types come with them,
 // unused: PacketDynamics serves rigid trees).
 template ModelTpl<Packet4d> ModelTpl<double>::cast<Packet4d>() const;
+template bool ModelTpl<double>::cast_into<Packet4d, PacketDynamics::lanes>(
+    const std::array<const ModelTpl<double>*, PacketDynamics::lanes>&, ModelTpl<Packet4d>&);
 template struct DataTpl<Packet4d>;
 template Transform<Packet4d> FlexibleBodyTpl<Packet4d>::node_motion(int, const Eigen::Ref<const VecX<Packet4d>>&,
                                                                    Eigen::Ref<ModeShape<Packet4d>>, const Packet4d*,
@@ -57,6 +59,16 @@ void load_lanes(const double* rows, Eigen::Index n, Packet4d* x) {
 }  // namespace
 
 PacketModel::PacketModel(const Model& model) : model_(std::make_unique<ModelTpl<Packet4d>>(model.cast<Packet4d>())) {}
+
+PacketModel::PacketModel() : model_(std::make_unique<ModelTpl<Packet4d>>()) {}
+
+std::unique_ptr<PacketModel> PacketModel::of_lanes(const std::array<const Model*, kLanes>& models) {
+  std::unique_ptr<PacketModel> out(new PacketModel());
+  clear_lane_divergence();  // the derived properties' comparisons record a split (core/packet.hpp)
+  const bool agree = Model::cast_into<Packet4d, kLanes>(models, *out->model_);
+  if (!agree || lanes_diverged()) return nullptr;
+  return out;
+}
 
 PacketModel::~PacketModel() = default;
 

@@ -5,6 +5,7 @@
 #include "soadyn/sim/packet_simulation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <exception>
 #include <limits>
 #include <memory>
@@ -36,6 +37,23 @@ void check(const Model& model, const RolloutRequest& r, const ParameterTable<dou
   for (const auto& [kind, dof] : r.events)
     if (dof < 0 || dof >= model.nv || kind == EventKind::prescribe)
       throw std::invalid_argument("rollout: events are lock or release of a DOF in range");
+}
+
+// scratch = base with run `run`'s parameter values set; throws
+// ParameterError when the model refuses one (parameters.hpp).
+void set_run_model(const Model& base, const RolloutRequest& r, const ParameterTable<double>& table, std::int64_t run,
+                   Model& scratch) {
+  scratch = base;
+  const double* value = r.parameter_values;
+  if (value) {
+    std::int64_t width = 0;
+    for (int k : r.parameters) width += table.entry(k).size();
+    value += run * width;
+  }
+  for (int k : r.parameters) {
+    table.set(scratch, k, value);
+    value += table.entry(k).size();
+  }
 }
 
 // One run, recorded into its rows; the message says why it stopped early.
@@ -79,17 +97,7 @@ class Run {
 
  private:
   std::unique_ptr<Simulator> setup(Model& scratch) {
-    scratch = base_;
-    const double* value = r_.parameter_values;
-    if (value) {
-      std::int64_t width = 0;
-      for (int k : r_.parameters) width += table_.entry(k).size();
-      value += run_ * width;
-    }
-    for (int k : r_.parameters) {
-      table_.set(scratch, k, value);
-      value += table_.entry(k).size();
-    }
+    set_run_model(base_, r_, table_, run_, scratch);
     auto sim = std::make_unique<Simulator>(scratch, r_.dt, r_.integrator,
                                            std::max<int>(64, static_cast<int>(r_.events.size())));
     for (const auto& [dof, source] : r_.sources) sim->prescribe(dof, source);
@@ -157,6 +165,26 @@ PacketSimulation packet_simulation(const Model& model, const PacketModel& packet
   return s;
 }
 
+// The packet model of runs first .. first + 3 when they set parameters:
+// each run's model in `lanes` (four scratch models), then lane l holding
+// run first + l's values (PacketModel::of_lanes). Null when a run refuses
+// its values or the four cannot share one packet model: the runs then go
+// one by one, each reporting as it would alone.
+std::unique_ptr<PacketModel> packet_model_of_runs(const Model& model, const RolloutRequest& r,
+                                                  const ParameterTable<double>& table, std::int64_t first,
+                                                  Model* lanes) {
+  std::array<const Model*, PacketSimulation::lanes> models{};
+  for (int l = 0; l < PacketSimulation::lanes; ++l) {
+    try {
+      set_run_model(model, r, table, first + l, lanes[l]);
+    } catch (const std::exception&) {
+      return nullptr;
+    }
+    models[static_cast<std::size_t>(l)] = &lanes[l];
+  }
+  return PacketModel::of_lanes(models);
+}
+
 }  // namespace
 
 std::int64_t rollout_rows(const RolloutRequest& request) {
@@ -173,16 +201,27 @@ void rollout(ThreadPool& pool, const Model& model, const RolloutRequest& request
   }
   std::vector<Model> scratch(static_cast<std::size_t>(pool.size()), model);  // one model copy per thread
   const bool packets = request.lanes != 1 && PacketDynamics::available() && PacketDynamics::serves(model) &&
-                       model.nloops() == 0 &&
-                       request.parameters.empty() && request.sources.empty() && request.events.empty();
+                       model.nloops() == 0 && request.sources.empty() && request.events.empty();
+  const bool own_parameters = !request.parameters.empty();
   const std::int64_t width = packets ? PacketSimulation::lanes : 1, units = (request.runs + width - 1) / width;
-  const std::unique_ptr<PacketModel> packet_model = packets ? std::make_unique<PacketModel>(model) : nullptr;
+  // Runs without parameters share one packet model; runs with parameters
+  // have one per four runs, from four model copies per thread.
+  const std::unique_ptr<PacketModel> shared_packets =
+      packets && !own_parameters ? std::make_unique<PacketModel>(model) : nullptr;
+  std::vector<Model> lane_models(packets && own_parameters ? scratch.size() * PacketSimulation::lanes : 0, model);
   pool.parallel_for(units, 1, [&](std::int64_t begin, std::int64_t end, int worker) {
     for (std::int64_t unit = begin; unit < end; ++unit) {
       const std::int64_t first = unit * width, last = std::min(first + width, request.runs);
-      if (packets && last - first == PacketSimulation::lanes &&
-          run_packet_simulation(packet_simulation(model, *packet_model, request, outputs, first, pool, worker)))
-        continue;
+      if (packets && last - first == PacketSimulation::lanes) {
+        const std::unique_ptr<PacketModel> runs_packets =
+            own_parameters ? packet_model_of_runs(model, request, table, first,
+                                                  &lane_models[static_cast<std::size_t>(worker) * PacketSimulation::lanes])
+                           : nullptr;
+        const PacketModel* packet_model = own_parameters ? runs_packets.get() : shared_packets.get();
+        if (packet_model &&
+            run_packet_simulation(packet_simulation(model, *packet_model, request, outputs, first, pool, worker)))
+          continue;
+      }
       for (std::int64_t run = first; run < last; ++run)
         Run(model, request, table, run, outputs)(scratch[static_cast<std::size_t>(worker)], pool, worker);
     }

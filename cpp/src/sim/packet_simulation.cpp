@@ -36,13 +36,13 @@ void record(const SimulatorTpl<Packet4d>& sim, const PacketSimulation& s, std::i
 bool run_packet_simulation(const PacketSimulation& s) {
   const Model& base = *s.model;
   const int nq = base.nq, nv = base.nv;
+  clear_lane_divergence();  // before the Simulator: the lanes' models may differ in their values
   SimulatorTpl<Packet4d> sim(s.packets->get(), Packet4d(s.dt), s.integrator);
   VecX<Packet4d> q(nq), v(nv);
   for (int l = 0; l < kLanes; ++l) {
     for (int k = 0; k < nq; ++k) q[k][l] = s.initial_states[l][k];
     for (int k = 0; k < nv; ++k) v[k][l] = s.initial_states[l][nq + k];
   }
-  clear_lane_divergence();
   sim.set_state(q, v);
   if (lanes_diverged()) return false;
   record(sim, s, 0);

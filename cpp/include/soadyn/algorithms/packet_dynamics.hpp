@@ -18,6 +18,7 @@
 // Rigid trees only (no flexible bodies: their appendage step has its own
 // double kernel); BatchDynamics runs other models row by row.
 #pragma once
+#include <array>
 #include <memory>
 
 #include "soadyn/model/data.hpp"
@@ -31,6 +32,14 @@ namespace soadyn {
 class PacketModel {
  public:
   explicit PacketModel(const Model& model);
+  // Four models of one structure that differ in their parameters' values
+  // (model/parameters.hpp: a rollout's runs, each with its own), lane l
+  // holding models[l]'s values. Null when the four cannot share one packet
+  // model: their structure or flags differ, or a property the model derives
+  // from its values differs between them (whether a placement's rotation
+  // permutes the axes, whether an inertia is diagonal or symmetric about a
+  // joint axis, whether a body's tree-frame reach is checked). Allocates.
+  static std::unique_ptr<PacketModel> of_lanes(const std::array<const Model*, 4>& models);
   ~PacketModel();
   // Takes the model's values again (masses, prescribed flags, gravity, ...:
   // whatever changed short of its structure). Allocates.
@@ -38,6 +47,7 @@ class PacketModel {
   const ModelTpl<Packet4d>& get() const { return *model_; }
 
  private:
+  PacketModel();
   std::unique_ptr<ModelTpl<Packet4d>> model_;
 };
 

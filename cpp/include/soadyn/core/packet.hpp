@@ -63,9 +63,6 @@ struct Packet4d {
   Packet4d& operator/=(const Packet4d& o) { v /= o.v; return *this; }
 };
 
-template <class S>
-inline constexpr bool is_packet_v = std::is_same_v<S, Packet4d>;
-
 namespace packet_detail {
 // Set by a comparison whose lanes disagree (thread-local; see above).
 inline thread_local bool diverged = false;
@@ -146,6 +143,25 @@ inline Packet4d pow(const Packet4d& a, const Packet4d& b) {
 // is x < y ? y : x, std::min(x, y) is y < x ? y : x (x when unordered).
 inline Packet4d max(const Packet4d& a, const Packet4d& b) { return Packet4d(a.v < b.v ? b.v : a.v); }
 inline Packet4d min(const Packet4d& a, const Packet4d& b) { return Packet4d(b.v < a.v ? b.v : a.v); }
+// For spatial/lie.hpp's series near zero (series_near_zero): how many lanes
+// of x lie below `threshold`, and lane by lane `below` where x < threshold,
+// `otherwise` elsewhere (NaN lanes: `otherwise`, as the double branch).
+inline int lanes_below(const Packet4d& x, const Packet4d& threshold) {
+  const Packet4d::Mask m = x.v < threshold.v;
+  return (m[0] != 0) + (m[1] != 0) + (m[2] != 0) + (m[3] != 0);
+}
+inline Packet4d blend_below(const Packet4d& x, const Packet4d& threshold, const Packet4d& below,
+                            const Packet4d& otherwise) {
+  return Packet4d(x.v < threshold.v ? below.v : otherwise.v);
+}
+// Whether every entry of a vector of packets is zero in every lane; a split
+// answer is recorded (spatial/types.hpp's exactly_zero).
+template <class Derived>
+bool lanes_all_zero(const Eigen::MatrixBase<Derived>& x) {
+  Packet4d::Mask zero = {-1, -1, -1, -1};
+  for (Eigen::Index k = 0; k < x.size(); ++k) zero &= x.derived().coeff(k).v == Packet4d::Lanes{};
+  return packet_detail::common(zero);
+}
 inline bool isfinite(const Packet4d& a) { return std::isfinite(a.value()); }  // all lanes finite
 inline bool isnan(const Packet4d& a) { return std::isnan(a.value()); }        // some lane NaN
 inline bool isinf(const Packet4d& a) { return !isfinite(a) && !isnan(a); }

@@ -17,6 +17,7 @@
 // centre of mass and inertia are merged exactly into the body it is welded
 // to, and its name stays usable as a parent (a "frame").
 #pragma once
+#include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <type_traits>
@@ -308,6 +309,13 @@ class ModelTpl {
   // again (FlexibleBodyTpl::converted).
   template <class T>
   ModelTpl<T> cast() const;
+  // Models of one structure as one model `out` of packets T of N lanes
+  // (model_cast.hxx): lane l of every value is models[l]'s, the rest the
+  // first model's (names, joints, flexible bodies, frames, loops: no
+  // parameter changes them). False when the models' structure or flags
+  // differ (`out` is then not to be used). N = 1: cast().
+  template <class T, std::size_t N>
+  static bool cast_into(const std::array<const ModelTpl*, N>& models, ModelTpl<T>& out);
 
  private:
   template <class>

@@ -1,8 +1,13 @@
-// ModelTpl::cast (model.hpp): the same model in another scalar type. Every
-// field is copied, numeric ones converted; nothing is recomputed, so the cast
-// model runs exactly the sweeps the original runs (same dynamics path, joint
-// fast paths, prescribed flags and tree-frame reach).
+// ModelTpl::cast (model.hpp): the same model in another scalar type, and
+// cast_lanes: several models of one structure as one model of packets, lane
+// l holding model l's values. Every field is copied, numeric ones
+// converted; nothing is recomputed but the constant tree-frame terms
+// (refresh_constant_tree_inertia, from the converted values), so the cast
+// model runs exactly the sweeps the original runs (same dynamics path,
+// joint fast paths, prescribed flags and tree-frame reach).
 #pragma once
+#include <array>
+#include <functional>
 #include <type_traits>
 #include "soadyn/model/model.hpp"
 
@@ -10,23 +15,10 @@ namespace soadyn {
 
 namespace cast_detail {
 
-template <class T, class S>
-T scalar(const S& x) {
-  return T(x);
-}
-
-template <class T, class Derived>
-auto matrix(const Eigen::MatrixBase<Derived>& x) {
-  return x.template cast<T>().eval();
-}
-
-template <class T, class S>
-Transform<T> transform(const Transform<S>& X) {
-  Transform<T> out;
-  out.rotation = X.rotation.template cast<T>();
-  out.translation = X.translation.template cast<T>();
-  return out;
-}
+template <class X>
+struct is_std_vector : std::false_type {};
+template <class X, class A>
+struct is_std_vector<std::vector<X, A>> : std::true_type {};
 
 template <class J, class T>
 struct rebind;
@@ -67,63 +59,90 @@ JointModel<T> joint(const JointModel<S>& j) {
 }
 
 template <class T, class S>
-std::vector<T> scalars(const std::vector<S>& x) {
-  return std::vector<T>(x.begin(), x.end());
+Transform<T> transform(const Transform<S>& X) {
+  Transform<T> out;
+  out.rotation = X.rotation.template cast<T>();
+  out.translation = X.translation.template cast<T>();
+  return out;
 }
+
+// The field `member` of get(model): a getter for Sources.
+template <class Get, class Member>
+auto then(Get get, Member member) {
+  return [get, member](const auto& model) -> const auto& { return std::invoke(member, std::invoke(get, model)); };
+}
+
+// The models a cast reads: one, whose values fill every lane of T, or one
+// per lane of a packet T (T::lanes of them), lane l taking model l's values.
+template <class S, std::size_t N>
+class Sources {
+ public:
+  using Model = ModelTpl<S>;
+  explicit Sources(const std::array<const Model*, N>& models) : models_(models) {}
+
+  const Model& first() const { return *models_[0]; }
+
+  // out = get(model) converted, lane l of each value from model l: a scalar,
+  // an Eigen matrix, a Transform or a std::vector of them. `get` is a
+  // member pointer or a function of the model.
+  template <class Get, class Out>
+  void values(Get&& get, Out& out) const {
+    using In = std::decay_t<std::invoke_result_t<Get, const Model&>>;
+    if constexpr (is_std_vector<In>::value) {
+      const std::size_t n = std::invoke(get, first()).size();
+      out.resize(n);
+      for (std::size_t j = 0; j < n; ++j) values([&](const Model& m) -> const auto& { return std::invoke(get, m)[j]; }, out[j]);
+    } else if constexpr (std::is_same_v<In, Transform<S>>) {
+      values([&](const Model& m) -> const auto& { return std::invoke(get, m).rotation; }, out.rotation);
+      values([&](const Model& m) -> const auto& { return std::invoke(get, m).translation; }, out.translation);
+    } else if constexpr (std::is_arithmetic_v<In>) {
+      out = Out(std::invoke(get, first()));
+      if constexpr (N > 1)
+        for (std::size_t l = 1; l < N; ++l) out[static_cast<int>(l)] = std::invoke(get, *models_[l]);
+    } else {  // an Eigen matrix
+      const In& x = std::invoke(get, first());
+      out = x.template cast<typename Out::Scalar>();
+      if constexpr (N > 1)
+        for (std::size_t l = 1; l < N; ++l)
+          for (Eigen::Index c = 0; c < x.cols(); ++c)
+            for (Eigen::Index r = 0; r < x.rows(); ++r) out(r, c)[static_cast<int>(l)] = std::invoke(get, *models_[l])(r, c);
+    }
+  }
+
+  // out = get(first()), a field that is not numeric; records whether every
+  // model has the same (agree()).
+  template <class Get, class Out>
+  void same(Get&& get, Out& out) const {
+    out = std::invoke(get, first());
+    for (std::size_t l = 1; l < N; ++l)
+      if (!(std::invoke(get, *models_[l]) == out)) agree_ = false;
+  }
+
+  bool agree() const { return agree_; }
+
+ private:
+  std::array<const Model*, N> models_;
+  mutable bool agree_ = true;
+};
 
 }  // namespace cast_detail
 
 template <class S>
-template <class T>
-ModelTpl<T> ModelTpl<S>::cast() const {
+template <class T, std::size_t N>
+bool ModelTpl<S>::cast_into(const std::array<const ModelTpl<S>*, N>& models, ModelTpl<T>& out) {
   namespace c = cast_detail;
-  ModelTpl<T> out;
-  out.body_names = body_names;
-  out.joint_names = joint_names;
-  out.parent = parent;
-  for (const auto& j : joints) out.joints.push_back(c::joint<T>(j));
-  for (const auto& X : placement) out.placement.push_back(c::transform<T>(X));
-  for (const auto& M : inertia) out.inertia.push_back(M.template cast<T>());
-  out.mass = c::scalars<T>(mass);
-  for (const auto& x : com) out.com.push_back(x.template cast<T>());
-  for (const auto& x : inertia_com) out.inertia_com.push_back(x.template cast<T>());
-  out.joint_fast_path = joint_fast_path;
-  out.axis_sign = c::scalars<T>(axis_sign);
-  out.angle_slot = angle_slot;
-  out.angle_coordinates = angle_coordinates;
-  out.angle_signs = c::scalars<T>(angle_signs);
-  out.q_index = q_index;
-  out.v_index = v_index;
-  out.nq_body = nq_body;
-  out.nv_body = nv_body;
-  out.modes = modes;
-  out.flexible_index = flexible_index;
-  for (const FlexibleBodyTpl<S>& body : flexible_bodies) out.flexible_bodies.push_back(body.template converted<T>());
-  out.n_modes = n_modes;
-  out.attachment_node = attachment_node;
-  out.nq = nq;
-  out.nv = nv;
-  out.dof_names = dof_names;
-  out.coordinate_names = coordinate_names;
-  out.dof_body = dof_body;
-  out.dof_parent = dof_parent;
-  out.dof_run_start = dof_run_start;
-  out.prescribed = prescribed;
-  out.modal_dof = modal_dof;
-  out.armature = c::scalars<T>(armature);
-  out.has_armature = has_armature;
-  out.effort_limit = c::scalars<T>(effort_limit);
-  out.n_prescribed = n_prescribed;
-  out.prescribed_dofs = prescribed_dofs;
-  out.has_newton_euler_region = has_newton_euler_region;
-  out.derived.tree_frame_reach_squared = c::scalars<T>(derived.tree_frame_reach_squared);
-  out.derived.check_tree_frame_reach = derived.check_tree_frame_reach;
-  out.derived.reach_checks_needed = derived.reach_checks_needed;
-  out.refresh_constant_tree_inertia();  // from the converted inertias (none cached for a non-floating-point T)
-  out.dynamics_path = dynamics_path;
-  out.tree_factor_work = tree_factor_work;
-  for (const auto& f : frames) out.frames.push_back(Frame<T>{f.name, f.body, c::transform<T>(f.placement), f.node});
-  for (const auto& l : loops) {
+  using M = ModelTpl<S>;
+  const c::Sources<S, N> in(models);
+  const M& first = in.first();
+  // Names, joints, modes, flexible bodies, frames and loops are the first
+  // model's: no parameter (parameters.hpp) changes them.
+  out.body_names = first.body_names;
+  out.joint_names = first.joint_names;
+  for (const auto& j : first.joints) out.joints.push_back(c::joint<T>(j));
+  out.modes = first.modes;
+  for (const FlexibleBodyTpl<S>& body : first.flexible_bodies) out.flexible_bodies.push_back(body.template converted<T>());
+  for (const auto& f : first.frames) out.frames.push_back(Frame<T>{f.name, f.body, c::transform<T>(f.placement), f.node});
+  for (const auto& l : first.loops) {
     LoopTpl<T> o;
     o.name = l.name;
     o.kind = l.kind;
@@ -135,31 +154,92 @@ ModelTpl<T> ModelTpl<S>::cast() const {
     o.first_row = l.first_row;
     out.loops.push_back(o);
   }
-  out.nloop_equations = nloop_equations;
-  for (const auto& e : force_elements.joint_springs)
-    out.force_elements.joint_springs.push_back(
-        JointSpringTpl<T>{e.name, e.dof, e.coordinate, T(e.stiffness), T(e.damping), T(e.rest)});
-  for (const auto& e : force_elements.point_springs) {
+  out.dof_names = first.dof_names;
+  out.coordinate_names = first.coordinate_names;
+  out.dof_body = first.dof_body;
+  out.body_lookup_ = first.body_lookup_;
+  out.dof_lookup_ = first.dof_lookup_;
+  out.frame_lookup_ = first.frame_lookup_;
+  // The values, lane by lane.
+  in.values(&M::placement, out.placement);
+  in.values(&M::inertia, out.inertia);
+  in.values(&M::mass, out.mass);
+  in.values(&M::com, out.com);
+  in.values(&M::inertia_com, out.inertia_com);
+  in.values(&M::axis_sign, out.axis_sign);
+  in.values(&M::angle_signs, out.angle_signs);
+  in.values(&M::armature, out.armature);
+  in.values(&M::effort_limit, out.effort_limit);
+  using Derived = DerivedCachesTpl<S>;
+  in.values(c::then(&M::derived, &Derived::tree_frame_reach_squared), out.derived.tree_frame_reach_squared);
+  in.values(&M::gravity, out.gravity);
+  for (const auto& e : first.force_elements.joint_springs)
+    out.force_elements.joint_springs.push_back(JointSpringTpl<T>{e.name, e.dof, e.coordinate, T(), T(), T()});
+  using JointSpring = JointSpringTpl<S>;
+  using PointSpring = PointSpringTpl<S>;
+  using ForceLaw = ForceLawTpl<S>;
+  for (std::size_t k = 0; k < out.force_elements.joint_springs.size(); ++k) {
+    const auto spring = [k](const M& m) -> const JointSpring& { return m.force_elements.joint_springs[k]; };
+    JointSpringTpl<T>& o = out.force_elements.joint_springs[k];
+    in.values(c::then(spring, &JointSpring::stiffness), o.stiffness);
+    in.values(c::then(spring, &JointSpring::damping), o.damping);
+    in.values(c::then(spring, &JointSpring::rest), o.rest);
+  }
+  for (std::size_t k = 0; k < first.force_elements.point_springs.size(); ++k) {
+    const auto spring = [k](const M& m) -> const PointSpring& { return m.force_elements.point_springs[k]; };
+    const auto law = c::then(spring, &PointSpring::force_law);
     PointSpringTpl<T> o;
-    o.name = e.name;
-    o.body_a = e.body_a;
-    o.body_b = e.body_b;
-    o.point_a = e.point_a.template cast<T>();
-    o.point_b = e.point_b.template cast<T>();
-    o.stiffness = T(e.stiffness);
-    o.damping = T(e.damping);
-    o.rest_length = T(e.rest_length);
-    o.force_law.length = c::scalars<T>(e.force_law.length);
-    o.force_law.force = c::scalars<T>(e.force_law.force);
-    o.force_law.slope = c::scalars<T>(e.force_law.slope);
-    o.force_law.integral_to_knot = c::scalars<T>(e.force_law.integral_to_knot);
+    o.name = spring(first).name;
+    in.same(c::then(spring, &PointSpring::body_a), o.body_a);
+    in.same(c::then(spring, &PointSpring::body_b), o.body_b);
+    in.values(c::then(spring, &PointSpring::point_a), o.point_a);
+    in.values(c::then(spring, &PointSpring::point_b), o.point_b);
+    in.values(c::then(spring, &PointSpring::stiffness), o.stiffness);
+    in.values(c::then(spring, &PointSpring::damping), o.damping);
+    in.values(c::then(spring, &PointSpring::rest_length), o.rest_length);
+    in.values(c::then(law, &ForceLaw::length), o.force_law.length);
+    in.values(c::then(law, &ForceLaw::force), o.force_law.force);
+    in.values(c::then(law, &ForceLaw::slope), o.force_law.slope);
+    in.values(c::then(law, &ForceLaw::integral_to_knot), o.force_law.integral_to_knot);
     out.force_elements.point_springs.push_back(o);
   }
-  out.gravity = gravity.template cast<T>();
-  out.version = version;
-  out.body_lookup_ = body_lookup_;
-  out.dof_lookup_ = dof_lookup_;
-  out.frame_lookup_ = frame_lookup_;
+  // The structure and the flags, which must be the same in every model.
+  in.same(&M::parent, out.parent);
+  in.same(&M::joint_fast_path, out.joint_fast_path);
+  in.same(&M::angle_slot, out.angle_slot);
+  in.same(&M::angle_coordinates, out.angle_coordinates);
+  in.same(&M::q_index, out.q_index);
+  in.same(&M::v_index, out.v_index);
+  in.same(&M::nq_body, out.nq_body);
+  in.same(&M::nv_body, out.nv_body);
+  in.same(&M::flexible_index, out.flexible_index);
+  in.same(&M::n_modes, out.n_modes);
+  in.same(&M::attachment_node, out.attachment_node);
+  in.same(&M::nq, out.nq);
+  in.same(&M::nv, out.nv);
+  in.same(&M::dof_parent, out.dof_parent);
+  in.same(&M::dof_run_start, out.dof_run_start);
+  in.same(&M::prescribed, out.prescribed);
+  in.same(&M::modal_dof, out.modal_dof);
+  in.same(&M::has_armature, out.has_armature);
+  in.same(&M::n_prescribed, out.n_prescribed);
+  in.same(&M::prescribed_dofs, out.prescribed_dofs);
+  in.same(&M::has_newton_euler_region, out.has_newton_euler_region);
+  in.same(c::then(&M::derived, &Derived::check_tree_frame_reach), out.derived.check_tree_frame_reach);
+  in.same(c::then(&M::derived, &Derived::reach_checks_needed), out.derived.reach_checks_needed);
+  in.same(&M::dynamics_path, out.dynamics_path);
+  in.same(&M::tree_factor_work, out.tree_factor_work);
+  in.same(&M::nloop_equations, out.nloop_equations);
+  in.same(&M::version, out.version);
+  out.refresh_constant_tree_inertia();  // from the converted inertias (none cached for a non-floating-point T)
+  return in.agree();
+}
+
+template <class S>
+template <class T>
+ModelTpl<T> ModelTpl<S>::cast() const {
+  ModelTpl<T> out;
+  cast_into<T, 1>({this}, out);
   return out;
 }
 

@@ -18,7 +18,7 @@ class PacketModel;  // algorithms/packet_dynamics.hpp
 struct PacketSimulation {
   static constexpr int lanes = 4;
   const Model* model = nullptr;  // a rigid tree without loops (PacketDynamics::serves)
-  const PacketModel* packets = nullptr;  // the model in packets
+  const PacketModel* packets = nullptr;  // the model in packets (its lanes may differ in values: PacketModel::of_lanes)
   double dt = 1e-3;
   Integrator integrator = Integrator::rk4;
   std::int64_t steps = 0, record_every = 1;

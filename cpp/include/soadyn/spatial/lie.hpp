@@ -1,10 +1,31 @@
 // Exponential maps used to integrate joints on their manifolds: SO(3) as
 // unit quaternions (x, y, z, w), SE(3) and SE(2) with body-frame twists.
 #pragma once
+#include <array>
 #include <cmath>
 #include "soadyn/spatial/transform.hpp"
 
 namespace soadyn {
+
+// The coefficients near() (a series) where t2 < threshold, and far() (the
+// closed form) elsewhere. A packet of states (core/packet.hpp) takes each
+// lane's own branch: where its lanes disagree, both are formed and each lane
+// keeps the one the double computation takes, so no lane splits on a series
+// threshold and each equals its double's, bit for bit.
+template <class S, class Near, class Far>
+auto series_near_zero(const S& t2, const S& threshold, Near&& near, Far&& far) {
+  if constexpr (is_packet_scalar_v<S>) {
+    const int below = lanes_below(t2, threshold);
+    if (below == S::lanes) return near();
+    if (below == 0) return far();
+    auto out = far();
+    const auto series = near();
+    for (std::size_t k = 0; k < out.size(); ++k) out[k] = blend_below(t2, threshold, series[k], out[k]);
+    return out;
+  } else {
+    return t2 < threshold ? near() : far();
+  }
+}
 
 // Unit quaternion (x, y, z, w) of the rotation vector phi.
 template <class S>
@@ -16,15 +37,12 @@ Eigen::Matrix<S, 4, 1> quaternion_exp(const Vec3<S>& phi) {
   // sin(theta/2)/theta and cos(theta/2) with their Taylor series near zero
   // (no square root there: its derivative at zero is not finite, which a
   // dual-number scalar would carry).
-  S k, w;
-  if (theta2 < S(1e-8)) {
-    k = S(0.5) - theta2 / S(48);
-    w = S(1) - theta2 / S(8);
-  } else {
-    const S theta = sqrt(theta2);
-    k = sin(theta / S(2)) / theta;
-    w = cos(theta / S(2));
-  }
+  const auto [k, w] = series_near_zero(
+      theta2, S(1e-8), [&] { return std::array<S, 2>{S(0.5) - theta2 / S(48), S(1) - theta2 / S(8)}; },
+      [&] {
+        const S theta = sqrt(theta2);
+        return std::array<S, 2>{sin(theta / S(2)) / theta, cos(theta / S(2))};
+      });
   Eigen::Matrix<S, 4, 1> q;
   q << k * phi, w;
   return q;
@@ -49,15 +67,12 @@ Mat3<S> so3_left_jacobian(const Vec3<S>& phi) {
   using std::sin;
   using std::sqrt;
   const S t2 = phi.squaredNorm();
-  S a, b;
-  if (t2 < S(1e-8)) {
-    a = S(0.5) - t2 / S(24);
-    b = S(1) / S(6) - t2 / S(120);
-  } else {
-    const S t = sqrt(t2);
-    a = (S(1) - cos(t)) / t2;
-    b = (t - sin(t)) / (t2 * t);
-  }
+  const auto [a, b] = series_near_zero(
+      t2, S(1e-8), [&] { return std::array<S, 2>{S(0.5) - t2 / S(24), S(1) / S(6) - t2 / S(120)}; },
+      [&] {
+        const S t = sqrt(t2);
+        return std::array<S, 2>{(S(1) - cos(t)) / t2, (t - sin(t)) / (t2 * t)};
+      });
   const Mat3<S> k = skew(phi);
   return Mat3<S>::Identity() + a * k + b * (k * k);
 }
@@ -85,17 +100,18 @@ Vec3<S> so3_right_jacobian_rate(const Vec3<S>& theta, const Vec3<S>& theta_dot) 
   using std::sin;
   using std::sqrt;
   const S t2 = theta.squaredNorm();
-  S b, da, db;  // b(t), a'(t)/t, b'(t)/t
-  if (t2 < S(1e-3)) {
-    b = S(1) / S(6) - t2 / S(120) + t2 * t2 / S(5040);
-    da = -S(1) / S(12) + t2 / S(180) - t2 * t2 / S(6720);
-    db = -S(1) / S(60) + t2 / S(1260) - t2 * t2 / S(60480);
-  } else {
-    const S t = sqrt(t2), c = cos(t), s = sin(t);
-    b = (t - s) / (t2 * t);
-    da = (t * s - S(2) * (S(1) - c)) / (t2 * t2);
-    db = (t * (S(1) - c) - S(3) * (t - s)) / (t2 * t2 * t);
-  }
+  const auto [b, da, db] = series_near_zero(  // b(t), a'(t)/t, b'(t)/t
+      t2, S(1e-3),
+      [&] {
+        return std::array<S, 3>{S(1) / S(6) - t2 / S(120) + t2 * t2 / S(5040),
+                                -S(1) / S(12) + t2 / S(180) - t2 * t2 / S(6720),
+                                -S(1) / S(60) + t2 / S(1260) - t2 * t2 / S(60480)};
+      },
+      [&] {
+        const S t = sqrt(t2), c = cos(t), s = sin(t);
+        return std::array<S, 3>{(t - s) / (t2 * t), (t * s - S(2) * (S(1) - c)) / (t2 * t2),
+                                (t * (S(1) - c) - S(3) * (t - s)) / (t2 * t2 * t)};
+      });
   const S along = theta.dot(theta_dot);  // t t'
   const Vec3<S> cross = theta.cross(theta_dot);
   return -da * along * cross + db * along * theta.cross(cross) + b * theta_dot.cross(cross);
@@ -108,8 +124,9 @@ S so3_right_jacobian_inverse_coefficient(const S& t2) {
   using std::cos;
   using std::sin;
   using std::sqrt;
-  return t2 < S(1e-6) ? S(S(1) / S(12) + t2 / S(720))
-                      : S(S(1) / t2 - (S(1) + cos(sqrt(t2))) / (S(2) * sqrt(t2) * sin(sqrt(t2))));
+  return series_near_zero(
+      t2, S(1e-6), [&] { return std::array<S, 1>{S(1) / S(12) + t2 / S(720)}; },
+      [&] { return std::array<S, 1>{S(1) / t2 - (S(1) + cos(sqrt(t2))) / (S(2) * sqrt(t2) * sin(sqrt(t2)))}; })[0];
 }
 
 // Inverse right Jacobian of SO(3): I + [xi]x/2 + c [xi]x^2.
@@ -135,15 +152,13 @@ Mat3<S> so3_right_jacobian_inverse_derivative(const Vec3<S>& xi, const Vec3<S>& 
   using std::sqrt;
   using std::tan;
   const S t2 = xi.squaredNorm();
-  S c, dc_over_t;
-  if (t2 < S(1e-6)) {
-    c = S(1) / S(12) + t2 / S(720);
-    dc_over_t = S(1) / S(360);
-  } else {
-    const S t = sqrt(t2), half_cot = S(1) / tan(t / S(2)), sh = sin(t / S(2));
-    c = S(1) / t2 - half_cot / (S(2) * t);
-    dc_over_t = (-S(2) / (t2 * t) + S(1) / (S(4) * t * sh * sh) + half_cot / (S(2) * t2)) / t;
-  }
+  const auto [c, dc_over_t] = series_near_zero(
+      t2, S(1e-6), [&] { return std::array<S, 2>{S(1) / S(12) + t2 / S(720), S(1) / S(360)}; },
+      [&] {
+        const S t = sqrt(t2), half_cot = S(1) / tan(t / S(2)), sh = sin(t / S(2));
+        return std::array<S, 2>{S(1) / t2 - half_cot / (S(2) * t),
+                                (-S(2) / (t2 * t) + S(1) / (S(4) * t * sh * sh) + half_cot / (S(2) * t2)) / t};
+      });
   const Mat3<S> k = skew(xi);
   const Vec3<S> kkw = k * (k * w);
   return -skew(w) / S(2) + dc_over_t * kkw * xi.transpose() +
@@ -156,14 +171,10 @@ template <class S>
 Eigen::Matrix<S, 2, 1> se2_exp_translation(const S& vx, const S& vy, const S& phi) {
   using std::cos;
   using std::sin;
-  S s, c;  // sin(phi)/phi and (1 - cos(phi))/phi
-  if (phi * phi < S(1e-8)) {
-    s = S(1) - phi * phi / S(6);
-    c = phi / S(2) - phi * phi * phi / S(24);
-  } else {
-    s = sin(phi) / phi;
-    c = (S(1) - cos(phi)) / phi;
-  }
+  const auto [s, c] = series_near_zero(  // sin(phi)/phi and (1 - cos(phi))/phi
+      S(phi * phi), S(1e-8),
+      [&] { return std::array<S, 2>{S(1) - phi * phi / S(6), phi / S(2) - phi * phi * phi / S(24)}; },
+      [&] { return std::array<S, 2>{sin(phi) / phi, (S(1) - cos(phi)) / phi}; });
   return Eigen::Matrix<S, 2, 1>(s * vx - c * vy, c * vx + s * vy);
 }
 

@@ -41,6 +41,22 @@ template <class S> using VecN = Eigen::Matrix<S, Eigen::Dynamic, 1, 0, 6, 1>;
 
 struct Packet4d;  // core/packet.hpp
 
+// Whether S is a packet of states (core/packet.hpp).
+template <class S>
+inline constexpr bool is_packet_scalar_v = std::is_same_v<S, Packet4d>;
+
+// Whether every entry of x is exactly zero (-0 included). A packet vector's
+// answer is one comparison for the whole vector (core/packet.hpp), so its
+// lanes split only when their answers differ, not when single entries do.
+template <class Derived>
+bool exactly_zero(const Eigen::MatrixBase<Derived>& x) {
+  using S = typename Derived::Scalar;
+  if constexpr (is_packet_scalar_v<S>)
+    return lanes_all_zero(x);
+  else
+    return (x.array() == S(0)).all();
+}
+
 // Whether S holds real numbers, one per state: a floating-point type, or a
 // packet of doubles (core/packet.hpp) whose lanes each take the double
 // algorithm's every step. The speed paths and the model's precomputed

@@ -222,7 +222,7 @@ inline void root_body_frame_update(const ModelTpl<S>& m, DataTpl<S>& d, std::siz
     w.tree_velocity[i].setZero();
   w.tree_coriolis[i].setZero();
   Vec6<S>& a = w.tree_world_acceleration[i];
-  if (world_acc == Vec6<S>::Zero()) {  // exactly no gravity (a spacecraft, an impulse): no rotation
+  if (exactly_zero(world_acc)) {  // exactly no gravity (a spacecraft, an impulse): no rotation
     a.setZero();
     return;
   }
