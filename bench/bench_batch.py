@@ -3,8 +3,10 @@ packet width (`lanes`: four states per pass on processors with AVX2 and FMA,
 against one), and against Pinocchio's parallel ABA (`abaInParallel`, OpenMP,
 with its ModelPool) in the same run: forward dynamics of a batch of random
 states, from Python, one call per batch for both libraries. Calls per second are medians over repeats, after
-one warm-up call; ratios are taken within this run. Also the rollout's runs per
-second (cassini, RK4) against the number of threads.
+one warm-up call; ratios are taken within this run. Also the rollouts' runs per
+second (RK4) against the packet width and the number of threads: cassini, its
+rigid version, the rigid version with each run's own bus mass, and talos from
+random states.
 
 Writes bench/results/batch.json.
 Usage: python bench/bench_batch.py [--rows 2000] [--repeats 30] [--runs 64]
@@ -73,11 +75,23 @@ def pinocchio_rates(name: str, rows: int, repeats: int) -> dict | None:
 RIGID_CASSINI_LEFT_OUT = ("magnetometer_boom", "plasma_wave_antenna")  # its two flexible booms
 
 
-def rollout_rates(m: soadyn.Model, runs: int, repeats: int, parameters: dict | None = None) -> dict:
-    """Runs per second by (threads, lanes) of rollouts of cassini from rest, the bus's z rate spread over
-    [-0.01, 0.01] rad/s across runs; `parameters` as batch.rollout's (each run's own values)."""
+def cassini_states(m: soadyn.Model, runs: int) -> np.ndarray:
+    """Cassini from rest, the bus's z rate spread over [-0.01, 0.01] rad/s across runs."""
     x0 = np.tile(np.concatenate([soadyn.neutral_configuration(m), np.zeros(m.nv)]), (runs, 1))
     x0[:, m.nq + m.dof_names.index("bus:wz")] = np.linspace(-0.01, 0.01, runs)
+    return x0
+
+
+def random_states(m: soadyn.Model, runs: int) -> np.ndarray:
+    """Configuration k from seed k, velocities uniform in [-1, 1] (numbered_states)."""
+    q, v, _ = numbered_states(m, 0, runs)
+    return np.hstack([q, v])
+
+
+def rollout_rates(m: soadyn.Model, x0: np.ndarray, repeats: int, parameters: dict | None = None) -> dict:
+    """Runs per second by (threads, lanes) of rollouts of `m` from the states x0; `parameters` as
+    batch.rollout's (each run's own values)."""
+    runs = len(x0)
     widest = batch.widest_lanes()
     settings = [(1, 1)] + [(k, widest) for k in THREADS]
     return {(k, lanes): median_rate(lambda: batch.rollout(m, x0, None, dt=1e-3, steps=100, threads=k, lanes=lanes,
@@ -94,7 +108,7 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rows", type=int, default=2000)
     parser.add_argument("--repeats", type=int, default=30)
-    parser.add_argument("--runs", type=int, default=64, help="rollout runs (cassini, 100 RK4 steps each)")
+    parser.add_argument("--runs", type=int, default=64, help="rollout runs (100 RK4 steps each)")
     args = parser.parse_args()
     widest = batch.widest_lanes()
     rates = Table(f"Forward dynamics of {args.rows} random states in one call, calls per second", [
@@ -117,12 +131,14 @@ def main() -> int:
                      headline=["packet speed-up"])
     rollouts.formats = {c: ",.0f" for c in rollouts.columns[1:]}
     rollouts.formats.update({"packet speed-up": ".2f", "thread speed-up": ".2f"})
-    rigid = cassini_without(RIGID_CASSINI_LEFT_OUT)
-    for scene, model, parameters in (("cassini (flexible booms: one run per pass)", cassini(), None),
-                                     ("cassini rigid (without its booms)", rigid, None),
-                                     ("cassini rigid, each run its own bus mass", rigid,
-                                      bus_masses(rigid, args.runs))):
-        r = rollout_rates(model, args.runs, max(3, args.repeats // 10), parameters)
+    flexible, rigid, talos = cassini(), cassini_without(RIGID_CASSINI_LEFT_OUT), load_robot("talos")
+    for scene, model, x0, parameters in (
+            ("cassini (flexible booms: one run per pass)", flexible, cassini_states(flexible, args.runs), None),
+            ("cassini rigid (without its booms)", rigid, cassini_states(rigid, args.runs), None),
+            ("cassini rigid, each run its own bus mass", rigid, cassini_states(rigid, args.runs),
+             bus_masses(rigid, args.runs)),
+            ("talos from random states", talos, random_states(talos, args.runs), None)):
+        r = rollout_rates(model, x0, max(3, args.repeats // 10), parameters)
         one, packet, two = r[(1, 1)], r[(1, widest)], r[(2, widest)]
         print(rollouts.add(scene, one, packet, packet / one, two, two / packet), flush=True)
     for table in (rates, rollouts):
