@@ -281,10 +281,10 @@ def rollout(m, x0s, controls_or_sources=None, dt: float = 1e-3, steps: int = 100
     GIL). parameters: {parameter name: (runs, *shape) values} set on each run's copy of the model.
     events: [(kind, DOF, times)] with kind 'lock' or 'release' and one time per run (or one for all).
     Samples every `record_every` steps (which must divide `steps`), the start included. With lanes 4 (the default
-    where the processor has AVX2 and FMA), runs of a rigid tree without loops, sources or events step four side
-    by side, each equal bit for bit to its run alone; with parameters, each of the four holds its own values (four
-    runs whose values change a property the model derives from them, such as a placement's rotation being the
-    identity, step one by one). Other runs step one by one.
+    where the processor has AVX2 and FMA), runs of a rigid tree without loops or events step four side by side,
+    sources included, each equal bit for bit to its run alone; with parameters, each of the four holds its own
+    values (four runs whose values change a property the model derives from them, such as a placement's rotation
+    being the identity, step one by one). Other runs step one by one.
 
     dt in s; torques in N or N m, states as the single calls'. Raises TypeError or ValueError naming the
     argument (and the run, row or DOF) for a wrong type, shape, a non-finite entry, an unknown DOF or parameter,

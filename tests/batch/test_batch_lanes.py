@@ -17,7 +17,8 @@
   fails inside a packet is reported as it is alone (ok, failed step, message, NaN rows) and the others match.
 - Rollouts whose runs set their own parameters (a mass, a centre of mass, an inertia, a placement, gravity) four
   runs side by side equal one by one, bit for bit, with RK4 and DOPRI5; a packet whose runs cannot share one
-  packet model (a placement turned in one run) or with a refused value goes one by one, reported as alone.
+  packet model (a placement turned in one run) or with a refused value goes one by one, reported as alone;
+  likewise with two DOFs driven by motion sources (cycloidal, spline) shared by the runs.
 - lanes other than None, 1 or widest_lanes() is refused by name; with SOADYN_BASELINE_KERNELS set the widest
   is 1 and lanes=4 is refused, naming the reason.
 """
@@ -304,4 +305,22 @@ def test_runs_whose_parameters_cannot_share_packets_go_one_by_one():
     four = batch.rollout(m, x0, None, dt=1e-3, steps=30, parameters=params, lanes=4)
     assert not one.ok[6] and f"{body}.mass" in one.messages[6] and one.ok.sum() == 7
     assert_rollouts_equal(one, four)
+
+
+def test_rollouts_with_shared_sources_four_side_by_side_equal_one_by_one():
+    """Two DOFs driven by sources shared by the runs; the runs' own masses too."""
+    require_packets()
+    m = random_tree(7, nbodies=10, floating=True)[0]
+    one_coordinate = [name for name in m.dof_names if ":" not in name]
+    runs = 10
+    x0 = rollout_states(m, runs, 16)
+    sources = {one_coordinate[0]: soadyn.MotionSource.cycloidal(0.0, 0.4, 0.01, 0.05),
+               one_coordinate[-1]: soadyn.MotionSource.spline([0.0, 0.03, 0.06], [0.1, -0.2, 0.0])}
+    body = m.body_names[3]
+    masses = {f"{body}.mass": m.get_parameter(f"{body}.mass") * np.linspace(0.5, 2.0, runs)}
+    for parameters in (None, masses):
+        one = batch.rollout(m, x0, sources, dt=2e-3, steps=40, parameters=parameters, lanes=1)
+        four = batch.rollout(m, x0, sources, dt=2e-3, steps=40, parameters=parameters, lanes=4)
+        assert one.ok.all()
+        assert_rollouts_equal(one, four)
 

@@ -280,6 +280,8 @@ def check_packet_parameters(output: str) -> None:
                        output)), "the packet model holds each run's values in its lane")
     require(bool(lines(r"^four runs side by side, 200 RK4 steps: entries differing from each run alone: 0$", output)),
             "the four runs equal their Simulators bit for bit")
+    require(bool(lines(r"^the same with two DOFs driven by sources \(cycloidal, spline\): entries differing: 0$",
+                       output)), "the four runs with shared sources equal their Simulators")
     require(bool(lines(r"^models that cannot share packets \(a placement's axes, an inertia's symmetry, a flag\): "
                        r"refused 3 of 3$", output)), "models with different derived properties or flags refused")
     require(bool(lines(r"^test_packet_parameters: PASS$", output)), "the PASS line")

@@ -7,17 +7,20 @@
 //   of mass, an inertia, a placement's translation, gravity and the springs'
 //   constants, set through the ParameterTable as a rollout sets them. The
 //   packet model holds each model's values in its lane, and 200 RK4 steps of
-//   the four runs side by side, from four random states, equal each run's
-//   own Simulator, bit for bit. The runs stand as one packet throughout:
+//   the four runs side by side, from four random states with their own
+//   torques, equal each run's own Simulator, bit for bit. The runs stand as
+//   one packet throughout:
 //   gravity's x entry is zero in lane 0 only (one answer for the whole
 //   vector, exactly_zero), and the charts of the spherical and free joints
 //   cross their series thresholds in some lanes only (spatial/lie.hpp).
+//   Likewise with two DOFs driven by motion sources shared by the runs.
 // - Four models whose values give them different derived properties (a
 //   placement's rotation the identity in three lanes and a turn in the
 //   fourth; an inertia diagonal in three lanes only) or different flags (a
 //   DOF prescribed in one) get no packet model.
 #include <cmath>
 #include <cstdio>
+#include <utility>
 #include <vector>
 
 #include <soadyn/algorithms/configuration.hpp>
@@ -111,27 +114,33 @@ long lanes_differing(const soadyn::PacketModel& packets, const Models& m) {
   return differ;
 }
 
-// Runs of the four models side by side, against each alone: recorded
-// entries that differ; -1 if the packet simulation did not stand.
-long runs_differing(const Models& m, const soadyn::PacketModel& packets) {
+using Sources = std::vector<std::pair<int, soadyn::MotionSource<double>>>;
+
+// Runs of the four models side by side, with `sources`, against each alone:
+// recorded entries that differ; -1 if the packet simulation did not stand.
+long runs_differing(const Models& m, const soadyn::PacketModel& packets, const Sources& sources) {
   const soadyn::Model& base = m[0];
   const int nq = base.nq, nv = base.nv;
   soadyn_test::Random rng(11);
-  std::vector<std::vector<double>> x0(kLanes), q(kLanes), v(kLanes);
+  std::vector<std::vector<double>> x0(kLanes), q(kLanes), v(kLanes), u(kLanes);
   soadyn::PacketSimulation s;
   s.model = &base;
   s.packets = &packets;
   s.dt = 1e-3;
   s.steps = kSteps;
+  s.sources = &sources;
+  s.control_stride = nv;
   for (int l = 0; l < kLanes; ++l) {
     const std::size_t k = static_cast<std::size_t>(l);
     Eigen::VectorXd q0(nq);
     soadyn::random_configuration<double>(base, 100 + k, q0);
     x0[k].assign(q0.data(), q0.data() + nq);
     for (int j = 0; j < nv; ++j) x0[k].push_back(rng.uniform(-1, 1));
+    for (int j = 0; j < kSteps * nv; ++j) u[k].push_back(rng.uniform(-0.5, 0.5));
     q[k].resize(static_cast<std::size_t>((kSteps + 1) * nq));
     v[k].resize(static_cast<std::size_t>((kSteps + 1) * nv));
     s.initial_states[l] = x0[k].data();
+    s.controls[l] = u[k].data();
     s.q[l] = q[k].data();
     s.v[l] = v[k].data();
   }
@@ -140,15 +149,28 @@ long runs_differing(const Models& m, const soadyn::PacketModel& packets) {
   for (int l = 0; l < kLanes; ++l) {
     const std::size_t k = static_cast<std::size_t>(l);
     soadyn::Simulator alone(m[k], s.dt);
+    for (const auto& [dof, source] : sources) alone.prescribe(dof, source);
     alone.set_state(Eigen::Map<const Eigen::VectorXd>(x0[k].data(), nq),
                     Eigen::Map<const Eigen::VectorXd>(x0[k].data() + nq, nv));
     for (int step = 1; step <= kSteps; ++step) {
+      for (int j = 0; j < nv; ++j)  // the regular DOFs' torques (a sourced DOF is prescribed)
+        if (!alone.model().is_prescribed(j)) alone.set_input(j, u[k][static_cast<std::size_t>((step - 1) * nv + j)]);
       if (!alone.step().ok()) return -1;
       for (int j = 0; j < nq; ++j) differ += alone.q()[j] != q[k][static_cast<std::size_t>(step * nq + j)];
       for (int j = 0; j < nv; ++j) differ += alone.v()[j] != v[k][static_cast<std::size_t>(step * nv + j)];
     }
   }
   return differ;
+}
+
+// Two one-coordinate DOFs driven by a cycloidal move and a spline.
+Sources two_sources(const soadyn::Model& m) {
+  std::vector<int> dofs;
+  for (int b = 0; b < m.nbodies(); ++b)
+    if (m.nq_body[static_cast<std::size_t>(b)] == 1 && m.nv_body[static_cast<std::size_t>(b)] == 1)
+      dofs.push_back(m.v_index[static_cast<std::size_t>(b)]);
+  return {{dofs.at(0), soadyn::Cycloidal<double>{0.02, 0.1, 0.0, 0.4}},
+          {dofs.at(2), soadyn::CubicSpline<double>({0.0, 0.05, 0.12, 0.2}, {0.1, -0.2, 0.3, 0.0})}};
 }
 
 // How many of the three sets of models that cannot share packets get none.
@@ -183,12 +205,14 @@ int main() {
   const long values = packets ? lanes_differing(*packets, models) : -1;
   std::printf("packet model of four parameter sets: %s, lane values differing from their model's: %ld\n",
               packets ? "built" : "refused", values);
-  const long runs = packets ? runs_differing(models, *packets) : -1;
+  const long runs = packets ? runs_differing(models, *packets, {}) : -1;
   std::printf("four runs side by side, %d RK4 steps: entries differing from each run alone: %ld\n", kSteps, runs);
+  const long sourced = packets ? runs_differing(models, *packets, two_sources(base)) : -1;
+  std::printf("the same with two DOFs driven by sources (cycloidal, spline): entries differing: %ld\n", sourced);
   const int refused = refused_sets(base);
   std::printf("models that cannot share packets (a placement's axes, an inertia's symmetry, a flag): refused %d of 3\n",
               refused);
-  const bool pass = values == 0 && runs == 0 && refused == 3;
+  const bool pass = values == 0 && runs == 0 && sourced == 0 && refused == 3;
   std::printf("test_packet_parameters: %s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;
 }

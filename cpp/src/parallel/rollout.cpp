@@ -157,6 +157,7 @@ PacketSimulation packet_simulation(const Model& model, const PacketModel& packet
     s.v[l] = out.v + run * rows * nv;
   }
   s.control_stride = nv;
+  s.sources = &r.sources;
   s.stop = [](void* context) {
     const PoolWorker& w = *static_cast<PoolWorker*>(context);
     return w.pool->stop_requested(w.worker);
@@ -201,7 +202,7 @@ void rollout(ThreadPool& pool, const Model& model, const RolloutRequest& request
   }
   std::vector<Model> scratch(static_cast<std::size_t>(pool.size()), model);  // one model copy per thread
   const bool packets = request.lanes != 1 && PacketDynamics::available() && PacketDynamics::serves(model) &&
-                       model.nloops() == 0 && request.sources.empty() && request.events.empty();
+                       model.nloops() == 0 && request.events.empty();
   const bool own_parameters = !request.parameters.empty();
   const std::int64_t width = packets ? PacketSimulation::lanes : 1, units = (request.runs + width - 1) / width;
   // Runs without parameters share one packet model; runs with parameters

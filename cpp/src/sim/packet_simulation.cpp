@@ -31,6 +31,48 @@ void record(const SimulatorTpl<Packet4d>& sim, const PacketSimulation& s, std::i
   }
 }
 
+// A source shared by the four runs, its values in every lane; false for a
+// callback source, which has no packet form.
+bool packet_source(const MotionSource<double>& source, MotionSource<Packet4d>& out) {
+  using P = Packet4d;
+  if (const auto* x = std::get_if<ConstantAcceleration<double>>(&source)) {
+    out = ConstantAcceleration<P>{x->t0, x->q0, x->v0, x->a};
+  } else if (const auto* x = std::get_if<Polynomial<double>>(&source)) {
+    Polynomial<P> p;
+    p.t0 = x->t0;
+    std::copy(x->c.begin(), x->c.end(), p.c.begin());
+    p.degree = x->degree;
+    out = p;
+  } else if (const auto* x = std::get_if<Cycloidal<double>>(&source)) {
+    out = Cycloidal<P>{x->t0, x->duration, x->q0, x->q1};
+  } else if (const auto* x = std::get_if<CubicSpline<double>>(&source)) {
+    CubicSpline<P> spline;  // the knots and their second derivatives as they are
+    spline.t.assign(x->t.begin(), x->t.end());
+    spline.q.assign(x->q.begin(), x->q.end());
+    spline.second.assign(x->second.begin(), x->second.end());
+    out = spline;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The shared sources given to `sim`; false if one has no packet form or the
+// Simulator refuses it.
+bool prescribe_sources(const PacketSimulation& s, SimulatorTpl<Packet4d>& sim) {
+  if (!s.sources) return true;
+  for (const auto& [dof, source] : *s.sources) {
+    MotionSource<Packet4d> packets;
+    if (!packet_source(source, packets)) return false;
+    try {
+      sim.prescribe(dof, std::move(packets));
+    } catch (const std::exception&) {  // the runs one by one report it
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 bool run_packet_simulation(const PacketSimulation& s) {
@@ -38,6 +80,7 @@ bool run_packet_simulation(const PacketSimulation& s) {
   const int nq = base.nq, nv = base.nv;
   clear_lane_divergence();  // before the Simulator: the lanes' models may differ in their values
   SimulatorTpl<Packet4d> sim(s.packets->get(), Packet4d(s.dt), s.integrator);
+  if (!prescribe_sources(s, sim)) return false;
   VecX<Packet4d> q(nq), v(nv);
   for (int l = 0; l < kLanes; ++l) {
     for (int k = 0; k < nq; ++k) q[k][l] = s.initial_states[l][k];
@@ -50,7 +93,7 @@ bool run_packet_simulation(const PacketSimulation& s) {
     if (s.stop && s.stop(s.context)) return true;
     if (s.controls[0]) {
       for (int dof = 0; dof < nv; ++dof) {
-        if (base.is_prescribed(dof)) continue;
+        if (sim.model().is_prescribed(dof)) continue;  // the sourced DOFs too, as the runs alone
         Packet4d u;
         for (int l = 0; l < kLanes; ++l) u[l] = s.controls[l][step * s.control_stride + dof];
         sim.set_input(dof, u);

@@ -46,10 +46,10 @@ struct RolloutRequest {
   const double* event_times = nullptr;
   // Runs per pass: 1, or PacketSimulation::lanes (0: the widest this
   // processor runs, BatchDynamics::widest_lanes). Four runs of a rigid tree
-  // without loops step side by side when they have no sources or events:
-  // with parameters, each lane holds its run's values (PacketModel::of_lanes),
-  // and four runs whose values change a property the model derives from
-  // them go one by one. Other runs go one by one.
+  // without loops step side by side when they have no events, with their
+  // shared sources; with parameters, each lane holds its run's values
+  // (PacketModel::of_lanes), and four runs whose values change a property
+  // the model derives from them go one by one. Other runs go one by one.
   int lanes = 0;
 };
 

@@ -7,6 +7,8 @@
 // status and message are the single Simulator's.
 #pragma once
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "soadyn/model/model.hpp"
 #include "soadyn/sim/simulator.hpp"
@@ -27,6 +29,9 @@ struct PacketSimulation {
   // next step's `control_stride` values further on; null: none.
   const double* controls[lanes] = {};
   std::int64_t control_stride = 0;
+  // Prescribed motions shared by the four runs (no callback source), given
+  // before the state as a Simulator of each run is given them; null: none.
+  const std::vector<std::pair<int, MotionSource<double>>>* sources = nullptr;
   // Each run's recorded rows: 1 + steps / record_every of nq (nv) values.
   double* q[lanes] = {};
   double* v[lanes] = {};
@@ -37,8 +42,9 @@ struct PacketSimulation {
 };
 
 // Steps the four runs of `s` and records them. False when the lanes took
-// different branches or a step failed: the rows are then to be computed
-// again run by run. Call only where PacketDynamics::available().
+// different branches, a step failed or the Simulator refused a source: the
+// rows are then to be computed again run by run. Call only where
+// PacketDynamics::available().
 bool run_packet_simulation(const PacketSimulation& s);
 
 }  // namespace soadyn
