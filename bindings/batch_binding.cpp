@@ -246,7 +246,9 @@ void bind_batch(py::module_& mod) {
     std::vector<soadyn::Status> status(static_cast<std::size_t>(runs));
     std::vector<std::int64_t> failed(static_cast<std::size_t>(runs));
     std::vector<std::string> messages(static_cast<std::size_t>(runs));
-    const soadyn::RolloutOutputs out{q.mutable_data(), v.mutable_data(), status.data(), failed.data(), messages.data()};
+    std::int64_t side_by_side = 0;
+    const soadyn::RolloutOutputs out{q.mutable_data(), v.mutable_data(), status.data(), failed.data(), messages.data(),
+                                     &side_by_side};
     PythonInterrupt interrupt;
     {
       py::gil_scoped_release release;
@@ -257,7 +259,7 @@ void bind_batch(py::module_& mod) {
       soadyn::rollout(pool, h.model, r, out);
     }
     interrupt.raise_if_interrupted();
-    return py::make_tuple(q, v, failed, messages);
+    return py::make_tuple(q, v, failed, messages, side_by_side);
   }, py::arg("model"), py::arg("x0s"), py::arg("runs"), py::arg("controls"), py::arg("controls_per_run"), py::arg("dt"), py::arg("steps"), py::arg("integrator"), py::arg("record_every"), py::arg("parameters"), py::arg("parameter_values"), py::arg("sources"), py::arg("events"), py::arg("event_times"), py::arg("threads"),
      py::arg("lanes"), "Parallel rollouts (soadyn.batch.rollout): (q, v, failed_step, messages).");
 }

@@ -187,7 +187,8 @@ def dynamics_derivatives(m, Q, V, U, f_ext=None, threads=None, lanes=None) -> tu
 class RolloutResult:
     """Stacked trajectories of a rollout: t (rows,), q (runs, rows, nq), v (runs, rows, nv); per run `ok`,
     `failed_step` (-1 when it did not fail) and `messages` (empty when ok). The samples of a failed run
-    after its failure are NaN."""
+    after its failure are NaN. `side_by_side`: how many runs stepped four side by side (lanes 4); the
+    others stepped one by one."""
 
     t: np.ndarray
     q: np.ndarray
@@ -195,6 +196,7 @@ class RolloutResult:
     ok: np.ndarray
     failed_step: np.ndarray
     messages: list = field(default_factory=list)
+    side_by_side: int = 0
 
 
 def _controls_and_sources(m, controls_or_sources, runs: int, steps: int):
@@ -281,10 +283,11 @@ def rollout(m, x0s, controls_or_sources=None, dt: float = 1e-3, steps: int = 100
     GIL). parameters: {parameter name: (runs, *shape) values} set on each run's copy of the model.
     events: [(kind, DOF, times)] with kind 'lock' or 'release' and one time per run (or one for all).
     Samples every `record_every` steps (which must divide `steps`), the start included. With lanes 4 (the default
-    where the processor has AVX2 and FMA), runs of a rigid tree without loops or events step four side by side,
-    sources included, each equal bit for bit to its run alone; with parameters, each of the four holds its own
-    values (four runs whose values change a property the model derives from them, such as a placement's rotation
-    being the identity, step one by one). Other runs step one by one.
+    where the processor has AVX2 and FMA), runs of a rigid tree without loops step four side by side, sources
+    included, each equal bit for bit to its run alone; with parameters, each of the four holds its own values
+    (four runs whose values change a property the model derives from them, such as a placement's rotation being
+    the identity, step one by one); with events, runs whose events fall due in the same steps step four side by
+    side, whatever their order. Other runs step one by one; the result's `side_by_side` counts the first kind.
 
     dt in s; torques in N or N m, states as the single calls'. Raises TypeError or ValueError naming the
     argument (and the run, row or DOF) for a wrong type, shape, a non-finite entry, an unknown DOF or parameter,
@@ -308,9 +311,9 @@ def rollout(m, x0s, controls_or_sources=None, dt: float = 1e-3, steps: int = 100
     controls, per_run, sources = _controls_and_sources(m, controls_or_sources, runs, steps)
     entries, values = _parameters(m, parameters, runs)
     kinds, times = _events(m, events, runs)
-    q, v, failed, messages = _soadyn._batch_rollout(
+    q, v, failed, messages, side_by_side = _soadyn._batch_rollout(
         m, x0, runs, controls, per_run, dt, steps, integrator, record_every, entries, values,
         sources, kinds, times, _threads(threads), width)
     failed = np.asarray(failed, dtype=np.int64)
     t = np.arange(steps // record_every + 1) * (dt * record_every)
-    return RolloutResult(t, q, v, np.array([not text for text in messages]), failed, list(messages))
+    return RolloutResult(t, q, v, np.array([not text for text in messages]), failed, list(messages), side_by_side)

@@ -238,6 +238,7 @@ def test_rollouts_four_runs_side_by_side_equal_one_by_one(integrator):
         four = batch.rollout(m, x0, u, dt=2e-3, steps=steps, integrator=integrator, record_every=2, lanes=4)
         assert one.ok.all() and four.ok.all()
         assert np.array_equal(one.q, four.q) and np.array_equal(one.v, four.v)
+        assert (one.side_by_side, four.side_by_side) == (0, 8)
 
 
 def test_a_failing_run_in_a_packet_is_reported_as_alone():
@@ -285,6 +286,7 @@ def test_rollouts_with_their_own_parameters_four_side_by_side_equal_one_by_one(i
     four = batch.rollout(m, x0, None, dt=2e-3, steps=steps, integrator=integrator, parameters=params, lanes=4)
     assert one.ok.all()
     assert_rollouts_equal(one, four)
+    assert four.side_by_side == 8
 
 
 def test_runs_whose_parameters_cannot_share_packets_go_one_by_one():
@@ -305,6 +307,7 @@ def test_runs_whose_parameters_cannot_share_packets_go_one_by_one():
     four = batch.rollout(m, x0, None, dt=1e-3, steps=30, parameters=params, lanes=4)
     assert not one.ok[6] and f"{body}.mass" in one.messages[6] and one.ok.sum() == 7
     assert_rollouts_equal(one, four)
+    assert four.side_by_side == 0  # run 1's turn refuses the first four, run 6's mass the second
 
 
 def test_rollouts_with_shared_sources_four_side_by_side_equal_one_by_one():
@@ -323,4 +326,33 @@ def test_rollouts_with_shared_sources_four_side_by_side_equal_one_by_one():
         four = batch.rollout(m, x0, sources, dt=2e-3, steps=40, parameters=parameters, lanes=4)
         assert one.ok.all()
         assert_rollouts_equal(one, four)
+        assert four.side_by_side == 8
 
+
+
+def test_rollouts_with_events_step_side_by_side_when_due_in_the_same_steps():
+    """A lock and a release at each run's own times: runs whose events fall due in the same steps step four
+    side by side, whatever their order (the lock an impact in every run); the others one by one. Each run
+    equals its run alone."""
+    require_packets()
+    m = random_tree(8, nbodies=10, floating=True)[0]
+    dof = [name for name in m.dof_names if ":" not in name][1]
+    runs, dt = 11, 2e-3
+    x0 = rollout_states(m, runs, 17)
+    controls = np.random.default_rng(18).uniform(-1, 1, (runs, 40, m.nv))
+    rng = np.random.default_rng(19)
+    due = rng.permutation(np.repeat([11, 21, 31], [5, 4, 2]))  # the step each run locks in: 5, 4 and 2 runs
+    lock = (due - 1 + rng.uniform(0.05, 0.95, runs)) * dt  # inside the step before: due at the start of `due`
+    events = [("lock", dof, lock), ("release", dof, lock + 10 * dt)]
+    one = batch.rollout(m, x0, controls, dt=dt, steps=40, events=events, lanes=1)
+    four = batch.rollout(m, x0, controls, dt=dt, steps=40, events=events, lanes=4)
+    assert one.ok.all() and one.side_by_side == 0
+    assert_rollouts_equal(one, four)
+    assert four.side_by_side == 8  # four of the first five, the four of the second; the rest alone
+    shared = [("lock", dof, 0.0301), ("release", dof, 0.0501)]  # one time for all runs: two packets, three alone
+    one = batch.rollout(m, x0, controls, dt=dt, steps=40, events=shared, lanes=1)
+    four = batch.rollout(m, x0, controls, dt=dt, steps=40, events=shared, lanes=4)
+    assert_rollouts_equal(one, four)
+    assert four.side_by_side == 8
+    v_at_lock = one.v[:, 15, m.dof_names.index(dof)]  # t = 30 ms, just before the lock: an impact in every run
+    assert np.all(np.abs(v_at_lock) > 1e-3)

@@ -282,6 +282,10 @@ def check_packet_parameters(output: str) -> None:
             "the four runs equal their Simulators bit for bit")
     require(bool(lines(r"^the same with two DOFs driven by sources \(cycloidal, spline\): entries differing: 0$",
                        output)), "the four runs with shared sources equal their Simulators")
+    require(bool(lines(r"^the same with a lock and a release at each run's times, due in the same steps: "
+                       r"entries differing: 0$", output)), "the four runs with their events equal their Simulators")
+    require(bool(lines(r"^events due in different steps: the packet splits$", output)),
+            "events due in different steps split the packet")
     require(bool(lines(r"^models that cannot share packets \(a placement's axes, an inertia's symmetry, a flag\): "
                        r"refused 3 of 3$", output)), "models with different derived properties or flags refused")
     require(bool(lines(r"^test_packet_parameters: PASS$", output)), "the PASS line")

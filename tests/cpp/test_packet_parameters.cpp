@@ -13,7 +13,11 @@
 //   gravity's x entry is zero in lane 0 only (one answer for the whole
 //   vector, exactly_zero), and the charts of the spherical and free joints
 //   cross their series thresholds in some lanes only (spatial/lie.hpp).
-//   Likewise with two DOFs driven by motion sources shared by the runs.
+//   Likewise with two DOFs driven by motion sources shared by the runs, and
+//   with a lock and a release of a DOF at each run's own times, due in the
+//   same steps in the four (the lock an impact: the impulse form on
+//   packets). Times due in different steps split the packet (the rollout
+//   then steps the runs one by one).
 // - Four models whose values give them different derived properties (a
 //   placement's rotation the identity in three lanes and a turn in the
 //   fourth; an inertia diagonal in three lanes only) or different flags (a
@@ -116,9 +120,17 @@ long lanes_differing(const soadyn::PacketModel& packets, const Models& m) {
 
 using Sources = std::vector<std::pair<int, soadyn::MotionSource<double>>>;
 
-// Runs of the four models side by side, with `sources`, against each alone:
-// recorded entries that differ; -1 if the packet simulation did not stand.
-long runs_differing(const Models& m, const soadyn::PacketModel& packets, const Sources& sources) {
+// Events of the same kinds and DOFs in the four runs, lane l at times[l].
+struct Events {
+  std::vector<std::pair<soadyn::EventKind, int>> kinds;
+  std::array<std::vector<double>, kLanes> times;
+};
+
+// Runs of the four models side by side, with `sources` and `events`, against
+// each alone: recorded entries that differ; -1 if the packet simulation did
+// not stand.
+long runs_differing(const Models& m, const soadyn::PacketModel& packets, const Sources& sources,
+                    const Events& events = {}) {
   const soadyn::Model& base = m[0];
   const int nq = base.nq, nv = base.nv;
   soadyn_test::Random rng(11);
@@ -129,6 +141,7 @@ long runs_differing(const Models& m, const soadyn::PacketModel& packets, const S
   s.dt = 1e-3;
   s.steps = kSteps;
   s.sources = &sources;
+  s.events = events.kinds.empty() ? nullptr : &events.kinds;
   s.control_stride = nv;
   for (int l = 0; l < kLanes; ++l) {
     const std::size_t k = static_cast<std::size_t>(l);
@@ -141,6 +154,7 @@ long runs_differing(const Models& m, const soadyn::PacketModel& packets, const S
     v[k].resize(static_cast<std::size_t>((kSteps + 1) * nv));
     s.initial_states[l] = x0[k].data();
     s.controls[l] = u[k].data();
+    s.event_times[l] = events.times[k].data();
     s.q[l] = q[k].data();
     s.v[l] = v[k].data();
   }
@@ -152,6 +166,8 @@ long runs_differing(const Models& m, const soadyn::PacketModel& packets, const S
     for (const auto& [dof, source] : sources) alone.prescribe(dof, source);
     alone.set_state(Eigen::Map<const Eigen::VectorXd>(x0[k].data(), nq),
                     Eigen::Map<const Eigen::VectorXd>(x0[k].data() + nq, nv));
+    for (std::size_t e = 0; e < events.kinds.size(); ++e)
+      alone.schedule(events.times[k][e], events.kinds[e].first, events.kinds[e].second);
     for (int step = 1; step <= kSteps; ++step) {
       for (int j = 0; j < nv; ++j)  // the regular DOFs' torques (a sourced DOF is prescribed)
         if (!alone.model().is_prescribed(j)) alone.set_input(j, u[k][static_cast<std::size_t>((step - 1) * nv + j)]);
@@ -171,6 +187,21 @@ Sources two_sources(const soadyn::Model& m) {
       dofs.push_back(m.v_index[static_cast<std::size_t>(b)]);
   return {{dofs.at(0), soadyn::Cycloidal<double>{0.02, 0.1, 0.0, 0.4}},
           {dofs.at(2), soadyn::CubicSpline<double>({0.0, 0.05, 0.12, 0.2}, {0.1, -0.2, 0.3, 0.0})}};
+}
+
+// A lock of the third one-coordinate DOF at about 50 ms and its release at
+// about 120 ms, lane l's times `spread` x l later than lane 0's.
+Events lock_and_release(const soadyn::Model& m, double spread) {
+  int dof = -1, found = 0;
+  for (int b = 0; b < m.nbodies() && found < 3; ++b)
+    if (m.nq_body[static_cast<std::size_t>(b)] == 1 && m.nv_body[static_cast<std::size_t>(b)] == 1) {
+      dof = m.v_index[static_cast<std::size_t>(b)];
+      ++found;
+    }
+  Events e;
+  e.kinds = {{soadyn::EventKind::lock, dof}, {soadyn::EventKind::release, dof}};
+  for (int l = 0; l < kLanes; ++l) e.times[static_cast<std::size_t>(l)] = {0.0501 + spread * l, 0.1201 + spread * l};
+  return e;
 }
 
 // How many of the three sets of models that cannot share packets get none.
@@ -209,10 +240,15 @@ int main() {
   std::printf("four runs side by side, %d RK4 steps: entries differing from each run alone: %ld\n", kSteps, runs);
   const long sourced = packets ? runs_differing(models, *packets, two_sources(base)) : -1;
   std::printf("the same with two DOFs driven by sources (cycloidal, spline): entries differing: %ld\n", sourced);
+  const long locked = packets ? runs_differing(models, *packets, {}, lock_and_release(base, 2e-4)) : -1;
+  std::printf("the same with a lock and a release at each run's times, due in the same steps: entries differing: %ld\n",
+              locked);
+  const long apart = packets ? runs_differing(models, *packets, {}, lock_and_release(base, 1.5e-3)) : 0;
+  std::printf("events due in different steps: %s\n", apart < 0 ? "the packet splits" : "the packet stood (wrong)");
   const int refused = refused_sets(base);
   std::printf("models that cannot share packets (a placement's axes, an inertia's symmetry, a flag): refused %d of 3\n",
               refused);
-  const bool pass = values == 0 && runs == 0 && sourced == 0 && refused == 3;
+  const bool pass = values == 0 && runs == 0 && sourced == 0 && locked == 0 && apart < 0 && refused == 3;
   std::printf("test_packet_parameters: %s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;
 }

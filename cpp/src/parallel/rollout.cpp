@@ -6,9 +6,12 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <cmath>
 #include <exception>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <stdexcept>
 
 #include "soadyn/model/parameters.hpp"
@@ -98,8 +101,7 @@ class Run {
  private:
   std::unique_ptr<Simulator> setup(Model& scratch) {
     set_run_model(base_, r_, table_, run_, scratch);
-    auto sim = std::make_unique<Simulator>(scratch, r_.dt, r_.integrator,
-                                           std::max<int>(64, static_cast<int>(r_.events.size())));
+    auto sim = std::make_unique<Simulator>(scratch, r_.dt, r_.integrator, rollout_event_capacity(r_.events.size()));
     for (const auto& [dof, source] : r_.sources) sim->prescribe(dof, source);
     const double* x0 = r_.initial_states + run_ * (base_.nq + base_.nv);
     sim->set_state(Map(x0, base_.nq), Map(x0 + base_.nq, base_.nv));
@@ -130,14 +132,15 @@ class Run {
   std::int64_t rows_;
 };
 
-// Runs first .. first + 3 as one PacketSimulation.
+// The runs of a unit of four as one PacketSimulation.
 struct PoolWorker {
   ThreadPool* pool;
   int worker;
 };
 
 PacketSimulation packet_simulation(const Model& model, const PacketModel& packets, const RolloutRequest& r,
-                                   const RolloutOutputs& out, std::int64_t first, ThreadPool& pool, int worker) {
+                                   const RolloutOutputs& out, const std::int64_t* runs, ThreadPool& pool,
+                                   int worker) {
   thread_local PoolWorker asked;
   asked = PoolWorker{&pool, worker};
   PacketSimulation s;
@@ -148,16 +151,18 @@ PacketSimulation packet_simulation(const Model& model, const PacketModel& packet
   s.steps = r.steps;
   s.record_every = r.record_every;
   const int nq = model.nq, nv = model.nv;
-  const std::int64_t rows = rollout_rows(r);
+  const std::int64_t rows = rollout_rows(r), events = static_cast<std::int64_t>(r.events.size());
   for (int l = 0; l < PacketSimulation::lanes; ++l) {
-    const std::int64_t run = first + l;
+    const std::int64_t run = runs[l];
     s.initial_states[l] = r.initial_states + run * (nq + nv);
     s.controls[l] = r.controls ? r.controls + (r.controls_per_run ? run * r.steps * nv : 0) : nullptr;
+    s.event_times[l] = events ? r.event_times + run * events : nullptr;
     s.q[l] = out.q + run * rows * nq;
     s.v[l] = out.v + run * rows * nv;
   }
   s.control_stride = nv;
   s.sources = &r.sources;
+  s.events = events ? &r.events : nullptr;
   s.stop = [](void* context) {
     const PoolWorker& w = *static_cast<PoolWorker*>(context);
     return w.pool->stop_requested(w.worker);
@@ -166,18 +171,18 @@ PacketSimulation packet_simulation(const Model& model, const PacketModel& packet
   return s;
 }
 
-// The packet model of runs first .. first + 3 when they set parameters:
-// each run's model in `lanes` (four scratch models), then lane l holding
-// run first + l's values (PacketModel::of_lanes). Null when a run refuses
-// its values or the four cannot share one packet model: the runs then go
-// one by one, each reporting as it would alone.
+// The packet model of a unit's four runs when they set parameters: each
+// run's model in `lanes` (four scratch models), then lane l holding run
+// runs[l]'s values (PacketModel::of_lanes). Null when a run refuses its
+// values or the four cannot share one packet model: the runs then go one by
+// one, each reporting as it would alone.
 std::unique_ptr<PacketModel> packet_model_of_runs(const Model& model, const RolloutRequest& r,
-                                                  const ParameterTable<double>& table, std::int64_t first,
+                                                  const ParameterTable<double>& table, const std::int64_t* runs,
                                                   Model* lanes) {
   std::array<const Model*, PacketSimulation::lanes> models{};
   for (int l = 0; l < PacketSimulation::lanes; ++l) {
     try {
-      set_run_model(model, r, table, first + l, lanes[l]);
+      set_run_model(model, r, table, runs[l], lanes[l]);
     } catch (const std::exception&) {
       return nullptr;
     }
@@ -185,6 +190,55 @@ std::unique_ptr<PacketModel> packet_model_of_runs(const Model& model, const Roll
   }
   return PacketModel::of_lanes(models);
 }
+
+// The step at which each of run `run`'s events falls due (the first whose
+// start time is not before the event's, within Simulator::step's 1e-9 dt),
+// clamped to [0, steps + 1]: runs with the same steps can step side by side.
+// A time that is not finite gives -1 (refused: the run goes alone).
+std::vector<double> due_steps(const RolloutRequest& r, std::int64_t run) {
+  std::vector<double> due(r.events.size());
+  for (std::size_t e = 0; e < due.size(); ++e) {
+    const double t = r.event_times[run * static_cast<std::int64_t>(due.size()) + static_cast<std::int64_t>(e)];
+    const double step = std::ceil(t / r.dt - 1e-9);
+    due[e] = std::isfinite(t) ? std::clamp(step, 0.0, static_cast<double>(r.steps + 1)) : -1.0;
+  }
+  return due;
+}
+
+// The order in which the runs step and the units they step in: four runs
+// side by side, or one alone (`packets` false: every run alone). Without
+// events, runs 4k .. 4k + 3 make unit k and the last runs go alone. With
+// events, the runs are ordered by the steps at which their events fall due,
+// and four consecutive runs with the same steps make a unit: a packet's
+// lanes must meet each event in the same step.
+struct Units {
+  std::vector<std::int64_t> runs;  // every run once, in stepping order
+  std::vector<std::size_t> start;  // unit u is runs[start[u]] .. runs[start[u + 1] - 1]
+
+  Units(const RolloutRequest& r, bool packets) : runs(static_cast<std::size_t>(r.runs)) {
+    std::iota(runs.begin(), runs.end(), std::int64_t{0});
+    std::vector<std::vector<double>> due;
+    if (packets && !r.events.empty()) {
+      for (std::int64_t run = 0; run < r.runs; ++run) due.push_back(due_steps(r, run));
+      std::stable_sort(runs.begin(), runs.end(), [&](std::int64_t a, std::int64_t b) {
+        return due[static_cast<std::size_t>(a)] < due[static_cast<std::size_t>(b)];
+      });
+    }
+    const auto same_steps = [&](std::size_t k) {  // runs[k .. k + 3] meet their events in the same steps
+      if (due.empty()) return true;
+      for (std::size_t j = k + 1; j < k + PacketSimulation::lanes; ++j)
+        if (due[static_cast<std::size_t>(runs[j])] != due[static_cast<std::size_t>(runs[k])]) return false;
+      return true;
+    };
+    constexpr std::size_t width = PacketSimulation::lanes;
+    for (std::size_t k = 0; k < runs.size();) {
+      start.push_back(k);
+      k += packets && k + width <= runs.size() && same_steps(k) ? width : 1;
+    }
+    start.push_back(runs.size());
+  }
+  std::int64_t count() const { return static_cast<std::int64_t>(start.size()) - 1; }
+};
 
 }  // namespace
 
@@ -202,31 +256,37 @@ void rollout(ThreadPool& pool, const Model& model, const RolloutRequest& request
   }
   std::vector<Model> scratch(static_cast<std::size_t>(pool.size()), model);  // one model copy per thread
   const bool packets = request.lanes != 1 && PacketDynamics::available() && PacketDynamics::serves(model) &&
-                       model.nloops() == 0 && request.events.empty();
+                       model.nloops() == 0;
   const bool own_parameters = !request.parameters.empty();
-  const std::int64_t width = packets ? PacketSimulation::lanes : 1, units = (request.runs + width - 1) / width;
+  const Units units(request, packets);
   // Runs without parameters share one packet model; runs with parameters
   // have one per four runs, from four model copies per thread.
   const std::unique_ptr<PacketModel> shared_packets =
       packets && !own_parameters ? std::make_unique<PacketModel>(model) : nullptr;
   std::vector<Model> lane_models(packets && own_parameters ? scratch.size() * PacketSimulation::lanes : 0, model);
-  pool.parallel_for(units, 1, [&](std::int64_t begin, std::int64_t end, int worker) {
+  std::atomic<std::int64_t> side_by_side{0};
+  pool.parallel_for(units.count(), 1, [&](std::int64_t begin, std::int64_t end, int worker) {
     for (std::int64_t unit = begin; unit < end; ++unit) {
-      const std::int64_t first = unit * width, last = std::min(first + width, request.runs);
-      if (packets && last - first == PacketSimulation::lanes) {
+      const std::size_t first = units.start[static_cast<std::size_t>(unit)],
+                        last = units.start[static_cast<std::size_t>(unit) + 1];
+      const std::int64_t* runs = &units.runs[first];
+      if (last - first == PacketSimulation::lanes) {
         const std::unique_ptr<PacketModel> runs_packets =
-            own_parameters ? packet_model_of_runs(model, request, table, first,
+            own_parameters ? packet_model_of_runs(model, request, table, runs,
                                                   &lane_models[static_cast<std::size_t>(worker) * PacketSimulation::lanes])
                            : nullptr;
         const PacketModel* packet_model = own_parameters ? runs_packets.get() : shared_packets.get();
         if (packet_model &&
-            run_packet_simulation(packet_simulation(model, *packet_model, request, outputs, first, pool, worker)))
+            run_packet_simulation(packet_simulation(model, *packet_model, request, outputs, runs, pool, worker))) {
+          side_by_side += PacketSimulation::lanes;
           continue;
+        }
       }
-      for (std::int64_t run = first; run < last; ++run)
-        Run(model, request, table, run, outputs)(scratch[static_cast<std::size_t>(worker)], pool, worker);
+      for (std::size_t k = first; k < last; ++k)
+        Run(model, request, table, units.runs[k], outputs)(scratch[static_cast<std::size_t>(worker)], pool, worker);
     }
   });
+  if (outputs.side_by_side) *outputs.side_by_side = side_by_side;
 }
 
 }  // namespace soadyn

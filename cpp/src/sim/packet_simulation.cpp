@@ -73,13 +73,30 @@ bool prescribe_sources(const PacketSimulation& s, SimulatorTpl<Packet4d>& sim) {
   return true;
 }
 
+// The runs' events scheduled on `sim`, lane l at run l's times; false if the
+// Simulator refuses one (a time that is not finite in some lane).
+bool schedule_events(const PacketSimulation& s, SimulatorTpl<Packet4d>& sim) {
+  if (!s.events) return true;
+  for (std::size_t e = 0; e < s.events->size(); ++e) {
+    Packet4d time;
+    for (int l = 0; l < kLanes; ++l) time[l] = s.event_times[l][e];
+    try {
+      sim.schedule(time, (*s.events)[e].first, (*s.events)[e].second);
+    } catch (const std::exception&) {  // the runs one by one report it
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 bool run_packet_simulation(const PacketSimulation& s) {
   const Model& base = *s.model;
   const int nq = base.nq, nv = base.nv;
   clear_lane_divergence();  // before the Simulator: the lanes' models may differ in their values
-  SimulatorTpl<Packet4d> sim(s.packets->get(), Packet4d(s.dt), s.integrator);
+  SimulatorTpl<Packet4d> sim(s.packets->get(), Packet4d(s.dt), s.integrator,
+                             rollout_event_capacity(s.events ? s.events->size() : 0));
   if (!prescribe_sources(s, sim)) return false;
   VecX<Packet4d> q(nq), v(nv);
   for (int l = 0; l < kLanes; ++l) {
@@ -87,7 +104,7 @@ bool run_packet_simulation(const PacketSimulation& s) {
     for (int k = 0; k < nv; ++k) v[k][l] = s.initial_states[l][nq + k];
   }
   sim.set_state(q, v);
-  if (lanes_diverged()) return false;
+  if (!schedule_events(s, sim) || lanes_diverged()) return false;
   record(sim, s, 0);
   for (std::int64_t step = 0; step < s.steps; ++step) {
     if (s.stop && s.stop(s.context)) return true;

@@ -46,10 +46,12 @@ struct RolloutRequest {
   const double* event_times = nullptr;
   // Runs per pass: 1, or PacketSimulation::lanes (0: the widest this
   // processor runs, BatchDynamics::widest_lanes). Four runs of a rigid tree
-  // without loops step side by side when they have no events, with their
-  // shared sources; with parameters, each lane holds its run's values
-  // (PacketModel::of_lanes), and four runs whose values change a property
-  // the model derives from them go one by one. Other runs go one by one.
+  // without loops step side by side, with their shared sources; with
+  // parameters, each lane holds its run's values (PacketModel::of_lanes),
+  // and four runs whose values change a property the model derives from
+  // them go one by one. With events, runs whose events fall due in the same
+  // steps step four side by side (the runs are grouped so, whatever their
+  // order); the others go one by one, as do runs of other models.
   int lanes = 0;
 };
 
@@ -60,6 +62,7 @@ struct RolloutOutputs {
   std::int64_t* failed_step = nullptr;  // runs (-1: none)
   std::string* message = nullptr;       // runs: empty, or why the run stopped (a run failed iff its message is
                                         // not empty: a refused setup leaves status ok and failed_step -1)
+  std::int64_t* side_by_side = nullptr;  // if not null: how many runs stepped four side by side to their end
 };
 
 // Rows recorded per run.

@@ -6,6 +6,7 @@
 // the four again one by one (parallel/rollout.cpp), so each run's trajectory,
 // status and message are the single Simulator's.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -32,6 +33,14 @@ struct PacketSimulation {
   // Prescribed motions shared by the four runs (no callback source), given
   // before the state as a Simulator of each run is given them; null: none.
   const std::vector<std::pair<int, MotionSource<double>>>* sources = nullptr;
+  // Lock and release events of the same kinds and DOFs in the four runs
+  // (null: none), each run at its own times: event_times[l] holds run l's,
+  // one per event. They are scheduled after the state, as for each run
+  // alone; the four stand as one packet when each event falls due in the
+  // same step in every lane (and a lock meets the same velocity, zero or
+  // not, in every lane).
+  const std::vector<std::pair<EventKind, int>>* events = nullptr;
+  const double* event_times[lanes] = {};
   // Each run's recorded rows: 1 + steps / record_every of nq (nv) values.
   double* q[lanes] = {};
   double* v[lanes] = {};
@@ -41,9 +50,12 @@ struct PacketSimulation {
   void* context = nullptr;
 };
 
+// The event capacity of each run's Simulator: room for every scheduled event.
+inline int rollout_event_capacity(std::size_t events) { return std::max<int>(64, static_cast<int>(events)); }
+
 // Steps the four runs of `s` and records them. False when the lanes took
-// different branches, a step failed or the Simulator refused a source: the
-// rows are then to be computed again run by run. Call only where
+// different branches, a step failed or the Simulator refused a source or an
+// event: the rows are then to be computed again run by run. Call only where
 // PacketDynamics::available().
 bool run_packet_simulation(const PacketSimulation& s);
 
