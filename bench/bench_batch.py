@@ -4,8 +4,9 @@ against one), and against Pinocchio's parallel ABA (`abaInParallel`, OpenMP,
 with its ModelPool) in the same run: forward dynamics of a batch of random
 states, from Python, one call per batch for both libraries. Calls per second are medians over repeats, after
 one warm-up call; ratios are taken within this run. Also the rollouts' runs per
-second (RK4) against the packet width and the number of threads: cassini, its
-rigid version, the rigid version with each run's own bus mass, and talos from
+second against the packet width and the number of threads: cassini, its
+rigid version (with RK4, with each run's own bus mass, with DOPRI5, and with a
+reaction wheel locking at one of four times in each run), and talos from
 random states.
 
 Writes bench/results/batch.json.
@@ -88,20 +89,30 @@ def random_states(m: soadyn.Model, runs: int) -> np.ndarray:
     return np.hstack([q, v])
 
 
-def rollout_rates(m: soadyn.Model, x0: np.ndarray, repeats: int, parameters: dict | None = None) -> dict:
-    """Runs per second by (threads, lanes) of rollouts of `m` from the states x0; `parameters` as
-    batch.rollout's (each run's own values)."""
+def rollout_rates(m: soadyn.Model, x0: np.ndarray, repeats: int, **options) -> dict:
+    """Runs per second by (threads, lanes) of rollouts of `m` from the states x0, and the runs the packet
+    path stepped side by side; `options` as batch.rollout's (parameters, integrator, events)."""
     runs = len(x0)
     widest = batch.widest_lanes()
     settings = [(1, 1)] + [(k, widest) for k in THREADS]
-    return {(k, lanes): median_rate(lambda: batch.rollout(m, x0, None, dt=1e-3, steps=100, threads=k, lanes=lanes,
-                                                          parameters=parameters), runs, repeats)
-            for k, lanes in settings}
+    rates = {(k, lanes): median_rate(lambda: batch.rollout(m, x0, None, dt=1e-3, steps=100, threads=k, lanes=lanes,
+                                                           **options), runs, repeats)
+             for k, lanes in settings}
+    rates["side by side"] = batch.rollout(m, x0, None, dt=1e-3, steps=100, lanes=widest, **options).side_by_side
+    return rates
 
 
 def bus_masses(m: soadyn.Model, runs: int) -> dict:
     """A Monte Carlo campaign's parameters: the bus's mass spread over +-5 % across runs."""
     return {"bus.mass": m.get_parameter("bus.mass") * np.linspace(0.95, 1.05, runs)}
+
+
+def wheel_lock(runs: int) -> list:
+    """A fault campaign's events: reaction wheel 1 locks at 20, 40, 60 or 80 ms (a quarter of the runs
+    each, shuffled), each run at its own time within the step before."""
+    rng = np.random.default_rng(1)
+    step = rng.permutation(np.resize([20, 40, 60, 80], runs))
+    return [("lock", "wheel_1", (step - 1 + rng.uniform(0.1, 0.9, runs)) * 1e-3)]
 
 
 def main() -> int:
@@ -125,22 +136,25 @@ def main() -> int:
         peer = pinocchio_rates(name, args.rows, args.repeats)
         print(rates.add(name, one, packet, packet / one, two, two / packet,
                         *((peer[1], peer[2], peer[2] / peer[1], two / peer[2]) if peer else (None,) * 4)), flush=True)
-    rollouts = Table(f"Rollouts (RK4, 100 steps of 1 ms per run, {args.runs} runs per call), runs per second",
-                     ["scene", "1 thread lanes=1", f"1 thread lanes={widest}", "packet speed-up",
-                      f"2 threads lanes={widest}", "thread speed-up"],
+    rollouts = Table(f"Rollouts (RK4 unless said, 100 steps of 1 ms per run, {args.runs} runs per call), runs per "
+                     "second", ["scene", "1 thread lanes=1", f"1 thread lanes={widest}", "packet speed-up",
+                                f"2 threads lanes={widest}", "thread speed-up", "runs side by side"],
                      headline=["packet speed-up"])
     rollouts.formats = {c: ",.0f" for c in rollouts.columns[1:]}
     rollouts.formats.update({"packet speed-up": ".2f", "thread speed-up": ".2f"})
     flexible, rigid, talos = cassini(), cassini_without(RIGID_CASSINI_LEFT_OUT), load_robot("talos")
-    for scene, model, x0, parameters in (
-            ("cassini (flexible booms: one run per pass)", flexible, cassini_states(flexible, args.runs), None),
-            ("cassini rigid (without its booms)", rigid, cassini_states(rigid, args.runs), None),
+    for scene, model, x0, options in (
+            ("cassini (flexible booms: one run per pass)", flexible, cassini_states(flexible, args.runs), {}),
+            ("cassini rigid (without its booms)", rigid, cassini_states(rigid, args.runs), {}),
             ("cassini rigid, each run its own bus mass", rigid, cassini_states(rigid, args.runs),
-             bus_masses(rigid, args.runs)),
-            ("talos from random states", talos, random_states(talos, args.runs), None)):
-        r = rollout_rates(model, x0, max(3, args.repeats // 10), parameters)
+             {"parameters": bus_masses(rigid, args.runs)}),
+            ("cassini rigid, DOPRI5", rigid, cassini_states(rigid, args.runs), {"integrator": "dopri5"}),
+            ("cassini rigid, a wheel locking at one of four times", rigid, cassini_states(rigid, args.runs),
+             {"events": wheel_lock(args.runs)}),
+            ("talos from random states", talos, random_states(talos, args.runs), {})):
+        r = rollout_rates(model, x0, max(3, args.repeats // 10), **options)
         one, packet, two = r[(1, 1)], r[(1, widest)], r[(2, widest)]
-        print(rollouts.add(scene, one, packet, packet / one, two, two / packet), flush=True)
+        print(rollouts.add(scene, one, packet, packet / one, two, two / packet, r["side by side"]), flush=True)
     for table in (rates, rollouts):
         table.print()
     write("batch", "Batched forward dynamics and rollouts against threads", [rates, rollouts],

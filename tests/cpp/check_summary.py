@@ -282,6 +282,9 @@ def check_packet_parameters(output: str) -> None:
             "the four runs equal their Simulators bit for bit")
     require(bool(lines(r"^the same with two DOFs driven by sources \(cycloidal, spline\): entries differing: 0$",
                        output)), "the four runs with shared sources equal their Simulators")
+    require(bool(lines(r"^the same with DOPRI5, each lane its own sub-steps: entries differing: 0; steps whose runs "
+                       r"alone take different numbers of sub-steps: [1-9][0-9]*$", output)),
+            "the four runs with DOPRI5 equal their Simulators, their sub-steps differing")
     require(bool(lines(r"^the same with a lock and a release at each run's times, due in the same steps: "
                        r"entries differing: 0$", output)), "the four runs with their events equal their Simulators")
     require(bool(lines(r"^events due in different steps: the packet splits$", output)),

@@ -299,6 +299,9 @@ class SimulatorTpl {
   // The state at the start of a step (restored when it fails), and the
   // sources' samples set_state checks before it commits.
   VecX<S> step_q_, step_v_, step_forces_, sampled_position_, sampled_velocity_;
+  // Packets: the forces of the lanes that sit out a Dormand-Prince sub-step
+  // attempt (adaptive_step), restored after it.
+  VecX<S> kept_forces_;
   std::vector<VecX<S>> k_xi_, k_v_;
   DivergenceGuardTpl<S> guard_;
 };

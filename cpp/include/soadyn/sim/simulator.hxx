@@ -43,7 +43,8 @@ SimulatorTpl<S>::SimulatorTpl(const ModelTpl<S>& model, S dt, Integrator integra
   q_.resize(nq);
   neutral_configuration<S>(model_, q_);
   for (VecX<S>* x : {&v_, &inputs_, &forces_, &u_, &source_offset_, &held_position_, &xi_, &vs_, &xi_err_, &v_err_,
-                     &v0_, &v_save_, &step_v_, &step_forces_, &sampled_position_, &sampled_velocity_, &free_dofs_})
+                     &v0_, &v_save_, &step_v_, &step_forces_, &sampled_position_, &sampled_velocity_, &free_dofs_,
+                     &kept_forces_})
     x->setZero(nv);
   for (VecX<S>* x : {&q0_, &qs_, &q_save_, &step_q_}) x->setZero(nq);
   external_wrenches_.setZero(6 * model_.nbodies());
@@ -124,7 +125,11 @@ bool finite(const MotionSample<S>& m) {
 
 template <class S>
 MotionSample<S> SimulatorTpl<S>::SampledSource::at(S t) {
-  if (sampled && t == time) return sample;
+  // A source is a function of time: the cache only saves its evaluation.
+  // Packets evaluate it again (their lanes' times may differ in some lanes
+  // only: the comparison would split them).
+  if constexpr (!is_packet_scalar_v<S>)
+    if (sampled && t == time) return sample;
   const MotionSample<S> s = sample_source(source, t);
   sampled = detail::finite(s);
   sample = s;
@@ -606,36 +611,115 @@ Status SimulatorTpl<S>::runge_kutta(int stages, const S* a, const S* b, const S*
   return Status{};
 }
 
+namespace detail {
+
+// A Dormand-Prince sub-step attempt of size h judged by its error norm: it
+// is accepted when the norm is at most 1; the size kept for the next
+// attempt is h times a factor 0.9 err^(-1/5) clamped to [0.2, 5] (0.2 for a
+// norm that is not finite), except that an accepted attempt shortened to
+// end the step on time keeps the size it had unless the factor shrinks it.
+template <class T>
+struct SubstepControl {
+  bool accept;
+  T next_h;
+};
+
+template <class T>
+SubstepControl<T> control_substep(T err, T h, T adaptive_h) {
+  using std::pow;
+  const T factor =
+      detail::finite(err) ? std::clamp(T(0.9) * pow(std::max(err, T(1e-10)), T(-0.2)), T(0.2), T(5)) : T(0.2);
+  if (err <= T(1)) return {true, h == adaptive_h || factor < T(1) ? h * factor : adaptive_h};
+  return {false, h * factor};
+}
+
+}  // namespace detail
+
 // Dormand-Prince sub-steps across one step dt, step size kept between calls.
 template <class S>
 Status SimulatorTpl<S>::adaptive_step() {
-  using std::pow;
   S a[49], b[7], e[7], c[7];
   for (int k = 0; k < 49; ++k) a[k] = S(tableau::dp_a[k]);
   for (int k = 0; k < 7; ++k) b[k] = S(tableau::dp_b[k]), e[k] = S(tableau::dp_e[k]), c[k] = S(tableau::dp_c[k]);
   const S end = time_ + dt_;
   last_substeps_ = 0;
-  while (time_ < end - S(1e-12) * dt_) {
-    if (last_substeps_ >= max_substeps) return Status{StatusCode::substep_limit, -1};
-    ++last_substeps_;
-    const S h = std::min(adaptive_h_, end - time_);
-    q_save_ = q_;
-    v_save_ = v_;
-    S err(0);
-    const Status s = runge_kutta(7, a, b, c, h, e, &err);
-    if (!s.ok()) return s;
-    const S factor = detail::finite(err) ? std::clamp(S(0.9) * pow(std::max(err, S(1e-10)), S(-0.2)), S(0.2), S(5))
-                                         : S(0.2);
-    if (err <= S(1)) {
-      time_ += h;
-      const Status sourced = apply_sources(time_);
-      if (!sourced.ok()) return sourced;
-      if (h == adaptive_h_ || factor < S(1)) adaptive_h_ = h * factor;
-    } else {
-      q_ = q_save_;
-      v_ = v_save_;
-      adaptive_h_ = h * factor;
-      if (adaptive_h_ < S(1e-14) * dt_) return Status{StatusCode::step_size_underflow, -1};
+  if constexpr (is_packet_scalar_v<S>) {
+    // Each lane takes the sub-steps of its run alone: its own sizes,
+    // acceptances and times, judged in double. Each attempt is made in all
+    // four lanes at once; a lane that has reached the end of the step sits
+    // it out (an attempt of the smallest size in play, whose state and
+    // forces it discards), and a lane that rejects its attempt goes back to
+    // its state before it, as the run alone does.
+    constexpr int lanes = S::lanes;
+    int attempts[lanes] = {};
+    for (;;) {
+      bool active[lanes], any = false;
+      S h;
+      double smallest = std::numeric_limits<double>::infinity();
+      for (int l = 0; l < lanes; ++l) {
+        active[l] = time_[l] < end[l] - 1e-12 * dt_[l];
+        if (!active[l]) continue;
+        if (attempts[l] >= max_substeps) return Status{StatusCode::substep_limit, -1};
+        last_substeps_ = std::max(last_substeps_, ++attempts[l]);
+        h[l] = std::min(adaptive_h_[l], end[l] - time_[l]);
+        smallest = std::min(smallest, h[l]);
+        any = true;
+      }
+      if (!any) break;
+      for (int l = 0; l < lanes; ++l)
+        if (!active[l]) h[l] = smallest;
+      q_save_ = q_;
+      v_save_ = v_;
+      kept_forces_ = forces_;
+      S err(0);
+      const Status s = runge_kutta(7, a, b, c, h, e, &err);
+      if (!s.ok()) return s;
+      bool accept[lanes], any_accepted = false;
+      for (int l = 0; l < lanes; ++l) {
+        accept[l] = false;
+        if (!active[l]) continue;
+        const detail::SubstepControl<double> control = detail::control_substep(err[l], h[l], adaptive_h_[l]);
+        accept[l] = control.accept;
+        adaptive_h_[l] = control.next_h;
+        if (control.accept) {
+          time_[l] += h[l];
+          any_accepted = true;
+        } else if (adaptive_h_[l] < 1e-14 * dt_[l]) {
+          return Status{StatusCode::step_size_underflow, -1};
+        }
+      }
+      if (any_accepted) {
+        const Status sourced = apply_sources(time_);
+        if (!sourced.ok()) return sourced;
+      }
+      for (int l = 0; l < lanes; ++l) {
+        for (Eigen::Index k = 0; k < forces_.size() && !active[l]; ++k) forces_[k][l] = kept_forces_[k][l];
+        if (accept[l]) continue;
+        for (Eigen::Index k = 0; k < q_.size(); ++k) q_[k][l] = q_save_[k][l];
+        for (Eigen::Index k = 0; k < v_.size(); ++k) v_[k][l] = v_save_[k][l];
+      }
+    }
+  } else {
+    while (time_ < end - S(1e-12) * dt_) {
+      if (last_substeps_ >= max_substeps) return Status{StatusCode::substep_limit, -1};
+      ++last_substeps_;
+      const S h = std::min(adaptive_h_, end - time_);
+      q_save_ = q_;
+      v_save_ = v_;
+      S err(0);
+      const Status s = runge_kutta(7, a, b, c, h, e, &err);
+      if (!s.ok()) return s;
+      const detail::SubstepControl<S> control = detail::control_substep(err, h, adaptive_h_);
+      adaptive_h_ = control.next_h;
+      if (control.accept) {
+        time_ += h;
+        const Status sourced = apply_sources(time_);
+        if (!sourced.ok()) return sourced;
+      } else {
+        q_ = q_save_;
+        v_ = v_save_;
+        if (adaptive_h_ < S(1e-14) * dt_) return Status{StatusCode::step_size_underflow, -1};
+      }
     }
   }
   time_ = end;
