@@ -289,6 +289,8 @@ def check_packet_parameters(output: str) -> None:
                        r"entries differing: 0$", output)), "the four runs with their events equal their Simulators")
     require(bool(lines(r"^events due in different steps: the packet splits$", output)),
             "events due in different steps split the packet")
+    require(bool(lines(r"^an event time that is not finite in one lane: the packet is refused$", output)),
+            "an event time that is not finite refuses the packet")
     require(bool(lines(r"^models that cannot share packets \(a placement's axes, an inertia's symmetry, a flag\): "
                        r"refused 3 of 3$", output)), "models with different derived properties or flags refused")
     require(bool(lines(r"^test_packet_parameters: PASS$", output)), "the PASS line")

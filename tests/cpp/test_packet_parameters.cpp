@@ -17,8 +17,9 @@
 //   RK4, and with DOPRI5: each lane takes its own sub-steps), and
 //   with a lock and a release of a DOF at each run's own times, due in the
 //   same steps in the four (the lock an impact: the impulse form on
-//   packets). Times due in different steps split the packet (the rollout
-//   then steps the runs one by one).
+//   packets). Times due in different steps split the packet, and a time
+//   that is not finite in one lane is refused (the rollout then steps the
+//   runs one by one, and the run alone reports it).
 // - Four models whose values give them different derived properties (a
 //   placement's rotation the identity in three lanes and a turn in the
 //   fourth; an inertia diagonal in three lanes only) or different flags (a
@@ -264,10 +265,16 @@ int main() {
               locked);
   const long apart = packets ? runs_differing(models, *packets, {}, lock_and_release(base, 1.5e-3)) : 0;
   std::printf("events due in different steps: %s\n", apart < 0 ? "the packet splits" : "the packet stood (wrong)");
+  Events unscheduled = lock_and_release(base, 2e-4);  // lane 2's lock at a time that is not finite
+  unscheduled.times[2][0] = std::nan("");
+  const long refused_event = packets ? runs_differing(models, *packets, {}, unscheduled) : 0;
+  std::printf("an event time that is not finite in one lane: %s\n",
+              refused_event < 0 ? "the packet is refused" : "the packet stood (wrong)");
   const int refused = refused_sets(base);
   std::printf("models that cannot share packets (a placement's axes, an inertia's symmetry, a flag): refused %d of 3\n",
               refused);
-  const bool pass = values == 0 && runs == 0 && sourced == 0 && adaptive == 0 && uneven > 0 && locked == 0 && apart < 0 && refused == 3;
+  const bool pass = values == 0 && runs == 0 && sourced == 0 && adaptive == 0 && uneven > 0 && locked == 0 &&
+                    apart < 0 && refused_event < 0 && refused == 3;
   std::printf("test_packet_parameters: %s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;
 }
