@@ -7,6 +7,12 @@ instruction (a VEX-encoded one: its mnemonic starts with 'v') or a 256-bit regis
 with the library (--program), it checks the copies the linker kept: no function of the program uses AVX but
 the packet ones and the kernels compiled for AVX2 on purpose (their names hold "avx2").
 
+The other way round: the packet path's objects compiled for the baseline (packet_simulation: the Simulator
+on packets built and fed; packet_dynamics: the packet model) must define no packet function (one whose name
+involves soadyn::Packet4d) that a kernel object defines too. Otherwise the linker may keep their copy, compiled
+for the baseline, and the packet step run it (each packet operation two SSE2 instructions and shuffles); they
+declare such functions `extern template` and the kernels instantiate them.
+
 Usage: python check_packet_objects.py [--program PROGRAM] OBJECT... (or one ;-separated list; the objects
 whose names hold "packet_kernels", "packet_mass_matrix" or "packet_step" are checked; at least one must be
 given). Prints one summary line.
@@ -18,6 +24,7 @@ import subprocess
 import sys
 
 KERNEL_OBJECTS = ("packet_kernels", "packet_mass_matrix", "packet_step")
+BASELINE_PACKET_OBJECTS = ("packet_simulation", "packet_dynamics")
 FUNCTION = re.compile(r"^[0-9a-f]+ <(.+)>:$")
 INSTRUCTION = re.compile(r"^\s+[0-9a-f]+:\s+(\S+)")
 
@@ -42,6 +49,13 @@ def functions(path: str) -> dict[str, list[str]]:
 
 def uses_avx(lines: list[str]) -> list[str]:
     return [ln for ln in lines if INSTRUCTION.match(ln).group(1).startswith("v") or "%ymm" in ln]
+
+
+def defined_packet_functions(path: str) -> set[str]:
+    """The packet functions `path` defines for the linker (global or weak), demangled."""
+    text = subprocess.run(["nm", "--defined-only", "-C", path], check=True, capture_output=True, text=True).stdout
+    return {line.split(" ", 2)[2] for line in text.splitlines()
+            if line.count(" ") >= 2 and line.split(" ", 2)[1] in "TWV" and "Packet4d" in line}
 
 
 def program_leaks(path: str) -> tuple[int, list[str]]:
@@ -78,10 +92,16 @@ def main(paths: list[str]) -> int:
     users, kept = program_leaks(program) if program else (0, [])
     for leak in leaks + kept:
         print("AVX in a shared function:", leak)
+    kernel_functions = set().union(*(defined_packet_functions(path) for path in objects))
+    baseline = [p for p in paths if any(k in p for k in BASELINE_PACKET_OBJECTS)]
+    doubled = sorted(f"{path}: {name}" for path in baseline for name in defined_packet_functions(path) & kernel_functions)
+    for name in doubled:
+        print("packet function also compiled for the baseline:", name[:300])
     print(f"check_packet_objects: {len(objects)} objects, {shared} functions shared with the library, "
           f"{len(leaks)} with AVX instructions; the program's functions using AVX: {users}, "
-          f"{len(kept)} of them neither packet nor AVX2 kernels")
-    return 1 if leaks or kept else 0
+          f"{len(kept)} of them neither packet nor AVX2 kernels; packet functions of the {len(baseline)} baseline "
+          f"packet objects also in the kernels: {len(doubled)}")
+    return 1 if leaks or kept or doubled or len(baseline) != len(BASELINE_PACKET_OBJECTS) else 0
 
 
 if __name__ == "__main__":

@@ -18,6 +18,12 @@
 
 namespace soadyn {
 
+// Compiled for AVX2 in packet_kernels.cpp and packet_step.cpp, whose code
+// calls them: a copy instantiated here, for the baseline, could be the one
+// the linker keeps (tests/cpp/check_packet_objects.py).
+extern template Mat3<Packet4d> quaternion_rotation<Packet4d>(const Packet4d*);
+extern template void ModelTpl<Packet4d>::refresh_leaf_presums();
+
 // The packet model and its Data (the flexible bodies' types come with them,
 // unused: PacketDynamics serves rigid trees).
 template ModelTpl<Packet4d> ModelTpl<double>::cast<Packet4d>() const;

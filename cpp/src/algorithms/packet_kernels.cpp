@@ -29,3 +29,8 @@ Status packet_hybrid_dynamics(const PacketModel& m, PacketData& d, const PacketV
 }
 
 }  // namespace soadyn::detail
+
+namespace soadyn {
+// For packet_dynamics.cpp (the model's cast), compiled for the baseline.
+template Mat3<Packet4d> quaternion_rotation<Packet4d>(const Packet4d*);
+}  // namespace soadyn

@@ -17,7 +17,15 @@
 
 namespace soadyn {
 
-extern template Status SimulatorTpl<Packet4d>::step();  // packet_step.cpp
+// The step, and the setup's members that reach the dynamics (a source's
+// switch and its impulse, the divergence guard's energies), are compiled for
+// AVX2 in packet_step.cpp. Were they also instantiated here, for the
+// baseline, the linker could keep this copy of every function they share
+// with the step (the sweeps, the hinge updates), and the step would run it.
+extern template Status SimulatorTpl<Packet4d>::step();
+extern template Status SimulatorTpl<Packet4d>::switch_mode(int, Drive, int, bool);
+extern template void SimulatorTpl<Packet4d>::restart_divergence_guard();
+extern template bool detail::fires_after<Packet4d>(const Event<Packet4d>&, const Event<Packet4d>&);
 
 namespace {
 
