@@ -56,10 +56,11 @@ void store_lanes(const Packet4d* x, Eigen::Index n, double* out) {
 // Row `lane` of a row-major array of rows of `width` values.
 Map row(const double* rows, int lane, int width) { return Map(rows + static_cast<std::ptrdiff_t>(lane) * width, width); }
 
-// out[l * n + k] of the four rows into packet k's lane l.
+// rows[l * n + k] of the four rows into packet k's lane l: each packet
+// formed whole and stored once, not lane by lane.
 void load_lanes(const double* rows, Eigen::Index n, Packet4d* x) {
-  for (int l = 0; l < kLanes; ++l)
-    for (Eigen::Index k = 0; k < n; ++k) x[k][l] = rows[l * n + k];
+  const double *r0 = rows, *r1 = rows + n, *r2 = rows + 2 * n, *r3 = rows + 3 * n;
+  for (Eigen::Index k = 0; k < n; ++k) x[k] = Packet4d(Packet4d::Lanes{r0[k], r1[k], r2[k], r3[k]});
 }
 
 }  // namespace
