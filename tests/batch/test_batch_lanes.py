@@ -241,13 +241,14 @@ def test_rollouts_four_runs_side_by_side_equal_one_by_one(integrator):
         assert (one.side_by_side, four.side_by_side) == (0, 8)
 
 
-def test_a_failing_run_in_a_packet_is_reported_as_alone():
+@pytest.mark.parametrize("integrator", ["rk4", "dopri5"])
+def test_a_failing_run_in_a_packet_is_reported_as_alone(integrator):
     require_packets()
     m = soadyn.scenes.pendulum_chain(4)
     x0 = rollout_states(m, 8, 10)
     x0[2, m.nq:] = 1e155  # run 2's velocities square to infinity in its first step
-    one = batch.rollout(m, x0, None, dt=1e-3, steps=20, lanes=1)
-    four = batch.rollout(m, x0, None, dt=1e-3, steps=20, lanes=4)
+    one = batch.rollout(m, x0, None, dt=1e-3, steps=20, integrator=integrator, lanes=1)
+    four = batch.rollout(m, x0, None, dt=1e-3, steps=20, integrator=integrator, lanes=4)
     assert not one.ok[2] and one.ok.sum() == 7 and one.messages[2]
     assert_rollouts_equal(one, four)
 
@@ -345,10 +346,11 @@ def test_rollouts_with_events_step_side_by_side_when_due_in_the_same_steps():
     lock = (due - 1 + rng.uniform(0.05, 0.95, runs)) * dt  # inside the step before: due at the start of `due`
     events = [("lock", dof, lock), ("release", dof, lock + 10 * dt)]
     one = batch.rollout(m, x0, controls, dt=dt, steps=40, events=events, lanes=1)
-    four = batch.rollout(m, x0, controls, dt=dt, steps=40, events=events, lanes=4)
     assert one.ok.all() and one.side_by_side == 0
-    assert_rollouts_equal(one, four)
-    assert four.side_by_side == 8  # four of the first five, the four of the second; the rest alone
+    for threads in (1, 2):
+        four = batch.rollout(m, x0, controls, dt=dt, steps=40, events=events, threads=threads, lanes=4)
+        assert_rollouts_equal(one, four)
+        assert four.side_by_side == 8  # four of the first five, the four of the second; the rest alone
     shared = [("lock", dof, 0.0301), ("release", dof, 0.0501)]  # one time for all runs: two packets, three alone
     one = batch.rollout(m, x0, controls, dt=dt, steps=40, events=shared, lanes=1)
     four = batch.rollout(m, x0, controls, dt=dt, steps=40, events=shared, lanes=4)

@@ -693,7 +693,8 @@ Status SimulatorTpl<S>::adaptive_step() {
         if (!sourced.ok()) return sourced;
       }
       for (int l = 0; l < lanes; ++l) {
-        for (Eigen::Index k = 0; k < forces_.size() && !active[l]; ++k) forces_[k][l] = kept_forces_[k][l];
+        if (!active[l])  // sat the attempt out: its forces are its last sub-step's
+          for (Eigen::Index k = 0; k < forces_.size(); ++k) forces_[k][l] = kept_forces_[k][l];
         if (accept[l]) continue;
         for (Eigen::Index k = 0; k < q_.size(); ++k) q_[k][l] = q_save_[k][l];
         for (Eigen::Index k = 0; k < v_.size(); ++k) v_[k][l] = v_save_[k][l];
