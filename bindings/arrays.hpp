@@ -23,6 +23,10 @@ std::string shape_text(const py::array& a);
 // unless `a` is 1-D of length n.
 void require_vector_shape(const py::array& a, const std::string& arg, py::ssize_t n, const char* size_name = nullptr);
 
+// Whether all n entries of x are finite: a branch-free scan, for the checks
+// common case (the caller then looks for the entry to name only when not).
+bool all_finite(const double* x, py::ssize_t n);
+
 // 1-D real array of length n, every entry finite; `names` name the entries.
 Array checked_vector(py::handle obj, const char* arg, const std::vector<std::string>& names);
 

@@ -180,6 +180,44 @@ def test_failed_runs_are_reported_and_the_others_complete():
         assert np.array_equal(result.q[r], q)
 
 
+def test_every_entry_position_is_checked_and_quaternion_norms_agree_with_the_single_call():
+    # The batch checks scan the rows in blocks of eight entries and a tail:
+    # one bad entry at each position of 3 rows of panda (21 entries: two
+    # blocks and a tail of five) is named by row and DOF.
+    m = MODELS["panda"]
+    Q, V, X = states(m, 3)
+    for k in range(V.size):
+        row, dof = divmod(k, m.nv)
+        for value, word in ((np.inf, "infinite"), (-np.inf, "infinite"), (np.nan, "NaN")):
+            bad = V.copy()
+            bad[row, dof] = value
+            with pytest.raises(ValueError, match=f"V row {row}: '{m.dof_names[dof]}' is {word}"):
+                batch.forward_dynamics(m, Q, bad, X, lanes=1)
+    # Quaternions at the edge of the tolerance: the batch accepts and refuses
+    # exactly the rows the single call does (soadyn.QUATERNION_TOLERANCE).
+    c = MODELS["cassini"]
+    Q, V, X = states(c, 8)
+    scales = [1 + soadyn.QUATERNION_TOLERANCE * f for f in (-1.5, -1.0, -0.999, 0.0, 0.5, 0.999, 1.0, 1.5)]
+    quaternion = slice(c.coordinate_names.index("bus:qx"), c.coordinate_names.index("bus:qw") + 1)
+    for k, scale in enumerate(scales):
+        Q[k, quaternion] *= scale / np.linalg.norm(Q[k, quaternion])
+    accepted = []
+    for k in range(8):
+        one = Q[[k]]
+        try:
+            soadyn.forward_dynamics(c, Q[k], V[k], X[k])
+            accepted.append(True)
+        except ValueError as error:
+            assert "quaternion" in str(error)
+            accepted.append(False)
+        if accepted[-1]:
+            assert batch.forward_dynamics(c, one, V[[k]], X[[k]]).shape == (1, c.nv)
+        else:
+            with pytest.raises(ValueError, match="Q row 0: the quaternion of joint 'bus'"):
+                batch.forward_dynamics(c, one, V[[k]], X[[k]])
+    assert not accepted[0] and accepted[2:6] == [True] * 4 and not accepted[7]  # both branches seen
+
+
 def test_bad_rollouts_are_refused_by_name():
     m, x0, controls, masses = chain_runs(runs=2)
     with pytest.raises(ValueError, match="unknown parameter 'link_9.mass'"):

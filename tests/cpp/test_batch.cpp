@@ -10,12 +10,17 @@
 //     times, with 1 and 2 threads, equal bit for bit to one Simulator per run;
 //     a refused parameter and an overflowing step reported per run;
 //   - ThreadPool: an exception thrown in a chunk comes back to the caller
-//     once every thread is idle, and the pool still works after it.
+//     once every thread is idle, and the pool still works after it; loops
+//     back to back and after pauses (workers spinning or asleep) visit each
+//     index once.
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "random_tree.hpp"
@@ -221,6 +226,29 @@ bool pool_rethrows_and_recovers() {
   return thrown && each_once;
 }
 
+// Back-to-back loops, and loops after pauses longer than the pool's spin
+// (its workers asleep again), on 2 and 3 threads: every index is visited once
+// in each loop. Returns the loops that missed or repeated an index.
+int pool_handoffs_miss() {
+  int missed = 0;
+  for (int threads : {2, 3}) {
+    soadyn::ThreadPool pool(threads);
+    std::vector<std::atomic<int>> hits(257);
+    for (int loop = 0; loop < 600; ++loop) {
+      const std::int64_t n = 1 + loop % 257, grain = 1 + loop % 5;
+      for (std::int64_t k = 0; k < n; ++k) hits[static_cast<std::size_t>(k)].store(0);
+      if (loop % 50 == 49) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      pool.parallel_for(n, grain, [&](std::int64_t begin, std::int64_t end, int) {
+        for (std::int64_t k = begin; k < end; ++k) hits[static_cast<std::size_t>(k)].fetch_add(1);
+      });
+      bool once = true;
+      for (std::int64_t k = 0; k < n; ++k) once = once && hits[static_cast<std::size_t>(k)].load() == 1;
+      missed += !once;
+    }
+  }
+  return missed;
+}
+
 }  // namespace
 
 int main() {
@@ -244,8 +272,10 @@ int main() {
   }
   std::printf("rollouts: 2 thread counts x 6 runs, runs differing from one Simulator each: %ld; "
               "failures reported as expected: %ld of 6\n", rollout_differ, reported);
-  const bool pool_ok = pool_rethrows_and_recovers();
-  std::printf("thread pool: exception rethrown and pool reused: %s\n", pool_ok ? "yes" : "no");
+  const int handoffs_missed = pool_handoffs_miss();
+  const bool pool_ok = pool_rethrows_and_recovers() && handoffs_missed == 0;
+  std::printf("thread pool: exception rethrown and pool reused: %s; loops of 1200 that missed or repeated an "
+              "index: %d\n", pool_ok ? "yes" : "no", handoffs_missed);
   const bool pass = differ == 0 && rollout_differ == 0 && reported == 6 && pool_ok;
   std::printf("test_batch: %s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;

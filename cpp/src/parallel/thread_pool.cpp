@@ -23,7 +23,7 @@ ThreadPool::ThreadPool(int threads) {
 void ThreadPool::stop_workers() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    stopping_ = true;
+    stopping_.store(true, std::memory_order_release);
   }
   wake_.notify_all();
   for (std::thread& t : workers_) t.join();
@@ -56,19 +56,39 @@ void ThreadPool::take_chunks(int worker) {
   }
 }
 
+namespace {
+
+// Whether `ready()` came true within `budget`, asked in a spin loop.
+template <class Ready>
+bool spin_until(Ready&& ready, std::chrono::microseconds budget) {
+  const auto deadline = std::chrono::steady_clock::now() + budget;
+  for (unsigned k = 1;; ++k) {
+    if (ready()) return true;
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+    if (k % 64 == 0 && std::chrono::steady_clock::now() > deadline) return ready();
+  }
+}
+
+}  // namespace
+
 void ThreadPool::work(int worker) {
   std::uint64_t seen = 0;
+  const auto job_or_stop = [&] {
+    return stopping_.load(std::memory_order_acquire) || generation_.load(std::memory_order_acquire) != seen;
+  };
   for (;;) {
-    {
+    if (!spin_until(job_or_stop, kSpinWait)) {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [&] { return stopping_ || generation_ != seen; });
-      if (stopping_) return;
-      seen = generation_;
+      wake_.wait(lock, job_or_stop);
     }
+    if (stopping_.load(std::memory_order_acquire)) return;
+    seen = generation_.load(std::memory_order_acquire);
     take_chunks(worker);
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (--busy_ == 0) idle_.notify_one();
+    if (busy_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+      std::lock_guard<std::mutex> lock(mutex_);  // the caller is awake, or asleep on idle_ with its check made
+      idle_.notify_one();
     }
   }
 }
@@ -87,15 +107,18 @@ void ThreadPool::parallel_for(std::int64_t n, std::int64_t grain, const ChunkFun
   if (parallel) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      busy_ = static_cast<int>(workers_.size());
-      ++generation_;
+      busy_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);
+      generation_.fetch_add(1, std::memory_order_release);  // publishes the job to spinning workers
     }
     wake_.notify_all();
   }
   take_chunks(0);
   if (parallel) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    idle_.wait(lock, [&] { return busy_ == 0; });
+    const auto all_idle = [&] { return busy_.load(std::memory_order_acquire) == 0; };
+    if (!spin_until(all_idle, kSpinWait)) {
+      std::unique_lock<std::mutex> lock(mutex_);
+      idle_.wait(lock, all_idle);
+    }
   }
   job_ = nullptr;
   if (error_) std::rethrow_exception(error_);
