@@ -2,8 +2,9 @@
 packet width (`lanes`: four states per pass on processors with AVX2 and FMA,
 against one), and against Pinocchio's parallel ABA (`abaInParallel`, OpenMP,
 with its ModelPool) in the same run: forward dynamics of a batch of random
-states, from Python, one call per batch for both libraries. Calls per second are medians over repeats, after
-one warm-up call; ratios are taken within this run. Also the rollouts' runs per
+states, from Python, one call per batch for both libraries. The settings of both libraries are timed in turn
+within each repetition, so that they see the same phase of a shared host; a ratio is the median of the ratios
+within repetitions. Also the rollouts' runs per
 second against the packet width and the number of threads: cassini, its
 rigid version (with RK4, with each run's own bus mass, with DOPRI5, and with a
 reaction wheel locking at one of four times in each run), and talos from
@@ -31,31 +32,42 @@ from report import Table, write
 from soadyn import batch
 
 THREADS = (1, 2)
+BLOCK = 3  # timed calls per setting and repetition, after one untimed call
 
 
-def median_rate(fn, rows: int, repeats: int) -> float:
-    """Median calls (rows) per second of fn() over `repeats` runs, after one warm-up."""
-    return statistics.median(rows / t for t in run_seconds(fn, repeats, warm_up=True))
+def rates_in_turn(calls: dict, items: int, repeats: int) -> dict[object, list[float]]:
+    """Items per second of each named call fn(), the calls timed in turn within each of `repeats` repetitions
+    (measure.py): each setting gets one untimed call, which lets the previous setting's threads go quiet and
+    its own settle, then BLOCK timed ones back to back. Returns {name: [the median of each repetition]}."""
+    samples = {name: [] for name in calls}
+    for _ in range(repeats):
+        for name, fn in calls.items():
+            fn()
+            samples[name].append(statistics.median(items / t for t in run_seconds(fn, BLOCK)))
+    return samples
 
 
-def soadyn_rates(name: str, rows: int, repeats: int) -> dict:
-    """Rows per second by (threads, lanes): one row per pass on one thread, and the widest packet on each
-    number of threads."""
+def soadyn_calls(name: str, rows: int) -> dict:
+    """batch.forward_dynamics by (threads, lanes): one row per pass on one thread, and the widest packet on
+    each number of threads. Each thread count has its own copy of the model, whose cached pool then stays
+    (a model keeps the pool of its last thread count)."""
     m = load_robot(name)
     Q, V, T = numbered_states(m, 0, rows)
     widest = batch.widest_lanes()
+    copies = {k: m.copy() for k in THREADS}
     settings = [(1, 1)] + [(k, widest) for k in THREADS]
-    return {(k, lanes): median_rate(lambda: batch.forward_dynamics(m, Q, V, T, threads=k, lanes=lanes), rows, repeats)
+    return {("soadyn", k, lanes): (lambda k=k, lanes=lanes: batch.forward_dynamics(copies[k], Q, V, T, threads=k,
+                                                                                    lanes=lanes))
             for k, lanes in settings}
 
 
-def pinocchio_rates(name: str, rows: int, repeats: int) -> dict | None:
-    """abaInParallel's rows per second; Pinocchio's random configurations within +-pi (+-1 for a free root's
-    position and quaternion), v and tau uniform in [-1, 1] (seed 0)."""
+def pinocchio_calls(name: str, rows: int) -> dict:
+    """abaInParallel on 1 and 2 threads ({} without it); Pinocchio's random configurations within +-pi (+-1
+    for a free root's position and quaternion), v and tau uniform in [-1, 1] (seed 0)."""
     import pinocchio as pin
 
     if not hasattr(pin, "abaInParallel"):
-        return None
+        return {}
     model = pinocchio_robot(name)
     model.lowerPositionLimit[:] = -np.pi
     model.upperPositionLimit[:] = np.pi
@@ -65,12 +77,14 @@ def pinocchio_rates(name: str, rows: int, repeats: int) -> dict | None:
     q = np.asfortranarray(np.stack([pin.randomConfiguration(model) for _ in range(rows)], axis=1))
     rng = np.random.default_rng(0)
     v, tau = (np.asfortranarray(rng.uniform(-1, 1, (model.nv, rows))) for _ in range(2))
-    out = {}
-    for k in THREADS:
-        pool = pin.ModelPool(model, k)
-        a = np.zeros((model.nv, rows), order="F")
-        out[k] = median_rate(lambda: pin.abaInParallel(k, pool, q, v, tau, a), rows, repeats)
-    return out
+    pools = {k: pin.ModelPool(model, k) for k in THREADS}
+    a = np.zeros((model.nv, rows), order="F")
+    return {("pinocchio", k): (lambda k=k: pin.abaInParallel(k, pools[k], q, v, tau, a)) for k in THREADS}
+
+
+def median_ratio(samples: dict, a, b) -> float:
+    """The median over repetitions of the rate of `a` over the rate of `b` in the same repetition."""
+    return statistics.median(x / y for x, y in zip(samples[a], samples[b]))
 
 
 RIGID_CASSINI_LEFT_OUT = ("magnetometer_boom", "plasma_wave_antenna")  # its two flexible booms
@@ -89,17 +103,16 @@ def random_states(m: soadyn.Model, runs: int) -> np.ndarray:
     return np.hstack([q, v])
 
 
-def rollout_rates(m: soadyn.Model, x0: np.ndarray, repeats: int, **options) -> dict:
-    """Runs per second by (threads, lanes) of rollouts of `m` from the states x0, and the runs the packet
-    path stepped side by side; `options` as batch.rollout's (parameters, integrator, events)."""
-    runs = len(x0)
+def rollout_rates(m: soadyn.Model, x0: np.ndarray, repeats: int, **options) -> tuple[dict, int]:
+    """Runs per second by (threads, lanes) of rollouts of `m` from the states x0 (rates_in_turn), and the runs
+    the packet path stepped side by side; `options` as batch.rollout's (parameters, integrator, events)."""
     widest = batch.widest_lanes()
     settings = [(1, 1)] + [(k, widest) for k in THREADS]
-    rates = {(k, lanes): median_rate(lambda: batch.rollout(m, x0, None, dt=1e-3, steps=100, threads=k, lanes=lanes,
-                                                           **options), runs, repeats)
+    calls = {(k, lanes): (lambda k=k, lanes=lanes: batch.rollout(m, x0, None, dt=1e-3, steps=100, threads=k,
+                                                                 lanes=lanes, **options))
              for k, lanes in settings}
-    rates["side by side"] = batch.rollout(m, x0, None, dt=1e-3, steps=100, lanes=widest, **options).side_by_side
-    return rates
+    side_by_side = batch.rollout(m, x0, None, dt=1e-3, steps=100, lanes=widest, **options).side_by_side
+    return rates_in_turn(calls, len(x0), repeats), side_by_side
 
 
 def bus_masses(m: soadyn.Model, runs: int) -> dict:
@@ -131,11 +144,14 @@ def main() -> int:
     rates.formats.update({c: ".2f" for c in ("packet speed-up", "soadyn thread speed-up", "Pinocchio speed-up",
                                              "soadyn 2 / Pinocchio 2")})
     for name in ROBOTS:
-        ours = soadyn_rates(name, args.rows, args.repeats)
-        one, packet, two = ours[(1, 1)], ours[(1, widest)], ours[(2, widest)]
-        peer = pinocchio_rates(name, args.rows, args.repeats)
-        print(rates.add(name, one, packet, packet / one, two, two / packet,
-                        *((peer[1], peer[2], peer[2] / peer[1], two / peer[2]) if peer else (None,) * 4)), flush=True)
+        peer = pinocchio_calls(name, args.rows)
+        r = rates_in_turn({**soadyn_calls(name, args.rows), **peer}, args.rows, args.repeats)
+        one, packet, two = ("soadyn", 1, 1), ("soadyn", 1, widest), ("soadyn", 2, widest)
+        theirs = ((statistics.median(r[("pinocchio", 1)]), statistics.median(r[("pinocchio", 2)]),
+                   median_ratio(r, ("pinocchio", 2), ("pinocchio", 1)), median_ratio(r, two, ("pinocchio", 2)))
+                  if peer else (None,) * 4)
+        print(rates.add(name, statistics.median(r[one]), statistics.median(r[packet]), median_ratio(r, packet, one),
+                        statistics.median(r[two]), median_ratio(r, two, packet), *theirs), flush=True)
     rollouts = Table(f"Rollouts (RK4 unless said, 100 steps of 1 ms per run, {args.runs} runs per call), runs per "
                      "second", ["scene", "1 thread lanes=1", f"1 thread lanes={widest}", "packet speed-up",
                                 f"2 threads lanes={widest}", "thread speed-up", "runs side by side"],
@@ -152,16 +168,18 @@ def main() -> int:
             ("cassini rigid, a wheel locking at one of four times", rigid, cassini_states(rigid, args.runs),
              {"events": wheel_lock(args.runs)}),
             ("talos from random states", talos, random_states(talos, args.runs), {})):
-        r = rollout_rates(model, x0, max(3, args.repeats // 10), **options)
-        one, packet, two = r[(1, 1)], r[(1, widest)], r[(2, widest)]
-        print(rollouts.add(scene, one, packet, packet / one, two, two / packet, r["side by side"]), flush=True)
+        r, side_by_side = rollout_rates(model, x0, max(3, args.repeats // 10), **options)
+        one, packet, two = (1, 1), (1, widest), (2, widest)
+        print(rollouts.add(scene, statistics.median(r[one]), statistics.median(r[packet]), median_ratio(r, packet, one),
+                           statistics.median(r[two]), median_ratio(r, two, packet), side_by_side), flush=True)
     for table in (rates, rollouts):
         table.print()
     write("batch", "Batched forward dynamics and rollouts against threads", [rates, rollouts],
           {"rows": args.rows, "repeats": args.repeats, "runs": args.runs, "rollout_repeats": max(3, args.repeats // 10),
            "threads": list(THREADS), "widest_lanes": widest},
-          ["Calls per second (higher is better): medians of the repeats of one call over all the rows, after one "
-           "warm-up call."])
+          [f"Calls per second (higher is better): the settings, soadyn's and Pinocchio's, are timed in turn within "
+           f"each repetition (one untimed call, then {BLOCK} timed ones back to back); a rate is the median over "
+           "repetitions of each repetition's median, a ratio the median over repetitions of the ratio within each."])
     return 0
 
 
