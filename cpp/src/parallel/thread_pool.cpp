@@ -58,7 +58,9 @@ void ThreadPool::take_chunks(int worker) {
 
 namespace {
 
-// Whether `ready()` came true within `budget`, asked in a spin loop.
+// Whether `ready()` came true within `budget`, asked in a spin loop. The
+// spinning thread yields now and then, so that with more threads than
+// processors a thread that still has a chunk to finish gets one.
 template <class Ready>
 bool spin_until(Ready&& ready, std::chrono::microseconds budget) {
   const auto deadline = std::chrono::steady_clock::now() + budget;
@@ -67,7 +69,10 @@ bool spin_until(Ready&& ready, std::chrono::microseconds budget) {
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_ia32_pause();
 #endif
-    if (k % 64 == 0 && std::chrono::steady_clock::now() > deadline) return ready();
+    if (k % 64 == 0) {
+      if (std::chrono::steady_clock::now() > deadline) return ready();
+      std::this_thread::yield();
+    }
   }
 }
 
