@@ -22,9 +22,10 @@ using Map = Eigen::Map<const Eigen::VectorXd>;
 using VectorOut = Eigen::Map<Eigen::VectorXd>;
 using RowMajorOut = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
 
-// Units (rows or packets) per chunk, about 32 chunks per thread: enough to make a chunk's hand-off negligible, few enough
-// that both threads get work on small batches and a preempted thread does
-// not hold back the rest.
+// Units (rows or packets) per chunk, about 32 chunks per thread: enough to
+// make a chunk's hand-off negligible, few enough that both threads get work
+// on small batches and that the thread finishing last keeps the other
+// waiting for little (or a preempted thread holds back little of the rest).
 std::int64_t grain(std::int64_t n, int threads) { return std::clamp<std::int64_t>(n / (32 * threads), 1, 64); }
 
 }  // namespace
