@@ -43,24 +43,20 @@ Array rows_arg(py::handle obj, const char* arg, py::ssize_t rows, const std::vec
   return a;
 }
 
-// Configurations: rows_arg plus unit quaternions, as q_arg checks one. The
-// rows are scanned at the quaternions' coordinates, found once; a row that
-// fails there is named by first_non_unit_quaternion.
+// Configurations: rows_arg plus unit quaternions, as q_arg checks one (the
+// quaternions' coordinates found once for all rows).
 Array configurations_arg(const ModelHandle& h, py::handle obj, const char* arg, py::ssize_t rows) {
   Array a = rows_arg(obj, arg, rows, h.model.coordinate_names);
   const soadyn::Model& m = h.model;
-  std::vector<int> starts;
-  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    const int offset = soadyn::joint_quaternion_offset(m.joints[i]);
-    if (offset >= 0) starts.push_back(m.q_index[i] + offset);
-  }
+  const std::vector<int> starts = soadyn::quaternion_coordinates(m);
   for (py::ssize_t k = 0; !starts.empty() && k < rows; ++k) {
-    const Eigen::Map<const Eigen::VectorXd> q(a.data() + k * m.nq, m.nq);
+    const double* q = a.data() + k * m.nq;
     bool unit = true;
-    for (const int s : starts) unit = unit && std::abs(q.segment(s, 4).norm() - 1) <= kQuaternionTolerance;
+    for (const int s : starts) unit = unit && soadyn::unit_quaternion(q + s, kQuaternionTolerance);
     if (unit) continue;
     double norm = 0;
-    const int body = soadyn::first_non_unit_quaternion<double>(m, q, kQuaternionTolerance, &norm);
+    const int body = soadyn::first_non_unit_quaternion<double>(m, Eigen::Map<const Eigen::VectorXd>(q, m.nq),
+                                                               kQuaternionTolerance, &norm);
     if (body >= 0)
       throw py::value_error(std::string(arg) + " row " + std::to_string(k) + ": the quaternion of joint '" +
                             h.model.joint_names[static_cast<std::size_t>(body)] + "' has norm " +

@@ -36,9 +36,7 @@ const double* finite_vector(PyObject* obj, py::ssize_t n) {
       (a.flags & layout) != layout)
     return nullptr;
   const auto* x = reinterpret_cast<const double*>(a.data);
-  for (py::ssize_t k = 0; k < n; ++k)
-    if (!std::isfinite(x[k])) return nullptr;
-  return x;
+  return all_finite(x, n) ? x : nullptr;
 }
 
 // The Python type of pybind11's Model class, looked up once. A per-call

@@ -2,6 +2,7 @@
 // manifolds, and the unit-quaternion check.
 #pragma once
 #include <cstdint>
+#include <vector>
 #include "soadyn/sweeps/body_updates.hpp"
 
 namespace soadyn {
@@ -25,5 +26,15 @@ void integrate(const ModelTpl<S>& model, const ConstVecRef<S>& q, const ConstVec
 // than `tolerance`, or -1.
 template <class S>
 int first_non_unit_quaternion(const ModelTpl<S>& model, const ConstVecRef<S>& q, S tolerance, S* norm = nullptr);
+
+// The test first_non_unit_quaternion applies to each quaternion: whether the
+// four values at `x` have a norm within `tolerance` of 1 (the norm in `norm`).
+template <class S>
+bool unit_quaternion(const S* x, S tolerance, S* norm = nullptr);
+
+// Where the model's quaternions start in q, in body order: for checking
+// many configurations of one model (batched calls).
+template <class S>
+std::vector<int> quaternion_coordinates(const ModelTpl<S>& model);
 
 }  // namespace soadyn

@@ -32,16 +32,28 @@ void integrate(const ModelTpl<S>& m, const ConstVecRef<S>& q, const ConstVecRef<
 }
 
 template <class S>
-int first_non_unit_quaternion(const ModelTpl<S>& m, const ConstVecRef<S>& q, S tolerance, S* norm) {
+bool unit_quaternion(const S* x, S tolerance, S* norm) {
   using std::abs;
+  const S n = Eigen::Map<const VecX<S>>(x, 4).norm();
+  if (norm) *norm = n;
+  return abs(n - S(1)) <= tolerance;  // false for a NaN norm
+}
+
+template <class S>
+std::vector<int> quaternion_coordinates(const ModelTpl<S>& m) {
+  std::vector<int> starts;
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
     const int qo = joint_quaternion_offset(m.joints[i]);
-    if (qo < 0) continue;
-    const S n = q.segment(m.q_index[i] + qo, 4).norm();
-    if (!(abs(n - S(1)) <= tolerance)) {
-      if (norm) *norm = n;
-      return static_cast<int>(i);
-    }
+    if (qo >= 0) starts.push_back(m.q_index[i] + qo);
+  }
+  return starts;
+}
+
+template <class S>
+int first_non_unit_quaternion(const ModelTpl<S>& m, const ConstVecRef<S>& q, S tolerance, S* norm) {
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
+    const int qo = joint_quaternion_offset(m.joints[i]);
+    if (qo >= 0 && !unit_quaternion(q.data() + m.q_index[i] + qo, tolerance, norm)) return static_cast<int>(i);
   }
   return -1;
 }
