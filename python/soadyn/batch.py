@@ -18,9 +18,8 @@ default), lanes=1 one row per pass. Both give the same results, bit for bit, and
 with the same errors; the mass matrix four rows per pass is the baseline kernel's, which differs from the
 single call's AVX2 FMA kernel in the last bits (docs/guides/batch.md). Models with flexible bodies and the
 derivatives take one row per pass whatever the lanes, and so does a call of fewer rows than
-``packet_minimum_rows()``, whose packets would cost more to set up than they save: its results are the
-single call's, the mass matrix included. Rollouts step four runs side by side when the runs share everything
-but their initial states and torques.
+``packet_minimum_rows()`` (one packet): its results are the single call's, the mass matrix included.
+Rollouts step four runs side by side when the runs share everything but their initial states and torques.
 
 `rollout` steps many independent simulations of one model in parallel (the
 equivalent of MuJoCo's rollout): different initial states, torques, shared
@@ -62,8 +61,8 @@ def widest_lanes() -> int:
 
 
 def packet_minimum_rows() -> int:
-    """The fewest rows a batched call runs four per pass: a call of fewer rows runs one row per pass whatever
-    its lanes, because copying the model's values into packets would cost more than the packets save."""
+    """The fewest rows a batched call runs four per pass, one packet's: a call of fewer rows runs one row per
+    pass whatever its lanes."""
     return _soadyn._batch_packet_minimum_rows()
 
 
@@ -90,17 +89,34 @@ def _real_array(name: str, x, *shapes: tuple, note: str = "") -> np.ndarray:
     (integer or floating dtypes; complex, strings, bytes, objects and booleans raise TypeError naming
     `name` and the dtype) and, when `shapes` are given, one of them (None: any size on that axis;
     otherwise ValueError naming `name`, the expected shapes and the shape given; `note` follows them)."""
-    try:
-        a = np.asarray(x)
-    except (TypeError, ValueError) as exc:  # ragged nested sequences
-        raise TypeError(f"{name} must be an array of real numbers: {exc}") from None
+    if type(x) is np.ndarray:
+        a = x
+    else:
+        try:
+            a = np.asarray(x)
+        except (TypeError, ValueError) as exc:  # ragged nested sequences
+            raise TypeError(f"{name} must be an array of real numbers: {exc}") from None
     if a.dtype.kind not in "fiu":
         raise TypeError(f"{name} must be an array of real numbers, got dtype {a.dtype}")
-    fits = lambda shape: len(shape) == a.ndim and all(s is None or s == k for s, k in zip(shape, a.shape))
-    if shapes and not any(fits(shape) for shape in shapes):
-        expected = " or ".join(_shape_text(shape) for shape in shapes)
-        raise ValueError(f"{name} must have shape {expected}{note}, got {a.shape}")
+    if shapes:
+        for shape in shapes:
+            if _fits(shape, a.shape):
+                break
+        else:
+            expected = " or ".join(_shape_text(shape) for shape in shapes)
+            raise ValueError(f"{name} must have shape {expected}{note}, got {a.shape}")
     return np.asarray(a, dtype=float, order="C")
+
+
+def _fits(shape: tuple, actual: tuple) -> bool:
+    """Whether an array of shape `actual` has `shape` (None: any size on that axis). Loops, not generators:
+    the batched calls check three or four arrays per call, and small batches are common."""
+    if len(shape) != len(actual):
+        return False
+    for expected, size in zip(shape, actual):
+        if expected is not None and expected != size:
+            return False
+    return True
 
 
 def _rows(name: str, x, width: int, n: int | None = None) -> np.ndarray:

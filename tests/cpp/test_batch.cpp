@@ -5,7 +5,9 @@
 //     random 20-body tree (every joint type, external wrenches, a mixed mask)
 //     and on the same tree with flexible bodies (the dual-number derivatives;
 //     one row per pass whatever the lanes). Four rows per pass, a rigid
-//     model's mass matrix is the baseline kernel's, bit for bit;
+//     model's mass matrix is the baseline kernel's, bit for bit. After their
+//     first call, the five calls allocate nothing, on one and two threads,
+//     while the model's values and prescribed flags change between them;
 //   - rollout: 6 pendulum-chain runs with per-run torques, masses and lock
 //     times, with 1 and 2 threads, equal bit for bit to one Simulator per run;
 //     a refused parameter and an overflowing step reported per run;
@@ -23,6 +25,7 @@
 #include <thread>
 #include <vector>
 
+#include "allocation_counter.hpp"
 #include "random_tree.hpp"
 #include "soadyn/algorithms/crba.hpp"
 #include "soadyn/analysis/dynamics_derivatives.hpp"
@@ -79,6 +82,27 @@ void reference_mass_matrix(const soadyn::Model& m, soadyn::Data& d, const Eigen:
   soadyn::mass_matrix<double>(m, d, q);
 }
 
+// The outputs of the five batched calls on a batch of n rows.
+struct BatchOutputs {
+  Rows qdd, tau, hq, ht, M;
+  std::vector<Rows> D;
+  std::array<double*, 6> derivatives;
+  BatchOutputs(int n, int nv)
+      : qdd(n * nv), tau(n * nv), hq(n * nv), ht(n * nv), M(n * nv * nv), D(6, Rows(n * nv * nv)),
+        derivatives{D[0].data(), D[1].data(), D[2].data(), D[3].data(), D[4].data(), D[5].data()} {}
+  // Forward, inverse (at the forward call's qdd) and hybrid dynamics, the mass
+  // matrix and the derivatives; returns the failed rows of all five.
+  long run(soadyn::BatchDynamics& batch, const Batch& b) {
+    const int n = b.n;
+    long failed = batch.forward_dynamics(n, b.Q.data(), b.V.data(), b.U.data(), b.F.data(), qdd.data()).failed_rows;
+    failed += batch.inverse_dynamics(n, b.Q.data(), b.V.data(), qdd.data(), b.F.data(), tau.data()).failed_rows;
+    failed += batch.hybrid_dynamics(n, b.Q.data(), b.V.data(), b.U.data(), b.F.data(), hq.data(), ht.data()).failed_rows;
+    failed += batch.mass_matrix(n, b.Q.data(), M.data()).failed_rows;
+    failed += batch.dynamics_derivatives(n, b.Q.data(), b.V.data(), b.U.data(), b.F.data(), derivatives).failed_rows;
+    return failed;
+  }
+};
+
 // Every batched call against the single calls; returns the rows that differ.
 long batched_calls_differ(const soadyn::Model& m, int threads, int lanes) {
   using Map = Eigen::Map<const Eigen::VectorXd>;
@@ -86,14 +110,10 @@ long batched_calls_differ(const soadyn::Model& m, int threads, int lanes) {
   const Batch b = random_batch(m, n);
   soadyn::BatchDynamics batch(m, threads);
   batch.set_lanes(lanes);
-  Rows qdd(n * nv), tau(n * nv), hq(n * nv), ht(n * nv), M(n * nv * nv);
-  std::vector<Rows> D(6, Rows(n * nv * nv));
-  const std::array<double*, 6> out = {D[0].data(), D[1].data(), D[2].data(), D[3].data(), D[4].data(), D[5].data()};
-  long failed = batch.forward_dynamics(n, b.Q.data(), b.V.data(), b.U.data(), b.F.data(), qdd.data()).failed_rows;
-  failed += batch.inverse_dynamics(n, b.Q.data(), b.V.data(), qdd.data(), b.F.data(), tau.data()).failed_rows;
-  failed += batch.hybrid_dynamics(n, b.Q.data(), b.V.data(), b.U.data(), b.F.data(), hq.data(), ht.data()).failed_rows;
-  failed += batch.mass_matrix(n, b.Q.data(), M.data()).failed_rows;
-  failed += batch.dynamics_derivatives(n, b.Q.data(), b.V.data(), b.U.data(), b.F.data(), out).failed_rows;
+  BatchOutputs o(n, nv);
+  const long failed = o.run(batch, b);
+  const Rows &qdd = o.qdd, &tau = o.tau, &hq = o.hq, &ht = o.ht, &M = o.M;
+  const std::vector<Rows>& D = o.D;
   soadyn::Data d(m);
   const bool by_dual = soadyn::BatchDynamics::derivatives_by_dual_numbers(m);
   std::unique_ptr<soadyn::DynamicsDerivatives> w;  // the analytic workspace refuses flexible models
@@ -124,6 +144,43 @@ long batched_calls_differ(const soadyn::Model& m, int threads, int lanes) {
     differ += !ok;
   }
   return differ;
+}
+
+// Batched calls allocate nothing once a BatchDynamics has made its first call
+// of each kind: 40 rounds of the five calls on 64 rows, each round after a
+// body's mass and a prescribed flag changed, which a packet call takes again
+// into its packet model (PacketModel::refresh). Each round also checks that
+// the batch followed the change: row 0's forward and hybrid dynamics, bit
+// for bit the single calls'. Returns the allocations counted; `differing`
+// receives the rounds that failed the check.
+long batched_call_allocations(soadyn::Model m, int threads, int lanes, long& differing) {
+  using Map = Eigen::Map<const Eigen::VectorXd>;
+  const int n = 64, nv = m.nv;
+  const Batch b = random_batch(m, n);
+  soadyn::BatchDynamics batch(m, threads);
+  batch.set_lanes(lanes);
+  BatchOutputs o(n, nv);
+  const soadyn::ParameterTable<double> table(m);
+  const int mass_entry = table.find(m.body_names[3] + ".mass");
+  double masses[2];
+  table.get(m, mass_entry, &masses[0]);
+  masses[1] = 1.5 * masses[0];
+  soadyn::Data d(m);
+  const Map q(b.Q.data(), m.nq), v(b.V.data(), nv), u(b.U.data(), nv);
+  o.run(batch, b);
+  soadyn_test::arm_counter();
+  for (int round = 0; round < 40; ++round) {
+    table.set(m, mass_entry, &masses[(round + 1) % 2]);
+    const int dof = round % nv;
+    m.set_prescribed(dof, !m.is_prescribed(dof));
+    o.run(batch, b);
+    soadyn::forward_dynamics<double>(m, d, q, v, u, b.F.data());
+    bool followed = same(o.qdd.data(), d.qdd);
+    soadyn::hybrid_dynamics<double>(m, d, q, v, u, b.F.data());
+    followed = followed && same(o.hq.data(), d.qdd) && same(o.ht.data(), d.tau);
+    differing += !followed;
+  }
+  return soadyn_test::disarm_counter().allocations();
 }
 
 // The pendulum-chain runs: per-run torques, link_2 masses and link_3 lock times.
@@ -264,6 +321,13 @@ int main() {
       differ += batched_calls_differ(tree, threads, lanes) + batched_calls_differ(flexible, threads, lanes);
   std::printf("batched calls: 2 models x 3 thread counts x lanes 1 and %d x 64 rows, rows differing from the single "
               "calls: %ld\n", widest, differ);
+  long allocations = 0, changes_missed = 0;
+  for (int lanes : {1, widest})
+    for (int threads : {1, 2}) allocations += batched_call_allocations(tree, threads, lanes, changes_missed);
+  const bool counter_works = soadyn_test::allocation_counter_works(64);
+  std::printf("batched calls after a mass and a prescribed flag changed, 2 thread counts x lanes 1 and %d x 40 "
+              "rounds of the five calls: allocations %ld (counter works: %s), rounds whose row 0 differs from the "
+              "single call: %ld\n", widest, allocations, counter_works ? "yes" : "no", changes_missed);
   long rollout_differ = 0, reported = 0;
   for (int threads : {1, 2}) {
     long r = 0;
@@ -276,7 +340,8 @@ int main() {
   const bool pool_ok = pool_rethrows_and_recovers() && handoffs_missed == 0;
   std::printf("thread pool: exception rethrown and pool reused: %s; loops of 1200 that missed or repeated an "
               "index: %d\n", pool_ok ? "yes" : "no", handoffs_missed);
-  const bool pass = differ == 0 && rollout_differ == 0 && reported == 6 && pool_ok;
+  const bool pass = differ == 0 && allocations == 0 && counter_works && changes_missed == 0 && rollout_differ == 0 &&
+                    reported == 6 && pool_ok;
   std::printf("test_batch: %s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;
 }

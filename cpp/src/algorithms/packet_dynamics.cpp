@@ -29,6 +29,8 @@ extern template void ModelTpl<Packet4d>::refresh_leaf_presums();
 template ModelTpl<Packet4d> ModelTpl<double>::cast<Packet4d>() const;
 template bool ModelTpl<double>::cast_into<Packet4d, PacketDynamics::lanes>(
     const std::array<const ModelTpl<double>*, PacketDynamics::lanes>&, ModelTpl<Packet4d>&);
+template bool ModelTpl<double>::cast_values_into<Packet4d, 1>(const std::array<const ModelTpl<double>*, 1>&,
+                                                              ModelTpl<Packet4d>&);
 template struct DataTpl<Packet4d>;
 template Transform<Packet4d> FlexibleBodyTpl<Packet4d>::node_motion(int, const Eigen::Ref<const VecX<Packet4d>>&,
                                                                    Eigen::Ref<ModeShape<Packet4d>>, const Packet4d*,
@@ -79,7 +81,7 @@ std::unique_ptr<PacketModel> PacketModel::of_lanes(const std::array<const Model*
 
 PacketModel::~PacketModel() = default;
 
-void PacketModel::refresh(const Model& model) { *model_ = model.cast<Packet4d>(); }
+void PacketModel::refresh(const Model& model) { Model::cast_values_into<Packet4d, 1>({&model}, *model_); }
 
 struct PacketDynamics::Packets {
   explicit Packets(const detail::PacketModel& model)

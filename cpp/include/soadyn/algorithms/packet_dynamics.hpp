@@ -42,7 +42,8 @@ class PacketModel {
   static std::unique_ptr<PacketModel> of_lanes(const std::array<const Model*, 4>& models);
   ~PacketModel();
   // Takes the model's values again (masses, prescribed flags, gravity, ...:
-  // whatever changed short of its structure). Allocates.
+  // whatever changed short of its structure; Model::cast_values_into).
+  // Allocation free.
   void refresh(const Model& model);
   const ModelTpl<Packet4d>& get() const { return *model_; }
 

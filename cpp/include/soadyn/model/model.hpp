@@ -316,6 +316,13 @@ class ModelTpl {
   // differ (`out` is then not to be used). N = 1: cast().
   template <class T, std::size_t N>
   static bool cast_into(const std::array<const ModelTpl*, N>& models, ModelTpl<T>& out);
+  // The values and flags of `models` (masses, placements, gravity, springs,
+  // prescribed flags, ...) taken again into `out`, which cast_into made from
+  // models of this structure: names, joints, frames and loops are left as
+  // they are, and nothing is allocated (every array keeps its size). False
+  // when the flags differ between the models.
+  template <class T, std::size_t N>
+  static bool cast_values_into(const std::array<const ModelTpl*, N>& models, ModelTpl<T>& out);
 
  private:
   template <class>

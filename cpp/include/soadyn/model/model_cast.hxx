@@ -1,6 +1,7 @@
-// ModelTpl::cast (model.hpp): the same model in another scalar type, and
-// cast_lanes: several models of one structure as one model of packets, lane
-// l holding model l's values. Every field is copied, numeric ones
+// ModelTpl::cast (model.hpp): the same model in another scalar type;
+// cast_into: several models of one structure as one model of packets, lane
+// l holding model l's values; and cast_values_into: the values alone, taken
+// again into such a cast without allocating. Every field is copied, numeric ones
 // converted; nothing is recomputed but the constant tree-frame terms
 // (refresh_constant_tree_inertia, from the converted values), so the cast
 // model runs exactly the sweeps the original runs (same dynamics path,
@@ -134,12 +135,11 @@ bool ModelTpl<S>::cast_into(const std::array<const ModelTpl<S>*, N>& models, Mod
   using M = ModelTpl<S>;
   const c::Sources<S, N> in(models);
   const M& first = in.first();
-  // Names, joints, modes, flexible bodies, frames and loops are the first
-  // model's: no parameter (parameters.hpp) changes them.
+  // Names, joints, flexible bodies, frames and loops are the first model's:
+  // no parameter (parameters.hpp) changes them.
   out.body_names = first.body_names;
   out.joint_names = first.joint_names;
   for (const auto& j : first.joints) out.joints.push_back(c::joint<T>(j));
-  out.modes = first.modes;
   for (const FlexibleBodyTpl<S>& body : first.flexible_bodies) out.flexible_bodies.push_back(body.template converted<T>());
   for (const auto& f : first.frames) out.frames.push_back(Frame<T>{f.name, f.body, c::transform<T>(f.placement), f.node});
   for (const auto& l : first.loops) {
@@ -160,6 +160,29 @@ bool ModelTpl<S>::cast_into(const std::array<const ModelTpl<S>*, N>& models, Mod
   out.body_lookup_ = first.body_lookup_;
   out.dof_lookup_ = first.dof_lookup_;
   out.frame_lookup_ = first.frame_lookup_;
+  // The force elements' places (their values: cast_values_into).
+  for (const auto& e : first.force_elements.joint_springs)
+    out.force_elements.joint_springs.push_back(JointSpringTpl<T>{e.name, e.dof, e.coordinate, T(), T(), T()});
+  using PointSpring = PointSpringTpl<S>;
+  for (std::size_t k = 0; k < first.force_elements.point_springs.size(); ++k) {
+    const auto spring = [k](const M& m) -> const PointSpring& { return m.force_elements.point_springs[k]; };
+    PointSpringTpl<T> o;
+    o.name = spring(first).name;
+    in.same(c::then(spring, &PointSpring::body_a), o.body_a);
+    in.same(c::then(spring, &PointSpring::body_b), o.body_b);
+    out.force_elements.point_springs.push_back(o);
+  }
+  const bool values_agree = cast_values_into<T, N>(models, out);
+  return in.agree() && values_agree;
+}
+
+template <class S>
+template <class T, std::size_t N>
+bool ModelTpl<S>::cast_values_into(const std::array<const ModelTpl<S>*, N>& models, ModelTpl<T>& out) {
+  namespace c = cast_detail;
+  using M = ModelTpl<S>;
+  const c::Sources<S, N> in(models);
+  const M& first = in.first();
   // The values, lane by lane.
   in.values(&M::placement, out.placement);
   in.values(&M::inertia, out.inertia);
@@ -173,12 +196,10 @@ bool ModelTpl<S>::cast_into(const std::array<const ModelTpl<S>*, N>& models, Mod
   using Derived = DerivedCachesTpl<S>;
   in.values(c::then(&M::derived, &Derived::tree_frame_reach_squared), out.derived.tree_frame_reach_squared);
   in.values(&M::gravity, out.gravity);
-  for (const auto& e : first.force_elements.joint_springs)
-    out.force_elements.joint_springs.push_back(JointSpringTpl<T>{e.name, e.dof, e.coordinate, T(), T(), T()});
   using JointSpring = JointSpringTpl<S>;
   using PointSpring = PointSpringTpl<S>;
   using ForceLaw = ForceLawTpl<S>;
-  for (std::size_t k = 0; k < out.force_elements.joint_springs.size(); ++k) {
+  for (std::size_t k = 0; k < first.force_elements.joint_springs.size(); ++k) {
     const auto spring = [k](const M& m) -> const JointSpring& { return m.force_elements.joint_springs[k]; };
     JointSpringTpl<T>& o = out.force_elements.joint_springs[k];
     in.values(c::then(spring, &JointSpring::stiffness), o.stiffness);
@@ -188,10 +209,7 @@ bool ModelTpl<S>::cast_into(const std::array<const ModelTpl<S>*, N>& models, Mod
   for (std::size_t k = 0; k < first.force_elements.point_springs.size(); ++k) {
     const auto spring = [k](const M& m) -> const PointSpring& { return m.force_elements.point_springs[k]; };
     const auto law = c::then(spring, &PointSpring::force_law);
-    PointSpringTpl<T> o;
-    o.name = spring(first).name;
-    in.same(c::then(spring, &PointSpring::body_a), o.body_a);
-    in.same(c::then(spring, &PointSpring::body_b), o.body_b);
+    PointSpringTpl<T>& o = out.force_elements.point_springs[k];
     in.values(c::then(spring, &PointSpring::point_a), o.point_a);
     in.values(c::then(spring, &PointSpring::point_b), o.point_b);
     in.values(c::then(spring, &PointSpring::stiffness), o.stiffness);
@@ -201,9 +219,10 @@ bool ModelTpl<S>::cast_into(const std::array<const ModelTpl<S>*, N>& models, Mod
     in.values(c::then(law, &ForceLaw::force), o.force_law.force);
     in.values(c::then(law, &ForceLaw::slope), o.force_law.slope);
     in.values(c::then(law, &ForceLaw::integral_to_knot), o.force_law.integral_to_knot);
-    out.force_elements.point_springs.push_back(o);
   }
-  // The structure and the flags, which must be the same in every model.
+  // The structure and the flags, which must be the same in every model (the
+  // hinge modes follow from the prescribed flags).
+  out.modes = first.modes;
   in.same(&M::parent, out.parent);
   in.same(&M::joint_fast_path, out.joint_fast_path);
   in.same(&M::angle_slot, out.angle_slot);

@@ -2,8 +2,11 @@
 // of the outputs is what the single call computes at row k of the inputs,
 // bit for bit (the same algorithm on the same numbers; only the thread and
 // its Data differ). One Data (and derivative workspace) per thread, built by
-// the constructor; a call allocates nothing but the pool's job, and with
-// packets the model's values taken again in packets (PacketModel::refresh).
+// the constructor, and the packet workspaces, built by the first packet
+// call; after that a call allocates nothing (tests/cpp/test_batch.cpp counts),
+// with packets too: a packet call takes the model's values again into its
+// packet model in place (PacketModel::refresh), so values and prescribed
+// flags may change between calls.
 //
 // Lanes: on processors with AVX2 and FMA, the forward, inverse and hybrid
 // dynamics and the mass matrix of rigid trees take four rows per pass
@@ -55,11 +58,11 @@ class BatchDynamics {
   // The widest packet this processor runs: PacketDynamics::lanes where
   // PacketDynamics::available(), else 1.
   static int widest_lanes();
-  // The fewest rows a call runs in packets. A packet call first copies the
-  // model's values into packets (PacketModel::refresh: about 6 us for a
-  // 6-body arm, 36 us for a 33-body humanoid on a 2026 Xeon); below this
-  // many rows, that costs more than the packets save (docs/guides/batch.md).
-  static constexpr std::int64_t packet_minimum_rows = 16;
+  // The fewest rows a call runs in packets: one packet's. A packet call
+  // first takes the model's values into packets (PacketModel::refresh, in
+  // place), which one packet already repays (docs/guides/batch.md, small
+  // batches).
+  static constexpr std::int64_t packet_minimum_rows = PacketDynamics::lanes;
   // Rows per pass from now on: 1, or PacketDynamics::lanes where available
   // (std::invalid_argument otherwise, naming the value). Starts at
   // widest_lanes(). Models the packet path does not serve run one row at a

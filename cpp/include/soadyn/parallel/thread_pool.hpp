@@ -23,7 +23,8 @@
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
-#include <functional>
+#include <memory>
+#include <type_traits>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -34,7 +35,24 @@ namespace soadyn {
 
 class ThreadPool {
  public:
-  using ChunkFunction = std::function<void(std::int64_t begin, std::int64_t end, int worker)>;
+  // fn(begin, end, worker): a reference to the caller's function object,
+  // which outlives the parallel_for it is passed to. Unlike a std::function,
+  // taking it allocates nothing, whatever the function captures.
+  class ChunkFunction {
+   public:
+    template <class F, class = std::enable_if_t<!std::is_same_v<std::decay_t<F>, ChunkFunction>>>
+    ChunkFunction(F&& fn)  // NOLINT: implicit, from the lambda at the call
+        : fn_(static_cast<const void*>(std::addressof(fn))), call_(&call<std::remove_reference_t<F>>) {}
+    void operator()(std::int64_t begin, std::int64_t end, int worker) const { call_(fn_, begin, end, worker); }
+
+   private:
+    template <class F>
+    static void call(const void* fn, std::int64_t begin, std::int64_t end, int worker) {
+      (*static_cast<F*>(const_cast<void*>(fn)))(begin, end, worker);
+    }
+    const void* fn_;
+    void (*call_)(const void*, std::int64_t, std::int64_t, int);
+  };
 
   // `threads` in all, the calling thread included (>= 1; 0: one per
   // hardware thread). Throws std::invalid_argument for a negative count.
