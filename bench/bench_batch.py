@@ -49,15 +49,12 @@ def rates_in_turn(calls: dict, items: int, repeats: int) -> dict[object, list[fl
 
 def soadyn_calls(name: str, rows: int) -> dict:
     """batch.forward_dynamics by (threads, lanes): one row per pass on one thread, and the widest packet on
-    each number of threads. Each thread count has its own copy of the model, whose cached pool then stays
-    (a model keeps the pool of its last thread count)."""
+    each number of threads (the model keeps a pool per thread count)."""
     m = load_robot(name)
     Q, V, T = numbered_states(m, 0, rows)
     widest = batch.widest_lanes()
-    copies = {k: m.copy() for k in THREADS}
     settings = [(1, 1)] + [(k, widest) for k in THREADS]
-    return {("soadyn", k, lanes): (lambda k=k, lanes=lanes: batch.forward_dynamics(copies[k], Q, V, T, threads=k,
-                                                                                    lanes=lanes))
+    return {("soadyn", k, lanes): lambda k=k, lanes=lanes: batch.forward_dynamics(m, Q, V, T, threads=k, lanes=lanes)
             for k, lanes in settings}
 
 

@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -77,22 +78,32 @@ const double* wrenches_arg(const ModelHandle& h, py::handle obj, py::ssize_t row
   return flat.data();
 }
 
-// The model's cached BatchDynamics for `threads`; rebuilt after a structural
-// change. Call with the model's lock held.
+// The model's cached BatchDynamics for `threads`. A model keeps one per
+// thread count used, up to kCachedThreadCounts (the least recently used goes
+// first), so that calls alternating thread counts do not rebuild their pools
+// and workspaces; all are rebuilt after a structural change. Call with the
+// model's lock held.
+constexpr std::size_t kCachedThreadCounts = 4;
 soadyn::BatchDynamics& batch_for(ModelHandle& h, int threads) {
   const int wanted = threads > 0 ? threads : soadyn::ThreadPool::hardware_threads();
-  if (h.batch && h.batch_pid != ::getpid()) {
-    // A forked child inherits the pool object but not its threads: it could neither run nor join
-    // them. The inherited object is left alone (leaked on purpose) and a new one is built.
-    new std::shared_ptr<soadyn::BatchDynamics>(std::move(h.batch));
+  if (!h.batches.empty() && h.batch_pid != ::getpid()) {
+    // A forked child inherits the pool objects but not their threads: it could neither run nor join
+    // them. The inherited objects are left alone (leaked on purpose) and new ones are built.
+    new std::vector<std::shared_ptr<soadyn::BatchDynamics>>(std::move(h.batches));
+    h.batches.clear();
   }
-  if (!h.batch || h.batch_version != h.model.version || h.batch->threads() != wanted) {
-    h.batch.reset();
-    h.batch = std::make_shared<soadyn::BatchDynamics>(h.model, wanted);
-    h.batch_version = h.model.version;
-    h.batch_pid = ::getpid();
+  if (h.batch_version != h.model.version) h.batches.clear();
+  h.batch_version = h.model.version;
+  h.batch_pid = ::getpid();
+  auto& cache = h.batches;
+  auto found = std::find_if(cache.begin(), cache.end(), [&](const auto& b) { return b->threads() == wanted; });
+  if (found == cache.end()) {
+    if (cache.size() == kCachedThreadCounts) cache.pop_back();
+    cache.insert(cache.begin(), std::make_shared<soadyn::BatchDynamics>(h.model, wanted));
+  } else {
+    std::rotate(cache.begin(), found, found + 1);  // the most recently used first
   }
-  return *h.batch;
+  return *cache.front();
 }
 
 // Runs fn(batch) with the model locked and the GIL released; raises the

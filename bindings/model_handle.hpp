@@ -16,6 +16,7 @@
 #include <memory>
 #include <mutex>
 #include <stdexcept>
+#include <vector>
 #include "soadyn/model/data.hpp"
 
 namespace soadyn {
@@ -28,11 +29,12 @@ struct ModelHandle {
   soadyn::Model model;
   std::unique_ptr<soadyn::Data> data;
   std::mutex mutex;  // serialises calls that share `data` (the GIL is released)
-  // The batched calls' per-thread Data (batch_binding.cpp), for the model's
+  // The batched calls' pools and per-thread Data (batch_binding.cpp), one per
+  // thread count used, the most recently used first, for the model's
   // structure at `batch_version`; guarded by `mutex`.
-  std::shared_ptr<soadyn::BatchDynamics> batch;
+  std::vector<std::shared_ptr<soadyn::BatchDynamics>> batches;
   std::uint64_t batch_version = 0;
-  long batch_pid = 0;  // the process that built `batch` (a forked child rebuilds it)
+  long batch_pid = 0;  // the process that built `batches` (a forked child rebuilds them)
 
   ModelHandle() = default;
   ModelHandle(const ModelHandle& other) : model(other.model) {}

@@ -305,6 +305,22 @@ def test_a_forked_child_runs_batches_with_threads_of_its_own():
     assert not hung and child.exitcode == 0
 
 
+def test_thread_counts_in_turn_keep_their_results_and_follow_a_structural_change():
+    """A model keeps a pool per thread count, up to four, the least recently used going first: calls that
+    alternate five thread counts give the one-row results throughout, and after a structural change each
+    count's pool follows the new structure."""
+    m = MODELS["panda"].copy()
+    Q, V, X = states(m, 37)
+    expected = batch.forward_dynamics(m, Q, V, X, threads=1, lanes=1)
+    for threads in (1, 2, 3, 2, 1, 4, 5, 3, 2, 1, 5):
+        assert np.array_equal(batch.forward_dynamics(m, Q, V, X, threads=threads), expected)
+    m.add_body("probe", m.body_names[2], soadyn.Joint.revolute([0, 0, 1]), mass=1.0, inertia=[0.1, 0.1, 0.1])
+    Qg, Vg, Xg = states(m, 9)
+    for threads in (1, 2, 3):
+        grown = batch.forward_dynamics(m, Qg, Vg, Xg, threads=threads)
+        assert all(np.array_equal(grown[k], soadyn.forward_dynamics(m, Qg[k], Vg[k], Xg[k])) for k in range(9))
+
+
 def _child_batch(m, Q, V, X, expected):
     import os
     os._exit(0 if np.array_equal(batch.forward_dynamics(m, Q, V, X, threads=2), expected) else 1)
