@@ -130,10 +130,21 @@ def _wrenches(m, f_ext, n: int):
     return _real_array("f_ext", f_ext, (n, m.nbodies, 6)).reshape(n, 6 * m.nbodies)
 
 
+def _binding_rows(name: str, x, width: int, n: int | None = None):
+    """x for a binding that converts real arrays itself (to C-contiguous float64): x as it is when it already
+    is an (n, width) numpy array of real numbers, since the checks of _rows cost more than a small batch's
+    dynamics; otherwise _rows(name, x, width, n), which names what is wrong."""
+    if (type(x) is np.ndarray and x.ndim == 2 and x.dtype.kind in "fiu" and x.shape[1] == width and
+            (n is None or len(x) == n)):
+        return x
+    return _rows(name, x, width, n)
+
+
 def _state_batch(m, Q, V, X, x_name: str):
-    q = _rows("Q", Q, m.nq)
-    n = q.shape[0]
-    return q, _rows("V", V, m.nv, n), _rows(x_name, X, m.nv, n), n
+    nv = m.nv
+    q = _binding_rows("Q", Q, m.nq)
+    n = len(q)
+    return q, _binding_rows("V", V, nv, n), _binding_rows(x_name, X, nv, n), n
 
 
 def forward_dynamics(m, Q, V, TAU, f_ext=None, threads=None, lanes=None) -> np.ndarray:
@@ -182,7 +193,7 @@ def mass_matrix(m, Q, threads=None, lanes=None) -> np.ndarray:
     DynamicsError naming the first row whose dynamics fail; threads outside 1..MAX_THREADS, or lanes other than
     None, 1 or widest_lanes(), raises ValueError.
     """
-    q = _rows("Q", Q, m.nq)
+    q = _binding_rows("Q", Q, m.nq)
     return _soadyn._batch_mass_matrix(m, q, q.shape[0], _threads(threads), _lanes(lanes))
 
 
