@@ -86,7 +86,8 @@ const double* wrenches_arg(const ModelHandle& h, py::handle obj, py::ssize_t row
 constexpr std::size_t kCachedThreadCounts = 4;
 soadyn::BatchDynamics& batch_for(ModelHandle& h, int threads) {
   const int wanted = threads > 0 ? threads : soadyn::ThreadPool::hardware_threads();
-  if (!h.batches.empty() && h.batch_pid != ::getpid()) {
+  const long pid = ::getpid();  // a system call: once per call
+  if (!h.batches.empty() && h.batch_pid != pid) {
     // A forked child inherits the pool objects but not their threads: it could neither run nor join
     // them. The inherited objects are left alone (leaked on purpose) and new ones are built.
     new std::vector<std::shared_ptr<soadyn::BatchDynamics>>(std::move(h.batches));
@@ -94,7 +95,7 @@ soadyn::BatchDynamics& batch_for(ModelHandle& h, int threads) {
   }
   if (h.batch_version != h.model.version) h.batches.clear();
   h.batch_version = h.model.version;
-  h.batch_pid = ::getpid();
+  h.batch_pid = pid;
   auto& cache = h.batches;
   auto found = std::find_if(cache.begin(), cache.end(), [&](const auto& b) { return b->threads() == wanted; });
   if (found == cache.end()) {

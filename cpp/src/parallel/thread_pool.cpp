@@ -6,7 +6,12 @@
 
 namespace soadyn {
 
-int ThreadPool::hardware_threads() { return std::max(1u, std::thread::hardware_concurrency()); }
+int ThreadPool::hardware_threads() {
+  // Asked once: std::thread::hardware_concurrency reads a file of /sys at each
+  // call, several microseconds, and the batched calls ask at every call.
+  static const int count = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return count;
+}
 
 ThreadPool::ThreadPool(int threads) {
   if (threads < 0) throw std::invalid_argument("thread count must be >= 0 (0: one per hardware thread)");

@@ -75,7 +75,7 @@ class ThreadPool {
   // Interrupt when `worker` is the calling thread (0).
   bool stop_requested(int worker);
 
-  // One per hardware thread (at least 1).
+  // One per hardware thread (at least 1), as the process first found them.
   static int hardware_threads();
 
  private:
