@@ -157,7 +157,7 @@ def main() -> int:
     rollouts.formats.update({"packet speed-up": ".2f", "thread speed-up": ".2f"})
     flexible, rigid, talos = cassini(), cassini_without(RIGID_CASSINI_LEFT_OUT), load_robot("talos")
     for scene, model, x0, options in (
-            ("cassini (flexible booms: one run per pass)", flexible, cassini_states(flexible, args.runs), {}),
+            ("cassini (two flexible booms)", flexible, cassini_states(flexible, args.runs), {}),
             ("cassini rigid (without its booms)", rigid, cassini_states(rigid, args.runs), {}),
             ("cassini rigid, each run its own bus mass", rigid, cassini_states(rigid, args.runs),
              {"parameters": bus_masses(rigid, args.runs)}),

@@ -13,11 +13,11 @@ naming the argument, the expected shape and the shape given); a row whose
 dynamics fail raises DynamicsError naming the first failing row.
 
 `lanes` sets how many rows one pass of the algorithm computes: on processors with AVX2 and FMA the forward,
-inverse and hybrid dynamics and the mass matrix of rigid trees take four rows per pass (``widest_lanes()``, the
-default), lanes=1 one row per pass. Both give the same results, bit for bit, and report the same failing rows
-with the same errors; the mass matrix four rows per pass is the baseline kernel's, which differs from the
-single call's AVX2 FMA kernel in the last bits (docs/guides/batch.md). Models with flexible bodies and the
-derivatives take one row per pass whatever the lanes, and so does a call of fewer rows than
+inverse and hybrid dynamics and the mass matrix take four rows per pass (``widest_lanes()``, the default),
+lanes=1 one row per pass. Both give the same results, bit for bit, and report the same failing rows with the
+same errors; a rigid tree's mass matrix four rows per pass is the baseline kernel's, which differs from the
+single call's AVX2 FMA kernel in the last bits (docs/guides/batch.md). The derivatives take one row per pass
+whatever the lanes, and so does a call of fewer rows than
 ``packet_minimum_rows()`` (one packet): its results are the single call's, the mass matrix included.
 Rollouts step four runs side by side when the runs share everything but their initial states and torques.
 
@@ -310,11 +310,11 @@ def rollout(m, x0s, controls_or_sources=None, dt: float = 1e-3, steps: int = 100
     GIL). parameters: {parameter name: (runs, *shape) values} set on each run's copy of the model.
     events: [(kind, DOF, times)] with kind 'lock' or 'release' and one time per run (or one for all).
     Samples every `record_every` steps (which must divide `steps`), the start included. With lanes 4 (the default
-    where the processor has AVX2 and FMA), runs of a rigid tree without loops step four side by side, sources
-    included, each equal bit for bit to its run alone; with parameters, each of the four holds its own values
-    (four runs whose values change a property the model derives from them, such as a placement's rotation being
-    the identity, step one by one); with events, runs whose events fall due in the same steps step four side by
-    side, whatever their order. Other runs step one by one; the result's `side_by_side` counts the first kind.
+    where the processor has AVX2 and FMA), runs of a tree without loops, rigid or flexible, step four side by
+    side, sources included, each equal bit for bit to its run alone; with parameters, each of the four holds its
+    own values (four runs whose values change a property the model derives from them, such as a placement's
+    rotation being the identity, step one by one); with events, runs whose events fall due in the same steps step
+    four side by side, whatever their order. Other runs step one by one; the result's `side_by_side` counts the first kind.
 
     dt in s; torques in N or N m, states as the single calls'. Raises TypeError or ValueError naming the
     argument (and the run, row or DOF) for a wrong type, shape, a non-finite entry, an unknown DOF or parameter,

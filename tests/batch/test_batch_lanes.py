@@ -19,6 +19,10 @@
   runs side by side equal one by one, bit for bit, with RK4 and DOPRI5; a packet whose runs cannot share one
   packet model (a placement turned in one run) or with a refused value goes one by one, reported as alone;
   likewise with two DOFs driven by motion sources (cycloidal, spline) shared by the runs.
+- Flexible models (cassini with a prescribed turntable; random trees whose flexible bodies carry bodies on their
+  nodes, or are appendages): the forward, inverse and hybrid dynamics and the mass matrix, with and without
+  external wrenches, equal lanes=1 bit for bit; cassini's rollouts with RK4 and DOPRI5, shared or per-run bus
+  masses, four runs side by side, equal one by one bit for bit.
 - lanes other than None, 1 or widest_lanes() is refused by name; with SOADYN_BASELINE_KERNELS set the widest
   is 1 and lanes=4 is refused, naming the reason.
 """
@@ -34,6 +38,7 @@ import pytest
 import soadyn
 from soadyn import batch
 from support.batch_states import batch_states
+from support.flexible_trees import random_flexible_tree
 from support.robots import robot_with_oracle
 from support.trees import random_tree
 
@@ -363,3 +368,50 @@ def test_rollouts_with_events_step_side_by_side_when_due_in_the_same_steps():
     assert four.side_by_side == 8
     v_at_lock = one.v[:, 15, m.dof_names.index(dof)]  # t = 30 ms, just before the lock: an impact in every run
     assert np.all(np.abs(v_at_lock) > 1e-3)
+
+
+def flexible_models():
+    """cassini (two booms of four modes: appendages, whose update runs lane by lane) with a prescribed turntable,
+    and random trees whose flexible bodies carry bodies on their nodes or are appendages."""
+    cassini = soadyn.scenes.cassini()
+    cassini.set_prescribed(["turntable"])
+    return {"cassini": cassini,
+            "nodes": random_flexible_tree(31, n_bodies=8, floating=True, damping=True)[0],
+            "appendages": random_flexible_tree(32, n_bodies=8, floating=False, appendages=True)[0]}
+
+
+@pytest.mark.parametrize("name", ["cassini", "nodes", "appendages"])
+def test_flexible_models_run_in_packets_equal_to_one_row_per_pass(name):
+    """The forward, inverse and hybrid dynamics and the mass matrix of flexible models, four rows per pass,
+    equal one row per pass bit for bit (the appendages' update runs the single call's double kernel in each
+    lane), external wrenches included."""
+    require_packets()
+    m = flexible_models()[name]
+    Q, V, X = states(m, seed=3)
+    F = np.random.default_rng(4).uniform(-1, 1, (ROWS, m.nbodies, 6))
+    for f_ext in (None, F):
+        one = [batch.forward_dynamics(m, Q, V, X, f_ext, lanes=1), *batch.hybrid_dynamics(m, Q, V, X, f_ext, lanes=1)]
+        four = [batch.forward_dynamics(m, Q, V, X, f_ext, lanes=4), *batch.hybrid_dynamics(m, Q, V, X, f_ext, lanes=4)]
+        one.append(batch.inverse_dynamics(m, Q, V, one[0], f_ext, lanes=1))
+        four.append(batch.inverse_dynamics(m, Q, V, one[0], f_ext, lanes=4))
+        for a, b in zip(one, four):
+            assert np.array_equal(a, b)
+    assert np.array_equal(batch.mass_matrix(m, Q, lanes=1), batch.mass_matrix(m, Q, lanes=4))
+
+
+@pytest.mark.parametrize("integrator", ["rk4", "dopri5"])
+def test_flexible_rollouts_four_side_by_side_equal_one_by_one(integrator):
+    """Cassini's rollouts, with shared and with per-run bus masses (each lane's own model in the lane-by-lane
+    appendage update), four runs side by side equal one by one, bit for bit."""
+    require_packets()
+    m = soadyn.scenes.cassini()
+    runs, steps = 9, 30  # two packets of four runs and one run alone
+    x0 = rollout_states(m, runs, 21)
+    masses = {"bus.mass": m.get_parameter("bus.mass") * np.random.default_rng(22).uniform(0.8, 1.2, runs)}
+    for parameters in (None, masses):
+        one = batch.rollout(m, x0, None, dt=1e-3, steps=steps, integrator=integrator, parameters=parameters, lanes=1)
+        four = batch.rollout(m, x0, None, dt=1e-3, steps=steps, integrator=integrator, parameters=parameters,
+                             lanes=4)
+        assert one.ok.all()
+        assert_rollouts_equal(one, four)
+        assert four.side_by_side == 8

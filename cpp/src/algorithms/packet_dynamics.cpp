@@ -91,13 +91,13 @@ struct PacketDynamics::Packets {
   std::vector<Packet4d> f;
 };
 
-bool PacketDynamics::serves(const Model& model) { return !model.has_flexible_bodies(); }
+bool PacketDynamics::serves(const Model&) { return true; }
 
 bool PacketDynamics::available() { return avx2_fma_kernels_enabled(); }
 
 PacketDynamics::PacketDynamics(const Model& model, const PacketModel& packet_model)
     : model_(model), packet_model_(packet_model), packets_(std::make_unique<Packets>(packet_model.get())),
-      scalar_(model) {}
+      scalar_(model), lanes_({&model, &model, &model, &model}, scalar_) {}
 
 PacketDynamics::~PacketDynamics() = default;
 
@@ -127,6 +127,7 @@ void PacketDynamics::forward_dynamics(const double* Q, const double* V, const do
   Packets& p = *packets_;
   load(Q, V, TAU, F);
   const int nv = model_.nv;
+  const PacketLanesScope lanes_in_use(lanes_);
   finish(detail::packet_forward_dynamics(packet_model_.get(), p.data, p.q, p.v, p.x, F ? p.f.data() : nullptr), status,
          [&] { store_lanes(p.data.qdd.data(), nv, QDD); },
          [&](int l) {
@@ -157,6 +158,7 @@ void PacketDynamics::hybrid_dynamics(const double* Q, const double* V, const dou
   Packets& p = *packets_;
   load(Q, V, U, F);
   const int nv = model_.nv;
+  const PacketLanesScope lanes_in_use(lanes_);
   finish(detail::packet_hybrid_dynamics(packet_model_.get(), p.data, p.q, p.v, p.x, F ? p.f.data() : nullptr), status,
          [&] {
            store_lanes(p.data.qdd.data(), nv, QDD);

@@ -80,10 +80,13 @@ int parameter_directions(const ParameterEntry<double>& e) {
 }
 
 struct ParameterSensitivity::Dual {
-  explicit Dual(const Model& model) : model(model.cast<soadyn::Dual>()), data(this->model) {}
+  explicit Dual(const Model& model)
+      : model(model.cast<soadyn::Dual>()), data(this->model), q_start(model.nq), step(model.nv),
+        f_ext(6 * model.nbodies()) {}
   ModelTpl<soadyn::Dual> model;
   DataTpl<soadyn::Dual> data;
   VecX<soadyn::Dual> q, v, u;
+  VecX<soadyn::Dual> q_start, step, f_ext;  // state_derivatives' (sized once: no allocation per call)
 };
 
 ParameterSensitivity::ParameterSensitivity(const Model& model) : dual_(std::make_unique<Dual>(model)) {}
@@ -197,9 +200,11 @@ Status ParameterSensitivity::state_derivatives(const Model& model, const ConstVe
   load(model);
   ModelTpl<D>& m = dual_->model;
   const int nv = model.nv;
-  VecX<D> q0 = q.cast<D>(), step = VecX<D>::Zero(nv), f;
-  if (f_ext) f = Eigen::Map<const VecX<double>>(f_ext, 6 * model.nbodies()).cast<D>();
-  const D* f_dual = f_ext ? f.data() : nullptr;
+  VecX<D>& q0 = dual_->q_start;
+  VecX<D>& step = dual_->step;
+  q0 = q.cast<D>();
+  if (f_ext) dual_->f_ext = Eigen::Map<const VecX<double>>(f_ext, 6 * model.nbodies()).cast<D>();
+  const D* f_dual = f_ext ? dual_->f_ext.data() : nullptr;
   dual_->q = q0;
   Status status;
   for (int x = 0; x < 3; ++x) {       // q, v, u

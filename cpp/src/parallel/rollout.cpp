@@ -138,9 +138,9 @@ struct PoolWorker {
   int worker;
 };
 
-PacketSimulation packet_simulation(const Model& model, const PacketModel& packets, const RolloutRequest& r,
-                                   const RolloutOutputs& out, const std::int64_t* runs, ThreadPool& pool,
-                                   int worker) {
+PacketSimulation packet_simulation(const Model& model, const PacketModel& packets, const Model* lane_models,
+                                   const RolloutRequest& r, const RolloutOutputs& out, const std::int64_t* runs,
+                                   ThreadPool& pool, int worker) {
   thread_local PoolWorker asked;
   asked = PoolWorker{&pool, worker};
   PacketSimulation s;
@@ -157,6 +157,7 @@ PacketSimulation packet_simulation(const Model& model, const PacketModel& packet
     s.initial_states[l] = r.initial_states + run * (nq + nv);
     s.controls[l] = r.controls ? r.controls + (r.controls_per_run ? run * r.steps * nv : 0) : nullptr;
     s.event_times[l] = events ? r.event_times + run * events : nullptr;
+    s.lane_models[l] = lane_models ? &lane_models[l] : nullptr;
     s.q[l] = out.q + run * rows * nq;
     s.v[l] = out.v + run * rows * nv;
   }
@@ -271,13 +272,13 @@ void rollout(ThreadPool& pool, const Model& model, const RolloutRequest& request
                         last = units.start[static_cast<std::size_t>(unit) + 1];
       const std::int64_t* runs = &units.runs[first];
       if (last - first == PacketSimulation::lanes) {
+        Model* runs_models =
+            own_parameters ? &lane_models[static_cast<std::size_t>(worker) * PacketSimulation::lanes] : nullptr;
         const std::unique_ptr<PacketModel> runs_packets =
-            own_parameters ? packet_model_of_runs(model, request, table, runs,
-                                                  &lane_models[static_cast<std::size_t>(worker) * PacketSimulation::lanes])
-                           : nullptr;
+            own_parameters ? packet_model_of_runs(model, request, table, runs, runs_models) : nullptr;
         const PacketModel* packet_model = own_parameters ? runs_packets.get() : shared_packets.get();
-        if (packet_model &&
-            run_packet_simulation(packet_simulation(model, *packet_model, request, outputs, runs, pool, worker))) {
+        if (packet_model && run_packet_simulation(packet_simulation(model, *packet_model, runs_models, request,
+                                                                    outputs, runs, pool, worker))) {
           side_by_side += PacketSimulation::lanes;
           continue;
         }

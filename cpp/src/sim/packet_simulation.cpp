@@ -6,6 +6,7 @@
 #include "soadyn/algorithms/configuration.hxx"
 #include "soadyn/algorithms/energy.hxx"
 #include "soadyn/algorithms/packet_dynamics.hpp"
+#include "soadyn/sweeps/packet_appendage_update.hpp"
 #include "soadyn/constraints/constrained_dynamics.hxx"
 #include "soadyn/constraints/constrained_impulse.hxx"
 #include "soadyn/constraints/loop_assembly.hxx"
@@ -102,6 +103,11 @@ bool schedule_events(const PacketSimulation& s, SimulatorTpl<Packet4d>& sim) {
 bool run_packet_simulation(const PacketSimulation& s) {
   const Model& base = *s.model;
   const int nq = base.nq, nv = base.nv;
+  std::array<const Model*, kLanes> models;
+  for (int l = 0; l < kLanes; ++l) models[static_cast<std::size_t>(l)] = s.lane_models[l] ? s.lane_models[l] : &base;
+  Data workspace(base);
+  PacketLanes lanes(models, workspace);
+  const PacketLanesScope lanes_in_use(lanes);
   clear_lane_divergence();  // before the Simulator: the lanes' models may differ in their values
   SimulatorTpl<Packet4d> sim(s.packets->get(), Packet4d(s.dt), s.integrator,
                              rollout_event_capacity(s.events ? s.events->size() : 0));

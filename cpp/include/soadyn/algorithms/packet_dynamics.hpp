@@ -15,8 +15,11 @@
 // are computed again one by one by the single call, so each row's result
 // and status are exactly the single call's.
 //
-// Rigid trees only (no flexible bodies: their appendage step has its own
-// double kernel); BatchDynamics runs other models row by row.
+// Flexible bodies too: the appendages' update, which the single call runs
+// with a double kernel of its own, runs that kernel lane by lane
+// (sweeps/packet_appendage_update.hpp), so those lanes are the single
+// call's bit for bit as well; a flexible model's mass matrix has no kernel
+// of its own and is the single call's.
 #pragma once
 #include <array>
 #include <memory>
@@ -24,6 +27,7 @@
 #include "soadyn/model/data.hpp"
 #include "soadyn/core/status.hpp"
 #include "soadyn/core/packet.hpp"
+#include "soadyn/sweeps/packet_appendage_update.hpp"
 
 namespace soadyn {
 
@@ -56,7 +60,9 @@ class PacketDynamics {
  public:
   static constexpr int lanes = 4;
 
-  // Whether the packet path serves `model` (a rigid tree: no flexible bodies).
+  // Whether the packet path serves `model`: every tree, rigid or flexible
+  // (closed loops are the callers' to keep out: their dynamics take the
+  // loops' own paths).
   static bool serves(const Model& model);
   // Whether this processor runs the packet path: AVX2 and FMA, and the
   // baseline kernels not requested (processor_features.hpp).
@@ -97,7 +103,8 @@ class PacketDynamics {
   const Model& model_;
   const PacketModel& packet_model_;
   std::unique_ptr<Packets> packets_;
-  Data scalar_;  // the rows computed again one by one
+  Data scalar_;  // the rows computed again one by one, and the appendages' lanes (PacketLanes)
+  PacketLanes lanes_;
 };
 
 }  // namespace soadyn

@@ -9,12 +9,12 @@
 // flags may change between calls.
 //
 // Lanes: on processors with AVX2 and FMA, the forward, inverse and hybrid
-// dynamics and the mass matrix of rigid trees take four rows per pass
+// dynamics and the mass matrix take four rows per pass
 // (algorithms/packet_dynamics.hpp), with the same results, bit for bit, and
-// the same per-row statuses; but the mass matrix, which is then the baseline
-// kernel's, not the single call's AVX2 FMA kernel's (they differ in the last
-// bits). set_lanes(1) keeps the one-row path. Flexible bodies, and the
-// derivatives, stay one row at a time; so does a call of fewer than
+// the same per-row statuses; but a rigid tree's mass matrix, which is then
+// the baseline kernel's, not the single call's AVX2 FMA kernel's (they
+// differ in the last bits). set_lanes(1) keeps the one-row path. The
+// derivatives stay one row at a time; so does a call of fewer than
 // packet_minimum_rows rows, whose results are then the single call's, the
 // mass matrix included.
 //

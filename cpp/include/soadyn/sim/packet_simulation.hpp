@@ -1,4 +1,4 @@
-// Four simulations of one rigid tree stepped side by side: a Simulator on
+// Four simulations of one tree stepped side by side: a Simulator on
 // packets of four doubles (core/packet.hpp), one run per lane, compiled for
 // AVX2 (packet_simulation.cpp). Each lane steps exactly as a Simulator of its
 // run alone, bit for bit, as long as every branch on values goes the same
@@ -20,8 +20,11 @@ class PacketModel;  // algorithms/packet_dynamics.hpp
 
 struct PacketSimulation {
   static constexpr int lanes = 4;
-  const Model* model = nullptr;  // a rigid tree without loops (PacketDynamics::serves)
+  const Model* model = nullptr;  // a tree without loops (PacketDynamics::serves)
   const PacketModel* packets = nullptr;  // the model in packets (its lanes may differ in values: PacketModel::of_lanes)
+  // Each lane's model, whose values the packets hold in that lane (null: `model`): the flexible appendages'
+  // update runs each lane on its own (sweeps/packet_appendage_update.hpp).
+  const Model* lane_models[4] = {};
   double dt = 1e-3;
   Integrator integrator = Integrator::rk4;
   std::int64_t steps = 0, record_every = 1;

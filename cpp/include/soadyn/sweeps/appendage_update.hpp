@@ -29,6 +29,7 @@
 #include <type_traits>
 #include <vector>
 #include "soadyn/sweeps/flexible_updates.hpp"
+#include "soadyn/sweeps/packet_appendage_update.hpp"
 
 namespace soadyn {
 
@@ -185,13 +186,16 @@ std::vector<AppendageKernel> available_appendage_kernels();
 // sweep.body_bias_force[i], and G' in gain_transpose and nu in innovation
 // of its FlexibleBodyData (modal_accelerations reads them, with the
 // acceleration in the same frame). `v` null: zero velocity with no elastic
-// force (impulse problems), as flexible_bias_update.
+// force (impulse problems), as flexible_bias_update. On packets, each lane
+// runs the double kernel (packet_appendage_update.hpp).
 template <class S>
 inline void appendage_update(const ModelTpl<S>& m, DataTpl<S>& d, std::size_t i, const ModalIntegrals<S>& mi,
                            const S* q, const S* v, const S* u, const Vec6<S>* external, const Vec6<S>& V, Mat6<S>& P,
                            Vec6<S>& z) {
   if constexpr (std::is_same_v<S, double> || std::is_same_v<S, float>)
     detail::compiled_appendage_update(m, d, i, mi, q, v, u, external, V, P, z);
+  else if constexpr (is_packet_scalar_v<S>)
+    detail::packet_appendage_update(m, d, i, mi, q, v, u, external, V, P, z);
   else
     detail::appendage_terms<Eigen::Dynamic>(m, d, i, mi, q, v, u, external, V, P, z);
 }
