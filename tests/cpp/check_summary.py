@@ -266,9 +266,11 @@ def check_model_file(output: str) -> None:
 
 def check_batch(output: str) -> None:
     """Batched calls and rollouts against single calls and one Simulator per run; the pool's exceptions and hand-offs."""
-    require(bool(lines(r"^batched calls: 2 models x 3 thread counts x lanes 1 and 4 x 64 rows, rows differing from "
+    require(bool(lines(r"^batched calls: 3 models x 3 thread counts x lanes 1 and 4 x 64 rows, rows differing from "
                        r"the single calls: 0$", output)), "every batched row equal to its single call, packets too")
-    require(bool(lines(r"^batched calls after a mass and a prescribed flag changed, 2 models x 2 thread counts x lanes 1 "
+    require(bool(lines(r"^packet appendage update without lane models: the packet splits; with them: it stands: yes$",
+                       output)), "the packet appendage update runs only with its lane models")
+    require(bool(lines(r"^batched calls after a mass and a prescribed flag changed, 3 models x 2 thread counts x lanes 1 "
                        r"and 4 x 40 "
                        r"rounds of the five calls: allocations 0 \(counter works: yes\), rounds whose row 0 differs "
                        r"from the single call: 0$", output)), "batched calls without allocation, following the model")

@@ -2,14 +2,15 @@
 //   - BatchDynamics: forward, inverse and hybrid dynamics, the mass matrix and
 //     the derivatives of 64 states, with 1, 2 and 3 threads, one row per pass
 //     and the widest packets, equal bit for bit to the single calls on a
-//     random 20-body tree (every joint type, external wrenches, a mixed mask)
-//     and on the same tree with flexible bodies (its appendages' update run
-//     lane by lane; the dual-number derivatives, one row per pass whatever
-//     the lanes). Four rows per pass, a rigid model's mass matrix is the
+//     random 20-body tree (every joint type, external wrenches, a mixed mask),
+//     on the same tree with flexible bodies and on cassini, whose two booms
+//     are flexible appendages (their update run lane by lane; the
+//     dual-number derivatives, one row per pass whatever the lanes). Four rows per pass, a rigid model's mass matrix is the
 //     baseline kernel's, bit for bit. After their
 //     first call, the five calls allocate nothing on either model, on one and
 //     two threads, while the model's values and prescribed flags change
-//     between them;
+//     between them. Without lane models named, a flexible appendage's update
+//     on packets splits the packet;
 //   - rollout: 6 pendulum-chain runs with per-run torques, masses and lock
 //     times, with 1 and 2 threads, equal bit for bit to one Simulator per run;
 //     a refused parameter and an overflowing step reported per run;
@@ -30,6 +31,7 @@
 #include "allocation_counter.hpp"
 #include "random_tree.hpp"
 #include "soadyn/algorithms/crba.hpp"
+#include "soadyn/algorithms/packet_kernels.hpp"
 #include "soadyn/analysis/dynamics_derivatives.hpp"
 #include "soadyn/analysis/parameter_sensitivity.hpp"
 #include "soadyn/parallel/batch_dynamics.hpp"
@@ -188,6 +190,33 @@ long batched_call_allocations(soadyn::Model m, int threads, int lanes, long& dif
   return soadyn_test::disarm_counter().allocations();
 }
 
+// A flexible appendage's update on packets runs each lane's double model
+// (sweeps/packet_appendage_update.hpp). The packet forward dynamics of
+// `flexible` (with appendages), called directly at a random state: without
+// lane models named the packet splits (its rows are then the caller's to
+// compute one by one); with them it stands. Returns whether both held.
+bool appendage_lanes_need_their_models(const soadyn::Model& flexible) {
+  soadyn::PacketModel packets(flexible);
+  soadyn::detail::PacketData d(packets.get());
+  soadyn::detail::PacketVector q(flexible.nq), v(flexible.nv), tau(flexible.nv);
+  const Batch b = random_batch(flexible, 1);
+  for (int k = 0; k < flexible.nq; ++k) q[k] = soadyn::Packet4d(b.Q[static_cast<std::size_t>(k)]);
+  for (int k = 0; k < flexible.nv; ++k) {
+    v[k] = soadyn::Packet4d(b.V[static_cast<std::size_t>(k)]);
+    tau[k] = soadyn::Packet4d(b.U[static_cast<std::size_t>(k)]);
+  }
+  const auto split = [&] {
+    soadyn::clear_lane_divergence();
+    const soadyn::Status status = soadyn::detail::packet_forward_dynamics(packets.get(), d, q, v, tau, nullptr);
+    return !status.ok() || soadyn::lanes_diverged();
+  };
+  const bool split_without = split();
+  soadyn::Data workspace(flexible);
+  soadyn::PacketLanes lanes({&flexible, &flexible, &flexible, &flexible}, workspace);
+  const soadyn::PacketLanesScope named(lanes);
+  return split_without && !split();
+}
+
 // The pendulum-chain runs: per-run torques, link_2 masses and link_3 lock times.
 struct Runs {
   static constexpr int runs = 6, steps = 150;
@@ -319,20 +348,24 @@ int main() {
   soadyn_test::apply_mask(tree, soadyn_test::random_mask(tree.nv, rng, 0.5));
   soadyn::Model flexible = soadyn_test::build_model<double>(soadyn_test::random_tree_spec(2024, 20));
   soadyn_test::add_flexible_bodies(flexible);
+  soadyn::Model cassini = soadyn::cassini_model<double>();  // two flexible appendages
   long differ = 0;
   const int widest = soadyn::BatchDynamics::widest_lanes();
   for (int lanes : {1, widest})
     for (int threads : {1, 2, 3})
-      differ += batched_calls_differ(tree, threads, lanes) + batched_calls_differ(flexible, threads, lanes);
-  std::printf("batched calls: 2 models x 3 thread counts x lanes 1 and %d x 64 rows, rows differing from the single "
+      for (const soadyn::Model* m : {&tree, &flexible, &cassini}) differ += batched_calls_differ(*m, threads, lanes);
+  std::printf("batched calls: 3 models x 3 thread counts x lanes 1 and %d x 64 rows, rows differing from the single "
               "calls: %ld\n", widest, differ);
   long allocations = 0, changes_missed = 0;
   for (int lanes : {1, widest})
     for (int threads : {1, 2})
-      for (const soadyn::Model* m : {&tree, &flexible})
+      for (const soadyn::Model* m : {&tree, &flexible, &cassini})
         allocations += batched_call_allocations(*m, threads, lanes, changes_missed);
+  const bool appendage_lanes = appendage_lanes_need_their_models(cassini);
+  std::printf("packet appendage update without lane models: the packet splits; with them: it stands: %s\n",
+              appendage_lanes ? "yes" : "no");
   const bool counter_works = soadyn_test::allocation_counter_works(64);
-  std::printf("batched calls after a mass and a prescribed flag changed, 2 models x 2 thread counts x lanes 1 and "
+  std::printf("batched calls after a mass and a prescribed flag changed, 3 models x 2 thread counts x lanes 1 and "
               "%d x 40 rounds of the five calls: allocations %ld (counter works: %s), rounds whose row 0 differs from "
               "the single call: %ld\n", widest, allocations, counter_works ? "yes" : "no", changes_missed);
   long rollout_differ = 0, reported = 0;
@@ -347,8 +380,8 @@ int main() {
   const bool pool_ok = pool_rethrows_and_recovers() && handoffs_missed == 0;
   std::printf("thread pool: exception rethrown and pool reused: %s; loops of 1200 that missed or repeated an "
               "index: %d\n", pool_ok ? "yes" : "no", handoffs_missed);
-  const bool pass = differ == 0 && allocations == 0 && counter_works && changes_missed == 0 && rollout_differ == 0 &&
-                    reported == 6 && pool_ok;
+  const bool pass = differ == 0 && appendage_lanes && allocations == 0 && counter_works && changes_missed == 0 &&
+                    rollout_differ == 0 && reported == 6 && pool_ok;
   std::printf("test_batch: %s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;
 }
