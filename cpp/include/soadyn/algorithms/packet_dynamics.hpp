@@ -60,9 +60,8 @@ class PacketDynamics {
  public:
   static constexpr int lanes = 4;
 
-  // Whether the packet path serves `model`: every tree, rigid or flexible
-  // (closed loops are the callers' to keep out: their dynamics take the
-  // loops' own paths).
+  // Whether the packet path serves `model`: every model, rigid or flexible
+  // (rollouts keep models with closed loops one run per pass, rollout.cpp).
   static bool serves(const Model& model);
   // Whether this processor runs the packet path: AVX2 and FMA, and the
   // baseline kernels not requested (processor_features.hpp).

@@ -45,8 +45,9 @@ struct RolloutRequest {
   std::vector<std::pair<EventKind, int>> events;
   const double* event_times = nullptr;
   // Runs per pass: 1, or PacketSimulation::lanes (0: the widest this
-  // processor runs, BatchDynamics::widest_lanes). Four runs of a rigid tree
-  // without loops step side by side, with their shared sources; with
+  // processor runs, BatchDynamics::widest_lanes). Four runs of a tree
+  // without loops, rigid or flexible, step side by side, with their shared
+  // sources; with
   // parameters, each lane holds its run's values (PacketModel::of_lanes),
   // and four runs whose values change a property the model derives from
   // them go one by one. With events, runs whose events fall due in the same
