@@ -58,11 +58,15 @@ void packet_appendage_update(const ModelTpl<Packet4d>& m, DataTpl<Packet4d>& d, 
   Data& w = lanes->scratch;
   FlexibleBodyData<Packet4d>& packet_body = flexible_data(m, d, i);
   const FlexibleBodyData<double>& lane_body = flexible_data(*lanes->models[0], w, i);
+  const int body = static_cast<int>(i), first_q = m.modal_q_index(body), first_v = m.modal_v_index(body),
+            modes = m.n_modes[i];
   for (int l = 0; l < kLanes; ++l) {
     const Model& lane_model = *lanes->models[static_cast<std::size_t>(l)];
-    take_lane(q, m.nq, l, lanes->q.data());
-    if (v) take_lane(v, m.nv, l, lanes->v.data());
-    if (u) take_lane(u, m.nv, l, lanes->u.data());
+    // The update reads the appendage's own modal coordinates, rates and
+    // forces only: those entries of the lane's arrays.
+    take_lane(q + first_q, modes, l, lanes->q.data() + first_q);
+    if (v) take_lane(v + first_v, modes, l, lanes->v.data() + first_v);
+    if (u) take_lane(u + first_v, modes, l, lanes->u.data() + first_v);
     Vec6<double> lane_external, lane_V, z_lane;
     Mat6<double> P_lane;
     if (external) take_lane(external->data(), 6, l, lane_external.data());
