@@ -2,11 +2,14 @@
 // stand for (core/packet.hpp), lane by lane and bit for bit: on signed zeros,
 // subnormals, infinities, NaNs of both signs, huge and tiny values and random
 // doubles (a NaN result must be a NaN). Comparisons must answer for all lanes and record a split.
+// Heap arrays of packets start on a cache line, whoever allocates them, and
+// keep their values when resized.
 // Compiled twice: for the baseline (test_packet_lanes) and for AVX2
 // (test_packet_lanes_avx2), as the packet kernels are, since some functions
 // take another instruction there.
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -15,6 +18,7 @@
 
 #include "failure_count.hpp"
 #include "soadyn/core/packet.hpp"
+#include "soadyn/spatial/types.hpp"
 
 using namespace soadyn;
 using soadyn_test::check;
@@ -116,6 +120,32 @@ void check_comparisons() {
   check(!isfinite(one_nan) && isnan(one_nan), "a NaN in one lane makes the packet non-finite");
 }
 
+bool starts_on(const void* p, std::uintptr_t boundary) { return reinterpret_cast<std::uintptr_t>(p) % boundary == 0; }
+
+// Every way the library allocates packets: Eigen's dynamic arrays (built,
+// copied, resized, resized keeping their values), the library's vectors of
+// Eigen objects, the standard vector; and packets on the stack.
+void check_storage_alignment() {
+  bool aligned = true, kept = true;
+  for (int n = 1; n < 40; ++n) {
+    VecX<Packet4d> x(n);
+    for (int k = 0; k < n; ++k) x[k] = Packet4d(Packet4d::Lanes{double(k), 1.0, 2.0, -double(k)});
+    const VecX<Packet4d> copy = x;
+    MatX<Packet4d> m(n, 3);
+    x.conservativeResize(n + 5);
+    for (int k = 0; k < n; ++k) kept = kept && x[k][0] == double(k) && x[k][3] == -double(k);
+    aligned_vector<Vec6<Packet4d>> sixes(static_cast<std::size_t>(n));
+    aligned_vector<double> doubles(static_cast<std::size_t>(n));
+    std::vector<Packet4d> plain(static_cast<std::size_t>(n));
+    aligned = aligned && starts_on(copy.data(), 64) && starts_on(m.data(), 64) && starts_on(x.data(), 64) &&
+              starts_on(sixes.data(), 64) && starts_on(doubles.data(), 64) && starts_on(plain.data(), 32);
+  }
+  check(aligned, "Eigen's arrays and the library's vectors of packets start on a cache line, the standard vector on 32 bytes");
+  check(kept, "a resized Eigen array of packets keeps its values");
+  Packet4d on_stack[3];
+  check(alignof(Packet4d) == 32 && starts_on(&on_stack[1], 32), "a packet on the stack is aligned on its size");
+}
+
 }  // namespace
 
 int main() {
@@ -128,6 +158,7 @@ int main() {
   const long arithmetic = check_arithmetic(values);
   const long functions = check_functions(values);
   check_comparisons();
+  check_storage_alignment();
   std::printf("%s build: %ld lanes of arithmetic and %ld lanes of functions against the double operations\n", build,
               arithmetic, functions);
   if (soadyn_test::failures) {

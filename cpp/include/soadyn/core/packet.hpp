@@ -17,20 +17,28 @@
 // The type is in namespace soadyn, so the algorithms' unqualified calls
 // (sin, sqrt, abs, ...) find its functions by argument-dependent lookup.
 #pragma once
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <limits>
+#include <new>
 #include <type_traits>
 
 #include <Eigen/Core>
 
 namespace soadyn {
 
-struct Packet4d {
+// Aligned on its own size, on the stack as on the heap: a packet that
+// straddled two cache lines would take two accesses (docs/performance.md,
+// packets of states). Every heap array of packets is allocated so: Eigen's
+// arrays of them (the allocation functions below), the library's vectors
+// (aligned_vector, spatial/types.hpp) and the standard ones (C++17's aligned
+// operator new).
+struct alignas(32) Packet4d {
   static constexpr int lanes = 4;
-  // Aligned as a double: packets live inside Eigen's heap arrays (16-byte
-  // alignment), so loads and stores are unaligned ones.
-  typedef double Lanes __attribute__((vector_size(32), aligned(8)));
-  typedef long long Mask __attribute__((vector_size(32), aligned(8)));
+  typedef double Lanes __attribute__((vector_size(32)));
+  typedef long long Mask __attribute__((vector_size(32)));
 
   Lanes v;
 
@@ -284,6 +292,47 @@ inline void ptranspose(PacketBlock<LanePair, 2>& block) {
   block.packet[1] = {a.hi, b.hi};
 }
 
+}  // namespace internal
+
+// Eigen's dynamic arrays of packets: their storage on a cache line (its
+// own allocation is aligned for doubles only), elements left uninitialised
+// as a double array's are (RequireInitialization below).
+namespace internal {
+constexpr std::align_val_t packet_array_alignment{64};
+
+template <>
+inline soadyn::Packet4d* conditional_aligned_new_auto<soadyn::Packet4d, true>(std::size_t size) {
+  if (size == 0) return nullptr;
+  check_size_for_overflow<soadyn::Packet4d>(size);
+  return static_cast<soadyn::Packet4d*>(::operator new(sizeof(soadyn::Packet4d) * size, packet_array_alignment));
+}
+template <>
+inline soadyn::Packet4d* conditional_aligned_new_auto<soadyn::Packet4d, false>(std::size_t size) {
+  return conditional_aligned_new_auto<soadyn::Packet4d, true>(size);
+}
+template <>
+inline void conditional_aligned_delete_auto<soadyn::Packet4d, true>(soadyn::Packet4d* ptr, std::size_t) {
+  if (ptr) ::operator delete(ptr, packet_array_alignment);
+}
+template <>
+inline void conditional_aligned_delete_auto<soadyn::Packet4d, false>(soadyn::Packet4d* ptr, std::size_t size) {
+  conditional_aligned_delete_auto<soadyn::Packet4d, true>(ptr, size);
+}
+template <>
+inline soadyn::Packet4d* conditional_aligned_realloc_new_auto<soadyn::Packet4d, true>(soadyn::Packet4d* ptr,
+                                                                                     std::size_t new_size,
+                                                                                     std::size_t old_size) {
+  soadyn::Packet4d* out = conditional_aligned_new_auto<soadyn::Packet4d, true>(new_size);
+  if (ptr && out) std::memcpy(static_cast<void*>(out), ptr, sizeof(soadyn::Packet4d) * std::min(new_size, old_size));
+  conditional_aligned_delete_auto<soadyn::Packet4d, true>(ptr, old_size);
+  return out;
+}
+template <>
+inline soadyn::Packet4d* conditional_aligned_realloc_new_auto<soadyn::Packet4d, false>(soadyn::Packet4d* ptr,
+                                                                                      std::size_t new_size,
+                                                                                      std::size_t old_size) {
+  return conditional_aligned_realloc_new_auto<soadyn::Packet4d, true>(ptr, new_size, old_size);
+}
 }  // namespace internal
 
 template <>

@@ -93,7 +93,7 @@ struct SweepData {
   VecX<S> unit_acceleration;  // mass-matrix columns (flexible models, bodies beyond tree-frame reach)
 
   // Flexible bodies (empty without them), in the order of model.flexible_bodies.
-  std::vector<FlexibleBodyData<S>, Eigen::aligned_allocator<FlexibleBodyData<S>>> flexible;
+  aligned_vector<FlexibleBodyData<S>> flexible;
 };
 
 template <class S>

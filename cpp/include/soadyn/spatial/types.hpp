@@ -3,6 +3,8 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstddef>
+#include <new>
 #include <type_traits>
 #include <vector>
 
@@ -76,7 +78,25 @@ double scalar_value(const S& x) {
     return scalar_value(x.value());
 }
 
-template <class T> using aligned_vector = std::vector<T, Eigen::aligned_allocator<T>>;
+// The allocator of the library's vectors of Eigen objects and packets: each
+// vector's storage starts on a cache line (64 bytes), which covers Eigen's
+// fixed-size objects (16 bytes) and packets of states (32, core/packet.hpp).
+template <class T>
+struct CacheLineAllocator {
+  using value_type = T;
+  static constexpr std::align_val_t alignment{alignof(T) > 64 ? alignof(T) : 64};
+  CacheLineAllocator() noexcept = default;
+  template <class U>
+  CacheLineAllocator(const CacheLineAllocator<U>&) noexcept {}  // NOLINT: rebinding, as std::allocator's
+  T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), alignment)); }
+  void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, alignment); }
+  template <class U>
+  bool operator==(const CacheLineAllocator<U>&) const noexcept { return true; }
+  template <class U>
+  bool operator!=(const CacheLineAllocator<U>&) const noexcept { return false; }
+};
+
+template <class T> using aligned_vector = std::vector<T, CacheLineAllocator<T>>;
 
 template <class S>
 Mat3<S> skew(const Vec3<S>& w) {
