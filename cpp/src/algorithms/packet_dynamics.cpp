@@ -88,7 +88,7 @@ struct PacketDynamics::Packets {
       : data(model), q(model.nq), v(model.nv), x(model.nv), f(static_cast<std::size_t>(6 * model.nbodies())) {}
   detail::PacketData data;
   detail::PacketVector q, v, x;
-  std::vector<Packet4d> f;
+  aligned_vector<Packet4d> f;  // on a cache line (spatial/types.hpp)
 };
 
 bool PacketDynamics::serves(const Model&) { return true; }

@@ -29,20 +29,22 @@
 
 namespace soadyn {
 
-// Aligned on its own size, on the stack as on the heap: a packet that
-// straddled two cache lines would take two accesses (docs/performance.md,
-// packets of states). Every heap array of packets is allocated so: Eigen's
-// arrays of them (the allocation functions below), the library's vectors
-// (aligned_vector, spatial/types.hpp) and the standard ones (C++17's aligned
-// operator new).
-struct alignas(32) Packet4d {
+struct Packet4d {
   static constexpr int lanes = 4;
-  typedef double Lanes __attribute__((vector_size(32)));
-  typedef long long Mask __attribute__((vector_size(32)));
+  // Aligned as a double, so loads and stores are unaligned ones: Eigen's
+  // own temporaries hold packets on 16 bytes where the baseline allocates
+  // them. A packet that straddles two cache lines costs two accesses, so
+  // Eigen's arrays of packets (the allocation functions below) and the
+  // library's vectors (aligned_vector, spatial/types.hpp) start on a cache
+  // line, where no packet straddles one (docs/performance.md, packets of
+  // states).
+  typedef double Lanes __attribute__((vector_size(32), aligned(8)));
+  typedef long long Mask __attribute__((vector_size(32), aligned(8)));
 
   Lanes v;
 
-  Packet4d() : v{0.0, 0.0, 0.0, 0.0} {}
+  // Uninitialised, as a double is; value-initialisation (Packet4d(), S{}) gives zeros.
+  Packet4d() = default;
   Packet4d(double x) : v{x, x, x, x} {}  // NOLINT: implicit, as a double constant converts to the scalar
   Packet4d(int x) : Packet4d(static_cast<double>(x)) {}  // NOLINT
   Packet4d(long x) : Packet4d(static_cast<double>(x)) {}  // NOLINT: sizes and indices (Eigen::Index)
