@@ -106,6 +106,20 @@ def test_four_lanes_equal_one_row_per_pass(name):
     assert_lanes_agree(calls(m, Q, V, X, 1), calls(m, Q, V, X, 4))
 
 
+@pytest.mark.parametrize("name", sorted(MODELS))
+def test_one_row_per_pass_mass_matrix_is_the_single_calls_bit_for_bit(name):
+    """A row's M is copied out as M's column-major storage, which is its row-major one only because M is exactly
+    symmetric: the single call's M equals its transpose, and the batched rows equal it, on the robots (free roots
+    included) and the random trees."""
+    m = MODELS[name]
+    Q = states(m, rows=9, seed=5)[0]
+    M = batch.mass_matrix(m, Q, threads=1, lanes=1)
+    for k in range(len(Q)):
+        single = soadyn.mass_matrix(m, Q[k])
+        assert np.array_equal(single, single.T)
+        assert np.array_equal(M[k], single)
+
+
 def test_packet_path_matches_pinocchio():
     require_packets()
     m, oracle = robot_with_oracle("panda", False)

@@ -120,11 +120,19 @@ void check_comparisons() {
   check(!isfinite(one_nan) && isnan(one_nan), "a NaN in one lane makes the packet non-finite");
 }
 
+// A class template of the library on its scalar, as Transform<S> is.
+template <class S>
+struct Holder {
+  S x;
+};
+static_assert(holds_packets_v<Packet4d> && holds_packets_v<Mat6N<Packet4d>> && holds_packets_v<Holder<Packet4d>>);
+static_assert(!holds_packets_v<double> && !holds_packets_v<Vec6<double>> && !holds_packets_v<Holder<double>>);
+
 bool starts_on(const void* p, std::uintptr_t boundary) { return reinterpret_cast<std::uintptr_t>(p) % boundary == 0; }
 
 // The ways the library allocates arrays of packets: Eigen's dynamic arrays
 // (built, copied, resized, resized keeping their values) and the library's
-// vectors of Eigen objects.
+// vectors of Eigen matrices and of its own types on packets.
 void check_storage_alignment() {
   bool aligned = true, kept = true;
   for (int n = 1; n < 40; ++n) {
@@ -135,9 +143,9 @@ void check_storage_alignment() {
     x.conservativeResize(n + 5);
     for (int k = 0; k < n; ++k) kept = kept && x[k][0] == double(k) && x[k][3] == -double(k);
     aligned_vector<Vec6<Packet4d>> sixes(static_cast<std::size_t>(n));
-    aligned_vector<double> doubles(static_cast<std::size_t>(n));
+    aligned_vector<Holder<Packet4d>> held(static_cast<std::size_t>(n));
     aligned = aligned && starts_on(copy.data(), 64) && starts_on(m.data(), 64) && starts_on(x.data(), 64) &&
-              starts_on(sixes.data(), 64) && starts_on(doubles.data(), 64);
+              starts_on(sixes.data(), 64) && starts_on(held.data(), 64);
   }
   check(aligned, "Eigen's arrays and the library's vectors of packets start on a cache line");
   check(kept, "a resized Eigen array of packets keeps its values");

@@ -177,13 +177,12 @@ void PacketDynamics::mass_matrix(const double* Q, double* M, Status* status) {
   Packets& p = *packets_;
   load(Q, nullptr, nullptr, nullptr);
   const int nv = model_.nv;
-  using RowMajorOut = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
   finish(detail::packet_mass_matrix(packet_model_.get(), p.data, p.q), status,
          // M is symmetric: its column-major packets are the row-major rows.
          [&] { store_lanes(p.data.mass_matrix.data(), static_cast<Eigen::Index>(nv) * nv, M); },
          [&](int l) {
            const Status s = soadyn::mass_matrix<double>(model_, scalar_, row(Q, l, model_.nq));
-           RowMajorOut(M + static_cast<Eigen::Index>(l) * nv * nv, nv, nv) = scalar_.mass_matrix;
+           copy_mass_matrix_rows(scalar_.mass_matrix, M + static_cast<Eigen::Index>(l) * nv * nv);
            return s;
          });
 }

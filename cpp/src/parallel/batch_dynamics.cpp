@@ -168,7 +168,7 @@ BatchOutcome BatchDynamics::mass_matrix(std::int64_t n, const double* Q, double*
   const int nq = model_.nq, nv = model_.nv;
   return for_rows(n, [&](std::int64_t k, Workspace& w) {
     const Status s = soadyn::mass_matrix<double>(model_, w.data, Map(Q + k * nq, nq));
-    RowMajorOut(M + k * nv * nv, nv, nv) = w.data.mass_matrix;
+    copy_mass_matrix_rows(w.data.mass_matrix, M + k * nv * nv);
     return s;
   }, [&](std::int64_t k, PacketDynamics& p, Status* status) { p.mass_matrix(Q + k * nq, M + k * nv * nv, status); });
 }

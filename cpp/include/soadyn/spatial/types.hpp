@@ -78,9 +78,21 @@ double scalar_value(const S& x) {
     return scalar_value(x.value());
 }
 
-// The allocator of the library's vectors of Eigen objects and packets: each
-// vector's storage starts on a cache line (64 bytes), which covers Eigen's
-// fixed-size objects (16 bytes) and packets of states (32, core/packet.hpp).
+// Whether T holds packets of states (core/packet.hpp): a packet, an Eigen
+// matrix of them, or a class template of the library on them (Transform<S>,
+// FlexibleBodyData<S>, ...).
+template <class T>
+struct holds_packets : std::false_type {};
+template <class S, int Rows, int Cols, int Options, int MaxRows, int MaxCols>
+struct holds_packets<Eigen::Matrix<S, Rows, Cols, Options, MaxRows, MaxCols>> : std::is_same<S, Packet4d> {};
+template <template <class...> class Tpl, class... Args>
+struct holds_packets<Tpl<Args...>> : std::disjunction<std::is_same<Args, Packet4d>..., holds_packets<Args>...> {};
+template <class T>
+inline constexpr bool holds_packets_v = std::is_same_v<T, Packet4d> || holds_packets<T>::value;
+
+// The allocator of vectors of packets: their storage starts on a cache line
+// (64 bytes), so no 32-byte packet in them straddles two lines (malloc's
+// 16 bytes let one access in four do so).
 template <class T>
 struct CacheLineAllocator {
   using value_type = T;
@@ -96,7 +108,11 @@ struct CacheLineAllocator {
   bool operator!=(const CacheLineAllocator<U>&) const noexcept { return false; }
 };
 
-template <class T> using aligned_vector = std::vector<T, CacheLineAllocator<T>>;
+// The library's vectors of Eigen objects: Eigen's allocator for doubles
+// (whose kernels were tuned on its placement), cache lines for packets.
+template <class T>
+using aligned_vector =
+    std::vector<T, std::conditional_t<holds_packets_v<T>, CacheLineAllocator<T>, Eigen::aligned_allocator<T>>>;
 
 template <class S>
 Mat3<S> skew(const Vec3<S>& w) {
