@@ -85,7 +85,7 @@ void sweeps_at_rest_with_velocity_terms(const Model& m, soadyn::Data& d, const s
 
 Model general_joints(Model m) {  // every joint through the general joint code
   for (auto& kernel : m.joint_fast_path) kernel = soadyn::JointFastPath::general;
-  m.refresh_derived_parameters();  // the constant inertias and leaf terms assume the kernels' frames
+  m.refresh_derived_caches();  // the constant inertias and leaf terms assume the kernels' frames
   return m;
 }
 Model every_body_articulated(Model m) {  // no Newton-Euler regions

@@ -53,6 +53,8 @@ void packet_appendage_update(const ModelTpl<Packet4d>& m, DataTpl<Packet4d>& d, 
   PacketLanes* lanes = current_lanes;
   if (!lanes) {  // no double models to run: the caller computes the rows one by one
     packet_detail::diverged = true;
+    P.setZero();  // defined values for the rest of the abandoned sweep
+    z.setZero();
     return;
   }
   Data& w = lanes->scratch;
