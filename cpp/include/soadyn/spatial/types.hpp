@@ -108,8 +108,8 @@ struct CacheLineAllocator {
   bool operator!=(const CacheLineAllocator<U>&) const noexcept { return false; }
 };
 
-// The library's vectors of Eigen objects: Eigen's allocator for doubles
-// (whose kernels were tuned on its placement), cache lines for packets.
+// The library's vectors of Eigen objects: cache lines for packets, Eigen's
+// allocator (malloc's 16 bytes) for everything else, as before packets.
 template <class T>
 using aligned_vector =
     std::vector<T, std::conditional_t<holds_packets_v<T>, CacheLineAllocator<T>, Eigen::aligned_allocator<T>>>;
