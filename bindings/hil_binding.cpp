@@ -165,6 +165,11 @@ void bind_hil(py::module_& mod) {
       .def_readonly("floor_p99_us", &Summary::floor_p99_us)
       .def_readonly("floor_p999_us", &Summary::floor_p999_us)
       .def_readonly("floor_max_us", &Summary::floor_max_us)
+      .def_readonly("dynamics_floor_evaluations", &Summary::dynamics_floor_evaluations)
+      .def_readonly("dynamics_floor_p50_us", &Summary::dynamics_floor_p50_us)
+      .def_readonly("dynamics_floor_p99_us", &Summary::dynamics_floor_p99_us)
+      .def_readonly("dynamics_floor_p999_us", &Summary::dynamics_floor_p999_us)
+      .def_readonly("dynamics_floor_max_us", &Summary::dynamics_floor_max_us)
       .def_readonly("packets_received", &Summary::packets_received)
       .def_readonly("packets_dropped", &Summary::packets_dropped)
       .def_readonly("packets_sent", &Summary::packets_sent)
@@ -281,6 +286,11 @@ void bind_hil(py::module_& mod) {
              s.check_idle("floor_ns");
              return to_numpy(s.runner->floor_ns(), s.runner->floor_done()); },
            "Per-period times of the machine's floor (register arithmetic of the steps' median length).")
+      .def_property_readonly("dynamics_floor_ns", [](const HilSession& s) {
+             s.check_idle("dynamics_floor_ns");
+             return to_numpy(s.runner->dynamics_floor_ns(), s.runner->floor_done()); },
+           "Per-period times of the dynamics floor (evaluations of the dynamics at the present state, about the "
+           "steps' median length), in the same periods as floor_ns.")
       .def("trajectory", [](const HilSession& s) {
              s.check_idle("trajectory");
              const soadyn::HilRunner& r = *s.runner;

@@ -661,6 +661,21 @@ class _HilSummary:
     def deadline_misses(self) -> int:
         ...
     @property
+    def dynamics_floor_evaluations(self) -> int:
+        ...
+    @property
+    def dynamics_floor_max_us(self) -> float:
+        ...
+    @property
+    def dynamics_floor_p50_us(self) -> float:
+        ...
+    @property
+    def dynamics_floor_p999_us(self) -> float:
+        ...
+    @property
+    def dynamics_floor_p99_us(self) -> float:
+        ...
+    @property
     def exception_step(self) -> int:
         ...
     @property
@@ -834,6 +849,11 @@ class HilRunner:
     def deadline_misses(self) -> int:
         """
         Steps that ended after their period's deadline so far.
+        """
+    @property
+    def dynamics_floor_ns(self) -> numpy.typing.NDArray[numpy.int64]:
+        """
+        Per-period times of the dynamics floor (evaluations of the dynamics at the present state, about the steps' median length), in the same periods as floor_ns.
         """
     @property
     def floor_ns(self) -> numpy.typing.NDArray[numpy.int64]:

@@ -6,7 +6,7 @@
 // the failures a step reports (a source returning NaN, dopri5 at its sub-step
 // bound) and a queue of 10^5 pending events; then the HIL loop
 // (HilRunner::run) over cassini, paced and as fast as possible, with
-// real-time scheduling asked for (granted or not), the machine's floor timed
+// real-time scheduling asked for (granted or not), the machine's floors (arithmetic and dynamics) timed
 // after a paced run at 10 kHz and interleaved in the spin windows of one at
 // 2 kHz (the caches warmed before each deadline), and another thread reading
 // the published state throughout; the state snapshot's sequence lock under
@@ -24,6 +24,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -143,7 +144,9 @@ bool hil_run_allocates_nothing(bool as_fast_as_possible, long steps, double rate
               final_state ? "the final state" : "wrong", static_cast<long>(runner.floor_done()));
   return counts.allocations() == 0 && counts.frees == 0 && status.ok() && runner.steps_done() == steps &&
          reader.reads > 0 && reader.inconsistent == 0 && final_state &&
-         runner.floor_done() == (as_fast_as_possible ? 0 : steps / 4);
+         runner.floor_done() == (as_fast_as_possible ? 0 : steps / 4) &&
+         std::all_of(runner.dynamics_floor_ns().begin(), runner.dynamics_floor_ns().begin() + runner.floor_done(),
+                     [](std::int64_t ns) { return ns > 0; });
 }
 
 // The sequence lock itself under contention: a writer publishes 10^6 states

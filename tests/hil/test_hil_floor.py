@@ -3,8 +3,9 @@
 The runner times, beside each step's wall time, the loop thread's own CPU time and its involuntary context
 switches, and register arithmetic calibrated to the first steps' median compute time, paced like the steps:
 interleaved at the midpoint of the steps' own periods (the default) or after the run (HilRunner,
-hil_runner.hpp). The report's `floor_us` gives its percentiles and the ratio of the step's p99.9 to the
-floor's; `cpu_us` the CPU time's. Misses are split into "compute" (ours: the step's own CPU time exceeded the
+hil_runner.hpp), and in the same periods the dynamics floor (evaluations of the dynamics at the present state
+of about the same length). The report's `floor_us` gives their percentiles and the ratios of the step's p99.9
+to the floors'; `cpu_us` the CPU time's. Misses are split into "compute" (ours: the step's own CPU time exceeded the
 period, or our own backlog) and "machine" (woken or run late, or pre-empted). Values are not judged here (they
 are the machine's); their consistency and the classification are.
 """
@@ -52,6 +53,20 @@ def test_an_interleaved_floor_is_timed_in_the_steps_own_periods():
     table = format_table(report)
     assert "machine   us" in table and "floor, interleaved" in table and "step p99.9 / floor p99.9" in table
     assert report.to_dict()["floor_us"]["periods"] == floor["periods"]
+    assert_dynamics_floor(report)
+
+
+def assert_dynamics_floor(report):
+    """The dynamics floor of the report's floor periods: one time per period, its percentiles and ratios."""
+    floor = report.floor_us
+    dynamics = floor["dynamics"]
+    assert dynamics["evaluations"] >= 1 and len(report.dynamics_floor_ns) == floor["periods"]
+    assert np.all(report.dynamics_floor_ns > 0)
+    assert_percentiles(report.dynamics_floor_ns, dynamics)
+    assert dynamics["spread"] == pytest.approx(dynamics["p999"] / dynamics["p50"])
+    assert dynamics["tail_ratio"] == pytest.approx(report.compute_us["p999"] / dynamics["p999"])
+    assert f"dynamics floor: {dynamics['evaluations']} evaluations" in format_table(report)
+    assert report.to_dict()["floor_us"]["dynamics"] == dynamics
 
 
 def test_an_after_run_floor_is_timed_over_as_many_periods_after_the_steps():
@@ -60,6 +75,36 @@ def test_an_after_run_floor_is_timed_over_as_many_periods_after_the_steps():
     assert report.ok and floor["mode"] == "after" and floor["periods"] == 200 and len(report.floor_ns) == 200
     assert floor["target"] == pytest.approx(np.sort(report.compute_ns)[100] * 1e-3)  # the median step (all sampled)
     assert_percentiles(report.floor_ns, floor)
+    assert_dynamics_floor(report)
+
+
+@pytest.mark.parametrize("floor, spin_us", [("interleaved", 0.0), ("interleaved", 400.0), ("after", 400.0)])
+def test_the_dynamics_floor_changes_nothing_the_steps_compute(floor, spin_us):
+    """Its evaluations (at the present state, between steps) leave the run's states the same bit for bit as a
+    run without a floor, on cassini (flexible booms, driven gimbals and wheels) and on a chain with a prescribed
+    DOF following a source."""
+    def cassini():
+        sim = Simulator(scenes.cassini(), 1e-3, "rk4")
+        scenes.drive_cassini(sim)
+        return sim
+
+    def chain_with_a_source():
+        sim = chain()
+        sim.prescribe("link_2", MotionSource.cycloidal(0.0, 0.5, 0.0, 0.04))
+        return sim
+
+    for make in (cassini, chain_with_a_source):
+        runs = []
+        for floor_periods in (None, 0):
+            sim = make()
+            report = run_hil(sim, 1000.0, 0.06, progress=False, spin_us=spin_us, floor=floor,
+                             floor_periods=floor_periods)
+            assert report.ok
+            runs.append((sim.q, sim.v, report.q, report.v, report.floor_us))
+        (q, v, rq, rv, timed), (q0, v0, rq0, rv0, untimed) = runs
+        assert timed["periods"] > 0 and timed["dynamics"]["evaluations"] >= 1 and untimed is None
+        assert np.array_equal(q, q0) and np.array_equal(v, v0)
+        assert np.array_equal(rq, rq0) and np.array_equal(rv, rv0)
 
 
 def test_the_steps_own_cpu_time_is_reported_beside_the_wall_time():
@@ -78,7 +123,8 @@ def test_the_steps_own_cpu_time_is_reported_beside_the_wall_time():
 def test_no_floor_when_unpaced_or_asked_for_none():
     assert run_hil(chain(), 1000.0, 0.05, progress=False, realtime=False).floor_us is None
     report = run_hil(chain(), 1000.0, 0.05, progress=False, floor_periods=0)
-    assert report.floor_us is None and report.floor_ns is None
+    assert report.floor_us is None and report.floor_ns is None and report.dynamics_floor_ns is None
+    assert "dynamics floor" not in format_table(report)
     assert run_hil(chain(), 1000.0, 0.1, progress=False, floor_periods=30).floor_us["periods"] == 30
     assert run_hil(chain(), 1000.0, 0.05, progress=False, floor_periods=30, floor="after").floor_us["periods"] == 30
     with pytest.raises(ValueError, match="floor_periods"):

@@ -80,6 +80,16 @@ double percentile_us(const std::vector<std::int64_t>& sorted, double p) {
   return static_cast<double>(sorted[std::min(index, sorted.size() - 1)]) * 1e-3;
 }
 
+// p50, p99, p99.9 and max (us) of the first `n` entries of `x` (ns).
+void summarise_us(const std::vector<std::int64_t>& x, std::int64_t n, double& p50, double& p99, double& p999,
+                  double& max) {
+  const std::vector<std::int64_t> sorted = sorted_first(x, n);
+  p50 = percentile_us(sorted, 0.5);
+  p99 = percentile_us(sorted, 0.99);
+  p999 = percentile_us(sorted, 0.999);
+  max = percentile_us(sorted, 1.0);
+}
+
 // `iterations` rounds of eight independent multiply-add chains in registers:
 // no memory traffic, no data-dependent timing (the machine's floor).
 volatile double floor_sink;
@@ -92,8 +102,7 @@ __attribute__((noinline)) void register_arithmetic(std::int64_t iterations) {
   floor_sink = sum;
 }
 
-constexpr std::int64_t min_warm_lead_ns = 20000;
-constexpr std::int64_t floor_gap_ns = 10000;  // between the end of an interleaved floor and what follows it  // the warm-up evaluation starts at least this long before the deadline
+constexpr std::int64_t min_warm_lead_ns = 20000;  // the warm-up evaluation starts at least this long before the deadline
 constexpr std::size_t median_sample_size = 1001;  // steps sampled for the floor's length
 constexpr std::int64_t interleaved_floor_warmup = 100;  // at most this many steps' median sets the interleaved floor's length
 constexpr std::int64_t calibration_iterations = 20000;
@@ -146,6 +155,7 @@ void HilRunner::record_state_every(std::int64_t every) {
 void HilRunner::set_floor_periods(std::int64_t periods) {
   if (periods < 0) throw std::invalid_argument("floor periods must be >= 0");
   floor_ns_.assign(static_cast<std::size_t>(std::min(periods, steps_)), 0);  // at most one per step
+  dynamics_floor_ns_.assign(floor_ns_.size(), 0);
 }
 
 void HilRunner::set_preemption_margin_ns(std::int64_t ns) {
@@ -154,7 +164,7 @@ void HilRunner::set_preemption_margin_ns(std::int64_t ns) {
 }
 
 void HilRunner::reset() {
-  floor_done_ = floor_target_ns_ = floor_iterations_ = 0;
+  floor_done_ = floor_target_ns_ = floor_iterations_ = floor_evaluations_ = 0;
   misses_compute_overrun_ = misses_late_wakeup_ = misses_preempted_ = preempted_steps_ = 0;
   misses_ours_.store(0, std::memory_order_relaxed);
   status_ = Status{};
@@ -199,7 +209,7 @@ Status HilRunner::run() {
           warm_up_ && spin_ns_ > 0 ? std::clamp(2 * previous_compute, min_warm_lead_ns, spin_ns_ / 2) : 0;
       // Spinning: the floor inside the spin window, on the same warm core as the step and without adding
       // busy time (a real-time thread busy all the period would be throttled by the kernel).
-      const std::int64_t floor_lead = warm_lead + 2 * floor_target_ns_ + floor_gap_ns;
+      const std::int64_t floor_lead = warm_lead + floor_span_ns();
       if (interleave && spin_ns_ > 0 && floor_due() && floor_lead < spin_ns_ && now_ns() < deadline - floor_lead)
         floor_period(deadline - floor_lead);
       if (warm_lead > 0) {  // the dynamics' data into the caches just before the step
@@ -252,8 +262,8 @@ Status HilRunner::run() {
     // Sleeping (or a spin window too short for it): the floor at the period's midpoint, woken like the step,
     // when the step ended before the wake-up and the floor fits before the next deadline.
     const std::int64_t midpoint = deadline + (next_deadline - deadline) / 2;
-    const bool in_spin_window = spin_ns_ > 0 && 2 * floor_target_ns_ + floor_gap_ns + 2 * min_warm_lead_ns < spin_ns_;
-    if (floor_due() && !in_spin_window && end < midpoint - spin_ns_ && midpoint + 2 * floor_target_ns_ < next_deadline)
+    const bool in_spin_window = spin_ns_ > 0 && floor_span_ns() + 2 * min_warm_lead_ns < spin_ns_;
+    if (floor_due() && !in_spin_window && end < midpoint - spin_ns_ && midpoint + floor_span_ns() < next_deadline)
       floor_period(midpoint);
   }
   end_ns_ = now_ns();
@@ -264,7 +274,8 @@ Status HilRunner::run() {
   return status_;
 }
 
-// Iterations per nanosecond of the floor's arithmetic: the fastest of three timings.
+// Iterations per nanosecond of the floor's arithmetic, and the time of one evaluation of the dynamics (after
+// one untimed, so in warm caches): the fastest of three timings each.
 void HilRunner::calibrate_floor() {
   std::int64_t fastest = std::numeric_limits<std::int64_t>::max();
   for (int trial = 0; trial < 3; ++trial) {
@@ -273,6 +284,15 @@ void HilRunner::calibrate_floor() {
     fastest = std::min(fastest, std::max<std::int64_t>(1, now_ns() - t0));
   }
   floor_ns_per_iteration_x1000_ = std::max<std::int64_t>(1, fastest * 1000 / calibration_iterations);
+  time_evaluations(1);
+  evaluation_ns_ = std::numeric_limits<std::int64_t>::max();
+  for (int trial = 0; trial < 3; ++trial) evaluation_ns_ = std::min(evaluation_ns_, std::max<std::int64_t>(1, time_evaluations(1)));
+}
+
+std::int64_t HilRunner::time_evaluations(std::int64_t evaluations) {
+  const std::int64_t start = now_ns();
+  for (std::int64_t i = 0; i < evaluations; ++i) sim_.evaluate_now(warm_qdd_, warm_tau_);  // changes nothing a step reads
+  return now_ns() - start;
 }
 
 // The floor's length: the median compute time of the first `steps_timed` steps (sampled evenly).
@@ -285,6 +305,8 @@ void HilRunner::set_floor_target(std::int64_t steps_timed) {
   std::nth_element(median_sample_.begin(), middle, median_sample_.begin() + m);
   floor_target_ns_ = *middle;
   floor_iterations_ = std::max<std::int64_t>(1, floor_target_ns_ * 1000 / floor_ns_per_iteration_x1000_);
+  // The whole number of evaluations closest to the target, at least one.
+  floor_evaluations_ = std::max<std::int64_t>(1, (floor_target_ns_ + evaluation_ns_ / 2) / evaluation_ns_);
 }
 
 // One period of the floor, paced like a step: woken at `deadline` by the same sleep and spin.
@@ -295,6 +317,8 @@ void HilRunner::floor_period(std::int64_t deadline) {
   const std::int64_t wake = now_ns();
   register_arithmetic(floor_iterations_);
   floor_ns_[static_cast<std::size_t>(floor_done_)] = now_ns() - wake;
+  if (warm_up_ && spin_ns_ > 0) time_evaluations(1);  // the caches as the step finds them after its warm-up
+  dynamics_floor_ns_[static_cast<std::size_t>(floor_done_)] = time_evaluations(floor_evaluations_);
   ++floor_done_;
 }
 
@@ -356,20 +380,10 @@ HilSummary HilRunner::summary() const {
   s.steps = steps_done();
   s.requested_steps = steps_;
   s.deadline_misses = deadline_misses();
-  const std::vector<std::int64_t> compute = sorted_first(compute_ns_, s.steps);
-  const std::vector<std::int64_t> lateness = sorted_first(lateness_ns_, s.steps);
-  s.compute_p50_us = percentile_us(compute, 0.5);
-  s.compute_p99_us = percentile_us(compute, 0.99);
-  s.compute_p999_us = percentile_us(compute, 0.999);
-  s.compute_max_us = percentile_us(compute, 1.0);
-  s.lateness_p50_us = percentile_us(lateness, 0.5);
-  s.lateness_p99_us = percentile_us(lateness, 0.99);
-  s.lateness_max_us = percentile_us(lateness, 1.0);
-  const std::vector<std::int64_t> cpu = sorted_first(cpu_ns_, s.steps);
-  s.cpu_p50_us = percentile_us(cpu, 0.5);
-  s.cpu_p99_us = percentile_us(cpu, 0.99);
-  s.cpu_p999_us = percentile_us(cpu, 0.999);
-  s.cpu_max_us = percentile_us(cpu, 1.0);
+  summarise_us(compute_ns_, s.steps, s.compute_p50_us, s.compute_p99_us, s.compute_p999_us, s.compute_max_us);
+  double lateness_p999_us = 0;
+  summarise_us(lateness_ns_, s.steps, s.lateness_p50_us, s.lateness_p99_us, lateness_p999_us, s.lateness_max_us);
+  summarise_us(cpu_ns_, s.steps, s.cpu_p50_us, s.cpu_p99_us, s.cpu_p999_us, s.cpu_max_us);
   for (std::int64_t k = 0; k < s.steps; ++k) s.involuntary_switches += switches_[static_cast<std::size_t>(k)];
   s.preempted_steps = preempted_steps_;
   s.misses_preempted = misses_preempted_;
@@ -381,11 +395,10 @@ HilSummary HilRunner::summary() const {
   s.misses_late_wakeup = misses_late_wakeup_;
   s.floor_periods = floor_done_;
   s.floor_target_us = static_cast<double>(floor_target_ns_) * 1e-3;
-  const std::vector<std::int64_t> floor = sorted_first(floor_ns_, floor_done_);
-  s.floor_p50_us = percentile_us(floor, 0.5);
-  s.floor_p99_us = percentile_us(floor, 0.99);
-  s.floor_p999_us = percentile_us(floor, 0.999);
-  s.floor_max_us = percentile_us(floor, 1.0);
+  summarise_us(floor_ns_, floor_done_, s.floor_p50_us, s.floor_p99_us, s.floor_p999_us, s.floor_max_us);
+  s.dynamics_floor_evaluations = floor_evaluations_;
+  summarise_us(dynamics_floor_ns_, floor_done_, s.dynamics_floor_p50_us, s.dynamics_floor_p99_us,
+               s.dynamics_floor_p999_us, s.dynamics_floor_max_us);
   if (link_) {
     s.packets_received = link_->packets_received();
     s.packets_dropped = link_->packets_dropped();

@@ -62,9 +62,14 @@ class HilReport:
     # The machine's floor (paced runs; None otherwise): register arithmetic of the first steps' median length,
     # paced like the steps, "mode" "interleaved" (at the midpoint of the steps' own periods) or "after" (in the
     # periods after the run): {"mode", "periods", "target", "p50", "p99", "p999", "max"} in us, and
-    # "tail_ratio" = compute p99.9 / floor p99.9 (1: the step's tail is the machine's).
+    # "tail_ratio" = compute p99.9 / floor p99.9 (1: the step's tail is the machine's). Its "dynamics" entry is
+    # the dynamics floor of the same periods: "evaluations" of the dynamics at the present state per period (the
+    # whole number closest to the same length), {"p50", "p99", "p999", "max"} in us, "spread" = its p99.9 / p50
+    # (what the machine does to memory-touching work of no data dependence) and "tail_ratio" = compute p99.9 /
+    # its p99.9.
     floor_us: dict | None = None
     floor_ns: np.ndarray | None = field(default=None, repr=False)
+    dynamics_floor_ns: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def ok(self) -> bool:
@@ -133,15 +138,18 @@ def format_table(r: HilReport) -> str:
         f"compute   us     p50 {c['p50']:8.1f}   p99 {c['p99']:8.1f}   p99.9 {c['p999']:8.1f}   max {c['max']:8.1f}"
         "   (wall clock)",
         *([f"cpu       us     p50 {u['p50']:8.1f}   p99 {u['p99']:8.1f}   p99.9 {u['p999']:8.1f}   max {u['max']:8.1f}"
-           f"   (the thread's own; p99.9 / p50 " + (f"{u['spread']:.2f})" if u["spread"] is not None else "n/a)")]
+           f"   (the thread's own; p99.9 / p50 " + _ratio(u["spread"]) + ")"]
           if (u := r.cpu_us) else []),
         f"pre-empted       {r.preempted_steps} steps (wall time over CPU time by more than "
         f"{r.cpu_us.get('preemption_margin', 0):g} us, or switched out), {r.involuntary_switches} involuntary switches",
         f"lateness  us     p50 {lat['p50']:8.1f}   p99 {lat['p99']:8.1f}   max {lat['max']:8.1f}",
         *([f"machine   us     p50 {f['p50']:8.1f}   p99 {f['p99']:8.1f}   p99.9 {f['p999']:8.1f}   max {f['max']:8.1f}"
            f"   (floor, {f['mode']}: {f['periods']} periods of {f['target']:.1f} us register arithmetic; "
-           "step p99.9 / floor p99.9 "
-           + (f"{f['tail_ratio']:.2f})" if f["tail_ratio"] is not None else "n/a)")] if (f := r.floor_us) else []),
+           "step p99.9 / floor p99.9 " + _ratio(f["tail_ratio"]) + ")",
+           f"dynamics  us     p50 {d['p50']:8.1f}   p99 {d['p99']:8.1f}   p99.9 {d['p999']:8.1f}   max {d['max']:8.1f}"
+           f"   (dynamics floor: {d['evaluations']} evaluations at the present state per period; its p99.9 / p50 "
+           + _ratio(d["spread"]) + ", step p99.9 / its p99.9 " + _ratio(d["tail_ratio"]) + ")"]
+          if (f := r.floor_us) and (d := f["dynamics"]) else []),
         f"packets          received {p['received']}, dropped {p['dropped']}, sent {p['sent']}, "
         f"rejected sender {p['rejected_sender']}, stale {p['stale']}, kernel drops {p['kernel_drops']}, "
         f"send failures {p['send_failures']}, steps at the read bound {p['steps_left_pending']}",
@@ -158,6 +166,10 @@ def format_table(r: HilReport) -> str:
         + (" (interrupted)" if r.interrupted else ""),
     ]
     return "\n".join(lines)
+
+
+def _ratio(x) -> str:
+    return f"{x:.2f}" if x is not None else "n/a"
 
 
 def require_matplotlib():

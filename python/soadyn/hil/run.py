@@ -327,6 +327,7 @@ def _report(sim, runner, rate, realtime, interrupted, exception, energy0, moment
         misses={"compute": s.misses_compute_overrun, "machine": s.misses_late_wakeup,
                 "machine_preempted": s.misses_preempted},
         floor_us=_floor(s), floor_ns=runner.floor_ns if s.floor_periods else None, cpu_ns=runner.cpu_ns,
+        dynamics_floor_ns=runner.dynamics_floor_ns if s.floor_periods else None,
         final_state={"t": float(sim.time), "q": [float(x) for x in sim.q], "v": [float(x) for x in sim.v]})
 
 
@@ -336,7 +337,16 @@ def _floor(s) -> dict | None:
     return {"mode": "interleaved" if s.floor_interleaved else "after", "periods": s.floor_periods,
             "target": s.floor_target_us, "p50": s.floor_p50_us, "p99": s.floor_p99_us,
             "p999": s.floor_p999_us, "max": s.floor_max_us,
-            "tail_ratio": s.compute_p999_us / s.floor_p999_us if s.floor_p999_us > 0 else None}
+            "tail_ratio": s.compute_p999_us / s.floor_p999_us if s.floor_p999_us > 0 else None,
+            "dynamics": _dynamics_floor(s)}
+
+
+def _dynamics_floor(s) -> dict:
+    """The dynamics floor of the same periods: percentiles (us), its own spread and the step's tail over it."""
+    p50, p999 = s.dynamics_floor_p50_us, s.dynamics_floor_p999_us
+    return {"evaluations": s.dynamics_floor_evaluations, "p50": p50, "p99": s.dynamics_floor_p99_us, "p999": p999,
+            "max": s.dynamics_floor_max_us, "spread": p999 / p50 if p50 > 0 else None,
+            "tail_ratio": s.compute_p999_us / p999 if p999 > 0 else None}
 
 
 def _cpu(s) -> dict:

@@ -46,6 +46,17 @@
 // p99.9 is the part of the tail that is the step's own. A period without
 // room for it (a late wake-up, a step past the midpoint) times no floor.
 //
+// Register arithmetic does not see what the machine does to memory: on a host
+// whose caches are shared with other guests, the same instructions on the same
+// data vary far more than arithmetic in registers. So each floor period also
+// times a second workload right after the arithmetic, the dynamics floor:
+// Simulator::evaluate_now at the present state (which changes nothing a step
+// reads), as many evaluations as come closest to the same length, after one
+// untimed evaluation when the loop warms the caches for the step. It is the
+// step's own kind of work with no data-dependent cost (one pass of the
+// recursions, the same for every state), so its spread is the machine's for
+// memory-touching work; the step's spread beyond it is the step's own.
+//
 // Real-time scheduling (optional, set_realtime): run() applies SCHED_FIFO,
 // CPU pinning and memory locking to its thread before the loop and undoes
 // them after it (realtime/realtime_scheduling.hpp); the summary says what the
@@ -109,6 +120,10 @@ struct HilSummary {
   bool floor_interleaved = true;  // timed in the steps' periods (false: after the run)
   bool warm_up = false;           // the caches were warmed before each deadline (spinning, set_warm_up)
   double floor_target_us = 0, floor_p50_us = 0, floor_p99_us = 0, floor_p999_us = 0, floor_max_us = 0;
+  // The dynamics floor, timed in the same periods: evaluations per period and its percentiles.
+  std::int64_t dynamics_floor_evaluations = 0;
+  double dynamics_floor_p50_us = 0, dynamics_floor_p99_us = 0, dynamics_floor_p999_us = 0,
+         dynamics_floor_max_us = 0;
   // Counters accumulate over the runner's (and the link's) life, across
   // runs. The link's counters (udp_link.hpp): accepted commands, malformed, sensor
   // packets sent, from another sender, stale sequence, dropped by the kernel,
@@ -195,6 +210,8 @@ class HilRunner {
   const std::vector<std::int32_t>& involuntary_switches() const { return switches_; }
   const std::vector<std::int64_t>& floor_ns() const { return floor_ns_; }  // floor_done() valid entries
   std::int64_t floor_done() const { return floor_done_; }
+  // The dynamics floor's periods (floor_done() valid entries, the same periods as floor_ns()).
+  const std::vector<std::int64_t>& dynamics_floor_ns() const { return dynamics_floor_ns_; }
   std::int64_t recorded_rows() const { return recorded_rows_; }
   std::int64_t record_every() const { return record_every_; }
   const std::vector<double>& recorded_time() const { return recorded_time_; }
@@ -220,6 +237,9 @@ class HilRunner {
   void calibrate_floor();
   void set_floor_target(std::int64_t steps_timed);
   void floor_period(std::int64_t deadline);
+  // Busy time an interleaved floor period may take: each workload twice its target, and the gap after it.
+  std::int64_t floor_span_ns() const { return 4 * floor_target_ns_ + floor_gap_ns_; }
+  std::int64_t time_evaluations(std::int64_t evaluations);  // ns of `evaluations` evaluate_now calls
   bool floor_due() const { return floor_iterations_ > 0 && floor_done_ < static_cast<std::int64_t>(floor_ns_.size()); }
   void measure_floor_after_run();
 
@@ -234,8 +254,11 @@ class HilRunner {
   std::int64_t start_ns_ = 0, end_ns_ = 0;
   std::vector<std::int64_t> compute_ns_, lateness_ns_, cpu_ns_;
   std::vector<std::int32_t> switches_;
-  std::vector<std::int64_t> floor_ns_, median_sample_;  // the floor's periods; steps sampled for its length
+  // The floors' periods (arithmetic, dynamics); steps sampled for their length.
+  std::vector<std::int64_t> floor_ns_, dynamics_floor_ns_, median_sample_;
   std::int64_t floor_done_ = 0, floor_target_ns_ = 0, floor_iterations_ = 0, floor_ns_per_iteration_x1000_ = 0;
+  std::int64_t evaluation_ns_ = 0, floor_evaluations_ = 0;  // one evaluate_now (fastest of three); per period
+  static constexpr std::int64_t floor_gap_ns_ = 10000;  // between the end of an interleaved floor and what follows
   FloorMode floor_mode_ = FloorMode::interleaved;
   bool warm_up_ = true;
   VecX<double> warm_qdd_, warm_tau_;
