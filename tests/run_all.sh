@@ -2,7 +2,8 @@
 # Every test, on a fresh machine, from the venv it should install into:
 #   python3 -m venv .venv && . .venv/bin/activate && bash tests/run_all.sh
 # 1. pip installs the package with its test extra, building the library, the
-#    Python module and the C++ tests once, in pip's build tree
+#    Python module, the C++ tests and the C++ benchmarks (compiled so that none
+#    falls behind the library's interface; run by bench/) once, in pip's build tree
 #    build/<cache tag> (pyproject.toml: build-dir) (before it, Debian's
 #    Chromium for the browser test, if missing);
 # 2. CTest runs the C++ tests from that tree (tests/cpp/CMakeLists.txt);
@@ -20,7 +21,7 @@ if ! command -v chromium >/dev/null 2>&1 && [ "$(id -u)" -eq 0 ] && command -v a
     echo "could not install chromium: the browser test will fail and say so" >&2
 fi
 
-SOADYN_BUILD_TESTS=ON pip install ".[test]" || exit $?
+SOADYN_BUILD_TESTS=ON SOADYN_BUILD_BENCH=ON pip install ".[test]" || exit $?
 build_dir="build/$(python -c 'import sys; print(sys.implementation.cache_tag)')"
 ctest --test-dir "$build_dir" --output-on-failure --no-tests=error
 ctest_rc=$?
