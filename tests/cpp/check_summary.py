@@ -34,8 +34,10 @@ def check_no_allocation(output: str) -> None:
     # appendages of 8 and 4 modes.
     require(bool(lines(r"^tree with flexible bodies: \d+ bodies \([1-9]\d* flexible\)", output)),
             "a tree with flexible bodies")
-    require(len(lines(r"^calls: 100000 hybrid_dynamics, \d+ other, \d+ flag changes; failed statuses: 0$",
-                      output)) == 4, "10^5 hybrid calls without a failed status, on the four models")
+    require(len(lines(r"^calls: 100000 hybrid_dynamics, \d+ other, \d+ flag changes; failed statuses: 0; energies from "
+                      r"one sweep unequal to the separate calls: 0$", output)) == 4,
+            "10^5 hybrid calls without a failed status, and mechanical_energy equal to the separate energies, on the "
+            "four models")
     require(bool(lines(r"^flexible tree with armature: \d+ bodies \([1-9]\d* flexible\)", output)),
             "the model with armatures")
     require(bool(lines(r"^tree with appendages: \d+ bodies \(2 flexible\)", output)), "the model with appendages")

@@ -2,7 +2,8 @@
 // joint kind (free root), a spring-damper on every DOF with a scalar
 // coordinate and point springs (one with a force-law table) between bodies
 // and to the world, 10^4 calls each of inverse_dynamics, bias_forces,
-// forward_dynamics, hybrid_dynamics (a mixed mask), potential_energy and
+// forward_dynamics, hybrid_dynamics (a mixed mask), potential_energy (and
+// mechanical_energy's, equal to it bit for bit) and
 // force_element_dissipation, then 10^4 RK4 steps of the Simulator, counted by
 // the allocation counter (allocation_counter.cpp). Each call is checked
 // (forward dynamics of inverse dynamics' torques gives back qdd; hybrid
@@ -85,9 +86,11 @@ int main(int argc, char**) {
     worst = std::max(worst, relative(data.tau, tau));
     model.set_prescribed(1, false);
     model.set_prescribed(3, false);
-    energy += soadyn::potential_energy<double>(model, data, s.q) +
-              soadyn::force_element_dissipation<double>(model, data, s.q, s.v);
-    if (!ok || !h.allFinite()) ++failed;
+    const double potential = soadyn::potential_energy<double>(model, data, s.q);
+    double kinetic_together = 0, potential_together = 0;  // the springs' potential from one sweep, bit for bit
+    soadyn::mechanical_energy<double>(model, data, s.q, s.v, kinetic_together, potential_together);
+    energy += potential + soadyn::force_element_dissipation<double>(model, data, s.q, s.v);
+    if (!ok || !h.allFinite() || potential_together != potential) ++failed;
   }
   const AllocationCounts counts = disarm_counter();
   std::printf("calls: %d of each; failed statuses: %ld\n", kCalls, failed);

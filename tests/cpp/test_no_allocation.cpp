@@ -10,7 +10,8 @@
 // appendages (nothing on their nodes: the tree-frame appendage step, compiled
 // for 4 modes and generic for 8): 10^5 hybrid_dynamics calls each preceded by a random flag change
 // of a few hinge DOFs, with and without external wrenches and hinge-force
-// outputs, interleaved with the other run-time algorithms and the energies.
+// outputs, interleaved with the other run-time algorithms and the energies
+// (mechanical_energy equal bit for bit to kinetic_energy and potential_energy).
 // Zero allocations, zero frees and every Status ok are required.
 #include <cstdio>
 #include <set>
@@ -34,6 +35,7 @@ struct Tally {
   long hybrid_calls = 0, other_calls = 0, flag_changes = 0, failed_statuses = 0;
   soadyn::Status first_failure;
   int first_failure_call = -1;
+  long energy_mismatches = 0;  // mechanical_energy against kinetic_energy and potential_energy
 
   void check(const soadyn::Status& s, int call) {
     if (s.ok()) return;
@@ -58,10 +60,13 @@ void run_other_algorithms(const soadyn::Model& model, soadyn::Data& data, const 
   soadyn::bias_forces(model, data, s.q, s.v);
   soadyn::integrate(model, s.q, s.v, 1e-3, q_next);
   tally.check(soadyn::hybrid_impulse(model, data, s.q, s.u), call);  // lock impacts use it
-  volatile double sink = soadyn::kinetic_energy(model, data, s.q, s.v) + soadyn::potential_energy(model, data, s.q) +
-                         soadyn::momentum(model, data, s.q, s.v).sum();
+  const double kinetic = soadyn::kinetic_energy(model, data, s.q, s.v), potential = soadyn::potential_energy(model, data, s.q);
+  double kinetic_together = 0, potential_together = 0;  // from one sweep: the same values, bit for bit
+  soadyn::mechanical_energy(model, data, s.q, s.v, kinetic_together, potential_together);
+  if (kinetic_together != kinetic || potential_together != potential) ++tally.energy_mismatches;
+  volatile double sink = kinetic + potential + soadyn::momentum(model, data, s.q, s.v).sum();
   (void)sink;
-  tally.other_calls += 9;
+  tally.other_calls += 10;
 }
 
 // The armed section: nothing here may allocate, print or throw.
@@ -103,14 +108,15 @@ bool run_counted(const char* label, soadyn::Model model) {
   const Tally tally = run_workload(model, data, states, q_next);
   const AllocationCounts counts = disarm_counter();
 
-  std::printf("calls: %ld hybrid_dynamics, %ld other, %ld flag changes; failed statuses: %ld\n", tally.hybrid_calls,
-              tally.other_calls, tally.flag_changes, tally.failed_statuses);
+  std::printf("calls: %ld hybrid_dynamics, %ld other, %ld flag changes; failed statuses: %ld; energies from one sweep "
+              "unequal to the separate calls: %ld\n", tally.hybrid_calls, tally.other_calls, tally.flag_changes,
+              tally.failed_statuses, tally.energy_mismatches);
   std::printf("allocations: %ld operator new, %ld malloc family; frees: %ld\n", counts.operator_new, counts.c_alloc,
               counts.frees);
   if (tally.failed_statuses > 0)
     std::printf("first failure: call %d, status code %d, dof %d\n", tally.first_failure_call,
                 static_cast<int>(tally.first_failure.code), tally.first_failure.index);
-  return counts.allocations() == 0 && counts.frees == 0 && tally.failed_statuses == 0;
+  return counts.allocations() == 0 && counts.frees == 0 && tally.failed_statuses == 0 && tally.energy_mismatches == 0;
 }
 
 }  // namespace

@@ -4,6 +4,8 @@ namespace soadyn {
 #define SOADYN_INSTANTIATE(S)                                                                                     \
   template S kinetic_energy<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, const ConstVecRef<S>&);     \
   template S potential_energy<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&);                          \
+  template void mechanical_energy<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, const ConstVecRef<S>&, \
+                                     S&, S&);                                                                      \
   template Vec6<S> momentum<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, const ConstVecRef<S>&);     \
   template Vec3<S> center_of_mass<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&, S*);                 \
   template S force_element_potential<S>(const ModelTpl<S>&, DataTpl<S>&, const ConstVecRef<S>&);                   \

@@ -13,6 +13,12 @@ S kinetic_energy(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S
 template <class S>
 S potential_energy(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q);
 
+// kinetic_energy and potential_energy at one state, the same values bit for
+// bit, from one kinematic sweep (the divergence guard's energy at each step).
+template <class S>
+void mechanical_energy(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                       S& kinetic, S& potential);
+
 // Spatial momentum [angular about the world origin; linear], world frame.
 template <class S>
 Vec6<S> momentum(const ModelTpl<S>& model, DataTpl<S>& data, const ConstVecRef<S>& q, const ConstVecRef<S>& v);

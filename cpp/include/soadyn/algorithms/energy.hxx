@@ -31,17 +31,19 @@ Vec3<S> body_first_moment(const ModelTpl<S>& m, std::size_t i, const S* q) {
 
 }  // namespace detail
 
+namespace detail {
+
+// 1/2 sum V' M V, the body velocities of a kinematic sweep at (q, v) in d.
 template <class S>
-S kinetic_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
-  forward_kinematics<S>(m, d, q.data(), v.data());
+S kinetic_energy_of_velocities(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v) {
   S energy(0);
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    const Vec6<S> h = detail::body_momentum(m, d, i, q.data(), v.data());
+    const Vec6<S> h = body_momentum(m, d, i, q, v);
     energy += S(0.5) * d.body_velocity[i].dot(h);
     if (m.is_flexible(static_cast<int>(i))) {  // + 1/2 eta_dot' (M_eV V + M_ee eta_dot), row by row
       const FlexibleBodyData<S>& fd = flexible_data(m, d, i);
       const Eigen::Index n = m.n_modes[i];
-      const auto eta_dot = modal_velocities(m, static_cast<int>(i), v.data());
+      const auto eta_dot = modal_velocities(m, static_cast<int>(i), v);
       for (Eigen::Index r = 0; r < n; ++r) {
         const S modal_momentum = fd.mass.row(6 + r).template head<6>().dot(d.body_velocity[i].transpose()) +
                                  fd.mass.row(6 + r).tail(n).dot(eta_dot.transpose());
@@ -54,24 +56,24 @@ S kinetic_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, c
   return energy;
 }
 
+// Total mass and centre of mass in the world frame, the world poses at q in d.
 template <class S>
-Vec3<S> center_of_mass(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, S* total_mass) {
-  forward_kinematics<S>(m, d, q.data(), nullptr);
-  S mass(0);
+Vec3<S> center_of_mass_of_poses(const ModelTpl<S>& m, const DataTpl<S>& d, const S* q, S& mass) {
+  mass = S(0);
   Vec3<S> first_moment = Vec3<S>::Zero();
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
     mass += m.mass[i];
     const Transform<S>& X = d.pose_in_world[i];
-    first_moment += m.mass[i] * X.translation + X.rotation * detail::body_first_moment(m, i, q.data());
+    first_moment += m.mass[i] * X.translation + X.rotation * body_first_moment(m, i, q);
   }
-  if (total_mass) *total_mass = mass;
   return mass > S(0) ? Vec3<S>(first_moment / mass) : Vec3<S>::Zero();
 }
 
+// -sum m g . c, the strain energy and the force elements' potential, the world poses at q in d.
 template <class S>
-S potential_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
+S potential_energy_of_poses(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
   S mass;
-  const Vec3<S> c = center_of_mass(m, d, q, &mass);
+  const Vec3<S> c = center_of_mass_of_poses(m, d, q.data(), mass);
   S strain(0);  // 1/2 eta' K eta
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
     if (!m.is_flexible(static_cast<int>(i))) continue;
@@ -81,6 +83,37 @@ S potential_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q)
   }
   const S springs = m.has_force_elements() ? force_element_potential(m, d, q) : S(0);
   return strain + springs - mass * m.gravity.dot(c);
+}
+
+}  // namespace detail
+
+template <class S>
+S kinetic_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v) {
+  forward_kinematics<S>(m, d, q.data(), v.data());
+  return detail::kinetic_energy_of_velocities(m, d, q.data(), v.data());
+}
+
+template <class S>
+Vec3<S> center_of_mass(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, S* total_mass) {
+  forward_kinematics<S>(m, d, q.data(), nullptr);
+  S mass;
+  const Vec3<S> c = detail::center_of_mass_of_poses(m, d, q.data(), mass);
+  if (total_mass) *total_mass = mass;
+  return c;
+}
+
+template <class S>
+S potential_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q) {
+  forward_kinematics<S>(m, d, q.data(), nullptr);
+  return detail::potential_energy_of_poses(m, d, q);
+}
+
+template <class S>
+void mechanical_energy(const ModelTpl<S>& m, DataTpl<S>& d, const ConstVecRef<S>& q, const ConstVecRef<S>& v,
+                       S& kinetic, S& potential) {
+  forward_kinematics<S>(m, d, q.data(), v.data());  // the poses of the positions-only sweep, and the velocities
+  kinetic = detail::kinetic_energy_of_velocities(m, d, q.data(), v.data());
+  potential = detail::potential_energy_of_poses(m, d, q);
 }
 
 template <class S>

@@ -818,7 +818,8 @@ Status SimulatorTpl<S>::close_loops() {
 
 template <class S>
 void SimulatorTpl<S>::mechanical_energy(S& energy, S& magnitude) {
-  const S kinetic = kinetic_energy<S>(model_, data_, q_, v_), potential = potential_energy<S>(model_, data_, q_);
+  S kinetic, potential;
+  soadyn::mechanical_energy<S>(model_, data_, q_, v_, kinetic, potential);
   using std::abs;
   energy = kinetic + potential;
   magnitude = kinetic + abs(potential);
