@@ -38,18 +38,12 @@ template <class S>
 S kinetic_energy_of_velocities(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v) {
   S energy(0);
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
-    const Vec6<S> h = body_momentum(m, d, i, q, v);
-    energy += S(0.5) * d.body_velocity[i].dot(h);
-    if (m.is_flexible(static_cast<int>(i))) {  // + 1/2 eta_dot' (M_eV V + M_ee eta_dot), row by row
-      const FlexibleBodyData<S>& fd = flexible_data(m, d, i);
-      const Eigen::Index n = m.n_modes[i];
-      const auto eta_dot = modal_velocities(m, static_cast<int>(i), v);
-      for (Eigen::Index r = 0; r < n; ++r) {
-        const S modal_momentum = fd.mass.row(6 + r).template head<6>().dot(d.body_velocity[i].transpose()) +
-                                 fd.mass.row(6 + r).tail(n).dot(eta_dot.transpose());
-        energy += S(0.5) * eta_dot[r] * modal_momentum;
-      }
-    }
+    const int body = static_cast<int>(i);
+    if (m.is_flexible(body))  // 1/2 [V; eta_dot]' M(eta) [V; eta_dot], M(eta) left unformed
+      energy += m.flexible_body(body).modal_integrals().kinetic_energy_at(
+          modal_coordinates(m, body, q), d.body_velocity[i], modal_velocities(m, body, v));
+    else
+      energy += S(0.5) * d.body_velocity[i].dot(m.inertia[i] * d.body_velocity[i]);
   }
   for (int k = 0; k < m.nv; ++k)  // rotor inertias (ModelTpl::set_armature)
     if (m.armature[static_cast<std::size_t>(k)] != S(0)) energy += S(0.5) * m.armature[static_cast<std::size_t>(k)] * v[k] * v[k];

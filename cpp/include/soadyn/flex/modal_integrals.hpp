@@ -135,6 +135,12 @@ struct ModalIntegrals {
   // the recursion calls this with a block of its preallocated Data.
   void augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& eta, Eigen::Ref<MatX<S>> out) const;
 
+  // 1/2 [V; eta_dot]' M(eta) [V; eta_dot], the body's kinetic energy (V body
+  // frame), from the blocks of Eqs. (2)-(6) without forming M(eta). O(n_m^2),
+  // no allocation.
+  S kinetic_energy_at(const Eigen::Ref<const VecX<S>>& eta, const Vec6<S>& V,
+                      const Eigen::Ref<const VecX<S>>& eta_dot) const;
+
   // out = [sym D_0 ... sym D_{n_m-1}] of Eq. (7), each packed
   // (packed_symmetric); `out` must already be 6 x n_m. No allocation. N: n_m
   // known at compile time (appendage_update.hpp), or Eigen::Dynamic.

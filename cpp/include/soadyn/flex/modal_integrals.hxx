@@ -188,6 +188,32 @@ void ModalIntegrals<S>::augmented_mass_matrix(const Eigen::Ref<const VecX<S>>& e
 }
 
 template <class S>
+S ModalIntegrals<S>::kinetic_energy_at(const Eigen::Ref<const VecX<S>>& eta, const Vec6<S>& V,
+                                       const Eigen::Ref<const VecX<S>>& eta_dot) const {
+  const int n = n_modes;
+  const Vec3<S> omega = V.template head<3>(), v = V.template tail<3>();
+  // Rigid block, Eqs. (2) and (4): omega' J omega + 2 omega . (c x v) + m |v|^2, J = tr(E) 1 - E + sum_j J_j.
+  const Mat3<S> E = second_moment_at(eta);
+  const Vec3<S> J_omega = E.trace() * omega - E * omega + rotary_inertia * omega;
+  S twice = omega.dot(J_omega) + S(2) * omega.dot(first_moment_at(eta).cross(v)) + mass * v.squaredNorm();
+  // Coupling: M_we eta_dot with M_we = H0 + sum_k eta_k Q_k (Eq. 5) and M_ve eta_dot = S1 eta_dot, column
+  // by column; modal block eta_dot' M_ee eta_dot (Eq. 6).
+  Vec3<S> angular = Vec3<S>::Zero(), linear = Vec3<S>::Zero();
+  S modal(0);
+  for (int c = 0; c < n; ++c) {
+    Vec3<S> column = angular_coupling.col(c);
+    for (int k = 0; k < n; ++k) column += eta[k] * angular_coupling_linear.template block<3, 1>(0, k * n + c);
+    angular += column * eta_dot[c];
+    linear += modal_first_moment.col(c) * eta_dot[c];
+    S row(0);
+    for (int r = 0; r < n; ++r) row += modal_mass(r, c) * eta_dot[r];
+    modal += row * eta_dot[c];
+  }
+  twice += S(2) * (omega.dot(angular) + v.dot(linear)) + modal;
+  return S(0.5) * twice;
+}
+
+template <class S>
 template <int N>
 void ModalIntegrals<S>::second_moment_rates(const Eigen::Ref<const VecX<S>>& eta, MatX<S>& out) const {
   // sym D_k = sym A_k + sum_l eta_l sym B_lk. With every sym D_k packed into
