@@ -29,13 +29,9 @@ Vec3<S> body_first_moment(const ModelTpl<S>& m, std::size_t i, const S* q) {
   return m.flexible_body(static_cast<int>(i)).modal_integrals().first_moment_at(modal_coordinates(m, static_cast<int>(i), q));
 }
 
-}  // namespace detail
-
-namespace detail {
-
 // 1/2 sum V' M V, the body velocities of a kinematic sweep at (q, v) in d.
 template <class S>
-S kinetic_energy_of_velocities(const ModelTpl<S>& m, DataTpl<S>& d, const S* q, const S* v) {
+S kinetic_energy_of_velocities(const ModelTpl<S>& m, const DataTpl<S>& d, const S* q, const S* v) {
   S energy(0);
   for (std::size_t i = 0; i < static_cast<std::size_t>(m.nbodies()); ++i) {
     const int body = static_cast<int>(i);
