@@ -122,6 +122,9 @@ def test_summary_while_running_is_refused_by_name():
             pass
         with pytest.raises(RuntimeError, match="summary: the HIL runner is running"):
             runner.summary()
+        for name in ("cpu_ns", "floor_ns", "dynamics_floor_ns"):  # the per-step and per-period arrays too
+            with pytest.raises(RuntimeError, match=f"{name}: the HIL runner is running"):
+                getattr(runner, name)
     finally:
         runner.request_stop()
         worker.join(60)
